@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the Debian packages leglab needs (only the missing ones), then configures the
+# Release build in build/. Sourced by reproduce.sh and test.sh; safe to run again.
+set -euo pipefail
+
+LEGLAB_PACKAGES=(
+  g++ cmake ninja-build pkg-config
+  libeigen3-dev libode-dev liburdfdom-dev liburdfdom-tools libyaml-cpp-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-matplotlib clang-format
+)
+
+missing=()
+for p in "${LEGLAB_PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "leglab: installing ${missing[*]}"
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}"
+fi
+
+cd "$(dirname "$0")/.."
+cmake --preset release >/dev/null
