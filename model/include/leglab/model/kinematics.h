@@ -22,9 +22,9 @@ struct JointLimits {
 /// swinging the paw backward):
 ///   foot = shoulder + Ry(-q1) Rx(q2) (upper_leg + Ry(q3) lower_leg).
 struct LegGeometry {
-  Eigen::Vector3d shoulder_mm;   ///< body centre -> shoulder (J1/J2 axes' intersection)
-  Eigen::Vector3d upper_leg_mm;  ///< shoulder -> knee
-  Eigen::Vector3d lower_leg_mm;  ///< knee -> centre of the ball of the foot
+  Eigen::Vector3d shoulder_mm;        ///< body centre -> shoulder (J1/J2 axes' intersection)
+  Eigen::Vector3d upper_leg_mm;       ///< shoulder -> knee
+  Eigen::Vector3d lower_leg_mm;       ///< knee -> centre of the ball of the foot
   std::array<JointLimits, 3> limits;  ///< software limits, indexed by LegJoint
 
   /// The left front leg of the ERS-210A (CMPack'02 vectors, software joint limits).
@@ -37,8 +37,11 @@ Eigen::Vector3d ForwardKinematics(const LegGeometry& geometry, const Eigen::Vect
 
 /// Joint angles (rotator, abductor, knee), radians, that put the foot at `foot_mm` (body frame).
 /// Closed form: the knee from the shoulder-foot distance, the abductor from the lateral
-/// component, the rotator from the remaining sagittal angle. Of the two knee and abductor
-/// branches the one inside the limits is returned (for the ERS-210A only one is).
+/// component, the rotator from the remaining sagittal angle. The knee and the abductor have two
+/// branches each; of the (up to four) solutions inside the limits the one with the rotator
+/// nearest zero is returned. (On the ERS-210A the second knee branch is always beyond the
+/// knee's lower limit; both abductor branches are inside the limits only with the abductor
+/// near its upper limit and the knee flexed.)
 /// Throws std::domain_error naming the point and the reason when the point is out of reach
 /// or needs an angle outside the joint limits (tolerance 1e-9 rad).
 Eigen::Vector3d InverseKinematics(const LegGeometry& geometry, const Eigen::Vector3d& foot_mm);

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "leglab/model/joint_model.h"
+
+namespace leglab {
+
+/// One recorded run of a joint: the request sent at each tick and the angle measured right
+/// after it (the paper's R(t) and actual angle), consecutive ticks, degrees.
+struct JointRecording {
+  std::vector<double> request_deg;
+  std::vector<double> measured_deg;
+};
+
+/// The search space of the fit.
+struct IdentificationOptions {
+  int lag_min_ticks = 0;  ///< l is searched exhaustively over [lag_min, lag_max]
+  int lag_max_ticks = 12;
+  int accel_min_ticks = 1;  ///< a is searched exhaustively over [accel_min, accel_max]
+  int accel_max_ticks = 12;
+};
+
+/// The fitted model and how well it predicts the recordings.
+struct IdentificationResult {
+  JointModelParams params;
+  double rms_residual_deg = 0.0;  ///< RMS of measured - predicted over the scored ticks
+};
+
+/// Open-loop prediction of a recording by the model: the model is started at tick W - 1 from
+/// the measured angle there, with the recorded requests as its memory, and run on the
+/// recorded requests. Returns the prediction M(t) for t = 0..N-1 (M(t) = measured(t) for
+/// t < W). W = `warmup_ticks` must be at least l + a.
+std::vector<double> PredictRecording(const JointModelParams& params,
+                                     const JointRecording& recording, int warmup_ticks);
+
+/// Fits {v_max, theta_0, l, a} to the recordings by minimising the model's open-loop
+/// prediction error (PredictRecording) over every tick after the first
+/// lag_max + accel_max: l and a exhaustively over their ranges, v_max and theta_0 by
+/// Nelder-Mead (on their logarithms, so they stay positive) from several starts.
+/// Throws std::invalid_argument on empty or mismatched recordings, non-finite samples, bad
+/// ranges, or recordings too short to score.
+IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
+                                        const IdentificationOptions& options = {});
+
+}  // namespace leglab

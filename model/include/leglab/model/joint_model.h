@@ -1,0 +1,57 @@
+#pragma once
+
+#include <span>
+#include <vector>
+
+namespace leglab {
+
+/// Parameters of the paper's joint model (its Table 1): what identification fits.
+/// Angles are in degrees and time in control ticks of 8 ms, the paper's units.
+struct JointModelParams {
+  double v_max_deg_per_tick = 2.5;  ///< v_max: the joint's top speed
+  double theta0_deg = 7.0;          ///< theta_0: request-actual difference that gives top speed
+  int lag_ticks = 4;                ///< l: ticks before a request starts to act
+  int accel_ticks = 6;              ///< a: ticks over which the velocity is averaged
+
+  friend bool operator==(const JointModelParams&, const JointModelParams&) = default;
+};
+
+/// Throws std::invalid_argument naming the parameter unless v_max > 0, theta_0 > 0 (both
+/// finite), l >= 0 and a >= 1.
+void ValidateJointModelParams(const JointModelParams& params);
+
+/// The speed response f of eq. 2 (deg/tick) to a request-actual difference `x_deg`:
+/// linear with slope v_max / theta_0 inside (-theta_0, theta_0), saturated at +-v_max outside.
+double SpeedResponse(const JointModelParams& params, double x_deg);
+
+/// What the model remembers between ticks: the angle M(t-1) and the requests
+/// R(t-1), R(t-2), ..., R(t-l-a) (newest first; size l + a).
+struct JointModelState {
+  double angle_deg = 0.0;
+  std::vector<double> past_requests_deg;
+};
+
+/// A joint at rest at `angle_deg`: every remembered request equals that angle.
+JointModelState RestState(const JointModelParams& params, double angle_deg);
+
+/// One step of eq. 3: M(t) = M(t-1) + (1/a) sum_{i=l+1}^{l+a} f(R(t-i) - M(t-1)).
+/// `state` holds M(t-1) and the past requests on entry and M(t) and the requests up to
+/// R(t) = `request_deg` on return. Returns M(t). R(t) itself first acts at t + l + 1.
+double StepJointModel(const JointModelParams& params, JointModelState& state, double request_deg);
+
+/// Runs eq. 3 over `requests_deg` R(0..N-1) from `initial` (M(-1) and the requests before
+/// t = 0). Returns M(0..N-1).
+std::vector<double> SimulateJointModel(const JointModelParams& params,
+                                       std::span<const double> requests_deg,
+                                       const JointModelState& initial);
+
+/// The cyclic steady state of eq. 3 under a request cycle R(0..T-1) repeated forever (the
+/// paper's experiments run "many steps continuously"): the cycle is repeated from rest at
+/// the mean request until no angle of the last cycle moved by more than `tolerance_deg`.
+/// Returns M(0..T-1) of that cycle. Throws std::runtime_error if it has not settled after
+/// `max_cycles` cycles (an oscillating parameter set), std::invalid_argument on an empty cycle.
+std::vector<double> CyclicSteadyState(const JointModelParams& params,
+                                      std::span<const double> cycle_requests_deg,
+                                      double tolerance_deg = 1e-10, int max_cycles = 100000);
+
+}  // namespace leglab

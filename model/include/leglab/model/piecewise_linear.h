@@ -1,0 +1,59 @@
+#pragma once
+
+#include <span>
+#include <vector>
+
+namespace leglab {
+
+/// A cyclic, continuous piecewise-linear trajectory P over one period of T ticks (section
+/// 4.1): values at integer breakpoint ticks, joined by straight segments. Segment k runs from
+/// breakpoints_tick[k] to breakpoints_tick[k + 1]; the last wraps round to
+/// breakpoints_tick[0] + T. One breakpoint is a constant trajectory.
+struct PiecewiseLinear {
+  int period_ticks = 0;               ///< T
+  std::vector<int> breakpoints_tick;  ///< strictly increasing, in [0, T)
+  std::vector<double> values_deg;     ///< P at each breakpoint
+
+  /// Number of segments (= number of breakpoints).
+  int num_segments() const { return static_cast<int>(breakpoints_tick.size()); }
+  /// Length of segment k, ticks.
+  int SegmentLength(int k) const;
+  /// Slope of segment k, deg/tick.
+  double Slope(int k) const;
+  /// The segment that contains tick t (any integer; taken modulo T), i.e. the k with
+  /// breakpoints_tick[k] <= t mod T < breakpoints_tick[k + 1] (cyclically).
+  int SegmentAt(long t) const;
+  /// P(t), deg, for any integer t (taken modulo T).
+  double At(long t) const;
+  /// P(0), ..., P(T - 1), deg.
+  std::vector<double> Sample() const;
+};
+
+/// How many segments a fit uses: a fixed number, or the fewest that meet a tolerance.
+struct PwlFitOptions {
+  int segments = 8;            ///< number of segments (>= 1); 0 selects the tolerance mode
+  double tolerance_deg = 1.0;  ///< tolerance mode: the largest acceptable RMS error to D
+  int max_segments = 32;       ///< tolerance mode: give up beyond this many segments
+};
+
+/// Least-squares values at fixed breakpoints: minimises the sum over t of (P(t) - D(t))^2
+/// subject to |slope| <= v_max on every segment (a small convex QP, solved exactly by an
+/// active-set method). `desired_deg` is one period D(0..T-1).
+/// Throws std::invalid_argument on bad breakpoints (unsorted, repeated, outside [0, T)),
+/// a non-finite D, T < 2 or v_max <= 0.
+PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired_deg, double v_max_deg_per_tick,
+                                     std::vector<int> breakpoints_tick);
+
+/// Automatic piecewise-linear approximation of a cyclic D (the paper drew its by hand):
+/// breakpoints chosen to minimise the RMS error to D, every slope within +-v_max. The search
+/// starts from the best evenly spaced set (over every phase) and moves single breakpoints
+/// while the error falls, so the result is never worse than evenly spaced breakpoints.
+/// Throws std::invalid_argument on bad input, or in tolerance mode when no fit with up to
+/// max_segments segments reaches the tolerance (the message gives the best error found).
+PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired_deg, double v_max_deg_per_tick,
+                                   const PwlFitOptions& options = {});
+
+/// RMS distance between P and D over one period, deg.
+double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired_deg);
+
+}  // namespace leglab

@@ -1,0 +1,108 @@
+#include "leglab/model/joint_model.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace leglab {
+namespace {
+
+// Velocity of eq. 3 at tick t: the average of f over R(t-l-1) .. R(t-l-a), with `request_at(j)`
+// returning R(t-j).
+template <typename RequestAt>
+double ModelVelocity(const JointModelParams& p, double angle_deg, RequestAt request_at) {
+  double sum = 0.0;
+  for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+    sum += SpeedResponse(p, request_at(i) - angle_deg);
+  }
+  return sum / p.accel_ticks;
+}
+
+}  // namespace
+
+void ValidateJointModelParams(const JointModelParams& p) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("joint model: " + what); };
+  if (!(std::isfinite(p.v_max_deg_per_tick) && p.v_max_deg_per_tick > 0.0)) {
+    fail("v_max_deg_per_tick must be positive, got " + std::to_string(p.v_max_deg_per_tick));
+  }
+  if (!(std::isfinite(p.theta0_deg) && p.theta0_deg > 0.0)) {
+    fail("theta0_deg must be positive, got " + std::to_string(p.theta0_deg));
+  }
+  if (p.lag_ticks < 0) fail("lag_ticks must be >= 0, got " + std::to_string(p.lag_ticks));
+  if (p.accel_ticks < 1) fail("accel_ticks must be >= 1, got " + std::to_string(p.accel_ticks));
+}
+
+double SpeedResponse(const JointModelParams& p, double x_deg) {
+  if (x_deg >= p.theta0_deg) return p.v_max_deg_per_tick;
+  if (x_deg <= -p.theta0_deg) return -p.v_max_deg_per_tick;
+  return x_deg * (p.v_max_deg_per_tick / p.theta0_deg);
+}
+
+JointModelState RestState(const JointModelParams& p, double angle_deg) {
+  ValidateJointModelParams(p);
+  return {angle_deg, std::vector<double>(p.lag_ticks + p.accel_ticks, angle_deg)};
+}
+
+double StepJointModel(const JointModelParams& p, JointModelState& state, double request_deg) {
+  auto& past = state.past_requests_deg;
+  assert(past.size() == static_cast<size_t>(p.lag_ticks + p.accel_ticks));
+  state.angle_deg += ModelVelocity(p, state.angle_deg, [&](int i) { return past[i - 1]; });
+  // Newest first: shift the history by one and put R(t) in front.
+  std::copy_backward(past.begin(), past.end() - 1, past.end());
+  past.front() = request_deg;
+  return state.angle_deg;
+}
+
+std::vector<double> SimulateJointModel(const JointModelParams& p,
+                                       std::span<const double> requests_deg,
+                                       const JointModelState& initial) {
+  ValidateJointModelParams(p);
+  if (initial.past_requests_deg.size() != static_cast<size_t>(p.lag_ticks + p.accel_ticks)) {
+    throw std::invalid_argument("joint model: the initial state must remember l + a = " +
+                                std::to_string(p.lag_ticks + p.accel_ticks) + " requests");
+  }
+  const auto n = static_cast<long>(requests_deg.size());
+  std::vector<double> angles(n);
+  double angle = initial.angle_deg;
+  for (long t = 0; t < n; ++t) {
+    angle += ModelVelocity(p, angle, [&](int i) {
+      const long j = t - i;
+      return j >= 0 ? requests_deg[j] : initial.past_requests_deg[-j - 1];
+    });
+    angles[t] = angle;
+  }
+  return angles;
+}
+
+std::vector<double> CyclicSteadyState(const JointModelParams& p,
+                                      std::span<const double> cycle_requests_deg,
+                                      double tolerance_deg, int max_cycles) {
+  ValidateJointModelParams(p);
+  const auto period = static_cast<long>(cycle_requests_deg.size());
+  if (period == 0) throw std::invalid_argument("joint model: the request cycle is empty");
+
+  auto request_at = [&](long t) {
+    const long j = ((t % period) + period) % period;
+    return cycle_requests_deg[j];
+  };
+  const double mean = std::accumulate(cycle_requests_deg.begin(), cycle_requests_deg.end(), 0.0) /
+                      static_cast<double>(period);
+  std::vector<double> angles(period, mean);
+  double angle = mean;
+  for (int cycle = 0; cycle < max_cycles; ++cycle) {
+    double change = 0.0;
+    for (long t = 0; t < period; ++t) {
+      angle += ModelVelocity(p, angle, [&](int i) { return request_at(t - i); });
+      change = std::max(change, std::abs(angle - angles[t]));
+      angles[t] = angle;
+    }
+    if (cycle > 0 && change <= tolerance_deg) return angles;
+  }
+  throw std::runtime_error("joint model: no cyclic steady state after " +
+                           std::to_string(max_cycles) + " cycles (the model oscillates)");
+}
+
+}  // namespace leglab

@@ -1,0 +1,261 @@
+#include "leglab/model/piecewise_linear.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "leglab/model/metrics.h"
+
+namespace leglab {
+namespace {
+
+[[noreturn]] void Fail(const std::string& what) {
+  throw std::invalid_argument("piecewise-linear fit: " + what);
+}
+
+void ValidateInput(std::span<const double> desired, double v_max) {
+  if (desired.size() < 2) Fail("the desired trajectory needs at least 2 samples");
+  for (size_t t = 0; t < desired.size(); ++t) {
+    if (!std::isfinite(desired[t])) Fail("desired sample " + std::to_string(t) + " is not finite");
+  }
+  if (!(std::isfinite(v_max) && v_max > 0.0)) Fail("v_max must be positive");
+}
+
+// One slope bound: values[to] - values[from] <= bound.
+struct DifferenceBound {
+  int from;
+  int to;
+  double bound;
+};
+
+// Minimises 0.5 p'Hp + g'p subject to the difference bounds, by the primal active-set method
+// (Nocedal & Wright, Algorithm 16.3) from the feasible start `p` (all differences zero). The
+// bounds are positive, so that start is strictly feasible; a blocking bound is never a
+// combination of the active ones, so the KKT systems stay non-singular.
+Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::VectorXd& gradient0,
+                             const std::vector<DifferenceBound>& bounds, Eigen::VectorXd p) {
+  const int n = static_cast<int>(p.size());
+  const int num_bounds = static_cast<int>(bounds.size());
+  std::vector<int> active;
+  auto row_times = [&](int j, const Eigen::VectorXd& x) {
+    return x[bounds[j].to] - x[bounds[j].from];
+  };
+  const int max_iterations = 20 * (num_bounds + n) + 100;
+  for (int iteration = 0; iteration < max_iterations; ++iteration) {
+    const int m = static_cast<int>(active.size());
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + m, n + m);
+    kkt.topLeftCorner(n, n) = hessian;
+    for (int r = 0; r < m; ++r) {
+      const DifferenceBound& b = bounds[active[r]];
+      kkt(n + r, b.to) = kkt(b.to, n + r) = 1.0;
+      kkt(n + r, b.from) = kkt(b.from, n + r) = -1.0;
+    }
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
+    rhs.head(n) = -(hessian * p + gradient0);
+    const Eigen::VectorXd solution = kkt.partialPivLu().solve(rhs);
+    const Eigen::VectorXd step = solution.head(n);
+
+    if (step.lpNorm<Eigen::Infinity>() <= 1e-13 * (1.0 + p.lpNorm<Eigen::Infinity>())) {
+      // Stationary on the working set: optimal unless a multiplier is negative.
+      const Eigen::VectorXd multipliers = solution.tail(m);
+      if (m == 0 || multipliers.minCoeff() >= -1e-12) return p;
+      Eigen::Index worst;
+      multipliers.minCoeff(&worst);
+      active.erase(active.begin() + worst);
+      continue;
+    }
+    double alpha = 1.0;
+    int blocking = -1;
+    for (int j = 0; j < num_bounds; ++j) {
+      if (std::find(active.begin(), active.end(), j) != active.end()) continue;
+      const double rate = row_times(j, step);
+      if (rate <= 0.0) continue;
+      const double room = std::max(0.0, bounds[j].bound - row_times(j, p));
+      if (room / rate < alpha) {
+        alpha = room / rate;
+        blocking = j;
+      }
+    }
+    p += alpha * step;
+    if (blocking >= 0) active.push_back(blocking);
+  }
+  assert(false && "slope QP did not converge");
+  return p;
+}
+
+// The positions of `breakpoints` taken modulo T, sorted; empty if two coincide.
+std::vector<int> Normalized(std::vector<int> breakpoints, int period) {
+  for (int& b : breakpoints) b = ((b % period) + period) % period;
+  std::sort(breakpoints.begin(), breakpoints.end());
+  if (std::adjacent_find(breakpoints.begin(), breakpoints.end()) != breakpoints.end()) return {};
+  return breakpoints;
+}
+
+std::vector<int> EvenlySpaced(int segments, int period, int phase) {
+  std::vector<int> breakpoints(segments);
+  for (int k = 0; k < segments; ++k) {
+    breakpoints[k] = phase + static_cast<int>(static_cast<long>(k) * period / segments);
+  }
+  return Normalized(breakpoints, period);
+}
+
+struct Candidate {
+  PiecewiseLinear pwl;
+  double rms_deg = std::numeric_limits<double>::infinity();
+};
+
+Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<int> breakpoints) {
+  Candidate c;
+  c.pwl = FitPiecewiseLinearAt(desired, v_max, std::move(breakpoints));
+  c.rms_deg = PwlRmsError(c.pwl, desired);
+  return c;
+}
+
+Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments) {
+  const int period = static_cast<int>(desired.size());
+  const int spacing = std::max(1, period / segments);
+  Candidate best;
+  for (int phase = 0; phase < spacing; ++phase) {
+    Candidate c = Evaluate(desired, v_max, EvenlySpaced(segments, period, phase));
+    if (c.rms_deg < best.rms_deg) best = std::move(c);
+  }
+  if (segments == 1) return best;
+  // Coordinate descent: move one breakpoint at a time by a shrinking step while it helps.
+  for (int step = std::max(1, spacing / 2); step >= 1; step /= 2) {
+    bool improved = true;
+    while (improved) {
+      improved = false;
+      for (int k = 0; k < segments; ++k) {
+        for (int direction : {-1, 1}) {
+          std::vector<int> moved = best.pwl.breakpoints_tick;
+          moved[k] += direction * step;
+          moved = Normalized(moved, period);
+          if (moved.empty()) continue;
+          Candidate c = Evaluate(desired, v_max, std::move(moved));
+          if (c.rms_deg < best.rms_deg - 1e-12) {
+            best = std::move(c);
+            improved = true;
+            break;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+int PiecewiseLinear::SegmentLength(int k) const {
+  assert(k >= 0 && k < num_segments());
+  const int next =
+      k + 1 < num_segments() ? breakpoints_tick[k + 1] : breakpoints_tick[0] + period_ticks;
+  return next - breakpoints_tick[k];
+}
+
+double PiecewiseLinear::Slope(int k) const {
+  const double next = values_deg[(k + 1) % num_segments()];
+  return (next - values_deg[k]) / SegmentLength(k);
+}
+
+int PiecewiseLinear::SegmentAt(long t) const {
+  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const auto it = std::upper_bound(breakpoints_tick.begin(), breakpoints_tick.end(), r);
+  return it == breakpoints_tick.begin() ? num_segments() - 1
+                                        : static_cast<int>(it - breakpoints_tick.begin()) - 1;
+}
+
+double PiecewiseLinear::At(long t) const {
+  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const int k = SegmentAt(r);
+  long offset = r - breakpoints_tick[k];
+  if (offset < 0) offset += period_ticks;
+  return values_deg[k] + Slope(k) * static_cast<double>(offset);
+}
+
+std::vector<double> PiecewiseLinear::Sample() const {
+  std::vector<double> samples(period_ticks);
+  for (int t = 0; t < period_ticks; ++t) samples[t] = At(t);
+  return samples;
+}
+
+PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired, double v_max,
+                                     std::vector<int> breakpoints) {
+  ValidateInput(desired, v_max);
+  const int period = static_cast<int>(desired.size());
+  if (breakpoints.empty()) Fail("at least one breakpoint is needed");
+  for (size_t k = 0; k < breakpoints.size(); ++k) {
+    if (breakpoints[k] < 0 || breakpoints[k] >= period ||
+        (k > 0 && breakpoints[k] <= breakpoints[k - 1])) {
+      Fail("breakpoints must be strictly increasing ticks in [0, " + std::to_string(period) + ")");
+    }
+  }
+  PiecewiseLinear pwl{period, std::move(breakpoints), {}};
+  const int n = pwl.num_segments();
+
+  // P = A p with A's rows the hat-function weights of each tick.
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(period, n);
+  for (int t = 0; t < period; ++t) {
+    const int k = pwl.SegmentAt(t);
+    long offset = t - pwl.breakpoints_tick[k];
+    if (offset < 0) offset += period;
+    const double lambda = static_cast<double>(offset) / pwl.SegmentLength(k);
+    basis(t, k) += 1.0 - lambda;
+    basis(t, (k + 1) % n) += lambda;
+  }
+  const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
+  const Eigen::MatrixXd hessian = basis.transpose() * basis;
+  const Eigen::VectorXd gradient0 = -basis.transpose() * d;
+
+  std::vector<DifferenceBound> bounds;
+  if (n >= 2) {
+    for (int k = 0; k < n; ++k) {
+      const double bound = v_max * pwl.SegmentLength(k);
+      bounds.push_back({k, (k + 1) % n, bound});
+      bounds.push_back({(k + 1) % n, k, bound});
+    }
+  }
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(n, d.mean());
+  const Eigen::VectorXd p = SolveSlopeQp(hessian, gradient0, bounds, start);
+  pwl.values_deg.assign(p.data(), p.data() + n);
+  return pwl;
+}
+
+PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max,
+                                   const PwlFitOptions& options) {
+  ValidateInput(desired, v_max);
+  const int period = static_cast<int>(desired.size());
+  if (options.segments != 0) {
+    if (options.segments < 1 || options.segments > period) {
+      Fail("segments must be in [1, " + std::to_string(period) + "], got " +
+           std::to_string(options.segments));
+    }
+    return FitWithSegments(desired, v_max, options.segments).pwl;
+  }
+  if (!(options.tolerance_deg > 0.0)) Fail("tolerance_deg must be positive");
+  const int max_segments = std::min(options.max_segments, period);
+  if (max_segments < 1) Fail("max_segments must be >= 1");
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (int segments = 1; segments <= max_segments; ++segments) {
+    Candidate c = FitWithSegments(desired, v_max, segments);
+    if (c.rms_deg <= options.tolerance_deg) return c.pwl;
+    best_rms = std::min(best_rms, c.rms_deg);
+  }
+  std::ostringstream msg;
+  msg << "no fit within " << options.tolerance_deg << " deg RMS with up to " << max_segments
+      << " segments (best " << best_rms << " deg): the trajectory may be faster than v_max allows";
+  Fail(msg.str());
+}
+
+double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired) {
+  const std::vector<double> samples = pwl.Sample();
+  return RmsDistance(samples, desired);
+}
+
+}  // namespace leglab

@@ -1,0 +1,62 @@
+#include "leglab/model/trajectories.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace leglab {
+
+std::vector<double> StepTestRequests(double theta_test_deg, int t_step) {
+  if (t_step < 2) throw std::invalid_argument("step test: t_step must be >= 2");
+  std::vector<double> requests(t_step, 0.0);
+  // Eq. 1: t < t_step / 2 compares against the real half, so an odd t_step rounds up.
+  for (int t = 0; 2 * t < t_step; ++t) requests[t] = theta_test_deg;
+  return requests;
+}
+
+std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("half-ellipse locus: " + what);
+  };
+  if (locus.t_step_ticks < 4) fail("t_step_ticks must be >= 4");
+  if (!(locus.length_mm >= 0.0)) fail("length_mm must be >= 0");
+  if (!(locus.height_mm >= 0.0)) fail("height_mm must be >= 0");
+  if (!(locus.ground_fraction > 0.0 && locus.ground_fraction < 1.0)) {
+    fail("ground_fraction must be in (0, 1)");
+  }
+  if (!locus.centre_mm.allFinite()) fail("centre_mm must be finite");
+  const int period = locus.t_step_ticks;
+  const int ground_ticks =
+      std::clamp(static_cast<int>(std::lround(locus.ground_fraction * period)), 1, period - 1);
+  const double half = 0.5 * locus.length_mm;
+  std::vector<Eigen::Vector3d> path(period);
+  for (int t = 0; t < period; ++t) {
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+    if (t < ground_ticks) {
+      offset.x() = half - locus.length_mm * t / ground_ticks;
+    } else {
+      const double angle = std::numbers::pi * (t - ground_ticks) / (period - ground_ticks);
+      offset.x() = -half * std::cos(angle);
+      offset.z() = locus.height_mm * std::sin(angle);
+    }
+    path[t] = locus.centre_mm + offset;
+  }
+  return path;
+}
+
+std::vector<Eigen::Vector3d> JointTrajectoryDeg(const LegGeometry& geometry,
+                                                const std::vector<Eigen::Vector3d>& foot_path_mm) {
+  std::vector<Eigen::Vector3d> angles(foot_path_mm.size());
+  for (size_t t = 0; t < foot_path_mm.size(); ++t) {
+    try {
+      angles[t] = InverseKinematics(geometry, foot_path_mm[t]) * (180.0 / std::numbers::pi);
+    } catch (const std::domain_error& e) {
+      throw std::domain_error("tick " + std::to_string(t) + ": " + e.what());
+    }
+  }
+  return angles;
+}
+
+}  // namespace leglab

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Set-up, build, then every experiment into results/: Table 1 (identify), Table 2 (track) and
+# the figures. Usage: ./scripts/reproduce.sh [results-dir]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/setup.sh
+cmake --build --preset release
+out="${1:-results}"
+mkdir -p "$out"
+
+ran=0
+if [ -x build/bin/identify ]; then
+  build/bin/identify --config experiments/configs/identify.yaml --out "$out"
+  ran=1
+fi
+if [ -x build/bin/track ]; then
+  build/bin/track --config experiments/configs/track.yaml --out "$out"
+  ran=1
+fi
+if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
+  /usr/bin/python3 scripts/plot_figures.py "$out"
+fi
+if [ $ran -eq 0 ]; then
+  echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2
+  exit 1
+fi
+echo "reproduce: results in $out/"

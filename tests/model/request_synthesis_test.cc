@@ -1,0 +1,60 @@
+#include "leglab/model/request_synthesis.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "leglab/model/metrics.h"
+
+namespace leglab {
+namespace {
+
+const JointModelParams kPaper{2.5, 7.0, 4, 6};
+
+TEST(RequestSynthesis, SwitchLeadIsLagPlusHalfTheAccelerationTime) {
+  EXPECT_EQ(SwitchLeadTicks(kPaper), 7);            // 4 + 6/2
+  EXPECT_EQ(SwitchLeadTicks({2.5, 7.0, 4, 5}), 7);  // 4 + 2.5, rounded half up
+  EXPECT_EQ(SwitchLeadTicks({2.5, 7.0, 0, 1}), 1);
+}
+
+TEST(RequestSynthesis, TriangleByHand) {
+  // P: up from 0 at t = 0 to 40 at t = 40 (slope 1), down to 0 at t = 80 (slope -1).
+  const PiecewiseLinear p{80, {0, 40}, {0.0, 40.0}};
+  const double c = LineInverseOffsetExact(kPaper, 1.0);  // 9.3 (hand value in its own test)
+  const std::vector<double> r = SynthesizeRequests(kPaper, p, CmMethod::kExact);
+  // Well inside the rising segment: R = P + C_1.
+  EXPECT_NEAR(r[10], 10.0 + c, 1e-12);
+  // Seven ticks before the corner the requests already follow the falling line, extended:
+  // L_1(33) = 40 - (33 - 40) = 47, R = 47 - C_1.
+  EXPECT_NEAR(r[32], 32.0 + c, 1e-12);
+  EXPECT_NEAR(r[33], 47.0 - c, 1e-12);
+  // Seven ticks before the wrap at t = 80 they switch back to the rising line: L_0(73) = -7.
+  EXPECT_NEAR(r[72], 8.0 - c, 1e-12);
+  EXPECT_NEAR(r[73], -7.0 + c, 1e-12);
+}
+
+TEST(RequestSynthesis, ModelFollowsItsPiecewiseLinearTargetClosely) {
+  // A slow triangle (slopes +-1): in the model, the synthesized requests reach P within a
+  // fraction of a degree, while requesting P itself lags it by C_1 = 9.3 deg on the lines.
+  const PiecewiseLinear p{80, {0, 40}, {0.0, 40.0}};
+  const std::vector<double> target = p.Sample();
+  const std::vector<double> requests = SynthesizeRequests(kPaper, p, CmMethod::kExact);
+  const std::vector<double> model_based = CyclicSteadyState(kPaper, requests);
+  const std::vector<double> direct = CyclicSteadyState(kPaper, target);
+  EXPECT_LT(RmsDistance(model_based, target), 1.0);
+  EXPECT_GT(RmsDistance(direct, target), 5.0);
+  // Mid-segment the exact C_m leaves no error once the switch has died out: in f's linear
+  // regime the distance to the line contracts by 1 - v/theta_0 = 0.64 a tick, so some 30 ticks
+  // after the switch (t = -7) it is below 1e-5 deg.
+  EXPECT_NEAR(model_based[35], target[35], 1e-5);
+}
+
+TEST(RequestSynthesis, SlopeAboveVmaxIsAnError) {
+  const PiecewiseLinear p{10, {0, 5}, {0.0, 20.0}};  // 4 deg/tick
+  EXPECT_THROW(SynthesizeRequests(kPaper, p, CmMethod::kExact), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace leglab
