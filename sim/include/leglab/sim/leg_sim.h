@@ -1,0 +1,106 @@
+#pragma once
+
+#include <array>
+#include <stdexcept>
+
+#include "leglab/sim/angle_sensor.h"
+#include "leglab/sim/joint_servo.h"
+#include "leglab/sim/leg_world.h"
+#include "leglab/sim/sim_config.h"
+
+namespace leglab::sim {
+
+/// The simulation broke down (a non-finite or exploding state). The message names the tick.
+class SimError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The simulated plant: one ERS-210A leg held in the air (LegWorld physics), driven by servo
+/// firmware (JointServo, one per joint) and read by noisy angle sensors (AngleSensor). It is
+/// hardware to the controller: write requests, tick, read measured angles.
+///
+/// Timing: at control tick t the caller calls SetRequestsDeg(R(t)) and then Tick(); after
+/// Tick() returns, MeasuredDeg() is the angle recorded immediately after request t, sampled at
+/// the end of that tick. A request is acted on servo.delay_ms later: with 32 ms a step
+/// requested at tick t first moves the joint during tick t + 4 and first shows in the
+/// measurement returned after tick t + 4.
+///
+/// Deterministic: the same config (including seed) and calls give bit-identical results.
+class LegSim {
+ public:
+  /// Validates `config` (std::invalid_argument naming the key), then builds the leg from
+  /// config.urdf_path (std::runtime_error naming the file if it is missing or malformed,
+  /// std::invalid_argument naming the joint or link if one is missing or invalid; see
+  /// LegWorld). The leg starts at rest at q = 0 with every request 0, tick() == 0, and
+  /// MeasuredDeg() holds one reading of that pose.
+  explicit LegSim(const SimConfig& config);
+  ~LegSim();
+  LegSim(LegSim&&) noexcept;             ///< A moved-from LegSim may only be destroyed.
+  LegSim& operator=(LegSim&&) noexcept;  ///< A moved-from LegSim may only be destroyed.
+  LegSim(const LegSim&) = delete;
+  LegSim& operator=(const LegSim&) = delete;
+
+  /// Sets the request for the coming tick, deg (JointArray order). Each value is clamped to
+  /// its joint's URDF limits, as the real servo does. Until the next call, later ticks repeat
+  /// it. Throws std::invalid_argument naming the joint for a non-finite value.
+  void SetRequestsDeg(const JointArray& request_deg);
+
+  /// Advances one 8 ms control tick: kTickMs / physics_dt_ms physics steps, each running the
+  /// servo firmware and one dWorldStep, then samples the sensors. Throws SimError naming the
+  /// tick when the state turns non-finite or explodes (the sim is then unusable).
+  void Tick();
+
+  /// The latest sensor reading, deg: true angle + Gaussian noise (sensor.noise_deg, seeded),
+  /// quantised to 1 microradian; sampled once at the end of each Tick().
+  JointArray MeasuredDeg() const { return ToDeg(measured_rad_); }
+
+  /// The exact hinge angles now, deg.
+  JointArray TrueDeg() const;
+
+  /// The latest request as the servo took it (clamped to the joint limits), deg.
+  JointArray CommandedDeg() const;
+
+  /// Centre of the ball of the foot (the `foot` link origin) in the body frame, mm, from the
+  /// ODE body poses.
+  std::array<double, 3> FootPositionMm() const { return world_.LinkOriginMm(kFootLinkName); }
+
+  /// Teleports the leg to `q_deg` at rest, and resets the servos (requests, delay line,
+  /// smoothing) to hold there. Draws a fresh sensor reading. Does not advance tick().
+  /// Throws std::invalid_argument naming the joint when an angle is non-finite or outside its
+  /// URDF limits.
+  void SetJointAnglesDeg(const JointArray& q_deg);
+
+  /// Powers the motors (default on). Off sets their maximum torque to 0, leaving a passive
+  /// pendulum under gravity; the firmware keeps running and takes over when powered again.
+  void SetMotorsEnabled(bool on) { motors_enabled_ = on; }
+
+  /// Kinetic plus gravitational potential energy of the moving links, J.
+  double MechanicalEnergyJ() const { return world_.MechanicalEnergyJ(); }
+
+  /// Number of completed control ticks.
+  long tick() const { return tick_; }
+
+  /// The configuration this plant was built from.
+  const SimConfig& config() const { return config_; }
+
+  /// The physics underneath (URDF joint data, link poses); read-only.
+  const LegWorld& world() const { return world_; }
+
+ private:
+  static JointArray ToDeg(const JointArray& rad);
+
+  SimConfig config_;
+  LegWorld world_;
+  std::array<JointServo, kNumJoints> servos_;
+  std::array<double, kNumJoints> max_torque_nm_{};
+  AngleSensor sensor_;
+  int steps_per_tick_;
+  double physics_dt_s_;
+  JointArray request_rad_{};
+  JointArray measured_rad_{};
+  bool motors_enabled_ = true;
+  long tick_ = 0;
+};
+
+}  // namespace leglab::sim

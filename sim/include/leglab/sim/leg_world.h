@@ -1,0 +1,96 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <string_view>
+
+#include "leglab/sim/sim_config.h"
+
+namespace leglab::sim {
+
+/// One simulated joint as described by the URDF.
+struct JointInfo {
+  std::string name;                 ///< URDF joint name (one of kJointNames)
+  double lower_rad = 0.0;           ///< software lower limit, rad
+  double upper_rad = 0.0;           ///< software upper limit, rad
+  double effort_nm = 0.0;           ///< torque rating, N m
+  double velocity_rad_per_s = 0.0;  ///< speed rating, rad/s
+};
+
+/// The rigid-body physics of the leg: the URDF turned into an ODE world, nothing else (no
+/// servo firmware, no sensor; LegSim adds those). The root link is fixed to the world at the
+/// world origin, so world coordinates are body-frame coordinates. Each link moved by a
+/// revolute joint becomes an ODE body placed at its centre of mass; links hung on fixed joints
+/// are lumped into their parent (a link without <inertial>, such as `foot`, is just a frame).
+/// Each revolute joint is an ODE hinge with a velocity motor and mechanical stops
+/// kStopMarginRad beyond its URDF limits. Gravity is -kGravityMPerS2 along z.
+///
+/// Owns its ODE world; ODE itself is initialised once per process on first use.
+/// Not thread-safe; one LegWorld may be used by one thread at a time.
+class LegWorld {
+ public:
+  /// Gravitational acceleration, m/s^2, acting along -z.
+  static constexpr double kGravityMPerS2 = 9.81;
+  /// How far beyond the URDF (software) limits the mechanical stops are, rad (3 deg, as on
+  /// the ERS-210A).
+  static constexpr double kStopMarginRad = 3.0 * std::numbers::pi / 180.0;
+  /// A hinge turning faster than this, rad/s, means the integration has blown up.
+  static constexpr double kExplodedRateRadPerS = 1000.0;
+
+  /// Parses the URDF at `urdf_path` (absolute or relative to the working directory) and builds
+  /// the ODE world with every body at rest at q = 0.
+  /// Throws std::runtime_error naming the file when it is missing or urdfdom rejects it (with
+  /// urdfdom's reason), and std::invalid_argument naming the item when a joint of kJointNames
+  /// or the `foot` link is missing, a joint is not revolute or has limits the stops cannot
+  /// wrap within (-pi, pi), damping/friction/mimic is given (not modelled), another movable
+  /// joint exists, or a moving link has no or an invalid mass/inertia.
+  explicit LegWorld(const std::string& urdf_path);
+  ~LegWorld();
+  LegWorld(LegWorld&&) noexcept;             ///< A moved-from LegWorld may only be destroyed.
+  LegWorld& operator=(LegWorld&&) noexcept;  ///< A moved-from LegWorld may only be destroyed.
+  LegWorld(const LegWorld&) = delete;
+  LegWorld& operator=(const LegWorld&) = delete;
+
+  /// The URDF description of joint `joint` (0 <= joint < kNumJoints, JointArray order).
+  const JointInfo& joint(int joint) const;
+
+  /// Hinge angles as ODE reports them, rad (zero at the URDF's q = 0, sign of the URDF axis).
+  JointArray AnglesRad() const;
+
+  /// Hinge angular rates, rad/s.
+  JointArray RatesRadPerS() const;
+
+  /// Sets joint `joint`'s velocity motor: it holds `speed_rad_per_s` using at most
+  /// `max_torque_nm` (>= 0; 0 switches the motor off).
+  void SetMotor(int joint, double speed_rad_per_s, double max_torque_nm);
+
+  /// One ODE step (dWorldStep) of `dt_s` seconds.
+  void Step(double dt_s);
+
+  /// Teleports the leg to the joint angles `q_rad` (rad), every body at rest. Does not check
+  /// limits.
+  void SetConfigurationRad(const JointArray& q_rad);
+
+  /// Origin of link `link`'s frame in the body (= world) frame, mm, from the ODE body poses.
+  /// Throws std::invalid_argument when the URDF has no such link.
+  std::array<double, 3> LinkOriginMm(std::string_view link) const;
+
+  /// Kinetic plus gravitational potential energy of the moving bodies, J (zero potential at
+  /// z = 0).
+  double MechanicalEnergyJ() const;
+
+  /// Kinetic energy (translation and rotation) of the moving bodies, J.
+  double KineticEnergyJ() const;
+
+  /// Empty when the state is sound; otherwise what is wrong with it (a non-finite value, a
+  /// hinge faster than kExplodedRateRadPerS, or a hinge whose two anchors drifted apart).
+  std::string StateProblem() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace leglab::sim

@@ -1,0 +1,109 @@
+#include "leglab/sim/leg_sim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <utility>
+
+namespace leglab::sim {
+namespace {
+
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+// The config is validated before anything is built from it.
+const SimConfig& Validated(const SimConfig& config) {
+  ValidateSimConfig(config);
+  return config;
+}
+
+JointServo MakeServo(const SimConfig& config, const LegWorld& world, int joint) {
+  const JointInfo& info = world.joint(joint);
+  return JointServo(config.servo, config.physics_dt_ms, info.lower_rad, info.upper_rad);
+}
+
+}  // namespace
+
+LegSim::LegSim(const SimConfig& config)
+    : config_(Validated(config)),
+      world_(config_.urdf_path),
+      servos_{MakeServo(config_, world_, 0), MakeServo(config_, world_, 1),
+              MakeServo(config_, world_, 2)},
+      sensor_(config_.sensor.noise_deg, config_.seed),
+      steps_per_tick_(PhysicsStepsPerTick(config_.physics_dt_ms)),
+      physics_dt_s_(config_.physics_dt_ms / 1000.0) {
+  static_assert(kNumJoints == 3, "servos_ is initialised for three joints");
+  for (int j = 0; j < kNumJoints; ++j) {
+    max_torque_nm_[j] = std::min(config_.servo.max_torque_nm, world_.joint(j).effort_nm);
+  }
+  SetJointAnglesDeg(JointArray{});
+}
+
+LegSim::~LegSim() = default;
+LegSim::LegSim(LegSim&&) noexcept = default;
+LegSim& LegSim::operator=(LegSim&&) noexcept = default;
+
+JointArray LegSim::ToDeg(const JointArray& rad) {
+  JointArray deg{};
+  for (int j = 0; j < kNumJoints; ++j) deg[j] = rad[j] / kRadPerDeg;
+  return deg;
+}
+
+void LegSim::SetRequestsDeg(const JointArray& request_deg) {
+  for (int j = 0; j < kNumJoints; ++j) {
+    if (!std::isfinite(request_deg[j])) {
+      throw std::invalid_argument("request for joint '" + std::string(kJointNames[j]) +
+                                  "' must be finite, got " + std::to_string(request_deg[j]));
+    }
+  }
+  for (int j = 0; j < kNumJoints; ++j) request_rad_[j] = request_deg[j] * kRadPerDeg;
+}
+
+void LegSim::Tick() {
+  for (int j = 0; j < kNumJoints; ++j) servos_[j].PushRequest(request_rad_[j]);
+  for (int step = 0; step < steps_per_tick_; ++step) {
+    const JointArray angles = world_.AnglesRad();
+    for (int j = 0; j < kNumJoints; ++j) {
+      world_.SetMotor(j, servos_[j].MotorSpeedRadPerS(angles[j]),
+                      motors_enabled_ ? max_torque_nm_[j] : 0.0);
+    }
+    world_.Step(physics_dt_s_);
+  }
+  if (std::string problem = world_.StateProblem(); !problem.empty()) {
+    throw SimError(
+        "leglab::sim: the simulation broke down during control tick " + std::to_string(tick_) +
+        " (t = " + std::to_string(static_cast<double>(tick_) * kTickMs) + " ms): " + problem);
+  }
+  ++tick_;
+  measured_rad_ = sensor_.Measure(world_.AnglesRad());
+}
+
+JointArray LegSim::TrueDeg() const { return ToDeg(world_.AnglesRad()); }
+
+JointArray LegSim::CommandedDeg() const {
+  JointArray commanded{};
+  for (int j = 0; j < kNumJoints; ++j) commanded[j] = servos_[j].latest_request_rad();
+  return ToDeg(commanded);
+}
+
+void LegSim::SetJointAnglesDeg(const JointArray& q_deg) {
+  JointArray q_rad{};
+  for (int j = 0; j < kNumJoints; ++j) {
+    const JointInfo& info = world_.joint(j);
+    q_rad[j] = q_deg[j] * kRadPerDeg;
+    if (!std::isfinite(q_rad[j]) || q_rad[j] < info.lower_rad - 1e-12 ||
+        q_rad[j] > info.upper_rad + 1e-12) {
+      throw std::invalid_argument("joint '" + info.name + "' angle must lie within its limits [" +
+                                  std::to_string(info.lower_rad / kRadPerDeg) + ", " +
+                                  std::to_string(info.upper_rad / kRadPerDeg) + "] deg, got " +
+                                  std::to_string(q_deg[j]));
+    }
+    q_rad[j] = std::clamp(q_rad[j], info.lower_rad, info.upper_rad);
+  }
+  world_.SetConfigurationRad(q_rad);
+  for (int j = 0; j < kNumJoints; ++j) servos_[j].Hold(q_rad[j]);
+  request_rad_ = q_rad;
+  measured_rad_ = sensor_.Measure(world_.AnglesRad());
+}
+
+}  // namespace leglab::sim

@@ -1,0 +1,67 @@
+#include "leglab/sim/sim_config.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace leglab::sim {
+namespace {
+
+// Shortest text that reads back as `value` ("30", "2.5", "-1e-07").
+std::string Format(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+[[noreturn]] void Reject(std::string_view key, std::string_view expectation, double got) {
+  throw std::invalid_argument(std::string(key) + " must be " + std::string(expectation) + ", got " +
+                              Format(got));
+}
+
+// True when value / unit is a whole number, up to rounding of decimal inputs such as 0.1.
+bool IsWholeMultiple(double value, double unit) {
+  const double ratio = value / unit;
+  return std::abs(ratio - std::round(ratio)) <= 1e-9 * std::max(1.0, std::abs(ratio));
+}
+
+void RequirePositive(std::string_view key, double value) {
+  if (!std::isfinite(value) || value <= 0.0) Reject(key, "a finite number > 0", value);
+}
+
+}  // namespace
+
+void ValidateSimConfig(const SimConfig& config) {
+  if (config.urdf_path.empty()) {
+    throw std::invalid_argument("urdf must name a URDF file, got an empty path");
+  }
+  const double dt = config.physics_dt_ms;
+  if (!std::isfinite(dt) || dt <= 0.0 || dt > kTickMs || !IsWholeMultiple(kTickMs, dt)) {
+    Reject("sim.physics_dt_ms", "> 0 and divide the 8 ms tick into a whole number of steps", dt);
+  }
+  const ServoConfig& servo = config.servo;
+  if (!std::isfinite(servo.delay_ms) || servo.delay_ms < 0.0 ||
+      !IsWholeMultiple(servo.delay_ms, kTickMs)) {
+    Reject("servo.delay_ms", "a non-negative multiple of 8 ms", servo.delay_ms);
+  }
+  RequirePositive("servo.max_speed_deg_s", servo.max_speed_deg_s);
+  RequirePositive("servo.gain_per_s", servo.gain_per_s);
+  if (!std::isfinite(servo.smoothing_ms) || servo.smoothing_ms < 0.0 ||
+      !IsWholeMultiple(servo.smoothing_ms, dt)) {
+    Reject("servo.smoothing_ms",
+           "a non-negative multiple of sim.physics_dt_ms (" + Format(dt) + " ms)",
+           servo.smoothing_ms);
+  }
+  RequirePositive("servo.max_torque_nm", servo.max_torque_nm);
+  if (!std::isfinite(config.sensor.noise_deg) || config.sensor.noise_deg < 0.0) {
+    Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
+  }
+}
+
+int PhysicsStepsPerTick(double physics_dt_ms) {
+  return static_cast<int>(std::lround(kTickMs / physics_dt_ms));
+}
+
+}  // namespace leglab::sim

@@ -1,0 +1,101 @@
+#include "leglab/sim/joint_servo.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace leglab::sim {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+ServoConfig Config(double delay_ms, double smoothing_ms) {
+  ServoConfig config;
+  config.delay_ms = delay_ms;
+  config.max_speed_deg_s = 312.5;
+  config.gain_per_s = 50.0;
+  config.smoothing_ms = smoothing_ms;
+  return config;
+}
+
+TEST(JointServoTest, ActsOnARequestExactlyDelayTicksLater) {
+  JointServo servo(Config(32.0, 0.0), 1.0, -2.0, 2.0);
+  EXPECT_EQ(servo.delay_ticks(), 4);
+  for (int tick = 0; tick < 10; ++tick) {
+    servo.PushRequest(0.1 * tick);
+    // The request pushed at tick t is acted on from tick t + 4; before tick 4 the hold (0).
+    const double expected = tick >= 4 ? 0.1 * (tick - 4) : 0.0;
+    EXPECT_DOUBLE_EQ(servo.target_rad(), expected) << "tick " << tick;
+    EXPECT_DOUBLE_EQ(servo.latest_request_rad(), 0.1 * tick);
+  }
+}
+
+TEST(JointServoTest, ZeroDelayActsAtOnce) {
+  JointServo servo(Config(0.0, 0.0), 1.0, -2.0, 2.0);
+  servo.PushRequest(0.5);
+  EXPECT_DOUBLE_EQ(servo.target_rad(), 0.5);
+}
+
+TEST(JointServoTest, ClampsTargetsIntoTheLimits) {
+  JointServo servo(Config(0.0, 0.0), 1.0, -0.2, 1.5);
+  servo.PushRequest(3.0);
+  EXPECT_DOUBLE_EQ(servo.target_rad(), 1.5);
+  servo.PushRequest(-3.0);
+  EXPECT_DOUBLE_EQ(servo.target_rad(), -0.2);
+}
+
+TEST(JointServoTest, SpeedIsProportionalThenCapped) {
+  JointServo servo(Config(0.0, 0.0), 1.0, -2.0, 2.0);
+  servo.PushRequest(1.0 * kDeg);
+  // 50/s * 1 deg = 50 deg/s, under the 312.5 deg/s cap.
+  EXPECT_NEAR(servo.MotorSpeedRadPerS(0.0), 50.0 * kDeg, 1e-12);
+  servo.PushRequest(-40.0 * kDeg);
+  EXPECT_NEAR(servo.MotorSpeedRadPerS(0.0), -312.5 * kDeg, 1e-12);
+}
+
+TEST(JointServoTest, SmoothingRampsLinearlyOverTheWindow) {
+  // 10 ms window at 1 ms steps: a saturated command is reached in 10 equal increments.
+  JointServo servo(Config(0.0, 10.0), 1.0, -2.0, 2.0);
+  servo.PushRequest(1.5);
+  const double top = 312.5 * kDeg;
+  for (int step = 1; step <= 15; ++step) {
+    const double expected = top * std::min(step, 10) / 10.0;
+    EXPECT_NEAR(servo.MotorSpeedRadPerS(0.0), expected, 1e-12) << "step " << step;
+  }
+  // Reversing takes the same window, from +top to -top (not twice as long).
+  servo.PushRequest(-1.5);
+  for (int step = 1; step <= 10; ++step) {
+    EXPECT_NEAR(servo.MotorSpeedRadPerS(0.0), top - 2.0 * top * step / 10.0, 1e-12);
+  }
+}
+
+TEST(JointServoTest, HoldForgetsQueueAndSpeedHistory) {
+  JointServo servo(Config(16.0, 5.0), 1.0, -2.0, 2.0);
+  servo.PushRequest(1.0);
+  servo.PushRequest(1.0);
+  servo.PushRequest(1.0);
+  EXPECT_GT(servo.MotorSpeedRadPerS(0.0), 0.0);
+  servo.Hold(0.3);
+  EXPECT_DOUBLE_EQ(servo.target_rad(), 0.3);
+  EXPECT_DOUBLE_EQ(servo.latest_request_rad(), 0.3);
+  EXPECT_DOUBLE_EQ(servo.MotorSpeedRadPerS(0.3), 0.0);
+}
+
+TEST(JointServoTest, RunningSumDoesNotDrift) {
+  JointServo servo(Config(0.0, 40.0), 1.0, -2.0, 2.0);
+  servo.PushRequest(0.01);
+  // Many different commands leave rounding in a running sum...
+  double angle = 0.0;
+  for (int step = 0; step < 100000; ++step) {
+    angle = std::fmod(angle + 0.0123456789, 0.02);
+    servo.MotorSpeedRadPerS(angle);
+  }
+  // ...but once the window holds one value (50/s * 0.01 rad = 0.5 rad/s), the mean is exact.
+  for (int step = 0; step < 80; ++step) servo.MotorSpeedRadPerS(0.0);
+  EXPECT_EQ(servo.MotorSpeedRadPerS(0.0), 0.5);
+}
+
+}  // namespace
+}  // namespace leglab::sim

@@ -1,0 +1,244 @@
+#include "leglab/sim/leg_sim.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace leglab::sim {
+namespace {
+
+const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+
+SimConfig Config(double delay_ms = 32.0, double noise_deg = 0.0) {
+  SimConfig config;
+  config.urdf_path = kUrdf;
+  config.servo.delay_ms = delay_ms;
+  config.sensor.noise_deg = noise_deg;
+  return config;
+}
+
+// ---- Step response -------------------------------------------------------------------
+
+class StepDelayTest : public ::testing::TestWithParam<double> {};
+
+TEST_P(StepDelayTest, JointStartsMovingExactlyAfterTheDelay) {
+  const double delay_ms = GetParam();
+  const int delay_ticks = static_cast<int>(delay_ms / kTickMs);
+  LegSim sim(Config(delay_ms));
+  sim.SetJointAnglesDeg({0.0, 10.0, 30.0});
+  // Let the leg settle under gravity while holding.
+  for (int t = 0; t < 20; ++t) sim.Tick();
+  const double before = sim.MeasuredDeg()[0];
+
+  sim.SetRequestsDeg({40.0, 10.0, 30.0});  // the step, at tick t0
+  for (int k = 0; k <= delay_ticks; ++k) {
+    sim.Tick();  // tick t0 + k
+    const double moved = sim.MeasuredDeg()[0] - before;
+    if (k < delay_ticks) {
+      // Still holding: at most settling creep (measurement is quantised to 1 urad = 6e-5 deg).
+      EXPECT_LT(std::abs(moved), 1e-3) << "tick t0+" << k;
+    } else {
+      EXPECT_GT(moved, 0.05) << "tick t0+" << k;  // the first tick of motion
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Delays, StepDelayTest, ::testing::Values(0.0, 8.0, 32.0, 40.0));
+
+TEST(LegSimTest, SpeedNeverExceedsTheTopSpeed) {
+  LegSim sim(Config(32.0));
+  sim.SetJointAnglesDeg({-55.0, 0.0, 100.0});
+  const double top_deg_per_tick = sim.config().servo.max_speed_deg_s * kTickMs / 1000.0;  // 2.5
+  // 110 deg steps back and forth on every joint's range.
+  const JointArray a{-55.0, 0.0, 100.0};
+  const JointArray b{55.0, 80.0, -20.0};
+  double fastest = 0.0;
+  JointArray previous = sim.TrueDeg();
+  for (int t = 0; t < 300; ++t) {
+    sim.SetRequestsDeg((t / 75) % 2 == 0 ? b : a);
+    sim.Tick();
+    const JointArray now = sim.TrueDeg();
+    for (int j = 0; j < kNumJoints; ++j) {
+      const double speed = std::abs(now[j] - previous[j]);
+      fastest = std::max(fastest, speed);
+      // ODE's velocity motor holds the servo speed to round-off; allow 0.2 %.
+      EXPECT_LE(speed, top_deg_per_tick * 1.002) << kJointNames[j] << " tick " << t;
+    }
+    previous = now;
+  }
+  EXPECT_GT(fastest, top_deg_per_tick * 0.99);  // and it does reach top speed
+}
+
+TEST(LegSimTest, RequestsOutsideTheLimitsAreClamped) {
+  LegSim sim(Config(0.0));
+  sim.SetRequestsDeg({500.0, -90.0, 200.0});
+  EXPECT_EQ(sim.CommandedDeg(), (JointArray{0.0, 0.0, 0.0}));  // taken at the next Tick
+  double highest_knee = -1e9;
+  for (int t = 0; t < 150; ++t) {
+    sim.Tick();
+    highest_knee = std::max(highest_knee, sim.TrueDeg()[2]);
+  }
+  const JointArray commanded = sim.CommandedDeg();
+  // The URDF gives the limits in radians to 10 decimals.
+  EXPECT_NEAR(commanded[0], 117.0, 1e-6);
+  EXPECT_NEAR(commanded[1], -11.0, 1e-6);
+  EXPECT_NEAR(commanded[2], 147.0, 1e-6);
+  const JointArray reached = sim.TrueDeg();
+  EXPECT_NEAR(reached[0], 117.0, 0.2);
+  EXPECT_NEAR(reached[1], -11.0, 0.2);
+  EXPECT_NEAR(reached[2], 147.0, 0.2);
+  // Overshoot past the software limit stays short of the mechanical stop 3 deg beyond.
+  EXPECT_LT(highest_knee, 150.0);
+}
+
+TEST(LegSimTest, NonFiniteRequestNamesTheJoint) {
+  LegSim sim(Config());
+  try {
+    sim.SetRequestsDeg({0.0, std::nan(""), 0.0});
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'abductor'"), std::string::npos) << error.what();
+  }
+}
+
+TEST(LegSimTest, TeleportOutsideTheLimitsNamesTheJoint) {
+  LegSim sim(Config());
+  try {
+    sim.SetJointAnglesDeg({0.0, 0.0, 160.0});
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'knee'"), std::string::npos) << error.what();
+  }
+}
+
+TEST(LegSimTest, TeleportHoldsStill) {
+  LegSim sim(Config());
+  sim.SetJointAnglesDeg({30.0, 40.0, 90.0});
+  EXPECT_EQ(sim.CommandedDeg()[2], sim.TrueDeg()[2]);
+  for (int t = 0; t < 50; ++t) sim.Tick();
+  const JointArray held = sim.TrueDeg();
+  EXPECT_NEAR(held[0], 30.0, 0.05);
+  EXPECT_NEAR(held[1], 40.0, 0.05);
+  EXPECT_NEAR(held[2], 90.0, 0.05);
+  EXPECT_EQ(sim.tick(), 50);
+}
+
+TEST(LegSimTest, MotorsOffLetTheLegSwingAndOnHoldsIt) {
+  LegSim sim(Config());
+  sim.SetJointAnglesDeg({60.0, 0.0, 0.0});
+  sim.SetMotorsEnabled(false);
+  const double initial = sim.MechanicalEnergyJ();
+  double lowest_rotator = 60.0;
+  double peak_kinetic = 0.0;
+  for (int t = 0; t < 125; ++t) {  // 1 s
+    sim.Tick();
+    lowest_rotator = std::min(lowest_rotator, sim.TrueDeg()[0]);
+    peak_kinetic = std::max(peak_kinetic, sim.world().KineticEnergyJ());
+    // A passive pendulum (hitting the knee stop on the way): energy never grows beyond
+    // integration wobble (see leg_world_test.cc).
+    ASSERT_LE(sim.MechanicalEnergyJ() - initial, 0.01 * peak_kinetic) << "tick " << t;
+  }
+  EXPECT_LT(lowest_rotator, 0.0);  // the unpowered leg swung down and through under gravity
+  sim.SetMotorsEnabled(true);
+  sim.SetRequestsDeg({0.0, 0.0, 0.0});
+  for (int t = 0; t < 100; ++t) sim.Tick();
+  EXPECT_NEAR(sim.TrueDeg()[0], 0.0, 0.1);
+}
+
+// ---- Determinism ---------------------------------------------------------------------
+
+struct Trace {
+  std::vector<double> measured;
+  std::vector<double> truth;
+};
+
+Trace RunWithSeed(std::uint64_t seed) {
+  SimConfig config = Config(40.0, 0.1);
+  config.seed = seed;
+  LegSim sim(config);
+  Trace trace;
+  for (int t = 0; t < 150; ++t) {
+    const double phase = 2.0 * 3.141592653589793 * t / 88.0;
+    sim.SetRequestsDeg({30.0 * std::sin(phase), 20.0 + 15.0 * std::cos(phase),
+                        60.0 + 40.0 * std::sin(2.0 * phase)});
+    sim.Tick();
+    for (double v : sim.MeasuredDeg()) trace.measured.push_back(v);
+    for (double v : sim.TrueDeg()) trace.truth.push_back(v);
+  }
+  return trace;
+}
+
+bool BitIdentical(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+TEST(LegSimTest, SameSeedGivesBitIdenticalTraces) {
+  const Trace first = RunWithSeed(5);
+  const Trace second = RunWithSeed(5);
+  EXPECT_TRUE(BitIdentical(first.measured, second.measured));
+  EXPECT_TRUE(BitIdentical(first.truth, second.truth));
+}
+
+TEST(LegSimTest, OtherSeedChangesOnlyTheNoise) {
+  const Trace first = RunWithSeed(5);
+  const Trace other = RunWithSeed(6);
+  EXPECT_FALSE(BitIdentical(first.measured, other.measured));
+  // The firmware acts on the true angle, so the physics does not see the sensor noise.
+  EXPECT_TRUE(BitIdentical(first.truth, other.truth));
+}
+
+// ---- Errors --------------------------------------------------------------------------
+
+TEST(LegSimTest, BadConfigValueNamesTheKey) {
+  SimConfig config = Config();
+  config.servo.delay_ms = 30.0;
+  try {
+    LegSim sim(config);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(), "servo.delay_ms must be a non-negative multiple of 8 ms, got 30");
+  }
+}
+
+TEST(LegSimTest, MissingUrdfNamesTheFile) {
+  SimConfig config = Config();
+  config.urdf_path = "no/such/leg.urdf";
+  try {
+    LegSim sim(config);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("no/such/leg.urdf"), std::string::npos);
+  }
+}
+
+TEST(LegSimTest, ExplodingStateThrowsSimErrorNamingTheTick) {
+  // A servo asked for absurd speeds tears the integration apart.
+  SimConfig config = Config(0.0);
+  config.servo.max_speed_deg_s = 1e12;
+  config.servo.gain_per_s = 1e12;
+  config.servo.smoothing_ms = 0.0;
+  LegSim sim(config);
+  sim.SetRequestsDeg({100.0, 80.0, 140.0});
+  try {
+    for (int t = 0; t < 10; ++t) sim.Tick();
+    FAIL() << "no error";
+  } catch (const SimError& error) {
+    EXPECT_NE(std::string(error.what()).find("control tick 0"), std::string::npos) << error.what();
+  }
+}
+
+TEST(LegSimTest, MovedSimKeepsRunning) {
+  LegSim sim(Config());
+  sim.Tick();
+  LegSim moved = std::move(sim);
+  moved.Tick();
+  EXPECT_EQ(moved.tick(), 2);
+}
+
+}  // namespace
+}  // namespace leglab::sim

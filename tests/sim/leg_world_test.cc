@@ -1,0 +1,289 @@
+#include "leglab/sim/leg_world.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace leglab::sim {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+
+// The ERS-210A front-left kinematics written out by hand from the robot notes, independent of
+// the URDF and of leglab::model:
+//   foot = shoulder + Ry(-q1) Rx(q2) (upper_leg + Ry(q3) lower_leg), mm.
+Eigen::Vector3d HandFootMm(const JointArray& q_rad) {
+  const Eigen::Vector3d shoulder(59.5, 59.2, 0.0);
+  const Eigen::Vector3d upper_leg(12.8, 0.5, -64.0);
+  const Eigen::Vector3d lower_leg(-18.88, 0.0, -66.0);
+  const auto ry = [](double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()); };
+  const auto rx = [](double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()); };
+  return shoulder + ry(-q_rad[0]) * (rx(q_rad[1]) * (upper_leg + ry(q_rad[2]) * lower_leg));
+}
+
+Eigen::Vector3d FootMm(const LegWorld& world) {
+  const auto foot = world.LinkOriginMm("foot");
+  return Eigen::Vector3d(foot[0], foot[1], foot[2]);
+}
+
+JointArray RandomAnglesRad(const LegWorld& world, std::mt19937_64& engine) {
+  JointArray q{};
+  for (int j = 0; j < kNumJoints; ++j) {
+    q[j] = std::uniform_real_distribution<double>(world.joint(j).lower_rad,
+                                                  world.joint(j).upper_rad)(engine);
+  }
+  return q;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A copy of the shipped URDF with each `from` replaced by its `to`, in a file of this test's
+// own that is removed with the object.
+using Edits = std::vector<std::pair<std::string, std::string>>;  // (from, to) pairs
+
+class TempUrdf {
+ public:
+  explicit TempUrdf(const Edits& edits) {
+    std::string text = ReadFile(kUrdf);
+    for (const auto& [from, to] : edits) {
+      const std::size_t at = text.find(from);
+      EXPECT_NE(at, std::string::npos) << from;
+      if (at != std::string::npos) text.replace(at, from.size(), to);
+    }
+    const std::string name = std::string("leglab_") +
+                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                             std::to_string(::getpid()) + ".urdf";
+    path_ = (std::filesystem::temp_directory_path() / name).string();
+    std::ofstream(path_) << text;
+  }
+  TempUrdf(const std::string& from, const std::string& to) : TempUrdf(Edits{{from, to}}) {}
+  ~TempUrdf() { std::filesystem::remove(path_); }
+  TempUrdf(const TempUrdf&) = delete;
+  TempUrdf& operator=(const TempUrdf&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+template <typename Error>
+std::string ErrorOf(const std::string& path) {
+  try {
+    LegWorld world(path);
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+template <typename Error>
+std::string ErrorOf(const TempUrdf& urdf) {
+  return ErrorOf<Error>(urdf.path());
+}
+
+TEST(LegWorldTest, ReadsJointsAndLimitsFromTheUrdf) {
+  const LegWorld world(kUrdf);
+  const double limits_deg[3][2] = {{-117, 117}, {-11, 89}, {-27, 147}};
+  for (int j = 0; j < kNumJoints; ++j) {
+    EXPECT_EQ(world.joint(j).name, kJointNames[j]);
+    EXPECT_NEAR(world.joint(j).lower_rad, limits_deg[j][0] * kDeg, 1e-9);
+    EXPECT_NEAR(world.joint(j).upper_rad, limits_deg[j][1] * kDeg, 1e-9);
+    EXPECT_DOUBLE_EQ(world.joint(j).effort_nm, 5.45);
+  }
+  EXPECT_EQ(world.AnglesRad(), (JointArray{0.0, 0.0, 0.0}));
+}
+
+TEST(LegWorldTest, FootAtZeroIsTheSumOfTheLinkVectors) {
+  const LegWorld world(kUrdf);
+  // (59.5 + 12.8 - 18.88, 59.2 + 0.5 + 0, 0 - 64 - 66) mm.
+  EXPECT_LT((FootMm(world) - Eigen::Vector3d(53.42, 59.7, -130.0)).norm(), 1e-9);
+}
+
+TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
+  LegWorld world(kUrdf);
+  std::mt19937_64 engine(2024);
+  for (int trial = 0; trial < 200; ++trial) {
+    const JointArray q = RandomAnglesRad(world, engine);
+    world.SetConfigurationRad(q);
+    EXPECT_LT((FootMm(world) - HandFootMm(q)).norm(), 0.1)
+        << "q = " << q[0] << ", " << q[1] << ", " << q[2] << " rad";
+  }
+}
+
+TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
+  LegWorld world(kUrdf);
+  std::mt19937_64 engine(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    const JointArray q = RandomAnglesRad(world, engine);
+    world.SetConfigurationRad(q);
+    const JointArray angles = world.AnglesRad();
+    for (int j = 0; j < kNumJoints; ++j) EXPECT_NEAR(angles[j], q[j], 1e-9) << kJointNames[j];
+  }
+}
+
+// ODE's hinge sign depends on attach order and axis direction: drive each joint alone with
+// its motor and check that the angle ODE reports grows, and that the foot lands where the
+// hand kinematics puts it for that angle (so positive means what the URDF says).
+TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
+  for (int j = 0; j < kNumJoints; ++j) {
+    LegWorld world(kUrdf);
+    JointArray start{0.0, 20.0 * kDeg, 30.0 * kDeg};
+    world.SetConfigurationRad(start);
+    for (int step = 0; step < 200; ++step) {  // 0.2 s at 1 rad/s
+      for (int k = 0; k < kNumJoints; ++k) world.SetMotor(k, k == j ? 1.0 : 0.0, 5.45);
+      world.Step(0.001);
+    }
+    const JointArray angles = world.AnglesRad();
+    EXPECT_NEAR(angles[j] - start[j], 0.2, 1e-3) << kJointNames[j];
+    EXPECT_LT((FootMm(world) - HandFootMm(angles)).norm(), 0.1) << kJointNames[j];
+    EXPECT_GT((FootMm(world) - HandFootMm(start)).norm(), 5.0) << kJointNames[j];
+  }
+}
+
+// The unpowered leg comes to rest with its knee on the -30 deg stop, so for a free swing the
+// test moves the knee and abductor stops out of the way.
+TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
+  const TempUrdf wide_stops(Edits{{R"(lower="-0.4712388980")", R"(lower="-2.0943951024")"},
+                                  {R"(lower="-0.1919862177")", R"(lower="-0.6981317008")"}});
+  LegWorld world(wide_stops.path());
+  world.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
+  const double initial = world.MechanicalEnergyJ();
+  double highest = initial;
+  double peak_kinetic = 0.0;
+  JointArray lowest{};
+  for (int step = 0; step < 3000; ++step) {  // 3 s at 1 ms
+    world.Step(0.001);
+    highest = std::max(highest, world.MechanicalEnergyJ());
+    peak_kinetic = std::max(peak_kinetic, world.KineticEnergyJ());
+    const JointArray angles = world.AnglesRad();
+    for (int j = 0; j < kNumJoints; ++j) lowest[j] = std::min(lowest[j], angles[j]);
+    ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
+  }
+  EXPECT_GT(peak_kinetic, 0.01);  // a real swing, J
+  // Clear of the (moved) stops, so only integration is at work.
+  EXPECT_GT(lowest[1], -40.0 * kDeg);
+  EXPECT_GT(lowest[2], -120.0 * kDeg);
+  // dWorldStep is semi-implicit Euler: its energy wobbles by O(dt) around a slowly falling
+  // mean (about 0.35 % of the peak kinetic energy at 1 ms, measured). Allow 1 %.
+  EXPECT_LE(highest - initial, 0.01 * peak_kinetic)
+      << "initial " << initial << " J, peak kinetic " << peak_kinetic << " J";
+  RecordProperty("energy_gain_over_peak_kinetic",
+                 std::to_string((highest - initial) / peak_kinetic));
+}
+
+// A hard swing against the real stops stays sound and loses energy in the inelastic hits.
+TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
+  LegWorld world(kUrdf);
+  world.SetConfigurationRad({90.0 * kDeg, 60.0 * kDeg, 120.0 * kDeg});
+  const double initial = world.MechanicalEnergyJ();
+  double highest = initial;
+  double peak_kinetic = 0.0;
+  for (int step = 0; step < 3000; ++step) {
+    world.Step(0.001);
+    highest = std::max(highest, world.MechanicalEnergyJ());
+    peak_kinetic = std::max(peak_kinetic, world.KineticEnergyJ());
+    ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
+    const JointArray angles = world.AnglesRad();
+    for (int j = 0; j < kNumJoints; ++j) {
+      // Stops 3 deg beyond the limits, with ODE's soft-stop penetration of a fraction of one.
+      ASSERT_GE(angles[j], world.joint(j).lower_rad - 4.0 * kDeg) << kJointNames[j];
+      ASSERT_LE(angles[j], world.joint(j).upper_rad + 4.0 * kDeg) << kJointNames[j];
+    }
+  }
+  EXPECT_LE(highest - initial, 0.01 * peak_kinetic);
+  EXPECT_LT(world.MechanicalEnergyJ(), initial - 0.5 * peak_kinetic);
+}
+
+// ---- Errors name the item --------------------------------------------------------------
+
+TEST(LegWorldTest, MissingFileNamesTheFile) {
+  const std::string message = ErrorOf<std::runtime_error>("/nonexistent/leg.urdf");
+  EXPECT_NE(message.find("not found"), std::string::npos) << message;
+  EXPECT_NE(message.find("/nonexistent/leg.urdf"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, MalformedXmlNamesTheFileAndTheReason) {
+  const TempUrdf urdf("</robot>", "");
+  const std::string message = ErrorOf<std::runtime_error>(urdf.path());
+  EXPECT_NE(message.find("failed to parse URDF file '" + urdf.path() + "'"), std::string::npos)
+      << message;
+}
+
+TEST(LegWorldTest, MissingJointNamesTheJoint) {
+  const std::string message =
+      ErrorOf<std::invalid_argument>(TempUrdf(R"(joint name="knee")", R"(joint name="knie")"));
+  EXPECT_NE(message.find("joint 'knee' not found"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, FixedJointWhereAHingeBelongsNamesTheJoint) {
+  const std::string message = ErrorOf<std::invalid_argument>(TempUrdf(
+      R"(<joint name="abductor" type="revolute">)", R"(<joint name="abductor" type="fixed">)"));
+  EXPECT_NE(message.find("joint 'abductor' must be revolute"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, MissingFootLinkNamesTheLink) {
+  const std::string message = ErrorOf<std::invalid_argument>(
+      TempUrdf(Edits{{R"(<link name="foot"/>)", R"(<link name="paw"/>)"},
+                     {R"(<child link="foot"/>)", R"(<child link="paw"/>)"}}));
+  EXPECT_NE(message.find("link 'foot' not found"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, BadInertiaNamesTheLink) {
+  const std::string message =
+      ErrorOf<std::invalid_argument>(TempUrdf(R"(ixx="3.12954e-05")", R"(ixx="-3.12954e-05")"));
+  EXPECT_NE(message.find("link 'lower_leg'"), std::string::npos) << message;
+  EXPECT_NE(message.find("positive definite"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, InertiaBreakingTheTriangleInequalityNamesTheLink) {
+  const std::string message = ErrorOf<std::invalid_argument>(TempUrdf(R"(izz="5.256e-06"/>
+    </inertial>
+  </link>
+
+  <link name="lower_leg">)",
+                                                                      R"(izz="1e-03"/>
+    </inertial>
+  </link>
+
+  <link name="lower_leg">)"));
+  EXPECT_NE(message.find("link 'upper_leg'"), std::string::npos) << message;
+  EXPECT_NE(message.find("triangle inequality"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, UnsupportedDampingNamesTheJoint) {
+  const std::string message = ErrorOf<std::invalid_argument>(
+      TempUrdf(R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 1 0"/><dynamics damping="0.01"/>)"));
+  EXPECT_NE(message.find("joint 'knee'"), std::string::npos) << message;
+  EXPECT_NE(message.find("damping"), std::string::npos) << message;
+}
+
+TEST(LegWorldTest, UnknownLinkIsNamed) {
+  const LegWorld world(kUrdf);
+  try {
+    world.LinkOriginMm("tail");
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'tail'"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace leglab::sim
