@@ -1,0 +1,165 @@
+// Cost of the simulated plant against the bare ODE step underneath it.
+//
+//   BM_OdeStep    one dWorldStep of the leg's world (LegWorld: same bodies, hinges and powered
+//                 motors, no firmware, no sensing);
+//   BM_SimTick    one LegSim::Tick (8 physics steps with firmware, then the state check and a
+//                 sensor reading), following a walking-like request pattern.
+//
+// Then, because the machine is shared and noisy, the two are timed side by side in
+// interleaved rounds and the final line gives the median ratio
+//   sim/ode step cost ratio = (time per physics step inside LegSim) / (time per bare step),
+// which must stay at or below kMaxRatio: firmware, sensing and checks may add at most a fifth
+// to what ODE itself costs. Usage: sim_benchmark [--benchmark_* flags] [--rounds=N]
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "leglab/sim/leg_sim.h"
+
+namespace {
+
+using leglab::sim::JointArray;
+using leglab::sim::kNumJoints;
+using leglab::sim::LegSim;
+using leglab::sim::LegWorld;
+using leglab::sim::SimConfig;
+
+constexpr double kMaxRatio = 1.2;
+const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+
+SimConfig Config() {
+  SimConfig config;
+  config.urdf_path = kUrdf;
+  return config;
+}
+
+// The bare world in the state the sim keeps it in: every motor powered (one constraint row
+// each, as in LegSim), holding still.
+LegWorld BareWorld() {
+  LegWorld world(kUrdf);
+  world.SetConfigurationRad({0.3, 0.3, 1.0});
+  for (int j = 0; j < kNumJoints; ++j) world.SetMotor(j, 0.0, Config().servo.max_torque_nm);
+  return world;
+}
+
+// A walking-like request: each joint follows a cycle of 88 ticks (the paper's step).
+JointArray Request(long tick) {
+  const double phase = 2.0 * std::numbers::pi * static_cast<double>(tick % 88) / 88.0;
+  return {30.0 * std::sin(phase), 20.0 + 15.0 * std::cos(phase),
+          60.0 + 40.0 * std::sin(2.0 * phase)};
+}
+
+void BM_OdeStep(benchmark::State& state) {
+  LegWorld world = BareWorld();
+  const double dt_s = Config().physics_dt_ms / 1000.0;
+  for (auto _ : state) world.Step(dt_s);
+  state.SetItemsProcessed(state.iterations());  // physics steps
+}
+BENCHMARK(BM_OdeStep);
+
+void BM_SimTick(benchmark::State& state) {
+  LegSim sim(Config());
+  for (auto _ : state) {
+    sim.SetRequestsDeg(Request(sim.tick()));
+    sim.Tick();
+    benchmark::DoNotOptimize(sim.MeasuredDeg());
+  }
+  // Physics steps, so items/s compares with BM_OdeStep's.
+  state.SetItemsProcessed(state.iterations() *
+                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
+}
+BENCHMARK(BM_SimTick);
+
+// Seconds per physics step over `steps` bare ODE steps.
+double TimeBare(LegWorld& world, int steps, double dt_s) {
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < steps; ++i) world.Step(dt_s);
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return elapsed.count() / steps;
+}
+
+// Seconds per physics step over `ticks` sim ticks.
+double TimeSim(LegSim& sim, int ticks, int steps_per_tick) {
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < ticks; ++i) {
+    sim.SetRequestsDeg(Request(sim.tick()));
+    sim.Tick();
+    benchmark::DoNotOptimize(sim.MeasuredDeg());
+  }
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return elapsed.count() / (static_cast<double>(ticks) * steps_per_tick);
+}
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Interleaved rounds, alternating which of the two goes first, each round's ratio taken from
+// timings a few milliseconds apart so that load changes on the machine hit both.
+void ReportSideBySideRatio(int rounds) {
+  LegWorld world = BareWorld();
+  LegSim sim(Config());
+  const double dt_s = sim.config().physics_dt_ms / 1000.0;
+  const int steps_per_tick = leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms);
+  constexpr int kTicksPerRound = 250;  // 2 s of simulated time, a few ms of wall time
+  const int steps_per_round = kTicksPerRound * steps_per_tick;
+  TimeBare(world, steps_per_round, dt_s);  // warm up
+  TimeSim(sim, kTicksPerRound, steps_per_tick);
+  std::vector<double> ratios;
+  std::vector<double> bare_ns;
+  std::vector<double> sim_ns;
+  for (int round = 0; round < rounds; ++round) {
+    double bare = 0.0;
+    double simulated = 0.0;
+    if (round % 2 == 0) {
+      bare = TimeBare(world, steps_per_round, dt_s);
+      simulated = TimeSim(sim, kTicksPerRound, steps_per_tick);
+    } else {
+      simulated = TimeSim(sim, kTicksPerRound, steps_per_tick);
+      bare = TimeBare(world, steps_per_round, dt_s);
+    }
+    ratios.push_back(simulated / bare);
+    bare_ns.push_back(bare * 1e9);
+    sim_ns.push_back(simulated * 1e9);
+  }
+  const double ratio = Median(ratios);
+  std::printf(
+      "bare ODE step: %.0f ns (median), sim per physics step: %.0f ns (median), "
+      "%d interleaved rounds of %d steps\n",
+      Median(bare_ns), Median(sim_ns), rounds, steps_per_round);
+  std::printf("sim/ode step cost ratio: %.3f (limit %.2f: %s)\n", ratio, kMaxRatio,
+              ratio <= kMaxRatio ? "ok" : "EXCEEDED");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int rounds = 41;
+  // Take --rounds=N out before Google Benchmark sees the arguments.
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--rounds=", 9) == 0) {
+      rounds = std::max(1, std::atoi(argv[i] + 9));
+    } else {
+      argv[kept++] = argv[i];
+    }
+  }
+  argc = kept;
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  ReportSideBySideRatio(rounds);
+  return 0;
+}
