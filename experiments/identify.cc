@@ -1,0 +1,20 @@
+// identify: regenerates the paper's Table 1 from the simulated leg. Runs the step test of
+// eq. 1 on each joint in turn, fits the joint model to what the plant did, and writes
+// table1.json, table1.md and step_<joint>_<theta>.csv into --out.
+#include <iostream>
+
+#include "leglab/experiments/output.h"
+#include "leglab/experiments/program.h"
+#include "leglab/experiments/rig.h"
+
+int main(int argc, char** argv) {
+  using namespace leglab::experiments;
+  return RunProgram("identify", "Table 1: identify the joint model from step responses", argc, argv,
+                    [](const ProgramArgs& args, const ExperimentConfig& config) {
+                      OutputDir out(args.out_dir);
+                      const auto joints = IdentifyLeg(config);
+                      const std::string table = WriteTable1(joints, config, out);
+                      out.Commit();
+                      std::cout << table;
+                    });
+}

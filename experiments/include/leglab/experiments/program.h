@@ -1,0 +1,26 @@
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "leglab/experiments/config.h"
+
+namespace leglab::experiments {
+
+/// What every experiment program takes: `--config FILE`, `--out DIR`, and any number of
+/// `--set key=value` applied last.
+struct ProgramArgs {
+  std::string config_path;
+  std::string out_dir;
+  std::vector<std::string> overrides;
+};
+
+/// Parses the flags, loads the config and runs `body`. Bad input (flags, config, robot, URDF,
+/// CSV, an unreachable locus: InputError, std::invalid_argument, std::domain_error) prints
+/// "<program>: error: <message>" on one line and returns 2; any other failure prints
+/// "<program>: failed: <message>" and returns 1; success returns 0.
+int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
+
+}  // namespace leglab::experiments

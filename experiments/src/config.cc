@@ -1,0 +1,333 @@
+#include "leglab/experiments/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+
+namespace leglab::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void Fail(const std::string& what) { throw InputError("config: " + what); }
+
+YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
+  if (!fs::is_regular_file(path)) Fail(what + " '" + path.string() + "' does not exist");
+  try {
+    YAML::Node node = YAML::LoadFile(path.string());
+    if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);
+    if (!node.IsMap()) Fail(what + " '" + path.string() + "' is not a YAML map");
+    return node;
+  } catch (const YAML::Exception& e) {
+    Fail(what + " '" + path.string() + "' is malformed: " + e.what());
+  }
+}
+
+// Deep copy of `over` onto `base`: maps merge key by key, anything else replaces.
+void MergeInto(YAML::Node base, const YAML::Node& over) {
+  for (const auto& item : over) {
+    const std::string key = item.first.as<std::string>();
+    if (item.second.IsMap() && base[key] && base[key].IsMap()) {
+      MergeInto(base[key], item.second);
+    } else {
+      base[key] = YAML::Clone(item.second);
+    }
+  }
+}
+
+// Applies "a.b.c=value" to `root`, creating maps on the way.
+void ApplyOverride(YAML::Node root, const std::string& assignment) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    Fail("--set '" + assignment + "' is not of the form key=value");
+  }
+  const std::string path = assignment.substr(0, equals);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(equals + 1));
+  } catch (const YAML::Exception& e) {
+    Fail("--set " + path + ": the value is not valid YAML: " + e.what());
+  }
+  std::vector<std::string> keys;
+  for (size_t start = 0;;) {
+    const size_t dot = path.find('.', start);
+    keys.push_back(path.substr(start, dot - start));
+    if (keys.back().empty()) Fail("--set '" + assignment + "' has an empty key");
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  // yaml-cpp nodes are handles: walk with fresh handles, never reassign one.
+  std::vector<YAML::Node> chain{root};
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    YAML::Node next = chain.back()[keys[i]];
+    if (next.IsDefined() && !next.IsNull() && !next.IsMap()) {
+      Fail("--set " + path + ": '" + keys[i] + "' is not a map");
+    }
+    if (!next.IsDefined() || next.IsNull()) chain.back()[keys[i]] = YAML::Node(YAML::NodeType::Map);
+    chain.push_back(chain.back()[keys[i]]);
+  }
+  chain.back()[keys.back()] = value;
+}
+
+// Reads one YAML map into structs: every key read is remembered, so Finish() can name the
+// keys nobody asked for.
+class MapReader {
+ public:
+  MapReader(YAML::Node node, std::string prefix)
+      : node_(std::move(node)), prefix_(std::move(prefix)) {
+    if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
+      Fail((prefix_.empty() ? std::string("the config") : prefix_) + " must be a map");
+    }
+  }
+
+  template <typename T>
+  void Read(const std::string& key, T& value) {
+    used_.insert(key);
+    const YAML::Node child = node_.IsMap() ? node_[key] : YAML::Node();
+    if (!child.IsDefined() || child.IsNull()) return;
+    try {
+      value = child.as<T>();
+    } catch (const YAML::Exception&) {
+      Fail(Name(key) + ": expected " + TypeName<T>() + ", got '" + Dump(child) + "'");
+    }
+  }
+
+  bool Has(const std::string& key) const {
+    return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+  }
+
+  MapReader Child(const std::string& key) {
+    used_.insert(key);
+    return MapReader(node_.IsMap() ? node_[key] : YAML::Node(), Name(key));
+  }
+
+  std::string Name(const std::string& key) const {
+    return prefix_.empty() ? key : prefix_ + "." + key;
+  }
+
+  void Finish() const {
+    if (!node_.IsMap()) return;
+    for (const auto& item : node_) {
+      const std::string key = item.first.as<std::string>();
+      if (!used_.count(key)) Fail("unknown key '" + Name(key) + "'");
+    }
+  }
+
+ private:
+  static std::string Dump(const YAML::Node& node) {
+    YAML::Emitter out;
+    out << YAML::Flow << node;
+    return out.c_str();
+  }
+  template <typename T>
+  static std::string TypeName() {
+    if constexpr (std::is_same_v<T, bool>)
+      return "true or false";
+    else if constexpr (std::is_integral_v<T>)
+      return "an integer";
+    else if constexpr (std::is_floating_point_v<T>)
+      return "a number";
+    else if constexpr (std::is_same_v<T, std::string>)
+      return "a string";
+    else
+      return "a list";
+  }
+
+  YAML::Node node_;
+  std::string prefix_;
+  std::set<std::string> used_;
+};
+
+void Require(bool ok, const std::string& key, const std::string& expectation) {
+  if (!ok) Fail(key + " must be " + expectation);
+}
+
+fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
+  if (robot.find('/') != std::string::npos || fs::path(robot).extension() == ".yaml") {
+    const fs::path p = fs::path(robot).is_absolute() ? fs::path(robot) : config_dir / robot;
+    return p;
+  }
+  // A robot name: robots/<name>/robot.yaml in the working directory, else in the source tree.
+  const fs::path here = fs::path("robots") / robot / "robot.yaml";
+  if (fs::exists(here)) return here;
+  return fs::path(LEGLAB_SOURCE_DIR) / "robots" / robot / "robot.yaml";
+}
+
+}  // namespace
+
+ExperimentConfig LoadExperimentConfig(const std::string& config_path,
+                                      const std::vector<std::string>& overrides) {
+  YAML::Node experiment = LoadYamlFile(config_path, "config file");
+  for (const std::string& o : overrides) ApplyOverride(experiment, o);
+
+  ExperimentConfig config;
+  std::string robot = "ers210a";
+  if (experiment["robot"]) {
+    try {
+      robot = experiment["robot"].as<std::string>();
+    } catch (const YAML::Exception&) {
+      Fail("robot: expected a robot name or a path to a robot.yaml");
+    }
+  }
+  const fs::path robot_yaml = ResolveRobot(robot, fs::path(config_path).parent_path());
+  if (!fs::exists(robot_yaml)) Fail("robot '" + robot + "': no " + robot_yaml.string());
+  config.robot_yaml = robot_yaml.string();
+  YAML::Node merged = LoadYamlFile(robot_yaml, "robot file");
+  MergeInto(merged, experiment);
+
+  MapReader root(merged, "");
+  root.Read("robot", robot);
+
+  // The plant (robot.yaml).
+  std::string urdf;
+  root.Read("urdf", urdf);
+  if (urdf.empty()) Fail("urdf: no URDF given (robot file " + robot_yaml.string() + ")");
+  const fs::path urdf_path =
+      fs::path(urdf).is_absolute() ? fs::path(urdf) : robot_yaml.parent_path() / urdf;
+  if (!fs::is_regular_file(urdf_path)) Fail("urdf: '" + urdf_path.string() + "' does not exist");
+  config.sim.urdf_path = urdf_path.string();
+  {
+    MapReader sim = root.Child("sim");
+    sim.Read("physics_dt_ms", config.sim.physics_dt_ms);
+    sim.Finish();
+    MapReader servo = root.Child("servo");
+    servo.Read("delay_ms", config.sim.servo.delay_ms);
+    servo.Read("max_speed_deg_s", config.sim.servo.max_speed_deg_s);
+    servo.Read("gain_per_s", config.sim.servo.gain_per_s);
+    servo.Read("smoothing_ms", config.sim.servo.smoothing_ms);
+    servo.Read("max_torque_nm", config.sim.servo.max_torque_nm);
+    servo.Finish();
+    MapReader sensor = root.Child("sensor");
+    sensor.Read("noise_deg", config.sim.sensor.noise_deg);
+    sensor.Finish();
+    long long seed = static_cast<long long>(config.sim.seed);
+    root.Read("seed", seed);
+    Require(seed >= 0, "seed", "a non-negative integer");
+    config.sim.seed = static_cast<std::uint64_t>(seed);
+    try {
+      sim::ValidateSimConfig(config.sim);
+    } catch (const std::invalid_argument& e) {
+      Fail(e.what());
+    }
+  }
+
+  // The controllers.
+  {
+    MapReader c = root.Child("controller");
+    c.Read("mode", config.controller.mode);
+    config.modes = ControllerModes();
+    c.Read("modes", config.modes);
+    c.Read("shift_ticks", config.controller.shift_ticks);
+    std::string cm = "exact";
+    c.Read("cm", cm);
+    Require(cm == "exact" || cm == "closed", "controller.cm", "closed or exact, got '" + cm + "'");
+    config.controller.cm = cm == "closed" ? CmMethod::kClosed : CmMethod::kExact;
+    c.Read("pwl_segments", config.controller.pwl_segments);
+    Require(config.controller.pwl_segments >= 1, "controller.pwl_segments", "at least 1");
+    Require(config.controller.shift_ticks >= 0, "controller.shift_ticks", "non-negative");
+    auto valid_mode = [](const std::string& m) {
+      const auto& all = ControllerModes();
+      return std::find(all.begin(), all.end(), m) != all.end();
+    };
+    std::string valid;
+    for (const std::string& m : ControllerModes()) valid += (valid.empty() ? "" : ", ") + m;
+    Require(valid_mode(config.controller.mode), "controller.mode",
+            "one of " + valid + ", got '" + config.controller.mode + "'");
+    Require(!config.modes.empty(), "controller.modes", "a non-empty list");
+    for (const std::string& m : config.modes) {
+      Require(valid_mode(m), "controller.modes", "a list of " + valid + ", got '" + m + "'");
+    }
+    c.Finish();
+  }
+
+  // A given model (all four keys), else it is identified on the plant.
+  if (root.Has("model")) {
+    MapReader m = root.Child("model");
+    for (const char* key : {"v_max_deg_per_tick", "theta0_deg", "lag_ticks", "accel_ticks"}) {
+      Require(m.Has(key), m.Name(key), "given (model.* needs all four keys, or none)");
+    }
+    JointModelParams p;
+    m.Read("v_max_deg_per_tick", p.v_max_deg_per_tick);
+    m.Read("theta0_deg", p.theta0_deg);
+    m.Read("lag_ticks", p.lag_ticks);
+    m.Read("accel_ticks", p.accel_ticks);
+    m.Finish();
+    Require(p.v_max_deg_per_tick > 0, "model.v_max_deg_per_tick", "positive");
+    Require(p.theta0_deg > 0, "model.theta0_deg", "positive");
+    Require(p.lag_ticks >= 0, "model.lag_ticks", "non-negative");
+    Require(p.accel_ticks >= 1, "model.accel_ticks", "at least 1");
+    config.model = p;
+  } else {
+    root.Child("model");  // an explicit `model: ~` is the same as none
+  }
+
+  // The step test.
+  {
+    MapReader id = root.Child("identify");
+    IdentifyConfig& c = config.identify;
+    id.Read("theta_test_deg", c.theta_test_deg);
+    id.Read("t_step_ticks", c.t_step_ticks);
+    id.Read("settle_cycles", c.settle_cycles);
+    id.Read("record_cycles", c.record_cycles);
+    std::vector<double> hold(c.hold_deg.begin(), c.hold_deg.end());
+    id.Read("hold_deg", hold);
+    Require(hold.size() == 3, "identify.hold_deg", "a list of 3 angles (rotator, abductor, knee)");
+    std::copy(hold.begin(), hold.end(), c.hold_deg.begin());
+    std::vector<int> lag{c.search.lag_min_ticks, c.search.lag_max_ticks};
+    std::vector<int> accel{c.search.accel_min_ticks, c.search.accel_max_ticks};
+    id.Read("lag_range_ticks", lag);
+    id.Read("accel_range_ticks", accel);
+    id.Finish();
+    Require(!c.theta_test_deg.empty(), "identify.theta_test_deg", "a non-empty list");
+    Require(c.t_step_ticks >= 4, "identify.t_step_ticks", "at least 4");
+    Require(c.settle_cycles >= 1, "identify.settle_cycles", "at least 1");
+    Require(c.record_cycles >= 1, "identify.record_cycles", "at least 1");
+    Require(lag.size() == 2 && lag[0] >= 0 && lag[1] >= lag[0], "identify.lag_range_ticks",
+            "[min, max] with 0 <= min <= max");
+    Require(accel.size() == 2 && accel[0] >= 1 && accel[1] >= accel[0],
+            "identify.accel_range_ticks", "[min, max] with 1 <= min <= max");
+    c.search = {lag[0], lag[1], accel[0], accel[1]};
+    Require(c.record_cycles * c.t_step_ticks > lag[1] + accel[1], "identify.record_cycles",
+            "long enough to cover the identification's warm-up of lag + accel ticks");
+  }
+
+  // What to track.
+  {
+    MapReader desired = root.Child("desired");
+    TrackConfig& t = config.track;
+    desired.Read("csv", t.desired_csv);
+    if (!t.desired_csv.empty() && fs::path(t.desired_csv).is_relative() &&
+        !fs::exists(t.desired_csv)) {
+      // Relative to the config file when not found from the working directory.
+      t.desired_csv = (fs::path(config_path).parent_path() / t.desired_csv).string();
+    }
+    MapReader locus = desired.Child("locus");
+    locus.Read("length_mm", t.locus.length_mm);
+    locus.Read("height_mm", t.locus.height_mm);
+    locus.Read("ground_fraction", t.locus.ground_fraction);
+    locus.Read("forward_mm", t.locus.forward_mm);
+    locus.Read("outward_mm", t.locus.outward_mm);
+    locus.Read("ground_below_shoulder_mm", t.locus.ground_below_shoulder_mm);
+    locus.Finish();
+    desired.Finish();
+    Require(t.locus.length_mm >= 0, "desired.locus.length_mm", "non-negative");
+    Require(t.locus.height_mm >= 0, "desired.locus.height_mm", "non-negative");
+    Require(t.locus.ground_fraction > 0 && t.locus.ground_fraction < 1,
+            "desired.locus.ground_fraction", "in (0, 1)");
+
+    MapReader track = root.Child("track");
+    track.Read("t_step_ticks", t.t_step_ticks);
+    track.Read("warmup_steps", t.warmup_steps);
+    track.Read("steps", t.steps);
+    track.Read("search_shift", t.search_shift);
+    track.Finish();
+    Require(t.t_step_ticks >= 4, "track.t_step_ticks", "at least 4");
+    Require(t.warmup_steps >= 0, "track.warmup_steps", "non-negative");
+    Require(t.steps >= 1, "track.steps", "at least 1");
+  }
+  root.Finish();
+  return config;
+}
+
+}  // namespace leglab::experiments

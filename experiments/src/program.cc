@@ -1,0 +1,42 @@
+#include "leglab/experiments/program.h"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <stdexcept>
+
+namespace leglab::experiments {
+
+int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
+  CLI::App app(description, program);
+  ProgramArgs args;
+  app.add_option("--config", args.config_path, "experiment config (YAML)")->required();
+  app.add_option("--out", args.out_dir, "folder for the results")->required();
+  app.add_option("--set", args.overrides,
+                 "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << program << ": error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  try {
+    const ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides);
+    body(args, config);
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const std::invalid_argument& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const std::domain_error& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const std::exception& e) {
+    std::cerr << program << ": failed: " << e.what() << '\n';
+    return 1;
+  }
+  return 2;
+}
+
+}  // namespace leglab::experiments

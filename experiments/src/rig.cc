@@ -1,0 +1,155 @@
+#include "leglab/experiments/rig.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <future>
+#include <sstream>
+
+#include "leglab/experiments/output.h"
+#include "leglab/model/joint_model.h"
+#include "leglab/model/trajectories.h"
+
+namespace leglab::experiments {
+
+sim::LegSim MakePlant(const sim::SimConfig& config) {
+  try {
+    return sim::LegSim(config);
+  } catch (const sim::SimError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(std::string("robot: ") + e.what());
+  }
+}
+
+StepTestRun RunStepTest(const sim::SimConfig& sim_config, const IdentifyConfig& identify, int joint,
+                        double theta_test_deg) {
+  sim::LegSim plant = MakePlant(sim_config);
+  plant.SetJointAnglesDeg(identify.hold_deg);
+  const std::vector<double> cycle = StepTestRequests(theta_test_deg, identify.t_step_ticks);
+  StepTestRun run{joint, theta_test_deg, {}};
+  const int total = (identify.settle_cycles + identify.record_cycles) * identify.t_step_ticks;
+  const int first_recorded = identify.settle_cycles * identify.t_step_ticks;
+  sim::JointArray request = identify.hold_deg;
+  for (int t = 0; t < total; ++t) {
+    request[joint] = identify.hold_deg[joint] + cycle[t % identify.t_step_ticks];
+    plant.SetRequestsDeg(request);
+    plant.Tick();
+    if (t >= first_recorded) {
+      run.recording.request_deg.push_back(plant.CommandedDeg()[joint]);
+      run.recording.measured_deg.push_back(plant.MeasuredDeg()[joint]);
+    }
+  }
+  return run;
+}
+
+std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config) {
+  // Build one plant first so that bad robot input fails before any thread starts.
+  MakePlant(config.sim);
+  auto identify_joint = [&config](int joint) {
+    JointIdentification result;
+    std::vector<JointRecording> recordings;
+    for (double theta : config.identify.theta_test_deg) {
+      result.runs.push_back(RunStepTest(config.sim, config.identify, joint, theta));
+      recordings.push_back(result.runs.back().recording);
+    }
+    result.fit = IdentifyJointModel(recordings, config.identify.search);
+    return result;
+  };
+  std::array<JointIdentification, kLegJoints> joints;
+  for (int j = 0; j < kLegJoints; ++j) joints[j] = identify_joint(j);
+  return joints;
+}
+
+namespace {
+
+std::string ThetaLabel(double theta) {
+  return theta == std::round(theta) ? std::to_string(static_cast<long>(theta))
+                                    : FormatDouble(theta);
+}
+
+std::string Fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+}  // namespace
+
+std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joints,
+                        const ExperimentConfig& config, const OutputDir& out) {
+  const JointModelParams paper{2.5, 7.0, 4, 6};
+  nlohmann::ordered_json json;
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = joints[j].fit.params;
+    json["joints"][kJointNames[j]] = {{"v_max_deg_per_tick", p.v_max_deg_per_tick},
+                                      {"theta0_deg", p.theta0_deg},
+                                      {"lag_ticks", p.lag_ticks},
+                                      {"accel_ticks", p.accel_ticks},
+                                      {"fit_rms_deg", joints[j].fit.rms_residual_deg}};
+  }
+  json["paper"] = {{"v_max_deg_per_tick", paper.v_max_deg_per_tick},
+                   {"theta0_deg", paper.theta0_deg},
+                   {"lag_ticks", paper.lag_ticks},
+                   {"accel_ticks", paper.accel_ticks}};
+  json["plant"] = {{"robot", config.robot_yaml},
+                   {"delay_ms", config.sim.servo.delay_ms},
+                   {"max_speed_deg_s", config.sim.servo.max_speed_deg_s},
+                   {"gain_per_s", config.sim.servo.gain_per_s},
+                   {"smoothing_ms", config.sim.servo.smoothing_ms},
+                   {"max_torque_nm", config.sim.servo.max_torque_nm},
+                   {"noise_deg", config.sim.sensor.noise_deg},
+                   {"seed", config.sim.seed}};
+  std::ofstream(out.Path("table1.json")) << json.dump(2) << '\n';
+
+  std::ostringstream md;
+  md << "# Table 1: model parameters\n\n"
+     << "Identified from the simulated leg's step tests (eq. 1, theta_test";
+  for (double theta : config.identify.theta_test_deg) md << ' ' << ThetaLabel(theta);
+  md << " deg), beside the paper's values.\n\n"
+     << "| Parameter | Description | Paper | Rotator | Abductor | Knee |\n"
+     << "|---|---|---|---|---|---|\n";
+  auto row = [&](const char* symbol, const char* description, const std::string& paper_value,
+                 auto value_of) {
+    md << "| " << symbol << " | " << description << " | " << paper_value;
+    for (int j = 0; j < kLegJoints; ++j) md << " | " << value_of(joints[j]);
+    md << " |\n";
+  };
+  row("v_max", "Maximum angular speed (deg/t_u)", "2.5",
+      [](const JointIdentification& j) { return Fixed(j.fit.params.v_max_deg_per_tick, 2); });
+  row("theta_0", "Angle difference threshold (deg)", "7.0",
+      [](const JointIdentification& j) { return Fixed(j.fit.params.theta0_deg, 2); });
+  row("l", "Lag time (t_u)", "4",
+      [](const JointIdentification& j) { return std::to_string(j.fit.params.lag_ticks); });
+  row("a", "Acceleration time (t_u)", "6",
+      [](const JointIdentification& j) { return std::to_string(j.fit.params.accel_ticks); });
+  row("", "Fit RMS residual (deg)", "",
+      [](const JointIdentification& j) { return Fixed(j.fit.rms_residual_deg, 3); });
+  md << "\nt_u = 8 ms.\n";
+  std::ofstream(out.Path("table1.md")) << md.str();
+
+  for (const JointIdentification& joint : joints) {
+    for (const StepTestRun& run : joint.runs) {
+      const auto& r = run.recording;
+      const int period = config.identify.t_step_ticks;
+      // The identified model's prediction: its cyclic steady state under the request cycle.
+      const std::vector<double> cycle(r.request_deg.begin(), r.request_deg.begin() + period);
+      const std::vector<double> model = CyclicSteadyState(joint.fit.params, cycle);
+      CsvWriter csv(out.Path(std::string("step_") + kJointNames[run.joint] + "_" +
+                             ThetaLabel(run.theta_test_deg) + ".csv"),
+                    {"tick", "request_deg", "actual_deg", "model_deg"});
+      for (size_t t = 0; t < r.request_deg.size(); ++t) {
+        csv.Cell(static_cast<long>(t))
+            .Cell(r.request_deg[t])
+            .Cell(r.measured_deg[t])
+            .Cell(model[t % period]);
+        csv.EndRow();
+      }
+    }
+  }
+  return md.str();
+}
+
+}  // namespace leglab::experiments

@@ -1,0 +1,109 @@
+#include "leglab/experiments/config.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace leglab::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch config file in a fresh folder.
+class ConfigTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() /
+        ("leglab_config_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string Write(const std::string& text, const std::string& name = "exp.yaml") {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+  // The message of the InputError that loading throws, or "" if none.
+  std::string ErrorOf(const std::string& text, const std::vector<std::string>& overrides = {}) {
+    try {
+      LoadExperimentConfig(Write(text), overrides);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+const std::string kRobot =
+    std::string("robot: ") + LEGLAB_SOURCE_DIR + "/robots/ers210a/robot.yaml\n";
+
+TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
+  const ExperimentConfig c = LoadExperimentConfig(Write(kRobot + "servo:\n  gain_per_s: 30\n"));
+  EXPECT_EQ(c.sim.servo.gain_per_s, 30.0);      // the experiment wins
+  EXPECT_GT(c.sim.servo.max_speed_deg_s, 0.0);  // the robot's value stays
+  EXPECT_TRUE(fs::exists(c.sim.urdf_path));     // resolved beside robot.yaml
+  EXPECT_EQ(fs::path(c.sim.urdf_path).filename(), "leg.urdf");
+  EXPECT_FALSE(c.model.has_value());
+  EXPECT_EQ(c.modes, (std::vector<std::string>{"direct", "time_shift", "model_based"}));
+}
+
+TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
+  const ExperimentConfig c = LoadExperimentConfig(
+      Write(kRobot + "servo:\n  gain_per_s: 30\ncontroller:\n  mode: time_shift\n"),
+      {"servo.gain_per_s=31.5", "controller.modes=[direct]", "seed=7", "controller.cm=closed",
+       "servo.gain_per_s=33"});
+  EXPECT_EQ(c.sim.servo.gain_per_s, 33.0);  // the last --set wins
+  EXPECT_EQ(c.modes, std::vector<std::string>{"direct"});
+  EXPECT_EQ(c.sim.seed, 7u);
+  EXPECT_EQ(c.controller.mode, "time_shift");
+  EXPECT_EQ(c.controller.cm, CmMethod::kClosed);
+}
+
+TEST_F(ConfigTest, ModelKeysGiveTheModel) {
+  const ExperimentConfig c = LoadExperimentConfig(Write(
+      kRobot + "model: {v_max_deg_per_tick: 2.4, theta0_deg: 6, lag_ticks: 3, accel_ticks: 5}\n"));
+  ASSERT_TRUE(c.model.has_value());
+  EXPECT_EQ(*c.model, (JointModelParams{2.4, 6.0, 3, 5}));
+}
+
+TEST_F(ConfigTest, ErrorsNameTheKey) {
+  EXPECT_EQ(ErrorOf(kRobot + "servo:\n  delya_ms: 3\n"), "config: unknown key 'servo.delya_ms'");
+  EXPECT_EQ(ErrorOf(kRobot + "bogus: 1\n"), "config: unknown key 'bogus'");
+  EXPECT_EQ(ErrorOf(kRobot + "servo:\n  gain_per_s: fast\n"),
+            "config: servo.gain_per_s: expected a number, got 'fast'");
+  EXPECT_NE(ErrorOf(kRobot, {"servo.delay_ms=30"}).find("servo.delay_ms"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"controller.mode=pid"}).find("controller.mode"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"controller.modes=[direct, pid]"}).find("controller.modes"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"controller.cm=approximate"}).find("controller.cm"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot + "model: {v_max_deg_per_tick: 2.4}\n").find("model.theta0_deg"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"sensor.noise_deg=-1"}).find("sensor.noise_deg"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"track.steps=0"}).find("track.steps"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"nonsense"}).find("key=value"), std::string::npos);
+}
+
+TEST_F(ConfigTest, MissingOrMalformedFilesAreNamed) {
+  try {
+    LoadExperimentConfig((dir_ / "absent.yaml").string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("absent.yaml"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(ErrorOf("servo: [unclosed\n").find("malformed"), std::string::npos);
+  EXPECT_NE(ErrorOf("robot: nosuchrobot\n").find("nosuchrobot"), std::string::npos);
+  Write("urdf: missing.urdf\n", "robot.yaml");
+  EXPECT_NE(ErrorOf("robot: robot.yaml\n").find("missing.urdf"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace leglab::experiments

@@ -1,0 +1,62 @@
+#include "leglab/experiments/output.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace leglab::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(OutputDir, NothingAppearsUntilCommit) {
+  const fs::path out = fs::temp_directory_path() / "leglab_output_test";
+  fs::remove_all(out);
+  {
+    OutputDir dir(out);
+    std::ofstream(dir.Path("a.txt")) << "a";
+    EXPECT_FALSE(fs::exists(out));
+  }  // not committed: the staging folder goes, --out never appears
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(out.parent_path())) {
+    EXPECT_EQ(e.path().filename().string().find(".leglab_output_test.staging"), std::string::npos);
+  }
+  fs::create_directories(out);
+  std::ofstream(out / "keep.txt") << "keep";
+  {
+    OutputDir dir(out);
+    std::ofstream(dir.Path("a.txt")) << "new";
+    dir.Commit();
+  }
+  EXPECT_EQ(Read(out / "a.txt"), "new");
+  EXPECT_EQ(Read(out / "keep.txt"), "keep");
+  fs::remove_all(out);
+}
+
+TEST(Csv, ShortestRoundTripNumbers) {
+  EXPECT_EQ(FormatDouble(0.1), "0.1");
+  EXPECT_EQ(FormatDouble(2.5), "2.5");
+  EXPECT_EQ(FormatDouble(-40.0), "-40");
+  const double third = 1.0 / 3.0;
+  EXPECT_EQ(std::stod(FormatDouble(third)), third);
+  const fs::path p = fs::temp_directory_path() / "leglab_csv_test.csv";
+  {
+    CsvWriter csv(p, {"tick", "joint", "value"});
+    csv.Cell(3L).Cell(std::string("knee")).Cell(0.25);
+    csv.EndRow();
+  }
+  EXPECT_EQ(Read(p), "tick,joint,value\n3,knee,0.25\n");
+  fs::remove(p);
+}
+
+}  // namespace
+}  // namespace leglab::experiments

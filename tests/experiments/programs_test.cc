@@ -1,0 +1,110 @@
+// The experiment programs run as a user runs them: flags, config files, exit status, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string stderr_text;
+};
+
+// Runs `command` from the source tree, capturing its standard error.
+Result RunCommand(const std::string& command) {
+  const fs::path err = fs::temp_directory_path() / "leglab_programs_test.stderr";
+  const std::string full =
+      "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >/dev/null 2>'" + err.string() + "'";
+  const int raw = std::system(full.c_str());
+  Result r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream in(err);
+  std::stringstream s;
+  s << in.rdbuf();
+  r.stderr_text = s.str();
+  return r;
+}
+
+class ProgramsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("leglab_programs_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    out_ = dir_ / "out";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+  // Expects exit status 2, one line on stderr that contains `needle`, and no --out folder.
+  void ExpectBadInput(const std::string& program, const std::string& args,
+                      const std::string& needle) {
+    const Result r = RunCommand(program + " --out '" + out_.string() + "' " + args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.stderr_text;
+    EXPECT_EQ(std::count(r.stderr_text.begin(), r.stderr_text.end(), '\n'), 1) << r.stderr_text;
+    EXPECT_NE(r.stderr_text.find(needle), std::string::npos) << r.stderr_text;
+    EXPECT_FALSE(fs::exists(out_)) << args;
+  }
+
+  fs::path dir_;
+  fs::path out_;
+};
+
+const std::string kIdentify = LEGLAB_IDENTIFY_BIN;
+
+TEST_F(ProgramsTest, IdentifyRejectsBadInputWithOneLineAndStatus2) {
+  const std::string good = "--config experiments/configs/identify.yaml";
+  ExpectBadInput(kIdentify, "--config " + (dir_ / "absent.yaml").string(), "absent.yaml");
+  ExpectBadInput(kIdentify, "--config " + Write("bad.yaml", "identify: [unclosed\n"), "malformed");
+  ExpectBadInput(kIdentify, good + " --set servo.gain_pr_s=3", "servo.gain_pr_s");
+  ExpectBadInput(kIdentify, good + " --set controller.mode=pid", "controller.mode");
+  ExpectBadInput(kIdentify, good + " --set servo.max_speed_deg_s=fast", "servo.max_speed_deg_s");
+  ExpectBadInput(kIdentify, good + " --set servo.max_speed_deg_s=-5", "servo.max_speed_deg_s");
+  ExpectBadInput(kIdentify, good + " --set urdf=/nonexistent/leg.urdf", "/nonexistent/leg.urdf");
+  ExpectBadInput(kIdentify, good + " --set urdf=" + Write("broken.urdf", "<robot name='x'><link"),
+                 "broken.urdf");
+  ExpectBadInput(kIdentify, good + " --bogus-flag", "bogus");
+  ExpectBadInput(kIdentify, "", "--config");
+}
+
+TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {
+  const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml --out '" +
+                              out_.string() + "' --set identify.record_cycles=2");
+  ASSERT_EQ(r.status, 0) << r.stderr_text;
+  for (const char* joint : {"rotator", "abductor", "knee"}) {
+    for (const char* theta : {"40", "110"}) {
+      const fs::path csv = out_ / (std::string("step_") + joint + "_" + theta + ".csv");
+      ASSERT_TRUE(fs::exists(csv)) << csv;
+      std::ifstream in(csv);
+      std::string header;
+      std::getline(in, header);
+      EXPECT_EQ(header, "tick,request_deg,actual_deg,model_deg");
+    }
+  }
+  std::ifstream in(out_ / "table1.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  for (const char* joint : {"rotator", "abductor", "knee"}) {
+    for (const char* key :
+         {"v_max_deg_per_tick", "theta0_deg", "lag_ticks", "accel_ticks", "fit_rms_deg"}) {
+      EXPECT_TRUE(j["joints"][joint].contains(key)) << joint << " " << key;
+    }
+  }
+  EXPECT_EQ(j["paper"]["v_max_deg_per_tick"], 2.5);
+  EXPECT_EQ(j["paper"]["lag_ticks"], 4);
+  EXPECT_TRUE(fs::exists(out_ / "table1.md"));
+}
+
+}  // namespace
