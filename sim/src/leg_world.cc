@@ -2,6 +2,7 @@
 
 #include <console_bridge/console.h>
 #include <ode/ode.h>
+#include <ode/threading_impl.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <Eigen/Eigenvalues>
@@ -37,10 +38,35 @@ void EnsureOdeReady() {
   if (!thread_ready) throw std::runtime_error("leglab::sim: ODE could not allocate thread data");
 }
 
-struct WorldDeleter {
-  void operator()(dxWorld* world) const noexcept { dWorldDestroy(world); }  // and its joints
+// An ODE world with a threading implementation of its own. Without one, dWorldStep uses a
+// process-wide default that crashes when worlds are stepped on parallel threads.
+class OdeWorld {
+ public:
+  OdeWorld() : threading_(dThreadingAllocateSelfThreadedImplementation()), world_(dWorldCreate()) {
+    if (threading_ == nullptr || world_ == nullptr) {
+      Release();
+      throw std::runtime_error("leglab::sim: ODE could not create a world");
+    }
+    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_),
+                                         threading_);
+  }
+  ~OdeWorld() { Release(); }
+  OdeWorld(const OdeWorld&) = delete;
+  OdeWorld& operator=(const OdeWorld&) = delete;
+  dWorldID get() const { return world_; }
+
+ private:
+  void Release() noexcept {
+    if (world_ != nullptr) {
+      dWorldSetStepThreadingImplementation(world_, nullptr, nullptr);
+      dWorldDestroy(world_);  // and its bodies and joints
+    }
+    if (threading_ != nullptr) dThreadingFreeImplementation(threading_);
+  }
+
+  dThreadingImplementationID threading_;
+  dWorldID world_;
 };
-using WorldPtr = std::unique_ptr<dxWorld, WorldDeleter>;
 
 // urdfdom reports parse errors through console_bridge instead of throwing: collect them while
 // parsing so the exception can say why. console_bridge's handler is global, hence the mutex.
@@ -187,7 +213,7 @@ struct LegWorld::Impl {
     Eigen::Matrix3d inertia_kg_m2 = Eigen::Matrix3d::Zero();  // about com, link axes
   };
 
-  WorldPtr world;
+  std::optional<OdeWorld> world;  // created after the URDF checks, once ODE is ready
   std::vector<Link> links;
   std::vector<Body> bodies;
   std::array<dJointID, kNumJoints> hinges{};
@@ -348,7 +374,7 @@ void LegWorld::Impl::BuildBodies(const urdf::ModelInterface& model) {
     if (dMassCheck(&mass) == 0) {
       throw std::invalid_argument("link '" + link.name + "': ODE rejects its combined mass");
     }
-    body.id = dBodyCreate(world.get());
+    body.id = dBodyCreate(world->get());
     dBodySetMass(body.id, &mass);
     const Eigen::Isometry3d& pose = poses[body.link];
     const Eigen::Vector3d com_world = pose * body.com_in_link;
@@ -365,7 +391,7 @@ void LegWorld::Impl::BuildHinges() {
     const Link& link = links[i];
     if (link.joint < 0) continue;
     const int parent_body = links[link.parent].body;
-    const dJointID hinge = dJointCreateHinge(world.get(), nullptr);
+    const dJointID hinge = dJointCreateHinge(world->get(), nullptr);
     dJointAttach(hinge, bodies[link.body].id, parent_body >= 0 ? bodies[parent_body].id : nullptr);
     const Eigen::Vector3d anchor = poses[i].translation();
     const Eigen::Vector3d axis = poses[i].linear() * link.axis;
@@ -385,8 +411,8 @@ LegWorld::LegWorld(const std::string& urdf_path) : impl_(std::make_unique<Impl>(
   impl_->CheckJoints(*model, urdf_path);
   impl_->ReadTree(*model, urdf_path);
   EnsureOdeReady();
-  impl_->world.reset(dWorldCreate());
-  dWorldSetGravity(impl_->world.get(), 0.0, 0.0, -kGravityMPerS2);
+  impl_->world.emplace();
+  dWorldSetGravity(impl_->world->get(), 0.0, 0.0, -kGravityMPerS2);
   impl_->BuildBodies(*model);
   impl_->BuildHinges();
 }
@@ -415,7 +441,7 @@ void LegWorld::SetMotor(int joint, double speed_rad_per_s, double max_torque_nm)
   dJointSetHingeParam(impl_->hinges[joint], dParamFMax, max_torque_nm);
 }
 
-void LegWorld::Step(double dt_s) { dWorldStep(impl_->world.get(), dt_s); }
+void LegWorld::Step(double dt_s) { dWorldStep(impl_->world->get(), dt_s); }
 
 void LegWorld::SetConfigurationRad(const JointArray& q_rad) {
   const std::vector<Eigen::Isometry3d> poses = impl_->LinkPoses(q_rad);

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace leglab::sim {
@@ -190,6 +191,21 @@ TEST(LegSimTest, OtherSeedChangesOnlyTheNoise) {
   EXPECT_FALSE(BitIdentical(first.measured, other.measured));
   // The firmware acts on the true angle, so the physics does not see the sensor noise.
   EXPECT_TRUE(BitIdentical(first.truth, other.truth));
+}
+
+// Experiments may run one plant per thread: separate LegSims must not share state.
+TEST(LegSimTest, PlantsOnParallelThreadsMatchSerialRuns) {
+  const Trace serial = RunWithSeed(11);
+  std::vector<Trace> parallel(3);
+  {
+    std::vector<std::thread> threads;
+    for (Trace& trace : parallel) threads.emplace_back([&trace] { trace = RunWithSeed(11); });
+    for (std::thread& thread : threads) thread.join();
+  }
+  for (const Trace& trace : parallel) {
+    EXPECT_TRUE(BitIdentical(trace.measured, serial.measured));
+    EXPECT_TRUE(BitIdentical(trace.truth, serial.truth));
+  }
 }
 
 // ---- Errors --------------------------------------------------------------------------

@@ -26,7 +26,8 @@ class SimError : public std::runtime_error {
 /// requested at tick t first moves the joint during tick t + 4 and first shows in the
 /// measurement returned after tick t + 4.
 ///
-/// Deterministic: the same config (including seed) and calls give bit-identical results.
+/// Deterministic: the same config (including seed) and calls give bit-identical results, also
+/// when separate LegSims run on parallel threads (one LegSim per thread at a time).
 class LegSim {
  public:
   /// Validates `config` (std::invalid_argument naming the key), then builds the leg from

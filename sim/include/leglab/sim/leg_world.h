@@ -27,8 +27,9 @@ struct JointInfo {
 /// Each revolute joint is an ODE hinge with a velocity motor and mechanical stops
 /// kStopMarginRad beyond its URDF limits. Gravity is -kGravityMPerS2 along z.
 ///
-/// Owns its ODE world; ODE itself is initialised once per process on first use.
-/// Not thread-safe; one LegWorld may be used by one thread at a time.
+/// Owns its ODE world; ODE itself is initialised once per process on first use. Separate
+/// LegWorlds may be stepped on parallel threads (each world has its own ODE threading
+/// implementation); one LegWorld must be used by one thread at a time.
 class LegWorld {
  public:
   /// Gravitational acceleration, m/s^2, acting along -z.
