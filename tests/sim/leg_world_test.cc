@@ -1,5 +1,7 @@
 #include "leglab/sim/leg_world.h"
 
+#include "leglab/model/kinematics.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -125,6 +127,24 @@ TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
     world.SetConfigurationRad(q);
     EXPECT_LT((FootMm(world) - HandFootMm(q)).norm(), 0.1)
         << "q = " << q[0] << ", " << q[1] << ", " << q[2] << " rad";
+  }
+}
+
+// The URDF and leglab::model describe the same leg: same foot, same limits.
+TEST(LegWorldTest, AgreesWithLeglabModelKinematics) {
+  LegWorld world(kUrdf);
+  const LegGeometry geometry = LegGeometry::Ers210aFrontLeft();
+  for (int j = 0; j < kNumJoints; ++j) {
+    EXPECT_NEAR(world.joint(j).lower_rad, geometry.limits[j].lower_rad, 1e-9) << kJointNames[j];
+    EXPECT_NEAR(world.joint(j).upper_rad, geometry.limits[j].upper_rad, 1e-9) << kJointNames[j];
+  }
+  std::mt19937_64 engine(99);
+  for (int trial = 0; trial < 100; ++trial) {
+    const JointArray q = RandomAnglesRad(world, engine);
+    world.SetConfigurationRad(q);
+    const Eigen::Vector3d model_foot =
+        leglab::ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]));
+    EXPECT_LT((FootMm(world) - model_foot).norm(), 0.1);
   }
 }
 
