@@ -153,3 +153,130 @@ std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joint
 }
 
 }  // namespace leglab::experiments
+
+namespace leglab::experiments {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeometry& geometry) {
+  std::ifstream in(path);
+  if (!in) throw InputError("desired.csv: cannot read '" + path + "'");
+  auto fail = [&](const std::string& what) {
+    throw InputError("desired.csv '" + path + "': " + what);
+  };
+  std::string line;
+  if (!std::getline(in, line)) fail("is empty");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "tick,rotator_deg,abductor_deg,knee_deg") {
+    fail("header must be 'tick,rotator_deg,abductor_deg,knee_deg', got '" + line + "'");
+  }
+  DesiredMotion d;
+  for (int row = 1; std::getline(in, line); ++row) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    if (cells.size() != 4)
+      fail("row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
+           " columns, expected 4");
+    double values[4];
+    for (int c = 0; c < 4; ++c) {
+      const char* names[4] = {"tick", "rotator_deg", "abductor_deg", "knee_deg"};
+      try {
+        size_t used = 0;
+        values[c] = std::stod(cells[c], &used);
+        if (used != cells[c].size()) throw std::invalid_argument("trailing text");
+      } catch (const std::exception&) {
+        fail("row " + std::to_string(row) + ", " + names[c] + ": '" + cells[c] +
+             "' is not a number");
+      }
+      if (!std::isfinite(values[c]))
+        fail("row " + std::to_string(row) + ", " + names[c] + " is not finite");
+      if (c > 0) {
+        const JointLimits& lim = geometry.limits[c - 1];
+        if (values[c] * kDegToRad < lim.lower_rad - 1e-9 ||
+            values[c] * kDegToRad > lim.upper_rad + 1e-9) {
+          fail("row " + std::to_string(row) + ", " + names[c] + " = " + cells[c] +
+               " is outside the joint limits");
+        }
+      }
+    }
+    if (values[0] != static_cast<double>(d.angles_deg.size())) {
+      fail("row " + std::to_string(row) + ": tick must be " + std::to_string(d.angles_deg.size()) +
+           ", got " + cells[0]);
+    }
+    d.angles_deg.push_back({values[1], values[2], values[3]});
+  }
+  if (static_cast<int>(d.angles_deg.size()) != period) {
+    fail("has " + std::to_string(d.angles_deg.size()) +
+         " rows, expected one cycle of track.t_step_ticks = " + std::to_string(period));
+  }
+  for (const LegAngles& q : d.angles_deg) {
+    d.foot_mm.push_back(ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]) * kDegToRad));
+  }
+  return d;
+}
+
+}  // namespace
+
+DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry) {
+  if (!track.desired_csv.empty())
+    return DesiredFromCsv(track.desired_csv, track.t_step_ticks, geometry);
+  HalfEllipseLocus locus;
+  locus.length_mm = track.locus.length_mm;
+  locus.height_mm = track.locus.height_mm;
+  locus.ground_fraction = track.locus.ground_fraction;
+  locus.t_step_ticks = track.t_step_ticks;
+  locus.centre_mm =
+      geometry.shoulder_mm + Eigen::Vector3d(track.locus.forward_mm, track.locus.outward_mm,
+                                             -track.locus.ground_below_shoulder_mm);
+  DesiredMotion d;
+  d.foot_mm = HalfEllipseFootPath(locus);
+  try {
+    for (const Eigen::Vector3d& q : JointTrajectoryDeg(geometry, d.foot_mm))
+      d.angles_deg.push_back({q[0], q[1], q[2]});
+  } catch (const std::domain_error& e) {
+    throw InputError(std::string("desired.locus: ") + e.what());
+  }
+  return d;
+}
+
+TrackingRun RunTracking(const sim::SimConfig& sim_config, JointController& controller,
+                        const DesiredCycle& desired, int warmup_steps, int steps) {
+  sim::LegSim plant = MakePlant(sim_config);
+  plant.SetJointAnglesDeg(desired[0]);
+  const long period = static_cast<long>(desired.size());
+  const long first_recorded = warmup_steps * period;
+  const long total = first_recorded + steps * period;
+  TrackingRun run;
+  run.request_deg.reserve(steps * period);
+  run.measured_deg.reserve(steps * period);
+  LegAngles measured = plant.MeasuredDeg();
+  for (long t = 0; t < total; ++t) {
+    plant.SetRequestsDeg(controller.Update(t, measured));
+    plant.Tick();
+    measured = plant.MeasuredDeg();
+    if (t >= first_recorded) {
+      run.request_deg.push_back(plant.CommandedDeg());
+      run.measured_deg.push_back(measured);
+    }
+  }
+  return run;
+}
+
+std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& desired,
+                                 const LegGeometry& geometry) {
+  const size_t period = desired.foot_mm.size();
+  std::vector<double> errors(run.measured_deg.size());
+  for (size_t t = 0; t < errors.size(); ++t) {
+    const LegAngles& q = run.measured_deg[t];
+    const Eigen::Vector3d foot =
+        ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]) * kDegToRad);
+    errors[t] = (foot - desired.foot_mm[t % period]).norm() / 10.0;
+  }
+  return errors;
+}
+
+}  // namespace leglab::experiments

@@ -7,6 +7,7 @@
 #include "leglab/controller/controller.h"
 #include "leglab/experiments/config.h"
 #include "leglab/model/identification.h"
+#include "leglab/model/kinematics.h"
 #include "leglab/sim/leg_sim.h"
 
 namespace leglab::experiments {
@@ -44,5 +45,37 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
 /// Returns the Markdown table (also printed by the program).
 std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joints,
                         const ExperimentConfig& config, const class OutputDir& out);
+
+}  // namespace leglab::experiments
+
+namespace leglab::experiments {
+
+/// One cycle of desired joint angles and the foot path it draws (body frame, mm).
+struct DesiredMotion {
+  DesiredCycle angles_deg;
+  std::vector<Eigen::Vector3d> foot_mm;
+};
+
+/// The desired cycle: `desired.csv` when given (columns tick,rotator_deg,abductor_deg,knee_deg,
+/// t = 0..T-1, one row a tick, angles within the joint limits), else the half-elliptical locus
+/// through closed-form inverse kinematics. Throws InputError naming the file, row and column,
+/// or the unreachable tick and point.
+DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry);
+
+/// What one run of a controller on the leg recorded over the measured steps.
+struct TrackingRun {
+  std::vector<LegAngles> request_deg;   ///< steps * T ticks, as the servos took them
+  std::vector<LegAngles> measured_deg;  ///< the angles measured right after each request
+};
+
+/// Runs `controller` on a fresh plant that starts at rest at the desired cycle's first pose:
+/// `warmup_steps` steps, then `steps` steps recorded.
+TrackingRun RunTracking(const sim::SimConfig& sim_config, JointController& controller,
+                        const DesiredCycle& desired, int warmup_steps, int steps);
+
+/// Euclidean foot error per tick (cm) of a run against the desired foot path, by forward
+/// kinematics of the measured angles.
+std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& desired,
+                                 const LegGeometry& geometry);
 
 }  // namespace leglab::experiments

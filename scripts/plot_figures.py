@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""Draws the paper's figures 1-8 (and the time-shift search) from the CSVs in a results folder.
+
+Usage: /usr/bin/python3 scripts/plot_figures.py RESULTS_DIR
+Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
+"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return rows
+
+
+def column(rows, name, **where):
+    return [float(r[name]) for r in rows if all(r[k] == str(v) for k, v in where.items())]
+
+
+def save(fig, out, name):
+    fig.tight_layout()
+    path = os.path.join(out, name)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print("figure:", path)
+
+
+def foot_paths(out, mode):
+    rows = read_csv(os.path.join(out, f"foot_{mode}.csv"))
+    first = [r for r in rows if r["step"] == "0"]
+    get = lambda key: [float(r[key]) for r in first]  # noqa: E731
+    return get("desired_x_cm"), get("desired_z_cm"), get("actual_x_cm"), get("actual_z_cm")
+
+
+def closed(values):
+    return values + values[:1]
+
+
+def main(out):
+    have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
+    # Figure 1: desired and actual foot path under the direct method (x forward, z up).
+    if have("foot_direct.csv"):
+        dx, dz, ax_, az = foot_paths(out, "direct")
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(closed(dx), closed(dz), "k-", label="desired")
+        ax.plot(closed(ax_), closed(az), "r--", label="actual (direct)")
+        ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title="Fig. 1: foot trajectory")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.legend()
+        save(fig, out, "fig1_foot_direct.png")
+
+    # Figure 2: requests (= desired) and actual angles of the rotator under the direct method.
+    if have("trace_direct.csv"):
+        rows = read_csv(os.path.join(out, "trace_direct.csv"))
+        req = column(rows, "request_deg", step=0, joint="rotator")
+        act = column(rows, "actual_deg", step=0, joint="rotator")
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(req, "k-", label="requested (= desired)")
+        ax.plot(act, "r--", label="actual")
+        ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
+               title="Fig. 2: direct requests vs actual, rotator")
+        ax.legend()
+        save(fig, out, "fig2_rotator_direct.png")
+
+    # Figures 3 and 4: the step tests with the identified model's prediction.
+    for number, theta in ((3, 40), (4, 110)):
+        name = f"step_rotator_{theta}.csv"
+        if not have(name):
+            continue
+        rows = read_csv(os.path.join(out, name))
+        period = 88
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(column(rows, "request_deg")[:period], "k-", label="requested")
+        ax.plot(column(rows, "actual_deg")[:period], "r.", ms=4, label="actual")
+        ax.plot(column(rows, "model_deg")[:period], "b-", lw=1, label="model")
+        ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
+               title=f"Fig. {number}: step test, theta_test = {theta} deg")
+        ax.legend()
+        save(fig, out, f"fig{number}_step_rotator_{theta}.png")
+
+    # Figure 5: the function f of eq. 2 with the rotator's identified parameters.
+    if have("table1.json"):
+        with open(os.path.join(out, "table1.json")) as f:
+            p = json.load(f)["joints"]["rotator"]
+        v, t0 = p["v_max_deg_per_tick"], p["theta0_deg"]
+        xs = [-3 * t0, -t0, t0, 3 * t0]
+        ys = [-v, -v, v, v]
+        fig, ax = plt.subplots(figsize=(5, 4))
+        ax.plot(xs, ys, "k-")
+        ax.axhline(0, color="0.8", lw=0.5)
+        ax.axvline(0, color="0.8", lw=0.5)
+        ax.set(xlabel="requested - actual (deg)", ylabel="f (deg per tick)",
+               title=f"Fig. 5: f, v_max = {v:.2f}, theta_0 = {t0:.2f}")
+        save(fig, out, "fig5_f.png")
+
+    if have("trace_model_based.csv"):
+        rows = read_csv(os.path.join(out, "trace_model_based.csv"))
+        get = lambda key: column(rows, key, step=0, joint="rotator")  # noqa: E731
+        # Figure 6: the piecewise-linear approximation of the rotator's desired angles.
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(get("desired_deg"), "k-", label="desired")
+        ax.plot(get("pwl_deg"), "g-", label="piecewise linear")
+        ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
+               title="Fig. 6: piecewise-linear approximation")
+        ax.legend()
+        save(fig, out, "fig6_pwl_rotator.png")
+        # Figure 7: desired, approximation, requests and actual under the model-based method.
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(get("desired_deg"), "k-", label="desired")
+        ax.plot(get("pwl_deg"), "g-", label="piecewise linear")
+        ax.plot(get("request_deg"), "b:", label="requested")
+        ax.plot(get("actual_deg"), "r--", label="actual")
+        ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
+               title="Fig. 7: model-based requests, rotator")
+        ax.legend()
+        save(fig, out, "fig7_model_based_rotator.png")
+
+    # Figure 8: desired foot path, direct (old) and model-based (new).
+    if have("foot_direct.csv") and have("foot_model_based.csv"):
+        dx, dz, ox, oz = foot_paths(out, "direct")
+        _, _, nx, nz = foot_paths(out, "model_based")
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(closed(dx), closed(dz), "k-", label="desired")
+        ax.plot(closed(ox), closed(oz), "r--", label="old (direct)")
+        ax.plot(closed(nx), closed(nz), "b-", label="new (model-based)")
+        ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title="Fig. 8: foot trajectories")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.legend()
+        save(fig, out, "fig8_foot_old_new.png")
+
+    # The time-shift search behind the best k.
+    if have("shift_search.csv"):
+        rows = read_csv(os.path.join(out, "shift_search.csv"))
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(column(rows, "k"), column(rows, "foot_l2_cm"), "k.-")
+        ax.set(xlabel="time shift k (ticks)", ylabel="foot L2 (cm)",
+               title="Time-shift baseline: foot error for every k")
+        save(fig, out, "fig9_shift_search.png")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: plot_figures.py RESULTS_DIR")
+    main(sys.argv[1])
