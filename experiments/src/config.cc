@@ -154,11 +154,31 @@ fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
   return fs::path(LEGLAB_SOURCE_DIR) / "robots" / robot / "robot.yaml";
 }
 
+// An experiment file with the file named by its `extends:` key (relative to it) merged beneath,
+// recursively.
+YAML::Node LoadWithBase(const fs::path& path, int depth) {
+  YAML::Node node = LoadYamlFile(path, depth == 0 ? "config file" : "extended config file");
+  const YAML::Node base_name = node["extends"];
+  if (!base_name) return node;
+  if (depth >= 8) Fail("extends: more than 8 levels from '" + path.string() + "' (a cycle?)");
+  std::string base;
+  try {
+    base = base_name.as<std::string>();
+  } catch (const YAML::Exception&) {
+    Fail("extends: expected a file name in '" + path.string() + "'");
+  }
+  YAML::Node merged = LoadWithBase(
+      fs::path(base).is_absolute() ? fs::path(base) : path.parent_path() / base, depth + 1);
+  node.remove("extends");
+  MergeInto(merged, node);
+  return merged;
+}
+
 }  // namespace
 
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides) {
-  YAML::Node experiment = LoadYamlFile(config_path, "config file");
+  YAML::Node experiment = LoadWithBase(config_path, 0);
   for (const std::string& o : overrides) ApplyOverride(experiment, o);
 
   ExperimentConfig config;

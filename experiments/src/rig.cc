@@ -58,8 +58,14 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
     result.fit = IdentifyJointModel(recordings, config.identify.search);
     return result;
   };
+  // Each joint on its own thread, with its own plants: the result does not depend on the
+  // schedule.
+  std::array<std::future<JointIdentification>, kLegJoints> pending;
+  for (int j = 0; j < kLegJoints; ++j) {
+    pending[j] = std::async(std::launch::async, identify_joint, j);
+  }
   std::array<JointIdentification, kLegJoints> joints;
-  for (int j = 0; j < kLegJoints; ++j) joints[j] = identify_joint(j);
+  for (int j = 0; j < kLegJoints; ++j) joints[j] = pending[j].get();
   return joints;
 }
 

@@ -105,5 +105,27 @@ TEST_F(ConfigTest, MissingOrMalformedFilesAreNamed) {
   EXPECT_NE(ErrorOf("robot: robot.yaml\n").find("missing.urdf"), std::string::npos);
 }
 
+TEST_F(ConfigTest, ExtendsMergesTheBaseFileBeneath) {
+  Write(kRobot + "servo: {gain_per_s: 30, smoothing_ms: 24}\ncontroller: {modes: [direct]}\n",
+        "base.yaml");
+  const ExperimentConfig c =
+      LoadExperimentConfig(Write("extends: base.yaml\nservo: {gain_per_s: 31}\n"));
+  EXPECT_EQ(c.sim.servo.gain_per_s, 31.0);    // this file wins
+  EXPECT_EQ(c.sim.servo.smoothing_ms, 24.0);  // the base's value stays
+  EXPECT_EQ(c.modes, std::vector<std::string>{"direct"});
+  Write("extends: loop.yaml\n", "loop.yaml");
+  EXPECT_NE(ErrorOf("extends: loop.yaml\n").find("cycle"), std::string::npos);
+}
+
+TEST_F(ConfigTest, ShippedConfigsLoad) {
+  const std::string dir = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
+  for (const char* name : {"identify.yaml", "track.yaml", "controller_direct.yaml",
+                           "controller_time_shift.yaml", "controller_model_based.yaml"}) {
+    EXPECT_NO_THROW(LoadExperimentConfig(dir + name)) << name;
+  }
+  EXPECT_EQ(LoadExperimentConfig(dir + "controller_model_based.yaml").modes,
+            std::vector<std::string>{"model_based"});
+}
+
 }  // namespace
 }  // namespace leglab::experiments

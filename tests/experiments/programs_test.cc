@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -64,6 +65,18 @@ class ProgramsTest : public ::testing::Test {
 };
 
 const std::string kIdentify = LEGLAB_IDENTIFY_BIN;
+const std::string kTrack = LEGLAB_TRACK_BIN;
+
+// A desired.csv of `rows` ticks (a gentle wave inside every joint limit).
+std::string DesiredCsv(int rows) {
+  std::ostringstream csv;
+  csv << "tick,rotator_deg,abductor_deg,knee_deg\n";
+  for (int t = 0; t < rows; ++t) {
+    csv << t << "," << 10 + 20 * std::sin(2 * M_PI * t / rows) << ",5,"
+        << 60 + 15 * std::cos(2 * M_PI * t / rows) << "\n";
+  }
+  return csv.str();
+}
 
 TEST_F(ProgramsTest, IdentifyRejectsBadInputWithOneLineAndStatus2) {
   const std::string good = "--config experiments/configs/identify.yaml";
@@ -78,6 +91,65 @@ TEST_F(ProgramsTest, IdentifyRejectsBadInputWithOneLineAndStatus2) {
                  "broken.urdf");
   ExpectBadInput(kIdentify, good + " --bogus-flag", "bogus");
   ExpectBadInput(kIdentify, "", "--config");
+}
+
+TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
+  // A given model skips identification, so each bad input is found at once.
+  const std::string good =
+      "--config experiments/configs/track.yaml --set 'model={v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set track.steps=1 --set "
+      "track.warmup_steps=0";
+  ExpectBadInput(kTrack, good + " --set controller.modes=[direct,pid]", "controller.modes");
+  ExpectBadInput(kTrack, good + " --set desired.locus.ground_below_shoulder_mm=200", "unreachable");
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + (dir_ / "none.csv").string(), "none.csv");
+  std::string csv = DesiredCsv(88);
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("short.csv", DesiredCsv(80)),
+                 "80 rows");
+  ExpectBadInput(
+      kTrack,
+      good + " --set desired.csv=" + Write("cols.csv", "tick,rotator_deg,knee_deg\n0,1,2\n"),
+      "header");
+  std::string nan = csv;
+  const size_t row4 = nan.find("\n3,") + 1;
+  nan.replace(row4, nan.find('\n', row4) - row4, "3,nan,5,60");
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("nan.csv", nan),
+                 "row 4, rotator_deg is not finite");
+  std::string wide = csv;
+  wide.replace(row4, wide.find('\n', row4) - row4, "3,1,5,60,7");
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("wide.csv", wide),
+                 "row 4 has 5 columns");
+  std::string word = csv;
+  word.replace(word.find(",5,"), 3, ",five,");
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("word.csv", word), "abductor_deg");
+  std::string limit = csv;
+  limit.replace(limit.find(",5,"), 3, ",95,");  // abductor limit 89
+  ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
+}
+
+TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
+  const Result r = RunCommand(
+      kTrack + " --config experiments/configs/track.yaml --out '" + out_.string() +
+      "' --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}'"
+      " --set track.steps=2 --set track.warmup_steps=1 --set track.search_shift=false"
+      " --set desired.csv=" +
+      Write("wave.csv", DesiredCsv(88)));
+  ASSERT_EQ(r.status, 0) << r.stderr_text;
+  std::ifstream in(out_ / "table2.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["steps"], 2);
+  for (const char* mode : {"direct", "time_shift", "model_based"}) {
+    EXPECT_TRUE(fs::exists(out_ / (std::string("trace_") + mode + ".csv"))) << mode;
+    EXPECT_TRUE(fs::exists(out_ / (std::string("foot_") + mode + ".csv"))) << mode;
+    EXPECT_TRUE(j["foot_cm"].contains(mode)) << mode;
+  }
+  std::ifstream trace(out_ / "trace_model_based.csv");
+  std::string header;
+  std::getline(trace, header);
+  EXPECT_EQ(header, "step,tick,joint,desired_deg,pwl_deg,request_deg,actual_deg,model_deg");
+  std::ifstream foot(out_ / "foot_direct.csv");
+  std::getline(foot, header);
+  EXPECT_EQ(header,
+            "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm");
 }
 
 TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {

@@ -62,7 +62,8 @@ struct ExperimentConfig {
   TrackConfig track;
 };
 
-/// Loads `config_path`, merges the robot it names (`robot:` a name under robots/ or a path to
+/// Loads `config_path` (with the file its `extends:` key names, relative to it, merged beneath
+/// it, recursively), merges the robot it names (`robot:` a name under robots/ or a path to
 /// a robot.yaml, default ers210a) beneath it, applies `overrides` ("key.path=value", value in
 /// YAML syntax) last and in order, and converts the result into structs with defaults.
 /// Throws InputError naming the file or key for a missing or malformed file, an unknown key,

@@ -38,7 +38,7 @@ struct JointIdentification {
   std::vector<StepTestRun> runs;
 };
 
-/// Step tests and identification of every joint.
+/// Step tests and identification of every joint (joints in parallel, deterministic).
 std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config);
 
 /// `identify`'s outputs into `out`: table1.json, table1.md and step_<joint>_<theta>.csv.
