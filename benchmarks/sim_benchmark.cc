@@ -47,7 +47,9 @@ SimConfig Config() {
 LegWorld BareWorld() {
   LegWorld world(kUrdf);
   world.SetConfigurationRad({0.3, 0.3, 1.0});
-  for (int j = 0; j < kNumJoints; ++j) world.SetMotor(j, 0.0, Config().servo.max_torque_nm);
+  for (int j = 0; j < kNumJoints; ++j) {
+    world.SetMotor(j, 0.0, Config().servo.max_torque_nm);
+  }
   return world;
 }
 
@@ -61,7 +63,9 @@ JointArray Request(long tick) {
 void BM_OdeStep(benchmark::State& state) {
   LegWorld world = BareWorld();
   const double dt_s = Config().physics_dt_ms / 1000.0;
-  for (auto _ : state) world.Step(dt_s);
+  for (auto _ : state) {
+    world.Step(dt_s);
+  }
   state.SetItemsProcessed(state.iterations());  // physics steps
 }
 BENCHMARK(BM_OdeStep);
@@ -82,7 +86,9 @@ BENCHMARK(BM_SimTick);
 // Seconds per physics step over `steps` bare ODE steps.
 double TimeBare(LegWorld& world, int steps, double dt_s) {
   const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < steps; ++i) world.Step(dt_s);
+  for (int i = 0; i < steps; ++i) {
+    world.Step(dt_s);
+  }
   const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
   return elapsed.count() / steps;
 }
@@ -157,7 +163,9 @@ int main(int argc, char** argv) {
   }
   argc = kept;
   benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
+    return 1;
+  }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   ReportSideBySideRatio(rounds);

@@ -44,7 +44,9 @@ double JointServo::MotorSpeedRadPerS(double angle_rad) {
   window_[next_] = commanded;
   next_ = (next_ + 1) % window_.size();
   // Re-add the window once per pass so the running sum's rounding cannot drift.
-  if (next_ == 0) window_sum_ = std::accumulate(window_.begin(), window_.end(), 0.0);
+  if (next_ == 0) {
+    window_sum_ = std::accumulate(window_.begin(), window_.end(), 0.0);
+  }
   return window_sum_ / static_cast<double>(window_.size());
 }
 

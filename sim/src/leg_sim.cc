@@ -45,7 +45,9 @@ LegSim& LegSim::operator=(LegSim&&) noexcept = default;
 
 JointArray LegSim::ToDeg(const JointArray& rad) {
   JointArray deg{};
-  for (int j = 0; j < kNumJoints; ++j) deg[j] = rad[j] / kRadPerDeg;
+  for (int j = 0; j < kNumJoints; ++j) {
+    deg[j] = rad[j] / kRadPerDeg;
+  }
   return deg;
 }
 
@@ -56,11 +58,15 @@ void LegSim::SetRequestsDeg(const JointArray& request_deg) {
                                   "' must be finite, got " + std::to_string(request_deg[j]));
     }
   }
-  for (int j = 0; j < kNumJoints; ++j) request_rad_[j] = request_deg[j] * kRadPerDeg;
+  for (int j = 0; j < kNumJoints; ++j) {
+    request_rad_[j] = request_deg[j] * kRadPerDeg;
+  }
 }
 
 void LegSim::Tick() {
-  for (int j = 0; j < kNumJoints; ++j) servos_[j].PushRequest(request_rad_[j]);
+  for (int j = 0; j < kNumJoints; ++j) {
+    servos_[j].PushRequest(request_rad_[j]);
+  }
   for (int step = 0; step < steps_per_tick_; ++step) {
     const JointArray angles = world_.AnglesRad();
     for (int j = 0; j < kNumJoints; ++j) {
@@ -82,7 +88,9 @@ JointArray LegSim::TrueDeg() const { return ToDeg(world_.AnglesRad()); }
 
 JointArray LegSim::CommandedDeg() const {
   JointArray commanded{};
-  for (int j = 0; j < kNumJoints; ++j) commanded[j] = servos_[j].latest_request_rad();
+  for (int j = 0; j < kNumJoints; ++j) {
+    commanded[j] = servos_[j].latest_request_rad();
+  }
   return ToDeg(commanded);
 }
 
@@ -101,7 +109,9 @@ void LegSim::SetJointAnglesDeg(const JointArray& q_deg) {
     q_rad[j] = std::clamp(q_rad[j], info.lower_rad, info.upper_rad);
   }
   world_.SetConfigurationRad(q_rad);
-  for (int j = 0; j < kNumJoints; ++j) servos_[j].Hold(q_rad[j]);
+  for (int j = 0; j < kNumJoints; ++j) {
+    servos_[j].Hold(q_rad[j]);
+  }
   request_rad_ = q_rad;
   measured_rad_ = sensor_.Measure(world_.AnglesRad());
 }

@@ -35,7 +35,9 @@ void EnsureOdeReady() {
   };
   static Runtime runtime;
   thread_local const bool thread_ready = dAllocateODEDataForThread(dAllocateMaskAll) != 0;
-  if (!thread_ready) throw std::runtime_error("leglab::sim: ODE could not allocate thread data");
+  if (!thread_ready) {
+    throw std::runtime_error("leglab::sim: ODE could not allocate thread data");
+  }
 }
 
 // An ODE world with a threading implementation of its own. Without one, dWorldStep uses a
@@ -61,7 +63,9 @@ class OdeWorld {
       dWorldSetStepThreadingImplementation(world_, nullptr, nullptr);
       dWorldDestroy(world_);  // and its bodies and joints
     }
-    if (threading_ != nullptr) dThreadingFreeImplementation(threading_);
+    if (threading_ != nullptr) {
+      dThreadingFreeImplementation(threading_);
+    }
   }
 
   dThreadingImplementationID threading_;
@@ -75,7 +79,9 @@ class CapturingOutput : public console_bridge::OutputHandler {
   void log(const std::string& text, console_bridge::LogLevel level, const char* /*filename*/,
            int /*line*/) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
-      if (!text_.empty()) text_ += "; ";
+      if (!text_.empty()) {
+        text_ += "; ";
+      }
       text_ += text;
     }
   }
@@ -127,7 +133,9 @@ Eigen::Matrix3d RotationOf(dBodyID body) {
 void SetRotation(dBodyID body, const Eigen::Matrix3d& rotation) {
   dMatrix3 r;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[i * 4 + j] = rotation(i, j);
+    for (int j = 0; j < 3; ++j) {
+      r[i * 4 + j] = rotation(i, j);
+    }
     r[i * 4 + 3] = 0.0;
   }
   dBodySetRotation(body, r);
@@ -149,7 +157,9 @@ LinkMass CheckedMass(const urdf::Link& link) {
   }
   Eigen::Matrix3d inertia;
   inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-  if (!inertia.allFinite()) throw std::invalid_argument(where + "inertia has a non-finite entry");
+  if (!inertia.allFinite()) {
+    throw std::invalid_argument(where + "inertia has a non-finite entry");
+  }
   const Eigen::Vector3d moments =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia, Eigen::EigenvaluesOnly)
           .eigenvalues();    // ascending
@@ -221,7 +231,9 @@ struct LegWorld::Impl {
 
   int FindLink(std::string_view name) const {
     for (std::size_t i = 0; i < links.size(); ++i) {
-      if (links[i].name == name) return static_cast<int>(i);
+      if (links[i].name == name) {
+        return static_cast<int>(i);
+      }
     }
     return -1;
   }
@@ -232,7 +244,9 @@ struct LegWorld::Impl {
     for (std::size_t i = 1; i < links.size(); ++i) {
       const Link& link = links[i];
       poses[i] = poses[link.parent] * link.origin;
-      if (link.joint >= 0) poses[i].rotate(Eigen::AngleAxisd(q_rad[link.joint], link.axis));
+      if (link.joint >= 0) {
+        poses[i].rotate(Eigen::AngleAxisd(q_rad[link.joint], link.axis));
+      }
     }
     return poses;
   }
@@ -253,7 +267,9 @@ struct LegWorld::Impl {
 
 void LegWorld::Impl::ReadTree(const urdf::ModelInterface& model, const std::string& path) {
   const urdf::LinkConstSharedPtr root = model.getRoot();
-  if (!root) throw std::runtime_error("URDF file '" + path + "' has no root link");
+  if (!root) {
+    throw std::runtime_error("URDF file '" + path + "' has no root link");
+  }
   // Depth-first, so every parent precedes its children.
   std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{root, -1}};
   while (!stack.empty()) {
@@ -268,7 +284,9 @@ void LegWorld::Impl::ReadTree(const urdf::ModelInterface& model, const std::stri
       if (joint->type != urdf::Joint::FIXED) {
         int index = -1;
         for (int j = 0; j < kNumJoints; ++j) {
-          if (kJointNames[j] == joint->name) index = j;
+          if (kJointNames[j] == joint->name) {
+            index = j;
+          }
         }
         if (index < 0) {
           throw std::invalid_argument("joint '" + joint->name + "' in URDF '" + path +
@@ -297,7 +315,8 @@ void LegWorld::Impl::CheckJoints(const urdf::ModelInterface& model, const std::s
     if (!joint) {
       std::string present;
       for (const auto& [joint_name, unused] : model.joints_) {
-        present += (present.empty() ? "" : ", ") + joint_name;
+        present += present.empty() ? "" : ", ";
+        present += joint_name;
       }
       throw std::invalid_argument("joint '" + name + "' not found in URDF '" + path +
                                   "' (it has: " + (present.empty() ? "none" : present) + ")");
@@ -305,7 +324,9 @@ void LegWorld::Impl::CheckJoints(const urdf::ModelInterface& model, const std::s
     if (joint->type != urdf::Joint::REVOLUTE) {
       throw std::invalid_argument("joint '" + name + "' must be revolute (with limits)");
     }
-    if (joint->mimic) throw std::invalid_argument("joint '" + name + "': mimic is not modelled");
+    if (joint->mimic) {
+      throw std::invalid_argument("joint '" + name + "': mimic is not modelled");
+    }
     if (joint->dynamics && (joint->dynamics->damping != 0.0 || joint->dynamics->friction != 0.0)) {
       throw std::invalid_argument("joint '" + name +
                                   "': <dynamics> damping and friction are not modelled by "
@@ -389,7 +410,9 @@ void LegWorld::Impl::BuildHinges() {
   const std::vector<Eigen::Isometry3d> poses = LinkPoses(JointArray{});
   for (std::size_t i = 1; i < links.size(); ++i) {
     const Link& link = links[i];
-    if (link.joint < 0) continue;
+    if (link.joint < 0) {
+      continue;
+    }
     const int parent_body = links[link.parent].body;
     const dJointID hinge = dJointCreateHinge(world->get(), nullptr);
     dJointAttach(hinge, bodies[link.body].id, parent_body >= 0 ? bodies[parent_body].id : nullptr);
@@ -425,13 +448,17 @@ const JointInfo& LegWorld::joint(int joint) const { return impl_->joints.at(join
 
 JointArray LegWorld::AnglesRad() const {
   JointArray angles{};
-  for (int j = 0; j < kNumJoints; ++j) angles[j] = dJointGetHingeAngle(impl_->hinges[j]);
+  for (int j = 0; j < kNumJoints; ++j) {
+    angles[j] = dJointGetHingeAngle(impl_->hinges[j]);
+  }
   return angles;
 }
 
 JointArray LegWorld::RatesRadPerS() const {
   JointArray rates{};
-  for (int j = 0; j < kNumJoints; ++j) rates[j] = dJointGetHingeAngleRate(impl_->hinges[j]);
+  for (int j = 0; j < kNumJoints; ++j) {
+    rates[j] = dJointGetHingeAngleRate(impl_->hinges[j]);
+  }
   return rates;
 }
 

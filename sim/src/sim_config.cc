@@ -28,7 +28,9 @@ bool IsWholeMultiple(double value, double unit) {
 }
 
 void RequirePositive(std::string_view key, double value) {
-  if (!std::isfinite(value) || value <= 0.0) Reject(key, "a finite number > 0", value);
+  if (!std::isfinite(value) || value <= 0.0) {
+    Reject(key, "a finite number > 0", value);
+  }
 }
 
 }  // namespace

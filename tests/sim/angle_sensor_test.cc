@@ -18,7 +18,9 @@ TEST(AngleSensorTest, StandardNormalHasUnitSpreadAndNoBias) {
     const double z = sensor.StandardNormal();
     sum += z;
     sum_sq += z * z;
-    if (std::abs(z) > 2.0) ++beyond_two_sigma;
+    if (std::abs(z) > 2.0) {
+      ++beyond_two_sigma;
+    }
   }
   const double mean = sum / kDraws;
   const double variance = sum_sq / kDraws - mean * mean;

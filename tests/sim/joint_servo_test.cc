@@ -93,7 +93,9 @@ TEST(JointServoTest, RunningSumDoesNotDrift) {
     servo.MotorSpeedRadPerS(angle);
   }
   // ...but once the window holds one value (50/s * 0.01 rad = 0.5 rad/s), the mean is exact.
-  for (int step = 0; step < 80; ++step) servo.MotorSpeedRadPerS(0.0);
+  for (int step = 0; step < 80; ++step) {
+    servo.MotorSpeedRadPerS(0.0);
+  }
   EXPECT_EQ(servo.MotorSpeedRadPerS(0.0), 0.5);
 }
 

@@ -33,7 +33,9 @@ TEST_P(StepDelayTest, JointStartsMovingExactlyAfterTheDelay) {
   LegSim sim(Config(delay_ms));
   sim.SetJointAnglesDeg({0.0, 10.0, 30.0});
   // Let the leg settle under gravity while holding.
-  for (int t = 0; t < 20; ++t) sim.Tick();
+  for (int t = 0; t < 20; ++t) {
+    sim.Tick();
+  }
   const double before = sim.MeasuredDeg()[0];
 
   sim.SetRequestsDeg({40.0, 10.0, 30.0});  // the step, at tick t0
@@ -121,7 +123,9 @@ TEST(LegSimTest, TeleportHoldsStill) {
   LegSim sim(Config());
   sim.SetJointAnglesDeg({30.0, 40.0, 90.0});
   EXPECT_EQ(sim.CommandedDeg()[2], sim.TrueDeg()[2]);
-  for (int t = 0; t < 50; ++t) sim.Tick();
+  for (int t = 0; t < 50; ++t) {
+    sim.Tick();
+  }
   const JointArray held = sim.TrueDeg();
   EXPECT_NEAR(held[0], 30.0, 0.05);
   EXPECT_NEAR(held[1], 40.0, 0.05);
@@ -147,7 +151,9 @@ TEST(LegSimTest, MotorsOffLetTheLegSwingAndOnHoldsIt) {
   EXPECT_LT(lowest_rotator, 0.0);  // the unpowered leg swung down and through under gravity
   sim.SetMotorsEnabled(true);
   sim.SetRequestsDeg({0.0, 0.0, 0.0});
-  for (int t = 0; t < 100; ++t) sim.Tick();
+  for (int t = 0; t < 100; ++t) {
+    sim.Tick();
+  }
   EXPECT_NEAR(sim.TrueDeg()[0], 0.0, 0.1);
 }
 
@@ -168,8 +174,12 @@ Trace RunWithSeed(std::uint64_t seed) {
     sim.SetRequestsDeg({30.0 * std::sin(phase), 20.0 + 15.0 * std::cos(phase),
                         60.0 + 40.0 * std::sin(2.0 * phase)});
     sim.Tick();
-    for (double v : sim.MeasuredDeg()) trace.measured.push_back(v);
-    for (double v : sim.TrueDeg()) trace.truth.push_back(v);
+    for (double v : sim.MeasuredDeg()) {
+      trace.measured.push_back(v);
+    }
+    for (double v : sim.TrueDeg()) {
+      trace.truth.push_back(v);
+    }
   }
   return trace;
 }
@@ -199,8 +209,13 @@ TEST(LegSimTest, PlantsOnParallelThreadsMatchSerialRuns) {
   std::vector<Trace> parallel(3);
   {
     std::vector<std::thread> threads;
-    for (Trace& trace : parallel) threads.emplace_back([&trace] { trace = RunWithSeed(11); });
-    for (std::thread& thread : threads) thread.join();
+    threads.reserve(parallel.size());
+    for (Trace& trace : parallel) {
+      threads.emplace_back([&trace] { trace = RunWithSeed(11); });
+    }
+    for (std::thread& thread : threads) {
+      thread.join();
+    }
   }
   for (const Trace& trace : parallel) {
     EXPECT_TRUE(BitIdentical(trace.measured, serial.measured));
@@ -241,7 +256,9 @@ TEST(LegSimTest, ExplodingStateThrowsSimErrorNamingTheTick) {
   LegSim sim(config);
   sim.SetRequestsDeg({100.0, 80.0, 140.0});
   try {
-    for (int t = 0; t < 10; ++t) sim.Tick();
+    for (int t = 0; t < 10; ++t) {
+      sim.Tick();
+    }
     FAIL() << "no error";
   } catch (const SimError& error) {
     EXPECT_NE(std::string(error.what()).find("control tick 0"), std::string::npos) << error.what();

@@ -68,7 +68,9 @@ class TempUrdf {
     for (const auto& [from, to] : edits) {
       const std::size_t at = text.find(from);
       EXPECT_NE(at, std::string::npos) << from;
-      if (at != std::string::npos) text.replace(at, from.size(), to);
+      if (at != std::string::npos) {
+        text.replace(at, from.size(), to);
+      }
     }
     const std::string name = std::string("leglab_") +
                              ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
@@ -155,7 +157,9 @@ TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
     const JointArray q = RandomAnglesRad(world, engine);
     world.SetConfigurationRad(q);
     const JointArray angles = world.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) EXPECT_NEAR(angles[j], q[j], 1e-9) << kJointNames[j];
+    for (int j = 0; j < kNumJoints; ++j) {
+      EXPECT_NEAR(angles[j], q[j], 1e-9) << kJointNames[j];
+    }
   }
 }
 
@@ -168,7 +172,9 @@ TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
     JointArray start{0.0, 20.0 * kDeg, 30.0 * kDeg};
     world.SetConfigurationRad(start);
     for (int step = 0; step < 200; ++step) {  // 0.2 s at 1 rad/s
-      for (int k = 0; k < kNumJoints; ++k) world.SetMotor(k, k == j ? 1.0 : 0.0, 5.45);
+      for (int k = 0; k < kNumJoints; ++k) {
+        world.SetMotor(k, k == j ? 1.0 : 0.0, 5.45);
+      }
       world.Step(0.001);
     }
     const JointArray angles = world.AnglesRad();
@@ -194,7 +200,9 @@ TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
     highest = std::max(highest, world.MechanicalEnergyJ());
     peak_kinetic = std::max(peak_kinetic, world.KineticEnergyJ());
     const JointArray angles = world.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) lowest[j] = std::min(lowest[j], angles[j]);
+    for (int j = 0; j < kNumJoints; ++j) {
+      lowest[j] = std::min(lowest[j], angles[j]);
+    }
     ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
   }
   EXPECT_GT(peak_kinetic, 0.01);  // a real swing, J
