@@ -215,6 +215,7 @@ ExperimentConfig LoadExperimentConfig(const std::string& config_path,
     servo.Read("delay_ms", config.sim.servo.delay_ms);
     servo.Read("max_speed_deg_s", config.sim.servo.max_speed_deg_s);
     servo.Read("gain_per_s", config.sim.servo.gain_per_s);
+    servo.Read("damping", config.sim.servo.damping);
     servo.Read("smoothing_ms", config.sim.servo.smoothing_ms);
     servo.Read("max_torque_nm", config.sim.servo.max_torque_nm);
     servo.Finish();

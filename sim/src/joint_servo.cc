@@ -8,15 +8,15 @@
 
 namespace leglab::sim {
 
-JointServo::JointServo(const ServoConfig& config, double physics_dt_ms, double lower_rad,
-                       double upper_rad)
+JointServo::JointServo(const ServoConfig& config, double lower_rad, double upper_rad)
     : gain_per_s_(config.gain_per_s),
+      damping_(config.damping),
       max_speed_rad_per_s_(config.max_speed_deg_s * std::numbers::pi / 180.0),
       lower_rad_(lower_rad),
       upper_rad_(upper_rad),
       delay_line_(static_cast<std::size_t>(std::lround(config.delay_ms / kTickMs)) + 1),
       window_(std::max<std::size_t>(
-          1, static_cast<std::size_t>(std::lround(config.smoothing_ms / physics_dt_ms)))) {
+          1, static_cast<std::size_t>(std::lround(config.smoothing_ms / kTickMs)))) {
   assert(lower_rad <= upper_rad);
   Hold(0.0);
 }
@@ -36,18 +36,13 @@ double JointServo::latest_request_rad() const {
   return delay_line_[(oldest_ + delay_line_.size() - 1) % delay_line_.size()];
 }
 
-double JointServo::MotorSpeedRadPerS(double angle_rad) {
+double JointServo::FrameSpeedRadPerS(double angle_rad, double rate_rad_per_s) {
   const double error_rad = target_rad() - angle_rad;
-  const double commanded =
-      std::clamp(gain_per_s_ * error_rad, -max_speed_rad_per_s_, max_speed_rad_per_s_);
-  window_sum_ += commanded - window_[next_];
-  window_[next_] = commanded;
+  window_[next_] = std::clamp(gain_per_s_ * error_rad - damping_ * rate_rad_per_s,
+                              -max_speed_rad_per_s_, max_speed_rad_per_s_);
   next_ = (next_ + 1) % window_.size();
-  // Re-add the window once per pass so the running sum's rounding cannot drift.
-  if (next_ == 0) {
-    window_sum_ = std::accumulate(window_.begin(), window_.end(), 0.0);
-  }
-  return window_sum_ / static_cast<double>(window_.size());
+  // A handful of frames: summing them afresh keeps the result exact and order-independent.
+  return std::accumulate(window_.begin(), window_.end(), 0.0) / static_cast<double>(window_.size());
 }
 
 void JointServo::Hold(double angle_rad) {
@@ -55,7 +50,6 @@ void JointServo::Hold(double angle_rad) {
   oldest_ = 0;
   std::fill(window_.begin(), window_.end(), 0.0);
   next_ = 0;
-  window_sum_ = 0.0;
 }
 
 }  // namespace leglab::sim

@@ -19,7 +19,7 @@ const SimConfig& Validated(const SimConfig& config) {
 
 JointServo MakeServo(const SimConfig& config, const LegWorld& world, int joint) {
   const JointInfo& info = world.joint(joint);
-  return JointServo(config.servo, config.physics_dt_ms, info.lower_rad, info.upper_rad);
+  return JointServo(config.servo, info.lower_rad, info.upper_rad);
 }
 
 }  // namespace
@@ -64,17 +64,16 @@ void LegSim::SetRequestsDeg(const JointArray& request_deg) {
 }
 
 void LegSim::Tick() {
+  // The firmware runs once per frame; the velocity motors hold its speeds through the frame's
+  // physics steps.
+  const JointArray angles = world_.AnglesRad();
+  const JointArray rates = world_.RatesRadPerS();
   for (int j = 0; j < kNumJoints; ++j) {
     servos_[j].PushRequest(request_rad_[j]);
+    world_.SetMotor(j, servos_[j].FrameSpeedRadPerS(angles[j], rates[j]),
+                    motors_enabled_ ? max_torque_nm_[j] : 0.0);
   }
-  for (int step = 0; step < steps_per_tick_; ++step) {
-    const JointArray angles = world_.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) {
-      world_.SetMotor(j, servos_[j].MotorSpeedRadPerS(angles[j]),
-                      motors_enabled_ ? max_torque_nm_[j] : 0.0);
-    }
-    world_.Step(physics_dt_s_);
-  }
+  for (int step = 0; step < steps_per_tick_; ++step) world_.Step(physics_dt_s_);
   if (std::string problem = world_.StateProblem(); !problem.empty()) {
     throw SimError(
         "leglab::sim: the simulation broke down during control tick " + std::to_string(tick_) +

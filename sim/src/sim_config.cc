@@ -50,10 +50,12 @@ void ValidateSimConfig(const SimConfig& config) {
   }
   RequirePositive("servo.max_speed_deg_s", servo.max_speed_deg_s);
   RequirePositive("servo.gain_per_s", servo.gain_per_s);
+  if (!std::isfinite(servo.damping) || servo.damping < 0.0) {
+    Reject("servo.damping", "a finite number >= 0", servo.damping);
+  }
   if (!std::isfinite(servo.smoothing_ms) || servo.smoothing_ms < 0.0 ||
-      !IsWholeMultiple(servo.smoothing_ms, dt)) {
-    Reject("servo.smoothing_ms",
-           "a non-negative multiple of sim.physics_dt_ms (" + Format(dt) + " ms)",
+      !IsWholeMultiple(servo.smoothing_ms, kTickMs)) {
+    Reject("servo.smoothing_ms", "a non-negative multiple of 8 ms (the firmware's frame)",
            servo.smoothing_ms);
   }
   RequirePositive("servo.max_torque_nm", servo.max_torque_nm);

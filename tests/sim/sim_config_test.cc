@@ -53,6 +53,8 @@ TEST(SimConfigTest, EachBadValueNamesItsKey) {
       {[](SimConfig& c) { c.servo.max_speed_deg_s = std::nan(""); }, "servo.max_speed_deg_s"},
       {[](SimConfig& c) { c.servo.gain_per_s = -1; }, "servo.gain_per_s"},
       {[](SimConfig& c) { c.servo.smoothing_ms = 2.5; }, "servo.smoothing_ms"},
+      {[](SimConfig& c) { c.servo.smoothing_ms = 44; }, "servo.smoothing_ms"},  // not 8 ms frames
+      {[](SimConfig& c) { c.servo.damping = -0.1; }, "servo.damping"},
       {[](SimConfig& c) { c.servo.smoothing_ms = -1; }, "servo.smoothing_ms"},
       {[](SimConfig& c) { c.servo.max_torque_nm = 0; }, "servo.max_torque_nm"},
       {[](SimConfig& c) { c.sensor.noise_deg = -0.1; }, "sensor.noise_deg"},
@@ -69,7 +71,7 @@ TEST(SimConfigTest, AcceptsEdgeValues) {
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.sensor.noise_deg = 0; }), "accepted");
   EXPECT_EQ(RejectionOf([](SimConfig& c) {
               c.physics_dt_ms = 0.1;
-              c.servo.smoothing_ms = 40.1;
+              c.servo.smoothing_ms = 48;
             }),
             "accepted");
 }

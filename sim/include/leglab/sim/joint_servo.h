@@ -7,26 +7,29 @@
 
 namespace leglab::sim {
 
-/// The firmware of one joint's servo: no physics, no ODE. Once per control tick it takes the
-/// tick's request into a delay line; once per physics step it turns the delayed target and the
-/// joint angle into the speed the velocity motor should hold:
-///   commanded = clamp(gain_per_s * (target - angle), -max_speed, +max_speed)
-///   speed     = moving average of `commanded` over the last smoothing_ms.
-/// The motor cannot change its speed at once, so a new saturated command is reached linearly
-/// over smoothing_ms whatever the previous speed was.
+/// The firmware of one joint's servo: no physics, no ODE. It runs once per 8 ms frame, as the
+/// Aibo's joint commands do: it takes the frame's request into a delay line, and turns the
+/// delayed target, the joint angle and the joint's rate at the start of the frame into the
+/// speed the velocity motor holds through the frame:
+///   commanded = clamp(gain_per_s * (target - angle) - damping * rate, -max_speed, +max_speed)
+///   speed     = mean of `commanded` over the last smoothing_ms / 8 frames.
+/// The motor cannot change its speed at once: a new saturated command is reached in equal
+/// steps over smoothing_ms whatever the previous speed was. The damping (the D of a PD loop)
+/// makes it brake before the target instead of overshooting it.
 class JointServo {
  public:
-  /// `config` and `physics_dt_ms` must have passed ValidateSimConfig. Targets are clamped into
-  /// [lower_rad, upper_rad] (the joint's software limits, radians, lower <= upper). The servo
-  /// starts at rest, holding 0 (clamped).
-  JointServo(const ServoConfig& config, double physics_dt_ms, double lower_rad, double upper_rad);
+  /// `config` must have passed ValidateSimConfig. Targets are clamped into [lower_rad,
+  /// upper_rad] (the joint's software limits, radians, lower <= upper). The servo starts at
+  /// rest, holding 0 (clamped).
+  JointServo(const ServoConfig& config, double lower_rad, double upper_rad);
 
   /// Takes the request for the current tick, radians; it is clamped into the joint limits and
   /// acted on delay_ms later. Call once per tick before that tick's physics steps.
   void PushRequest(double request_rad);
 
-  /// One physics step of firmware: the motor speed, rad/s, given the joint angle, rad.
-  double MotorSpeedRadPerS(double angle_rad);
+  /// One frame of firmware, after PushRequest: the motor speed to hold through this frame,
+  /// rad/s, given the joint angle, rad, and its angular rate, rad/s, at the frame's start.
+  double FrameSpeedRadPerS(double angle_rad, double rate_rad_per_s);
 
   /// Forgets every queued request and the smoothing history: holds `angle_rad` (clamped) at
   /// rest, as after a long wait.
@@ -50,16 +53,16 @@ class JointServo {
   double Clamp(double angle_rad) const;
 
   double gain_per_s_;
+  double damping_;
   double max_speed_rad_per_s_;
   double lower_rad_;
   double upper_rad_;
   // Requests of the last delay_ticks + 1 ticks; oldest_ indexes the one acted on.
   std::vector<double> delay_line_;
   std::size_t oldest_ = 0;
-  // Commanded speeds of the last smoothing window, rad/s, and their running sum.
+  // Commanded speeds of the last smoothing_ms / 8 frames, rad/s; next_ is the oldest.
   std::vector<double> window_;
   std::size_t next_ = 0;
-  double window_sum_ = 0.0;
 };
 
 }  // namespace leglab::sim

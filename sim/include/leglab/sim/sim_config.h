@@ -33,11 +33,16 @@ struct ServoConfig {
   double delay_ms = 40.0;
   /// Top joint speed, deg/s (> 0): the commanded speed is capped at it.
   double max_speed_deg_s = 312.5;
-  /// Proportional speed law, 1/s (> 0): commanded speed = gain_per_s * (target - angle).
-  double gain_per_s = 44.6;
+  /// Proportional speed law, 1/s (> 0): commanded speed = gain_per_s * (target - angle)
+  /// - damping * rate.
+  double gain_per_s = 72.0;
+  /// Velocity feedback of the speed law, dimensionless (>= 0): the commanded speed is reduced
+  /// by damping times the joint's angular rate (the D of the servo's PD loop), so the joint
+  /// starts braking before it reaches the target instead of overshooting it.
+  double damping = 1.3;
   /// Window of the moving average that smooths the commanded speed, ms; a non-negative
-  /// multiple of SimConfig::physics_dt_ms (0: no smoothing).
-  double smoothing_ms = 40.0;
+  /// multiple of the 8 ms frame (0 or 8: no smoothing).
+  double smoothing_ms = 48.0;
   /// Most torque the motor may use, N m (> 0); capped per joint by the URDF effort limit.
   double max_torque_nm = 5.45;
 };
