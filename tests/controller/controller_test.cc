@@ -63,8 +63,10 @@ TEST_P(EveryMode, HoldingStillRequestsTheHoldAngle) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Controllers, EveryMode, ::testing::ValuesIn(ControllerModes()),
-                         [](const auto& info) { return info.param; });
+// Names the instances after the mode (the macro's own parameter is called `info`).
+std::string ModeName(const ::testing::TestParamInfo<std::string>& mode) { return mode.param; }
+
+INSTANTIATE_TEST_SUITE_P(Controllers, EveryMode, ::testing::ValuesIn(ControllerModes()), ModeName);
 
 TEST(Controllers, DirectRequestsTheDesiredAngles) {
   const DesiredCycle d = Walkish();

@@ -24,7 +24,7 @@ class InputError : public std::runtime_error {
 struct IdentifyConfig {
   std::vector<double> theta_test_deg{40.0, 110.0};  ///< step heights, one recording each
   int t_step_ticks = kStepTicks;                    ///< period of the square wave
-  int settle_cycles = 5;              ///< cycles run before recording, to reach equilibrium
+  int settle_cycles = 5;  ///< cycles run before recording, to reach equilibrium
   int record_cycles = 8;  ///< cycles recorded and fitted (fewer lets noise pick among near-ties)
   LegAngles hold_deg{0.0, 0.0, 0.0};  ///< where the joints not under test are held
   IdentificationOptions search;       ///< lag_range_ticks, accel_range_ticks
