@@ -36,8 +36,10 @@ void MergeInto(YAML::Node base, const YAML::Node& over) {
   }
 }
 
-// Applies "a.b.c=value" to `root`, creating maps on the way.
-void ApplyOverride(YAML::Node root, const std::string& assignment) {
+// Applies "a.b.c=value" to `root`, creating maps on the way. A YAML::Node is a handle: taken
+// by value, it still edits the caller's tree.
+void ApplyOverride(YAML::Node root,  // NOLINT(performance-unnecessary-value-param)
+                   const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
     Fail("--set '" + assignment + "' is not of the form key=value");
@@ -74,8 +76,7 @@ void ApplyOverride(YAML::Node root, const std::string& assignment) {
 // keys nobody asked for.
 class MapReader {
  public:
-  MapReader(YAML::Node node, std::string prefix)
-      : node_(std::move(node)), prefix_(std::move(prefix)) {
+  MapReader(const YAML::Node& node, std::string prefix) : node_(node), prefix_(std::move(prefix)) {
     if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
       Fail((prefix_.empty() ? std::string("the config") : prefix_) + " must be a map");
     }
@@ -145,11 +146,10 @@ void Require(bool ok, const std::string& key, const std::string& expectation) {
 
 fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
   if (robot.find('/') != std::string::npos || fs::path(robot).extension() == ".yaml") {
-    const fs::path p = fs::path(robot).is_absolute() ? fs::path(robot) : config_dir / robot;
-    return p;
+    return fs::path(robot).is_absolute() ? fs::path(robot) : config_dir / robot;
   }
   // A robot name: robots/<name>/robot.yaml in the working directory, else in the source tree.
-  const fs::path here = fs::path("robots") / robot / "robot.yaml";
+  fs::path here = fs::path("robots") / robot / "robot.yaml";
   if (fs::exists(here)) return here;
   return fs::path(LEGLAB_SOURCE_DIR) / "robots" / robot / "robot.yaml";
 }

@@ -48,7 +48,7 @@ JointModelState RestState(const JointModelParams& p, double angle_deg) {
 
 double StepJointModel(const JointModelParams& p, JointModelState& state, double request_deg) {
   auto& past = state.past_requests_deg;
-  assert(past.size() == static_cast<size_t>(p.lag_ticks + p.accel_ticks));
+  assert(static_cast<int>(past.size()) == p.lag_ticks + p.accel_ticks);
   state.angle_deg += ModelVelocity(p, state.angle_deg, [&](int i) { return past[i - 1]; });
   // Newest first: shift the history by one and put R(t) in front.
   std::copy_backward(past.begin(), past.end() - 1, past.end());
@@ -60,7 +60,7 @@ std::vector<double> SimulateJointModel(const JointModelParams& p,
                                        std::span<const double> requests_deg,
                                        const JointModelState& initial) {
   ValidateJointModelParams(p);
-  if (initial.past_requests_deg.size() != static_cast<size_t>(p.lag_ticks + p.accel_ticks)) {
+  if (static_cast<int>(initial.past_requests_deg.size()) != p.lag_ticks + p.accel_ticks) {
     throw std::invalid_argument("joint model: the initial state must remember l + a = " +
                                 std::to_string(p.lag_ticks + p.accel_ticks) + " requests");
   }

@@ -65,7 +65,7 @@ double LineInverseOffsetExact(const JointModelParams& p, double slope) {
   // f is odd, so S_{-m}(x) = -S_m(-x) and C_{-m} = -C_m: solve for |m|.
   const double m = std::abs(slope);
   std::vector<double> breakpoints;
-  breakpoints.reserve(2 * p.accel_ticks);
+  breakpoints.reserve(2 * static_cast<size_t>(p.accel_ticks));
   for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
     breakpoints.push_back(m * (i - 1) - p.theta0_deg);
     breakpoints.push_back(m * (i - 1) + p.theta0_deg);

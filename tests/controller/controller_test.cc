@@ -42,7 +42,7 @@ TEST_P(EveryMode, RequestsAreFiniteAndRepeatEveryCycle) {
   const LegAngles measured{0.0, 0.0, 0.0};
   for (long t = 0; t < 88; ++t) {
     const LegAngles now = controller->Update(t, measured);
-    const LegAngles later = controller->Update(t + 3 * 88, measured);
+    const LegAngles later = controller->Update(t + 3L * 88, measured);
     for (int j = 0; j < kLegJoints; ++j) {
       EXPECT_TRUE(std::isfinite(now[j]));
       EXPECT_EQ(now[j], later[j]) << "tick " << t << " joint " << j;

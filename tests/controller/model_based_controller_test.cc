@@ -52,9 +52,9 @@ PlantRun RunOnModelPlant(JointController& controller, const DesiredCycle& desire
   ModelPlant plant(desired[0]);
   LegAngles measured = desired[0];
   PlantRun run;
-  for (long t = 0; t < 10 * 88; ++t) {
+  for (long t = 0; t < 10L * 88; ++t) {
     measured = plant.Tick(controller.Update(t, measured));
-    if (t >= 9 * 88) {
+    if (t >= 9L * 88) {
       for (int j = 0; j < kLegJoints; ++j) run.actual[j].push_back(measured[j]);
     }
   }
