@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   using namespace leglab::experiments;
   return RunProgram("identify", "Table 1: identify the joint model from step responses", argc, argv,
                     [](const ProgramArgs& args, const ExperimentConfig& config) {
-                      OutputDir out(args.out_dir);
+                      OutputDir out(args.out_dir, {"table1.", "step_"});
                       const auto joints = IdentifyLeg(config);
                       const std::string table = WriteTable1(joints, config, out);
                       out.Commit();

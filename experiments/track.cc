@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   using namespace leglab::experiments;
   return RunProgram("track", "Table 2: track the half-ellipse walk with each controller", argc,
                     argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
-                      OutputDir out(args.out_dir);
+                      OutputDir out(args.out_dir, {"table2.", "trace_", "foot_", "shift_search."});
                       const TrackResult result = RunTrackExperiment(config);
                       const std::string tables = WriteTable2(result, config, out);
                       out.Commit();

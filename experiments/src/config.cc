@@ -174,10 +174,8 @@ YAML::Node LoadWithBase(const fs::path& path, int depth) {
   return merged;
 }
 
-}  // namespace
-
-ExperimentConfig LoadExperimentConfig(const std::string& config_path,
-                                      const std::vector<std::string>& overrides) {
+ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
+                                               const std::vector<std::string>& overrides) {
   YAML::Node experiment = LoadWithBase(config_path, 0);
   for (const std::string& o : overrides) ApplyOverride(experiment, o);
 
@@ -237,7 +235,9 @@ ExperimentConfig LoadExperimentConfig(const std::string& config_path,
   {
     MapReader c = root.Child("controller");
     c.Read("mode", config.controller.mode);
-    config.modes = ControllerModes();
+    // A lone controller.mode picks the one mode to run; controller.modes, when given, wins.
+    config.modes =
+        c.Has("mode") ? std::vector<std::string>{config.controller.mode} : ControllerModes();
     c.Read("modes", config.modes);
     c.Read("shift_ticks", config.controller.shift_ticks);
     std::string cm = "exact";
@@ -349,6 +349,18 @@ ExperimentConfig LoadExperimentConfig(const std::string& config_path,
   }
   root.Finish();
   return config;
+}
+
+}  // namespace
+
+ExperimentConfig LoadExperimentConfig(const std::string& config_path,
+                                      const std::vector<std::string>& overrides) {
+  try {
+    return LoadExperimentConfigUnguarded(config_path, overrides);
+  } catch (const YAML::Exception& e) {
+    // What the conversions above did not catch (e.g. a key that is not a scalar).
+    Fail("'" + config_path + "' is malformed: " + e.what());
+  }
 }
 
 }  // namespace leglab::experiments

@@ -108,7 +108,7 @@ std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joint
                    {"max_torque_nm", config.sim.servo.max_torque_nm},
                    {"noise_deg", config.sim.sensor.noise_deg},
                    {"seed", config.sim.seed}};
-  std::ofstream(out.Path("table1.json")) << json.dump(2) << '\n';
+  WriteTextFile(out.Path("table1.json"), json.dump(2) + '\n');
 
   std::ostringstream md;
   md << "# Table 1: model parameters\n\n"
@@ -134,7 +134,7 @@ std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joint
   row("", "Fit RMS residual (deg)", "",
       [](const JointIdentification& j) { return Fixed(j.fit.rms_residual_deg, 3); });
   md << "\nt_u = 8 ms.\n";
-  std::ofstream(out.Path("table1.md")) << md.str();
+  WriteTextFile(out.Path("table1.md"), md.str());
 
   for (const JointIdentification& joint : joints) {
     for (const StepTestRun& run : joint.runs) {
@@ -153,6 +153,7 @@ std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joint
             .Cell(model[t % period]);
         csv.EndRow();
       }
+      csv.Close();
     }
   }
   return md.str();

@@ -5,12 +5,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <exception>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
 #include "leglab/controller/direct_controller.h"
-#include "leglab/controller/model_based_controller.h"
 #include "leglab/model/metrics.h"
 
 namespace leglab::experiments {
@@ -88,10 +89,19 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
     for (int j = 0; j < kLegJoints; ++j) r.models[j] = identified[j].fit.params;
     r.models_identified = true;
   }
-  // model_based's approximations, also drawn in every trace as pwl_deg.
-  const ModelBasedController reference(r.desired.angles_deg, r.models, config.controller.cm,
-                                       config.controller.pwl_segments);
-  for (int j = 0; j < kLegJoints; ++j) r.approximations[j] = reference.approximation(j);
+  // The piecewise-linear approximations model_based follows (it fits the same ones), drawn in
+  // every trace as pwl_deg.
+  if (config.controller.pwl_segments > r.period) {
+    throw InputError("config: controller.pwl_segments must be at most the " +
+                     std::to_string(r.period) + " ticks of a step, got " +
+                     std::to_string(config.controller.pwl_segments));
+  }
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> joint(r.period);
+    for (int t = 0; t < r.period; ++t) joint[t] = r.desired.angles_deg[t][j];
+    r.approximations[j] = FitPiecewiseLinear(joint, r.models[j].v_max_deg_per_tick,
+                                             {.segments = config.controller.pwl_segments});
+  }
 
   for (const std::string& mode : config.modes) {
     if (mode == "time_shift" && config.track.search_shift) {
@@ -234,8 +244,8 @@ std::string WriteTable2(const TrackResult& r, const ExperimentConfig& config,
                                      {"identified", r.models_identified},
                                      {"pwl_segments", r.approximations[j].num_segments()}};
   }
-  std::ofstream(out.Path("table2.json")) << json.dump(2) << '\n';
-  std::ofstream(out.Path("table2.md")) << md.str();
+  WriteTextFile(out.Path("table2.json"), json.dump(2) + '\n');
+  WriteTextFile(out.Path("table2.md"), md.str());
 
   const LegGeometry geometry = LegGeometry::Ers210aFrontLeft();
   for (const ModeRun& run : r.runs) {
@@ -268,6 +278,8 @@ std::string WriteTable2(const TrackResult& r, const ExperimentConfig& config,
       foot.Cell(actual.x()).Cell(actual.y()).Cell(actual.z());
       foot.EndRow();
     }
+    trace.Close();
+    foot.Close();
   }
   if (!r.shift_search_foot_l2_cm.empty()) {
     CsvWriter search(out.Path("shift_search.csv"), {"k", "foot_l2_cm"});
@@ -275,6 +287,7 @@ std::string WriteTable2(const TrackResult& r, const ExperimentConfig& config,
       search.Cell(static_cast<long>(k)).Cell(r.shift_search_foot_l2_cm[k]);
       search.EndRow();
     }
+    search.Close();
   }
   (void)config;
   return md.str();

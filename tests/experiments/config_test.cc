@@ -67,6 +67,19 @@ TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
   EXPECT_EQ(c.controller.cm, CmMethod::kClosed);
 }
 
+TEST_F(ConfigTest, ALoneModePicksTheModeToRunAndModesWins) {
+  EXPECT_EQ(LoadExperimentConfig(Write(kRobot), {"controller.mode=model_based"}).modes,
+            std::vector<std::string>{"model_based"});
+  EXPECT_EQ(LoadExperimentConfig(Write(kRobot),
+                                 {"controller.mode=direct", "controller.modes=[time_shift]"})
+                .modes,
+            std::vector<std::string>{"time_shift"});
+}
+
+TEST_F(ConfigTest, AKeyThatIsNotAScalarIsBadInput) {
+  EXPECT_NE(ErrorOf(kRobot + "? [a, b]\n: 3\n").find("malformed"), std::string::npos);
+}
+
 TEST_F(ConfigTest, ModelKeysGiveTheModel) {
   const ExperimentConfig c = LoadExperimentConfig(Write(
       kRobot + "model: {v_max_deg_per_tick: 2.4, theta0_deg: 6, lag_ticks: 3, accel_ticks: 5}\n"));

@@ -22,7 +22,7 @@ TEST(OutputDir, NothingAppearsUntilCommit) {
   const fs::path out = fs::temp_directory_path() / "leglab_output_test";
   fs::remove_all(out);
   {
-    OutputDir dir(out);
+    OutputDir dir(out, {"a."});
     std::ofstream(dir.Path("a.txt")) << "a";
     EXPECT_FALSE(fs::exists(out));
   }  // not committed: the staging folder goes, --out never appears
@@ -33,13 +33,44 @@ TEST(OutputDir, NothingAppearsUntilCommit) {
   fs::create_directories(out);
   std::ofstream(out / "keep.txt") << "keep";
   {
-    OutputDir dir(out);
+    OutputDir dir(out, {"a."});
     std::ofstream(dir.Path("a.txt")) << "new";
     dir.Commit();
   }
   EXPECT_EQ(Read(out / "a.txt"), "new");
   EXPECT_EQ(Read(out / "keep.txt"), "keep");
   fs::remove_all(out);
+}
+
+TEST(OutputDir, ACommitReplacesThisProgramsEarlierFilesOnly) {
+  const fs::path out = fs::temp_directory_path() / "leglab_output_owned";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  std::ofstream(out / "trace_model_based.csv") << "stale";
+  std::ofstream(out / "table1.json") << "another program's";
+  {
+    OutputDir dir(out, {"trace_", "table2."});
+    std::ofstream(dir.Path("trace_direct.csv")) << "new";
+    dir.Commit();
+  }
+  EXPECT_FALSE(fs::exists(out / "trace_model_based.csv"));  // stale output of a previous run
+  EXPECT_EQ(Read(out / "trace_direct.csv"), "new");
+  EXPECT_EQ(Read(out / "table1.json"), "another program's");
+  fs::remove_all(out);
+}
+
+TEST(OutputDir, AFailedRunCreatesNoParentFolders) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_nested";
+  fs::remove_all(root);
+  { OutputDir dir(root / "a" / "b" / "out", {}); }  // not committed
+  EXPECT_FALSE(fs::exists(root));
+  {
+    OutputDir dir(root / "a" / "b" / "out", {});
+    std::ofstream(dir.Path("x.txt")) << "x";
+    dir.Commit();  // staged in the temporary folder, copied or renamed into place
+  }
+  EXPECT_EQ(Read(root / "a" / "b" / "out" / "x.txt"), "x");
+  fs::remove_all(root);
 }
 
 TEST(Csv, ShortestRoundTripNumbers) {
@@ -53,6 +84,7 @@ TEST(Csv, ShortestRoundTripNumbers) {
     CsvWriter csv(p, {"tick", "joint", "value"});
     csv.Cell(3L).Cell(std::string("knee")).Cell(0.25);
     csv.EndRow();
+    csv.Close();
   }
   EXPECT_EQ(Read(p), "tick,joint,value\n3,knee,0.25\n");
   fs::remove(p);

@@ -90,6 +90,11 @@ TEST_F(ProgramsTest, IdentifyRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kIdentify, good + " --set urdf=" + Write("broken.urdf", "<robot name='x'><link"),
                  "broken.urdf");
   ExpectBadInput(kIdentify, good + " --bogus-flag", "bogus");
+  // Nothing written means no parent folders either.
+  const Result nested = RunCommand(kIdentify + " --config " + (dir_ / "absent.yaml").string() +
+                                   " --out '" + (dir_ / "new" / "deeper" / "out").string() + "'");
+  EXPECT_EQ(nested.status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "new"));
   ExpectBadInput(kIdentify, "", "--config");
 }
 
@@ -100,6 +105,7 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
       "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set track.steps=1 --set "
       "track.warmup_steps=0";
   ExpectBadInput(kTrack, good + " --set controller.modes=[direct,pid]", "controller.modes");
+  ExpectBadInput(kTrack, good + " --set controller.pwl_segments=200", "controller.pwl_segments");
   ExpectBadInput(kTrack, good + " --set desired.locus.ground_below_shoulder_mm=200", "unreachable");
   ExpectBadInput(kTrack, good + " --set desired.csv=" + (dir_ / "none.csv").string(), "none.csv");
   std::string csv = DesiredCsv(88);
@@ -150,6 +156,20 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   std::getline(foot, header);
   EXPECT_EQ(header,
             "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm");
+}
+
+TEST_F(ProgramsTest, ADirectRunDoesNotNeedWhatModelBasedNeeds) {
+  // theta_0 < v_max breaks eq. 13, so the closed-form C_m refuses it; direct never uses C_m.
+  const std::string args =
+      "--config experiments/configs/controller_direct.yaml"
+      " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 1, lag_ticks: 4, accel_ticks: 6}'"
+      " --set controller.cm=closed --set track.steps=1 --set track.warmup_steps=0";
+  const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + args);
+  EXPECT_EQ(r.status, 0) << r.stderr_text;
+  EXPECT_TRUE(fs::exists(out_ / "trace_direct.csv"));
+  EXPECT_FALSE(fs::exists(out_ / "trace_model_based.csv"));
+  fs::remove_all(out_);
+  ExpectBadInput(kTrack, args + " --set controller.modes=[model_based]", "eq. 13");
 }
 
 TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {

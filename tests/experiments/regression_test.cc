@@ -60,6 +60,18 @@ TEST(Regression, IdentifyFindsTable1OnTheDefaultRobot) {
   }
 }
 
+// Another plant gives that plant's model, not the paper's: one more tick of delay is one more
+// tick of lag (l = delay / 8 - 1 under the timing convention in leg_sim.h).
+TEST(Regression, IdentifyFindsAnotherPlantsLag) {
+  const nlohmann::json t = RunAndRead(LEGLAB_IDENTIFY_BIN, "experiments/configs/identify.yaml",
+                                      "--set servo.delay_ms=48", "table1.json");
+  for (const char* joint : {"rotator", "abductor", "knee"}) {
+    EXPECT_EQ(t["joints"][joint]["lag_ticks"].get<int>(), 5) << joint;
+    EXPECT_NEAR(t["joints"][joint]["accel_ticks"].get<int>(), 6, 1) << joint;
+    EXPECT_NEAR(t["joints"][joint]["v_max_deg_per_tick"].get<double>(), 2.5, 0.25) << joint;
+  }
+}
+
 // Shorter than the reproduction (2 warm-up and 4 measured steps): the norms are per step, so
 // they match the 20-step means to within the seed spread.
 class TrackRegression : public ::testing::Test {

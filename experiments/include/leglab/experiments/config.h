@@ -44,7 +44,7 @@ struct LocusConfig {
 struct TrackConfig {
   std::string desired_csv;        ///< `desired.csv`: a cycle of joint angles; empty = the locus
   LocusConfig locus;              ///< `desired.locus`
-  int t_step_ticks = kStepTicks;  ///< `track.t_step_ticks` (locus only; a CSV sets its own)
+  int t_step_ticks = kStepTicks;  ///< `track.t_step_ticks`: ticks per step (a CSV's rows)
   int warmup_steps = 5;           ///< `track.warmup_steps`: steps run before measuring
   int steps = 20;                 ///< `track.steps`: measured steps
   bool search_shift = true;       ///< `track.search_shift`: time_shift searches every k by foot L2
@@ -53,10 +53,12 @@ struct TrackConfig {
 /// A whole experiment's configuration: the robot's robot.yaml merged under the experiment's
 /// YAML file, then the --set overrides.
 struct ExperimentConfig {
-  std::string robot_yaml;                 ///< the robot description file that was merged in
-  sim::SimConfig sim;                     ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
-  ControllerSpec controller;              ///< controller.mode, shift_ticks, cm, pwl_segments
-  std::vector<std::string> modes;         ///< controller.modes
+  std::string robot_yaml;     ///< the robot description file that was merged in
+  sim::SimConfig sim;         ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
+  ControllerSpec controller;  ///< controller.mode, shift_ticks, cm, pwl_segments
+  /// controller.modes: the modes track runs; all three by default, or [controller.mode] when
+  /// only that key is given.
+  std::vector<std::string> modes;
   std::optional<JointModelParams> model;  ///< model.* when given (all four keys)
   IdentifyConfig identify;
   TrackConfig track;

@@ -7,14 +7,16 @@
 
 namespace leglab::experiments {
 
-/// The files a run writes, staged in a temporary folder beside `--out` and moved into place
-/// only by Commit(): a run that fails leaves `--out` as it was. Destroying an uncommitted
-/// OutputDir removes the staging folder.
+/// The files a run writes, staged in a temporary folder and moved into `--out` only by
+/// Commit(): a run that fails leaves the file system as it was (not even `--out`'s parent
+/// folders are created). Destroying an uncommitted OutputDir removes the staging folder.
 class OutputDir {
  public:
-  /// Creates the staging folder next to `final_dir` (which need not exist yet).
-  /// Throws std::runtime_error if it cannot.
-  explicit OutputDir(std::filesystem::path final_dir);
+  /// Stages next to `final_dir` when its parent exists (so Commit() renames), else in the
+  /// system's temporary folder. `owned_prefixes` name the files this program writes (e.g.
+  /// "table2.", "trace_"): Commit() removes earlier ones from `final_dir`, so no stale output
+  /// of a previous run sits beside the new one. Throws std::runtime_error if it cannot stage.
+  OutputDir(std::filesystem::path final_dir, std::vector<std::string> owned_prefixes);
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
   OutputDir& operator=(const OutputDir&) = delete;
@@ -22,18 +24,22 @@ class OutputDir {
   /// Where to write `name` (a plain file name) while staging.
   std::filesystem::path Path(const std::string& name) const;
 
-  /// Creates `final_dir` if needed and moves every staged file into it, replacing files of
-  /// the same name; other files there are left alone.
+  /// Creates `final_dir` (and its parents) if needed, removes its files that start with an
+  /// owned prefix, and moves every staged file into it. Other files there are left alone.
   void Commit();
 
  private:
   std::filesystem::path final_dir_;
+  std::vector<std::string> owned_prefixes_;
   std::filesystem::path staging_;
   bool committed_ = false;
 };
 
+/// Writes `text` to `path`; throws std::runtime_error naming the file if it cannot.
+void WriteTextFile(const std::filesystem::path& path, const std::string& text);
+
 /// A CSV file with a fixed header. Numbers are written in the shortest form that reads back
-/// to the same double.
+/// to the same double. Close() reports a failed write.
 class CsvWriter {
  public:
   /// Throws std::runtime_error if `path` cannot be opened.
@@ -43,9 +49,12 @@ class CsvWriter {
   CsvWriter& Cell(long value);
   CsvWriter& Cell(const std::string& text);
   void EndRow();
+  /// Flushes and closes; throws std::runtime_error naming the file if any write failed.
+  void Close();
 
  private:
   void Separator();
+  std::filesystem::path path_;
   std::ofstream out_;
   size_t columns_;
   size_t in_row_ = 0;
