@@ -92,6 +92,7 @@ std::vector<double> CyclicSteadyState(const JointModelParams& p,
                       static_cast<double>(period);
   std::vector<double> angles(period, mean);
   double angle = mean;
+  double previous_change = 0.0;
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     double change = 0.0;
     for (long t = 0; t < period; ++t) {
@@ -99,7 +100,17 @@ std::vector<double> CyclicSteadyState(const JointModelParams& p,
       change = std::max(change, std::abs(angle - angles[t]));
       angles[t] = angle;
     }
-    if (cycle > 0 && change <= tolerance_deg) return angles;
+    // The cycle map contracts by about rho = change / previous_change a cycle, so the distance
+    // left to the steady state is about change * rho / (1 - rho): stop when that is small,
+    // not merely when one cycle changed little (a slow contraction changes little per cycle).
+    if (cycle > 1) {
+      const double rho = previous_change > 0.0 ? change / previous_change : 0.0;
+      if (change == 0.0 ||
+          (rho < 1.0 && change * rho / (1.0 - rho) <= tolerance_deg && change <= tolerance_deg)) {
+        return angles;
+      }
+    }
+    previous_change = change;
   }
   throw std::runtime_error("joint model: no cyclic steady state after " +
                            std::to_string(max_cycles) + " cycles (the model oscillates)");

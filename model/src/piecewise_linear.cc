@@ -85,8 +85,8 @@ Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::Vector
     p += alpha * step;
     if (blocking >= 0) active.push_back(blocking);
   }
-  assert(false && "slope QP did not converge");
-  return p;
+  // Each iteration adds or drops one bound and the objective never rises, so this is a bug.
+  throw std::logic_error("piecewise-linear fit: the slope QP did not converge");
 }
 
 // The positions of `breakpoints` taken modulo T, sorted; empty if two coincide.
@@ -117,16 +117,11 @@ Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<in
   return c;
 }
 
-Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments) {
+// Coordinate descent from `start`: moves one breakpoint at a time by a shrinking step while
+// the error falls.
+Candidate Descend(std::span<const double> desired, double v_max, Candidate best, int spacing) {
   const int period = static_cast<int>(desired.size());
-  const int spacing = std::max(1, period / segments);
-  Candidate best;
-  for (int phase = 0; phase < spacing; ++phase) {
-    Candidate c = Evaluate(desired, v_max, EvenlySpaced(segments, period, phase));
-    if (c.rms_deg < best.rms_deg) best = std::move(c);
-  }
-  if (segments == 1) return best;
-  // Coordinate descent: move one breakpoint at a time by a shrinking step while it helps.
+  const int segments = best.pwl.num_segments();
   for (int step = std::max(1, spacing / 2); step >= 1; step /= 2) {
     bool improved = true;
     while (improved) {
@@ -146,6 +141,19 @@ Candidate FitWithSegments(std::span<const double> desired, double v_max, int seg
         }
       }
     }
+  }
+  return best;
+}
+
+// The best of the descents that start from every phase of evenly spaced breakpoints.
+Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments) {
+  const int period = static_cast<int>(desired.size());
+  const int spacing = std::max(1, period / segments);
+  Candidate best;
+  for (int phase = 0; phase < spacing; ++phase) {
+    Candidate start = Evaluate(desired, v_max, EvenlySpaced(segments, period, phase));
+    if (segments > 1) start = Descend(desired, v_max, std::move(start), spacing);
+    if (start.rms_deg < best.rms_deg) best = std::move(start);
   }
   return best;
 }

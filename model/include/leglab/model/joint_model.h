@@ -47,7 +47,9 @@ std::vector<double> SimulateJointModel(const JointModelParams& params,
 
 /// The cyclic steady state of eq. 3 under a request cycle R(0..T-1) repeated forever (the
 /// paper's experiments run "many steps continuously"): the cycle is repeated from rest at
-/// the mean request until no angle of the last cycle moved by more than `tolerance_deg`.
+/// the mean request until the largest change of an angle over the last cycle, and the
+/// distance to the limit that the observed contraction from cycle to cycle implies, are both
+/// at most `tolerance_deg`.
 /// Returns M(0..T-1) of that cycle. Throws std::runtime_error if it has not settled after
 /// `max_cycles` cycles (an oscillating parameter set), std::invalid_argument on an empty cycle.
 std::vector<double> CyclicSteadyState(const JointModelParams& params,

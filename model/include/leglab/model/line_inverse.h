@@ -30,7 +30,8 @@ double LineInverseOffsetClosed(const JointModelParams& params, double slope_deg_
 
 /// C_m as the exact solution of S(C_m) = m: S is continuous, non-decreasing and linear between
 /// the breakpoints m (i - 1) +- theta_0, so the root is found by interpolating between the two
-/// breakpoints that bracket m. Where S is flat at m the smallest root is returned.
+/// breakpoints that bracket m. Where S is flat at m the root nearest zero is returned (the
+/// smallest for m > 0; C_{-m} = -C_m).
 /// Throws std::invalid_argument when |m| > v_max.
 double LineInverseOffsetExact(const JointModelParams& params, double slope_deg_per_tick);
 

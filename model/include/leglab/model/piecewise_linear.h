@@ -45,9 +45,11 @@ PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired_deg, double
                                      std::vector<int> breakpoints_tick);
 
 /// Automatic piecewise-linear approximation of a cyclic D (the paper drew its by hand):
-/// breakpoints chosen to minimise the RMS error to D, every slope within +-v_max. The search
-/// starts from the best evenly spaced set (over every phase) and moves single breakpoints
-/// while the error falls, so the result is never worse than evenly spaced breakpoints.
+/// breakpoints chosen to reduce the RMS error to D, every slope within +-v_max, values
+/// optimal for them (FitPiecewiseLinearAt). The breakpoint search is a multi-start local
+/// search, not an exhaustive one: from every phase of evenly spaced breakpoints it moves one
+/// breakpoint at a time while the error falls, and keeps the best. So the result is never
+/// worse than evenly spaced breakpoints, but it may miss the global optimum.
 /// Throws std::invalid_argument on bad input, or in tolerance mode when no fit with up to
 /// max_segments segments reaches the tolerance (the message gives the best error found).
 PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired_deg, double v_max_deg_per_tick,
