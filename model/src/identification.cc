@@ -1,9 +1,9 @@
 #include "leglab/model/identification.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -14,11 +14,13 @@ namespace {
   throw std::invalid_argument("identification: " + what);
 }
 
-// Sum of squared prediction errors over ticks >= warmup, and how many ticks were scored.
-double SquaredError(const JointModelParams& p, const JointRecording& r, int warmup, long* count) {
+// Sum of squared prediction errors over ticks >= warmup, the model started at tick
+// warmup - 1 from the measured angle there plus `start_offset_deg`.
+double SquaredError(const JointModelParams& p, const JointRecording& r, int warmup,
+                    double start_offset_deg) {
   const long n = static_cast<long>(r.request_deg.size());
   const int memory = p.lag_ticks + p.accel_ticks;
-  double angle = r.measured_deg[warmup - 1];
+  double angle = r.measured_deg[warmup - 1] + start_offset_deg;
   double sum = 0.0;
   for (long t = warmup; t < n; ++t) {
     double velocity = 0.0;
@@ -29,80 +31,114 @@ double SquaredError(const JointModelParams& p, const JointRecording& r, int warm
     const double e = r.measured_deg[t] - angle;
     sum += e * e;
   }
-  *count += n - warmup;
   return sum;
 }
 
-double TotalSquaredError(const JointModelParams& p, std::span<const JointRecording> recordings,
-                         int warmup) {
-  long count = 0;
-  double sum = 0.0;
-  for (const JointRecording& r : recordings) sum += SquaredError(p, r, warmup, &count);
-  return sum;
-}
-
-// Nelder-Mead on (log v_max, log theta_0) with l and a fixed. Returns the best objective and
-// writes the best parameters into `p`.
-double FitContinuous(JointModelParams& p, std::span<const JointRecording> recordings, int warmup,
-                     double v_start, double theta_start) {
-  using Point = std::array<double, 2>;
-  auto objective = [&](const Point& x) {
-    JointModelParams q = p;
-    q.v_max_deg_per_tick = std::exp(x[0]);
-    q.theta0_deg = std::exp(x[1]);
-    return TotalSquaredError(q, recordings, warmup);
+// Minimises f over R^n from `x` by Nelder-Mead (standard coefficients), with initial steps
+// `step`; stops when the simplex is smaller than 1e-9 in every coordinate. Returns f at the
+// best vertex, which it writes into `x`.
+template <typename F>
+double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>& step,
+                  int max_iterations) {
+  const size_t n = x.size();
+  std::vector<std::vector<double>> simplex(n + 1, x);
+  for (size_t i = 0; i < n; ++i) simplex[i + 1][i] += step[i];
+  std::vector<double> value(n + 1);
+  for (size_t i = 0; i <= n; ++i) value[i] = f(simplex[i]);
+  std::vector<size_t> order(n + 1);
+  std::vector<double> centroid(n), trial(n);
+  auto along = [&](double t, size_t worst) {
+    std::vector<double> point(n);
+    for (size_t d = 0; d < n; ++d) point[d] = centroid[d] + t * (simplex[worst][d] - centroid[d]);
+    return point;
   };
-  std::array<Point, 3> simplex = {Point{std::log(v_start), std::log(theta_start)},
-                                  Point{std::log(v_start * 1.2), std::log(theta_start)},
-                                  Point{std::log(v_start), std::log(theta_start * 1.3)}};
-  std::array<double, 3> value;
-  for (int i = 0; i < 3; ++i) value[i] = objective(simplex[i]);
-
-  for (int iteration = 0; iteration < 400; ++iteration) {
-    std::array<int, 3> order = {0, 1, 2};
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return value[a] < value[b]; });
-    const int best = order[0], middle = order[1], worst = order[2];
-    const double size = std::max(std::abs(simplex[worst][0] - simplex[best][0]),
-                                 std::abs(simplex[worst][1] - simplex[best][1]));
+  for (int iteration = 0; iteration < max_iterations; ++iteration) {
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return value[a] < value[b]; });
+    const size_t best = order[0], worst = order[n], second_worst = order[n - 1];
+    double size = 0.0;
+    for (size_t i = 1; i <= n; ++i) {
+      for (size_t d = 0; d < n; ++d) {
+        size = std::max(size, std::abs(simplex[order[i]][d] - simplex[best][d]));
+      }
+    }
     if (size < 1e-9) break;
-    const Point centroid = {0.5 * (simplex[best][0] + simplex[middle][0]),
-                            0.5 * (simplex[best][1] + simplex[middle][1])};
-    auto along = [&](double t) {
-      return Point{centroid[0] + t * (simplex[worst][0] - centroid[0]),
-                   centroid[1] + t * (simplex[worst][1] - centroid[1])};
-    };
-    const Point reflected = along(-1.0);
-    const double reflected_value = objective(reflected);
+    std::fill(centroid.begin(), centroid.end(), 0.0);
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t d = 0; d < n; ++d) centroid[d] += simplex[order[i]][d] / static_cast<double>(n);
+    }
+    const std::vector<double> reflected = along(-1.0, worst);
+    const double reflected_value = f(reflected);
     if (reflected_value < value[best]) {
-      const Point expanded = along(-2.0);
-      const double expanded_value = objective(expanded);
+      std::vector<double> expanded = along(-2.0, worst);
+      const double expanded_value = f(expanded);
       if (expanded_value < reflected_value) {
-        simplex[worst] = expanded, value[worst] = expanded_value;
+        simplex[worst] = std::move(expanded), value[worst] = expanded_value;
       } else {
         simplex[worst] = reflected, value[worst] = reflected_value;
       }
-    } else if (reflected_value < value[middle]) {
+    } else if (reflected_value < value[second_worst]) {
       simplex[worst] = reflected, value[worst] = reflected_value;
     } else {
       const bool outside = reflected_value < value[worst];
-      const Point contracted = along(outside ? -0.5 : 0.5);
-      const double contracted_value = objective(contracted);
+      std::vector<double> contracted = along(outside ? -0.5 : 0.5, worst);
+      const double contracted_value = f(contracted);
       if (contracted_value < (outside ? reflected_value : value[worst])) {
-        simplex[worst] = contracted, value[worst] = contracted_value;
-      } else {
-        // Shrink towards the best point.
-        for (int i : {middle, worst}) {
-          simplex[i] = {0.5 * (simplex[i][0] + simplex[best][0]),
-                        0.5 * (simplex[i][1] + simplex[best][1])};
-          value[i] = objective(simplex[i]);
+        simplex[worst] = std::move(contracted), value[worst] = contracted_value;
+      } else {  // shrink towards the best vertex
+        for (size_t i = 1; i <= n; ++i) {
+          for (size_t d = 0; d < n; ++d) {
+            simplex[order[i]][d] = 0.5 * (simplex[order[i]][d] + simplex[best][d]);
+          }
+          value[order[i]] = f(simplex[order[i]]);
         }
       }
     }
   }
-  const int best = static_cast<int>(std::min_element(value.begin(), value.end()) - value.begin());
-  p.v_max_deg_per_tick = std::exp(simplex[best][0]);
-  p.theta0_deg = std::exp(simplex[best][1]);
+  const size_t best =
+      static_cast<size_t>(std::min_element(value.begin(), value.end()) - value.begin());
+  x = simplex[best];
   return value[best];
+}
+
+// One candidate of the fit: the parameters, each recording's start offset, and the error.
+struct Candidate {
+  JointModelParams params;
+  std::vector<double> start_offsets_deg;
+  double squared_error = std::numeric_limits<double>::infinity();
+};
+
+// Fits v_max and theta_0 (on their logarithms, so they stay positive) with l and a fixed and,
+// when `fit_starts`, each recording's start offset too; from `guess`.
+Candidate FitContinuous(const Candidate& guess, std::span<const JointRecording> recordings,
+                        int warmup, bool fit_starts) {
+  const size_t starts = fit_starts ? recordings.size() : 0;
+  auto unpack = [&](const std::vector<double>& x, Candidate* c) {
+    c->params.v_max_deg_per_tick = std::exp(x[0]);
+    c->params.theta0_deg = std::exp(x[1]);
+    for (size_t k = 0; k < starts; ++k) c->start_offsets_deg[k] = x[2 + k];
+  };
+  Candidate c = guess;
+  c.start_offsets_deg.resize(recordings.size(), 0.0);
+  auto objective = [&](const std::vector<double>& x) {
+    Candidate trial = c;
+    unpack(x, &trial);
+    double sum = 0.0;
+    for (size_t k = 0; k < recordings.size(); ++k) {
+      sum += SquaredError(trial.params, recordings[k], warmup, trial.start_offsets_deg[k]);
+    }
+    return sum;
+  };
+  std::vector<double> x = {std::log(guess.params.v_max_deg_per_tick),
+                           std::log(guess.params.theta0_deg)};
+  std::vector<double> step = {std::log(1.2), std::log(1.3)};
+  for (size_t k = 0; k < starts; ++k) {
+    x.push_back(c.start_offsets_deg[k]);
+    step.push_back(0.1);  // degrees: about the size of sensor noise
+  }
+  c.squared_error = NelderMead(objective, x, step, fit_starts ? 2000 : 400);
+  unpack(x, &c);
+  return c;
 }
 
 }  // namespace
@@ -157,25 +193,42 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
   }
   if (!(fastest > 0.0)) Fail("the joint never moved: nothing to identify");
 
-  IdentificationResult best;
-  double best_error = std::numeric_limits<double>::infinity();
+  // Pass 1: every (l, a), v_max and theta_0 from two starts, the model started from the
+  // measured angle. Pass 2: the best few again, also fitting where each recording's
+  // prediction starts (one noisy sample would otherwise bias the fit: while the joint runs at
+  // top speed nothing in the model pulls a wrong start back).
+  constexpr size_t kRefined = 4;
+  std::vector<Candidate> ranked;
   for (int lag = o.lag_min_ticks; lag <= o.lag_max_ticks; ++lag) {
     for (int accel = o.accel_min_ticks; accel <= o.accel_max_ticks; ++accel) {
+      Candidate best_here;
       for (double theta_factor : {1.5, 4.0}) {
-        JointModelParams p{fastest, fastest * theta_factor, lag, accel};
-        const double error = FitContinuous(p, recordings, warmup, fastest, fastest * theta_factor);
-        if (error < best_error) {
-          best_error = error;
-          best.params = p;
-        }
+        Candidate guess{{fastest, fastest * theta_factor, lag, accel}, {}, 0.0};
+        Candidate c = FitContinuous(guess, recordings, warmup, false);
+        if (c.squared_error < best_here.squared_error) best_here = std::move(c);
       }
+      ranked.push_back(std::move(best_here));
     }
   }
+  const auto by_error = [](const Candidate& a, const Candidate& b) {
+    return a.squared_error < b.squared_error;
+  };
+  const size_t refined = std::min(kRefined, ranked.size());
+  std::partial_sort(ranked.begin(), ranked.begin() + static_cast<long>(refined), ranked.end(),
+                    by_error);
+  Candidate best;
+  for (size_t i = 0; i < refined; ++i) {
+    Candidate c = FitContinuous(ranked[i], recordings, warmup, true);
+    if (c.squared_error < best.squared_error) best = std::move(c);
+  }
   long count = 0;
-  for (const JointRecording& r : recordings)
+  for (const JointRecording& r : recordings) {
     count += static_cast<long>(r.request_deg.size()) - warmup;
-  best.rms_residual_deg = std::sqrt(best_error / static_cast<double>(count));
-  return best;
+  }
+  IdentificationResult result;
+  result.params = best.params;
+  result.rms_residual_deg = std::sqrt(best.squared_error / static_cast<double>(count));
+  return result;
 }
 
 }  // namespace leglab
