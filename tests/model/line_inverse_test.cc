@@ -53,10 +53,11 @@ TEST(LineInverse, ExactAgreesWithBruteForceRamp) {
   }
 }
 
-// The closed form is the exact answer shifted by the integral's half tick (m / 2) plus the
-// midpoint-rule error at f's two kinks: a cell of the sum holding a kink errs by at most
-// m v/(8 theta_0), two such cells move S by at most m v/(4 a theta_0), and S rises at least
-// v/(a theta_0) per degree while one whole cell is linear, so C moves by at most m / 4.
+// For Table 1's parameters, the closed form is the exact answer shifted by the integral's half
+// tick (m / 2) plus the midpoint-rule error at f's two kinks: a cell of the sum holding a kink errs
+// by at most m v/(8 theta_0), two such cells move S by at most m v/(4 a theta_0), and S rises at
+// least v/(a theta_0) per degree while one whole cell is linear, so C moves by at most m / 4. (The
+// last step needs a whole linear cell at the root; with a = 1 and theta_0 near v_max it fails.)
 TEST(LineInverse, ClosedAgreesWithBruteForceRampWithinTheIntegralApproximation) {
   for (double m = 0.0625; m < 2.5; m += 0.0625) {
     const double brute = RampOffsetByBruteForce(kPaper, m);

@@ -51,6 +51,38 @@ TEST(RequestSynthesis, ModelFollowsItsPiecewiseLinearTargetClosely) {
   EXPECT_NEAR(model_based[35], target[35], 1e-5);
 }
 
+TEST(RequestSynthesis, ASegmentShorterThanTheLeadIsStillUsedForItsOwnTicks) {
+  // P, period 20: 0 -> 6 over ticks 0..3 (slope 2, 3 ticks, shorter than the 7-tick lead),
+  // flat at 6 to tick 10, back to 0 at tick 20 (slope -0.6).
+  const PiecewiseLinear p{20, {0, 3, 10}, {0.0, 6.0, 6.0}};
+  const double c2 = 20.2;  // exact C_2 for Table 1, as a long ramp run through the model gives
+  ASSERT_NEAR(LineInverseOffsetExact(kPaper, 2.0), c2, 1e-9);
+  const double c06 = LineInverseOffsetExact(kPaper, -0.6);
+  const std::vector<double> r = SynthesizeRequests(kPaper, p, CmMethod::kExact);
+  // t = 0: t + 7 = 7 is on the flat segment: R = 6 (C_0 = 0).
+  EXPECT_NEAR(r[0], 6.0, 1e-12);
+  // t = 12: 19 is on the falling segment, P(19) = 0.6, walked back 7 ticks: 4.8, plus C_-0.6.
+  EXPECT_NEAR(r[12], 0.6 + 0.6 * 7.0 + c06, 1e-12);
+  // t = 13..15: 20..22 wrap to the short rising segment; P(0) = 0, P(1) = 2, P(2) = 4, walked
+  // back 7 ticks at slope 2 (-14), plus C_2.
+  EXPECT_NEAR(r[13], 0.0 - 14.0 + c2, 1e-12);
+  EXPECT_NEAR(r[14], 2.0 - 14.0 + c2, 1e-12);
+  EXPECT_NEAR(r[15], 4.0 - 14.0 + c2, 1e-12);
+  // t = 16: 23 -> 3, the flat segment again.
+  EXPECT_NEAR(r[16], 6.0, 1e-12);
+}
+
+TEST(RequestSynthesis, ATopSpeedSegmentUsesTheThreshold) {
+  // 0 -> 25 over ticks 0..10 at exactly v_max = 2.5, then back over 30 ticks.
+  const PiecewiseLinear p{40, {0, 10}, {0.0, 25.0}};
+  for (CmMethod method : {CmMethod::kExact, CmMethod::kClosed}) {
+    const std::vector<double> r = SynthesizeRequests(kPaper, p, method);
+    // t = 0: P(7) = 17.5 walked back 7 ticks = 0, plus theta_0 + (l + a) v_max = 32.
+    EXPECT_NEAR(r[0], 32.0, 1e-12);
+    EXPECT_NEAR(r[2], 5.0 + 32.0, 1e-12);
+  }
+}
+
 TEST(RequestSynthesis, SlopeAboveVmaxIsAnError) {
   const PiecewiseLinear p{10, {0, 5}, {0.0, 20.0}};  // 4 deg/tick
   EXPECT_THROW(SynthesizeRequests(kPaper, p, CmMethod::kExact), std::invalid_argument);
