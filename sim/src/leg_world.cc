@@ -468,7 +468,12 @@ void LegWorld::SetMotor(int joint, double speed_rad_per_s, double max_torque_nm)
   dJointSetHingeParam(impl_->hinges[joint], dParamFMax, max_torque_nm);
 }
 
-void LegWorld::Step(double dt_s) { dWorldStep(impl_->world->get(), dt_s); }
+void LegWorld::Step(double dt_s) {
+  // A world built on one thread may be stepped on another (a moved plant): ODE needs its
+  // per-thread data there too. After the first call on a thread this is one flag test.
+  EnsureOdeReady();
+  dWorldStep(impl_->world->get(), dt_s);
+}
 
 void LegWorld::SetConfigurationRad(const JointArray& q_rad) {
   const std::vector<Eigen::Isometry3d> poses = impl_->LinkPoses(q_rad);
