@@ -44,18 +44,26 @@ def closed(values):
     return values + values[:1]
 
 
+def foot_figure(out, name, title, modes):
+    """The desired foot path and the actual one of each (mode, label, style), in x-z."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    dx, dz, _, _ = foot_paths(out, modes[0][0])
+    ax.plot(closed(dx), closed(dz), "k-", label="desired")
+    for mode, label, style in modes:
+        _, _, x, z = foot_paths(out, mode)
+        ax.plot(closed(x), closed(z), style, label=label)
+    ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title=title)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend()
+    save(fig, out, name)
+
+
 def main(out):
     have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
     # Figure 1: desired and actual foot path under the direct method (x forward, z up).
     if have("foot_direct.csv"):
-        dx, dz, ax_, az = foot_paths(out, "direct")
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(closed(dx), closed(dz), "k-", label="desired")
-        ax.plot(closed(ax_), closed(az), "r--", label="actual (direct)")
-        ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title="Fig. 1: foot trajectory")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend()
-        save(fig, out, "fig1_foot_direct.png")
+        foot_figure(out, "fig1_foot_direct.png", "Fig. 1: foot trajectory",
+                    [("direct", "actual (direct)", "r--")])
 
     # Figure 2: requests (= desired) and actual angles of the rotator under the direct method.
     if have("trace_direct.csv"):
@@ -125,16 +133,8 @@ def main(out):
 
     # Figure 8: desired foot path, direct (old) and model-based (new).
     if have("foot_direct.csv") and have("foot_model_based.csv"):
-        dx, dz, ox, oz = foot_paths(out, "direct")
-        _, _, nx, nz = foot_paths(out, "model_based")
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(closed(dx), closed(dz), "k-", label="desired")
-        ax.plot(closed(ox), closed(oz), "r--", label="old (direct)")
-        ax.plot(closed(nx), closed(nz), "b-", label="new (model-based)")
-        ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title="Fig. 8: foot trajectories")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend()
-        save(fig, out, "fig8_foot_old_new.png")
+        foot_figure(out, "fig8_foot_old_new.png", "Fig. 8: foot trajectories",
+                    [("direct", "old (direct)", "r--"), ("model_based", "new (model-based)", "b-")])
 
     # The time-shift search behind the best k.
     if have("shift_search.csv"):
