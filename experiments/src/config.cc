@@ -339,13 +339,13 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
 
     MapReader track = root.Child("track");
     track.Read("t_step_ticks", t.t_step_ticks);
-    track.Read("warmup_steps", t.warmup_steps);
-    track.Read("steps", t.steps);
+    root.Read("warmup_steps", t.warmup_steps);  // top-level keys, as the track issue names them
+    root.Read("steps", t.steps);
     track.Read("search_shift", t.search_shift);
     track.Finish();
     Require(t.t_step_ticks >= 4, "track.t_step_ticks", "at least 4");
-    Require(t.warmup_steps >= 0, "track.warmup_steps", "non-negative");
-    Require(t.steps >= 1, "track.steps", "at least 1");
+    Require(t.warmup_steps >= 0, "warmup_steps", "non-negative");
+    Require(t.steps >= 1, "steps", "at least 1");
   }
   root.Finish();
   return config;

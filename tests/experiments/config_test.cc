@@ -101,7 +101,7 @@ TEST_F(ConfigTest, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf(kRobot + "model: {v_max_deg_per_tick: 2.4}\n").find("model.theta0_deg"),
             std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"sensor.noise_deg=-1"}).find("sensor.noise_deg"), std::string::npos);
-  EXPECT_NE(ErrorOf(kRobot, {"track.steps=0"}).find("track.steps"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"steps=0"}).find("steps"), std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"nonsense"}).find("key=value"), std::string::npos);
 }
 

@@ -102,8 +102,8 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   // A given model skips identification, so each bad input is found at once.
   const std::string good =
       "--config experiments/configs/track.yaml --set 'model={v_max_deg_per_tick: 2.5, "
-      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set track.steps=1 --set "
-      "track.warmup_steps=0";
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set "
+      "warmup_steps=0";
   ExpectBadInput(kTrack, good + " --set controller.modes=[direct,pid]", "controller.modes");
   ExpectBadInput(kTrack, good + " --set controller.pwl_segments=200", "controller.pwl_segments");
   ExpectBadInput(kTrack, good + " --set desired.locus.ground_below_shoulder_mm=200", "unreachable");
@@ -136,7 +136,7 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   const Result r = RunCommand(
       kTrack + " --config experiments/configs/track.yaml --out '" + out_.string() +
       "' --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}'"
-      " --set track.steps=2 --set track.warmup_steps=1 --set track.search_shift=false"
+      " --set steps=2 --set warmup_steps=1 --set track.search_shift=false"
       " --set desired.csv=" +
       Write("wave.csv", DesiredCsv(88)));
   ASSERT_EQ(r.status, 0) << r.stderr_text;
@@ -163,7 +163,7 @@ TEST_F(ProgramsTest, ADirectRunDoesNotNeedWhatModelBasedNeeds) {
   const std::string args =
       "--config experiments/configs/controller_direct.yaml"
       " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 1, lag_ticks: 4, accel_ticks: 6}'"
-      " --set controller.cm=closed --set track.steps=1 --set track.warmup_steps=0";
+      " --set controller.cm=closed --set steps=1 --set warmup_steps=0";
   const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + args);
   EXPECT_EQ(r.status, 0) << r.stderr_text;
   EXPECT_TRUE(fs::exists(out_ / "trace_direct.csv"));

@@ -77,8 +77,7 @@ class TrackRegression : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     table_ = new nlohmann::json(RunAndRead(LEGLAB_TRACK_BIN, "experiments/configs/track.yaml",
-                                           "--set track.steps=4 --set track.warmup_steps=2",
-                                           "table2.json"));
+                                           "--set steps=4 --set warmup_steps=2", "table2.json"));
   }
   static void TearDownTestSuite() { delete table_; }
   static double Mean(const char* joint, const char* row) {

@@ -45,8 +45,8 @@ struct TrackConfig {
   std::string desired_csv;        ///< `desired.csv`: a cycle of joint angles; empty = the locus
   LocusConfig locus;              ///< `desired.locus`
   int t_step_ticks = kStepTicks;  ///< `track.t_step_ticks`: ticks per step (a CSV's rows)
-  int warmup_steps = 5;           ///< `track.warmup_steps`: steps run before measuring
-  int steps = 20;                 ///< `track.steps`: measured steps
+  int warmup_steps = 5;           ///< `warmup_steps`: steps run before measuring
+  int steps = 20;                 ///< `steps`: measured steps (the paper: 20)
   bool search_shift = true;       ///< `track.search_shift`: time_shift searches every k by foot L2
 };
 
