@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
                     argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, {"table2.", "trace_", "foot_", "shift_search."});
                       const TrackResult result = RunTrackExperiment(config);
-                      const std::string tables = WriteTable2(result, config, out);
+                      const std::string tables = WriteTable2(result, out);
                       out.Commit();
                       std::cout << tables;
                     });

@@ -170,8 +170,7 @@ constexpr PaperRow kPaperTable2[] = {
 
 }  // namespace
 
-std::string WriteTable2(const TrackResult& r, const ExperimentConfig& config,
-                        const OutputDir& out) {
+std::string WriteTable2(const TrackResult& r, const OutputDir& out) {
   const int period = r.period;
   std::array<std::vector<double>, kLegJoints> desired, pwl;
   for (int j = 0; j < kLegJoints; ++j) {
@@ -289,7 +288,6 @@ std::string WriteTable2(const TrackResult& r, const ExperimentConfig& config,
     }
     search.Close();
   }
-  (void)config;
   return md.str();
 }
 

@@ -38,7 +38,6 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config);
 
 /// Writes table2.json, table2.md, trace_<mode>.csv and foot_<mode>.csv (and the time-shift
 /// search, shift_search.csv) into `out`. Returns the Markdown tables.
-std::string WriteTable2(const TrackResult& result, const ExperimentConfig& config,
-                        const OutputDir& out);
+std::string WriteTable2(const TrackResult& result, const OutputDir& out);
 
 }  // namespace leglab::experiments
