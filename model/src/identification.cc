@@ -14,21 +14,24 @@ namespace {
   throw std::invalid_argument("identification: " + what);
 }
 
-// Sum of squared prediction errors over ticks >= warmup, the model started at tick
-// warmup - 1 from the measured angle there plus `start_offset_deg`.
+// The model's open-loop prediction of ticks warmup..N-1: started at tick warmup - 1 from the
+// measured angle there plus `start_offset_deg`, remembering the recorded requests before it.
+std::vector<double> PredictTail(const JointModelParams& p, const JointRecording& r, int warmup,
+                                double start_offset_deg) {
+  JointModelState start{r.measured_deg[warmup - 1] + start_offset_deg, {}};
+  for (int i = 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+    start.past_requests_deg.push_back(r.request_deg[warmup - i]);
+  }
+  return SimulateJointModel(p, std::span(r.request_deg).subspan(warmup), start);
+}
+
+// Sum of squared prediction errors over ticks >= warmup.
 double SquaredError(const JointModelParams& p, const JointRecording& r, int warmup,
                     double start_offset_deg) {
-  const long n = static_cast<long>(r.request_deg.size());
-  const int memory = p.lag_ticks + p.accel_ticks;
-  double angle = r.measured_deg[warmup - 1] + start_offset_deg;
+  const std::vector<double> predicted = PredictTail(p, r, warmup, start_offset_deg);
   double sum = 0.0;
-  for (long t = warmup; t < n; ++t) {
-    double velocity = 0.0;
-    for (int i = p.lag_ticks + 1; i <= memory; ++i) {
-      velocity += SpeedResponse(p, r.request_deg[t - i] - angle);
-    }
-    angle += velocity / p.accel_ticks;
-    const double e = r.measured_deg[t] - angle;
+  for (size_t k = 0; k < predicted.size(); ++k) {
+    const double e = r.measured_deg[warmup + k] - predicted[k];
     sum += e * e;
   }
   return sum;
@@ -152,16 +155,8 @@ std::vector<double> PredictRecording(const JointModelParams& p, const JointRecor
     Fail("the warm-up must cover l + a ticks and fit in the recording");
   }
   std::vector<double> predicted(r.measured_deg.begin(), r.measured_deg.begin() + warmup);
-  predicted.reserve(n);
-  double angle = r.measured_deg[warmup - 1];
-  for (long t = warmup; t < n; ++t) {
-    double velocity = 0.0;
-    for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
-      velocity += SpeedResponse(p, r.request_deg[t - i] - angle);
-    }
-    angle += velocity / p.accel_ticks;
-    predicted.push_back(angle);
-  }
+  const std::vector<double> tail = PredictTail(p, r, warmup, 0.0);
+  predicted.insert(predicted.end(), tail.begin(), tail.end());
   return predicted;
 }
 
