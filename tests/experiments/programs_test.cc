@@ -20,7 +20,11 @@ struct Result {
 
 // Runs `command` from the source tree, capturing its standard error.
 Result RunCommand(const std::string& command) {
-  const fs::path err = fs::temp_directory_path() / "leglab_programs_test.stderr";
+  // One file per test: ctest runs the tests of this file as parallel processes.
+  const fs::path err =
+      fs::temp_directory_path() /
+      (std::string("leglab_programs_") +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr");
   const std::string full =
       "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >/dev/null 2>'" + err.string() + "'";
   const int raw = std::system(full.c_str());
@@ -30,6 +34,7 @@ Result RunCommand(const std::string& command) {
   std::stringstream s;
   s << in.rdbuf();
   r.stderr_text = s.str();
+  fs::remove(err);
   return r;
 }
 
