@@ -27,8 +27,8 @@
 
 namespace {
 
-using leglab::sim::JointArray;
-using leglab::sim::kNumJoints;
+using leglab::LegAngles;
+using leglab::kLegJoints;
 using leglab::sim::LegSim;
 using leglab::sim::LegWorld;
 using leglab::sim::SimConfig;
@@ -47,14 +47,14 @@ SimConfig Config() {
 LegWorld BareWorld() {
   LegWorld world(kUrdf);
   world.SetConfigurationRad({0.3, 0.3, 1.0});
-  for (int j = 0; j < kNumJoints; ++j) {
+  for (int j = 0; j < kLegJoints; ++j) {
     world.SetMotor(j, 0.0, Config().servo.max_torque_nm);
   }
   return world;
 }
 
 // A walking-like request: each joint follows a cycle of 88 ticks (the paper's step).
-JointArray Request(long tick) {
+LegAngles Request(long tick) {
   const double phase = 2.0 * std::numbers::pi * static_cast<double>(tick % 88) / 88.0;
   return {30.0 * std::sin(phase), 20.0 + 15.0 * std::cos(phase),
           60.0 + 40.0 * std::sin(2.0 * phase)};

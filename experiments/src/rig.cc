@@ -32,7 +32,7 @@ StepTestRun RunStepTest(const sim::SimConfig& sim_config, const IdentifyConfig& 
   StepTestRun run{joint, theta_test_deg, {}};
   const int total = (identify.settle_cycles + identify.record_cycles) * identify.t_step_ticks;
   const int first_recorded = identify.settle_cycles * identify.t_step_ticks;
-  sim::JointArray request = identify.hold_deg;
+  LegAngles request = identify.hold_deg;
   for (int t = 0; t < total; ++t) {
     request[joint] = identify.hold_deg[joint] + cycle[t % identify.t_step_ticks];
     plant.SetRequestsDeg(request);

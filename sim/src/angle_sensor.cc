@@ -1,4 +1,5 @@
 #include "leglab/sim/angle_sensor.h"
+#include "leglab/core/units.h"
 
 #include <cmath>
 #include <numbers>
@@ -6,7 +7,7 @@
 namespace leglab::sim {
 
 AngleSensor::AngleSensor(double noise_deg, std::uint64_t seed)
-    : noise_rad_(noise_deg * std::numbers::pi / 180.0), engine_(seed) {}
+    : noise_rad_(DegToRad(noise_deg)), engine_(seed) {}
 
 double AngleSensor::StandardNormal() {
   if (has_spare_) {
@@ -24,9 +25,9 @@ double AngleSensor::StandardNormal() {
   return radius * std::cos(phase);
 }
 
-JointArray AngleSensor::Measure(const JointArray& true_rad) {
-  JointArray reading{};
-  for (int j = 0; j < kNumJoints; ++j) {
+LegAngles AngleSensor::Measure(const LegAngles& true_rad) {
+  LegAngles reading{};
+  for (int j = 0; j < kLegJoints; ++j) {
     const double noisy = true_rad[j] + noise_rad_ * StandardNormal();
     reading[j] = std::round(noisy / kQuantumRad) * kQuantumRad;
   }

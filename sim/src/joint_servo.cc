@@ -1,4 +1,5 @@
 #include "leglab/sim/joint_servo.h"
+#include "leglab/core/units.h"
 
 #include <algorithm>
 #include <cassert>
@@ -11,7 +12,7 @@ namespace leglab::sim {
 JointServo::JointServo(const ServoConfig& config, double lower_rad, double upper_rad)
     : gain_per_s_(config.gain_per_s),
       damping_(config.damping),
-      max_speed_rad_per_s_(config.max_speed_deg_s * std::numbers::pi / 180.0),
+      max_speed_rad_per_s_(DegToRad(config.max_speed_deg_s)),
       lower_rad_(lower_rad),
       upper_rad_(upper_rad),
       delay_line_(static_cast<std::size_t>(std::lround(config.delay_ms / kTickMs)) + 1),

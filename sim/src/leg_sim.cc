@@ -1,4 +1,5 @@
 #include "leglab/sim/leg_sim.h"
+#include "leglab/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,6 @@
 
 namespace leglab::sim {
 namespace {
-
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 // The config is validated before anything is built from it.
 const SimConfig& Validated(const SimConfig& config) {
@@ -32,43 +31,43 @@ LegSim::LegSim(const SimConfig& config)
       sensor_(config_.sensor.noise_deg, config_.seed),
       steps_per_tick_(PhysicsStepsPerTick(config_.physics_dt_ms)),
       physics_dt_s_(config_.physics_dt_ms / 1000.0) {
-  static_assert(kNumJoints == 3, "servos_ is initialised for three joints");
-  for (int j = 0; j < kNumJoints; ++j) {
+  static_assert(kLegJoints == 3, "servos_ is initialised for three joints");
+  for (int j = 0; j < kLegJoints; ++j) {
     max_torque_nm_[j] = std::min(config_.servo.max_torque_nm, world_.joint(j).effort_nm);
   }
-  SetJointAnglesDeg(JointArray{});
+  SetJointAnglesDeg(LegAngles{});
 }
 
 LegSim::~LegSim() = default;
 LegSim::LegSim(LegSim&&) noexcept = default;
 LegSim& LegSim::operator=(LegSim&&) noexcept = default;
 
-JointArray LegSim::ToDeg(const JointArray& rad) {
-  JointArray deg{};
-  for (int j = 0; j < kNumJoints; ++j) {
-    deg[j] = rad[j] / kRadPerDeg;
+LegAngles LegSim::ToDeg(const LegAngles& rad) {
+  LegAngles deg{};
+  for (int j = 0; j < kLegJoints; ++j) {
+    deg[j] = RadToDeg(rad[j]);
   }
   return deg;
 }
 
-void LegSim::SetRequestsDeg(const JointArray& request_deg) {
-  for (int j = 0; j < kNumJoints; ++j) {
+void LegSim::SetRequestsDeg(const LegAngles& request_deg) {
+  for (int j = 0; j < kLegJoints; ++j) {
     if (!std::isfinite(request_deg[j])) {
-      throw std::invalid_argument("request for joint '" + std::string(kJointNames[j]) +
+      throw std::invalid_argument("request for joint '" + std::string(kLegJointNames[j]) +
                                   "' must be finite, got " + std::to_string(request_deg[j]));
     }
   }
-  for (int j = 0; j < kNumJoints; ++j) {
-    request_rad_[j] = request_deg[j] * kRadPerDeg;
+  for (int j = 0; j < kLegJoints; ++j) {
+    request_rad_[j] = DegToRad(request_deg[j]);
   }
 }
 
 void LegSim::Tick() {
   // The firmware runs once per frame; the velocity motors hold its speeds through the frame's
   // physics steps.
-  const JointArray angles = world_.AnglesRad();
-  const JointArray rates = world_.RatesRadPerS();
-  for (int j = 0; j < kNumJoints; ++j) {
+  const LegAngles angles = world_.AnglesRad();
+  const LegAngles rates = world_.RatesRadPerS();
+  for (int j = 0; j < kLegJoints; ++j) {
     servos_[j].PushRequest(request_rad_[j]);
     world_.SetMotor(j, servos_[j].FrameSpeedRadPerS(angles[j], rates[j]),
                     motors_enabled_ ? max_torque_nm_[j] : 0.0);
@@ -83,32 +82,32 @@ void LegSim::Tick() {
   measured_rad_ = sensor_.Measure(world_.AnglesRad());
 }
 
-JointArray LegSim::TrueDeg() const { return ToDeg(world_.AnglesRad()); }
+LegAngles LegSim::TrueDeg() const { return ToDeg(world_.AnglesRad()); }
 
-JointArray LegSim::CommandedDeg() const {
-  JointArray commanded{};
-  for (int j = 0; j < kNumJoints; ++j) {
+LegAngles LegSim::CommandedDeg() const {
+  LegAngles commanded{};
+  for (int j = 0; j < kLegJoints; ++j) {
     commanded[j] = servos_[j].latest_request_rad();
   }
   return ToDeg(commanded);
 }
 
-void LegSim::SetJointAnglesDeg(const JointArray& q_deg) {
-  JointArray q_rad{};
-  for (int j = 0; j < kNumJoints; ++j) {
+void LegSim::SetJointAnglesDeg(const LegAngles& q_deg) {
+  LegAngles q_rad{};
+  for (int j = 0; j < kLegJoints; ++j) {
     const JointInfo& info = world_.joint(j);
-    q_rad[j] = q_deg[j] * kRadPerDeg;
+    q_rad[j] = DegToRad(q_deg[j]);
     if (!std::isfinite(q_rad[j]) || q_rad[j] < info.lower_rad - 1e-12 ||
         q_rad[j] > info.upper_rad + 1e-12) {
       throw std::invalid_argument("joint '" + info.name + "' angle must lie within its limits [" +
-                                  std::to_string(info.lower_rad / kRadPerDeg) + ", " +
-                                  std::to_string(info.upper_rad / kRadPerDeg) + "] deg, got " +
+                                  std::to_string(RadToDeg(info.lower_rad)) + ", " +
+                                  std::to_string(RadToDeg(info.upper_rad)) + "] deg, got " +
                                   std::to_string(q_deg[j]));
     }
     q_rad[j] = std::clamp(q_rad[j], info.lower_rad, info.upper_rad);
   }
   world_.SetConfigurationRad(q_rad);
-  for (int j = 0; j < kNumJoints; ++j) {
+  for (int j = 0; j < kLegJoints; ++j) {
     servos_[j].Hold(q_rad[j]);
   }
   request_rad_ = q_rad;

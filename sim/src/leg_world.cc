@@ -1,4 +1,5 @@
 #include "leglab/sim/leg_world.h"
+#include "leglab/core/units.h"
 
 #include <console_bridge/console.h>
 #include <ode/ode.h>
@@ -119,7 +120,7 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
   return transform;
 }
 
-std::string Deg(double rad) { return std::to_string(rad * 180.0 / std::numbers::pi); }
+std::string Deg(double rad) { return std::to_string(RadToDeg(rad)); }
 
 Eigen::Vector3d ToEigen(const dReal* v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
 
@@ -208,7 +209,7 @@ struct LegWorld::Impl {
   struct Link {
     std::string name;
     int parent = -1;                                           // -1 for the root
-    int joint = -1;                                            // kJointNames index, -1 if fixed
+    int joint = -1;                                            // kLegJointNames index, -1 if fixed
     Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent link -> joint frame
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit, joint frame
     int body = -1;                                             // ODE body it rides on; -1: world
@@ -226,8 +227,8 @@ struct LegWorld::Impl {
   std::optional<OdeWorld> world;  // created after the URDF checks, once ODE is ready
   std::vector<Link> links;
   std::vector<Body> bodies;
-  std::array<dJointID, kNumJoints> hinges{};
-  std::array<JointInfo, kNumJoints> joints;
+  std::array<dJointID, kLegJoints> hinges{};
+  std::array<JointInfo, kLegJoints> joints;
 
   int FindLink(std::string_view name) const {
     for (std::size_t i = 0; i < links.size(); ++i) {
@@ -239,7 +240,7 @@ struct LegWorld::Impl {
   }
 
   // Pose of every link in the world for joint angles q_rad, from the URDF alone.
-  std::vector<Eigen::Isometry3d> LinkPoses(const JointArray& q_rad) const {
+  std::vector<Eigen::Isometry3d> LinkPoses(const LegAngles& q_rad) const {
     std::vector<Eigen::Isometry3d> poses(links.size(), Eigen::Isometry3d::Identity());
     for (std::size_t i = 1; i < links.size(); ++i) {
       const Link& link = links[i];
@@ -283,8 +284,8 @@ void LegWorld::Impl::ReadTree(const urdf::ModelInterface& model, const std::stri
       const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
       if (joint->type != urdf::Joint::FIXED) {
         int index = -1;
-        for (int j = 0; j < kNumJoints; ++j) {
-          if (kJointNames[j] == joint->name) {
+        for (int j = 0; j < kLegJoints; ++j) {
+          if (kLegJointNames[j] == joint->name) {
             index = j;
           }
         }
@@ -309,8 +310,8 @@ void LegWorld::Impl::ReadTree(const urdf::ModelInterface& model, const std::stri
 }
 
 void LegWorld::Impl::CheckJoints(const urdf::ModelInterface& model, const std::string& path) {
-  for (int j = 0; j < kNumJoints; ++j) {
-    const std::string name(kJointNames[j]);
+  for (int j = 0; j < kLegJoints; ++j) {
+    const std::string name(kLegJointNames[j]);
     const urdf::JointConstSharedPtr joint = model.getJoint(name);
     if (!joint) {
       std::string present;
@@ -354,7 +355,7 @@ void LegWorld::Impl::CheckJoints(const urdf::ModelInterface& model, const std::s
 }
 
 void LegWorld::Impl::BuildBodies(const urdf::ModelInterface& model) {
-  const std::vector<Eigen::Isometry3d> poses = LinkPoses(JointArray{});
+  const std::vector<Eigen::Isometry3d> poses = LinkPoses(LegAngles{});
   std::vector<std::vector<LinkMass>> pieces;
   for (std::size_t i = 1; i < links.size(); ++i) {
     Link& link = links[i];
@@ -407,7 +408,7 @@ void LegWorld::Impl::BuildBodies(const urdf::ModelInterface& model) {
 void LegWorld::Impl::BuildHinges() {
   // Built at q = 0, which ODE takes as each hinge's zero angle. Attaching (child, parent) makes
   // ODE's angle the child's turn about the axis relative to the parent: the URDF's sign.
-  const std::vector<Eigen::Isometry3d> poses = LinkPoses(JointArray{});
+  const std::vector<Eigen::Isometry3d> poses = LinkPoses(LegAngles{});
   for (std::size_t i = 1; i < links.size(); ++i) {
     const Link& link = links[i];
     if (link.joint < 0) {
@@ -446,24 +447,24 @@ LegWorld& LegWorld::operator=(LegWorld&&) noexcept = default;
 
 const JointInfo& LegWorld::joint(int joint) const { return impl_->joints.at(joint); }
 
-JointArray LegWorld::AnglesRad() const {
-  JointArray angles{};
-  for (int j = 0; j < kNumJoints; ++j) {
+LegAngles LegWorld::AnglesRad() const {
+  LegAngles angles{};
+  for (int j = 0; j < kLegJoints; ++j) {
     angles[j] = dJointGetHingeAngle(impl_->hinges[j]);
   }
   return angles;
 }
 
-JointArray LegWorld::RatesRadPerS() const {
-  JointArray rates{};
-  for (int j = 0; j < kNumJoints; ++j) {
+LegAngles LegWorld::RatesRadPerS() const {
+  LegAngles rates{};
+  for (int j = 0; j < kLegJoints; ++j) {
     rates[j] = dJointGetHingeAngleRate(impl_->hinges[j]);
   }
   return rates;
 }
 
 void LegWorld::SetMotor(int joint, double speed_rad_per_s, double max_torque_nm) {
-  assert(joint >= 0 && joint < kNumJoints && max_torque_nm >= 0.0);
+  assert(joint >= 0 && joint < kLegJoints && max_torque_nm >= 0.0);
   dJointSetHingeParam(impl_->hinges[joint], dParamVel, speed_rad_per_s);
   dJointSetHingeParam(impl_->hinges[joint], dParamFMax, max_torque_nm);
 }
@@ -475,7 +476,7 @@ void LegWorld::Step(double dt_s) {
   dWorldStep(impl_->world->get(), dt_s);
 }
 
-void LegWorld::SetConfigurationRad(const JointArray& q_rad) {
+void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
   const std::vector<Eigen::Isometry3d> poses = impl_->LinkPoses(q_rad);
   for (const Impl::Body& body : impl_->bodies) {
     const Eigen::Isometry3d& pose = poses[body.link];
@@ -531,7 +532,7 @@ std::string LegWorld::StateProblem() const {
       }
     }
   }
-  for (int j = 0; j < kNumJoints; ++j) {
+  for (int j = 0; j < kLegJoints; ++j) {
     const dJointID hinge = impl_->hinges[j];
     const double rate = dJointGetHingeAngleRate(hinge);
     if (!std::isfinite(dJointGetHingeAngle(hinge)) || !(std::abs(rate) <= kExplodedRateRadPerS)) {

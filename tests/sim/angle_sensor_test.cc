@@ -33,7 +33,7 @@ TEST(AngleSensorTest, StandardNormalHasUnitSpreadAndNoBias) {
 
 TEST(AngleSensorTest, ReadingsAreQuantisedToAMicroradian) {
   AngleSensor sensor(0.0, 1);
-  const JointArray reading = sensor.Measure({0.12345678949, -1.0000004, 2.5});
+  const LegAngles reading = sensor.Measure({0.12345678949, -1.0000004, 2.5});
   EXPECT_DOUBLE_EQ(reading[0], 0.123457);
   EXPECT_DOUBLE_EQ(reading[1], -1.0);
   EXPECT_DOUBLE_EQ(reading[2], 2.5);
@@ -44,14 +44,14 @@ TEST(AngleSensorTest, NoiseHasTheConfiguredSpreadInDegrees) {
   constexpr int kReadings = 20000;
   double sum_sq = 0.0;
   for (int i = 0; i < kReadings; ++i) {
-    const JointArray reading = sensor.Measure({0.0, 0.5, 1.0});
-    const JointArray truth = {0.0, 0.5, 1.0};
-    for (int j = 0; j < kNumJoints; ++j) {
+    const LegAngles reading = sensor.Measure({0.0, 0.5, 1.0});
+    const LegAngles truth = {0.0, 0.5, 1.0};
+    for (int j = 0; j < kLegJoints; ++j) {
       const double error_deg = (reading[j] - truth[j]) * 180.0 / std::numbers::pi;
       sum_sq += error_deg * error_deg;
     }
   }
-  EXPECT_NEAR(std::sqrt(sum_sq / (kReadings * kNumJoints)), 0.1, 0.002);
+  EXPECT_NEAR(std::sqrt(sum_sq / (kReadings * kLegJoints)), 0.1, 0.002);
 }
 
 TEST(AngleSensorTest, SameSeedSameBitsOtherSeedOtherDraws) {

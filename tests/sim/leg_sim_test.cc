@@ -58,19 +58,19 @@ TEST(LegSimTest, SpeedNeverExceedsTheTopSpeed) {
   sim.SetJointAnglesDeg({-55.0, 0.0, 100.0});
   const double top_deg_per_tick = sim.config().servo.max_speed_deg_s * kTickMs / 1000.0;  // 2.5
   // 110 deg steps back and forth on every joint's range.
-  const JointArray a{-55.0, 0.0, 100.0};
-  const JointArray b{55.0, 80.0, -20.0};
+  const LegAngles a{-55.0, 0.0, 100.0};
+  const LegAngles b{55.0, 80.0, -20.0};
   double fastest = 0.0;
-  JointArray previous = sim.TrueDeg();
+  LegAngles previous = sim.TrueDeg();
   for (int t = 0; t < 300; ++t) {
     sim.SetRequestsDeg((t / 75) % 2 == 0 ? b : a);
     sim.Tick();
-    const JointArray now = sim.TrueDeg();
-    for (int j = 0; j < kNumJoints; ++j) {
+    const LegAngles now = sim.TrueDeg();
+    for (int j = 0; j < kLegJoints; ++j) {
       const double speed = std::abs(now[j] - previous[j]);
       fastest = std::max(fastest, speed);
       // ODE's velocity motor holds the servo speed to round-off; allow 0.2 %.
-      EXPECT_LE(speed, top_deg_per_tick * 1.002) << kJointNames[j] << " tick " << t;
+      EXPECT_LE(speed, top_deg_per_tick * 1.002) << kLegJointNames[j] << " tick " << t;
     }
     previous = now;
   }
@@ -80,18 +80,18 @@ TEST(LegSimTest, SpeedNeverExceedsTheTopSpeed) {
 TEST(LegSimTest, RequestsOutsideTheLimitsAreClamped) {
   LegSim sim(Config(0.0));
   sim.SetRequestsDeg({500.0, -90.0, 200.0});
-  EXPECT_EQ(sim.CommandedDeg(), (JointArray{0.0, 0.0, 0.0}));  // taken at the next Tick
+  EXPECT_EQ(sim.CommandedDeg(), (LegAngles{0.0, 0.0, 0.0}));  // taken at the next Tick
   double highest_knee = -1e9;
   for (int t = 0; t < 150; ++t) {
     sim.Tick();
     highest_knee = std::max(highest_knee, sim.TrueDeg()[2]);
   }
-  const JointArray commanded = sim.CommandedDeg();
+  const LegAngles commanded = sim.CommandedDeg();
   // The URDF gives the limits in radians to 10 decimals.
   EXPECT_NEAR(commanded[0], 117.0, 1e-6);
   EXPECT_NEAR(commanded[1], -11.0, 1e-6);
   EXPECT_NEAR(commanded[2], 147.0, 1e-6);
-  const JointArray reached = sim.TrueDeg();
+  const LegAngles reached = sim.TrueDeg();
   EXPECT_NEAR(reached[0], 117.0, 0.2);
   EXPECT_NEAR(reached[1], -11.0, 0.2);
   EXPECT_NEAR(reached[2], 147.0, 0.2);
@@ -126,7 +126,7 @@ TEST(LegSimTest, TeleportHoldsStill) {
   for (int t = 0; t < 50; ++t) {
     sim.Tick();
   }
-  const JointArray held = sim.TrueDeg();
+  const LegAngles held = sim.TrueDeg();
   EXPECT_NEAR(held[0], 30.0, 0.05);
   EXPECT_NEAR(held[1], 40.0, 0.05);
   EXPECT_NEAR(held[2], 90.0, 0.05);

@@ -27,7 +27,7 @@ const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.
 // The ERS-210A front-left kinematics written out by hand from the robot notes, independent of
 // the URDF and of leglab::model:
 //   foot = shoulder + Ry(-q1) Rx(q2) (upper_leg + Ry(q3) lower_leg), mm.
-Eigen::Vector3d HandFootMm(const JointArray& q_rad) {
+Eigen::Vector3d HandFootMm(const LegAngles& q_rad) {
   const Eigen::Vector3d shoulder(59.5, 59.2, 0.0);
   const Eigen::Vector3d upper_leg(12.8, 0.5, -64.0);
   const Eigen::Vector3d lower_leg(-18.88, 0.0, -66.0);
@@ -41,9 +41,9 @@ Eigen::Vector3d FootMm(const LegWorld& world) {
   return Eigen::Vector3d(foot[0], foot[1], foot[2]);
 }
 
-JointArray RandomAnglesRad(const LegWorld& world, std::mt19937_64& engine) {
-  JointArray q{};
-  for (int j = 0; j < kNumJoints; ++j) {
+LegAngles RandomAnglesRad(const LegWorld& world, std::mt19937_64& engine) {
+  LegAngles q{};
+  for (int j = 0; j < kLegJoints; ++j) {
     q[j] = std::uniform_real_distribution<double>(world.joint(j).lower_rad,
                                                   world.joint(j).upper_rad)(engine);
   }
@@ -106,13 +106,13 @@ std::string ErrorOf(const TempUrdf& urdf) {
 TEST(LegWorldTest, ReadsJointsAndLimitsFromTheUrdf) {
   const LegWorld world(kUrdf);
   const double limits_deg[3][2] = {{-117, 117}, {-11, 89}, {-27, 147}};
-  for (int j = 0; j < kNumJoints; ++j) {
-    EXPECT_EQ(world.joint(j).name, kJointNames[j]);
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_EQ(world.joint(j).name, kLegJointNames[j]);
     EXPECT_NEAR(world.joint(j).lower_rad, limits_deg[j][0] * kDeg, 1e-9);
     EXPECT_NEAR(world.joint(j).upper_rad, limits_deg[j][1] * kDeg, 1e-9);
     EXPECT_DOUBLE_EQ(world.joint(j).effort_nm, 5.45);
   }
-  EXPECT_EQ(world.AnglesRad(), (JointArray{0.0, 0.0, 0.0}));
+  EXPECT_EQ(world.AnglesRad(), (LegAngles{0.0, 0.0, 0.0}));
 }
 
 TEST(LegWorldTest, FootAtZeroIsTheSumOfTheLinkVectors) {
@@ -125,7 +125,7 @@ TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
   LegWorld world(kUrdf);
   std::mt19937_64 engine(2024);
   for (int trial = 0; trial < 200; ++trial) {
-    const JointArray q = RandomAnglesRad(world, engine);
+    const LegAngles q = RandomAnglesRad(world, engine);
     world.SetConfigurationRad(q);
     EXPECT_LT((FootMm(world) - HandFootMm(q)).norm(), 0.1)
         << "q = " << q[0] << ", " << q[1] << ", " << q[2] << " rad";
@@ -136,13 +136,13 @@ TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
 TEST(LegWorldTest, AgreesWithLeglabModelKinematics) {
   LegWorld world(kUrdf);
   const LegGeometry geometry = LegGeometry::Ers210aFrontLeft();
-  for (int j = 0; j < kNumJoints; ++j) {
-    EXPECT_NEAR(world.joint(j).lower_rad, geometry.limits[j].lower_rad, 1e-9) << kJointNames[j];
-    EXPECT_NEAR(world.joint(j).upper_rad, geometry.limits[j].upper_rad, 1e-9) << kJointNames[j];
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_NEAR(world.joint(j).lower_rad, geometry.limits[j].lower_rad, 1e-9) << kLegJointNames[j];
+    EXPECT_NEAR(world.joint(j).upper_rad, geometry.limits[j].upper_rad, 1e-9) << kLegJointNames[j];
   }
   std::mt19937_64 engine(99);
   for (int trial = 0; trial < 100; ++trial) {
-    const JointArray q = RandomAnglesRad(world, engine);
+    const LegAngles q = RandomAnglesRad(world, engine);
     world.SetConfigurationRad(q);
     const Eigen::Vector3d model_foot =
         leglab::ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]));
@@ -154,11 +154,11 @@ TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
   LegWorld world(kUrdf);
   std::mt19937_64 engine(7);
   for (int trial = 0; trial < 50; ++trial) {
-    const JointArray q = RandomAnglesRad(world, engine);
+    const LegAngles q = RandomAnglesRad(world, engine);
     world.SetConfigurationRad(q);
-    const JointArray angles = world.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) {
-      EXPECT_NEAR(angles[j], q[j], 1e-9) << kJointNames[j];
+    const LegAngles angles = world.AnglesRad();
+    for (int j = 0; j < kLegJoints; ++j) {
+      EXPECT_NEAR(angles[j], q[j], 1e-9) << kLegJointNames[j];
     }
   }
 }
@@ -167,20 +167,20 @@ TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
 // its motor and check that the angle ODE reports grows, and that the foot lands where the
 // hand kinematics puts it for that angle (so positive means what the URDF says).
 TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
-  for (int j = 0; j < kNumJoints; ++j) {
+  for (int j = 0; j < kLegJoints; ++j) {
     LegWorld world(kUrdf);
-    JointArray start{0.0, 20.0 * kDeg, 30.0 * kDeg};
+    LegAngles start{0.0, 20.0 * kDeg, 30.0 * kDeg};
     world.SetConfigurationRad(start);
     for (int step = 0; step < 200; ++step) {  // 0.2 s at 1 rad/s
-      for (int k = 0; k < kNumJoints; ++k) {
+      for (int k = 0; k < kLegJoints; ++k) {
         world.SetMotor(k, k == j ? 1.0 : 0.0, 5.45);
       }
       world.Step(0.001);
     }
-    const JointArray angles = world.AnglesRad();
-    EXPECT_NEAR(angles[j] - start[j], 0.2, 1e-3) << kJointNames[j];
-    EXPECT_LT((FootMm(world) - HandFootMm(angles)).norm(), 0.1) << kJointNames[j];
-    EXPECT_GT((FootMm(world) - HandFootMm(start)).norm(), 5.0) << kJointNames[j];
+    const LegAngles angles = world.AnglesRad();
+    EXPECT_NEAR(angles[j] - start[j], 0.2, 1e-3) << kLegJointNames[j];
+    EXPECT_LT((FootMm(world) - HandFootMm(angles)).norm(), 0.1) << kLegJointNames[j];
+    EXPECT_GT((FootMm(world) - HandFootMm(start)).norm(), 5.0) << kLegJointNames[j];
   }
 }
 
@@ -194,13 +194,13 @@ TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
   const double initial = world.MechanicalEnergyJ();
   double highest = initial;
   double peak_kinetic = 0.0;
-  JointArray lowest{};
+  LegAngles lowest{};
   for (int step = 0; step < 3000; ++step) {  // 3 s at 1 ms
     world.Step(0.001);
     highest = std::max(highest, world.MechanicalEnergyJ());
     peak_kinetic = std::max(peak_kinetic, world.KineticEnergyJ());
-    const JointArray angles = world.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) {
+    const LegAngles angles = world.AnglesRad();
+    for (int j = 0; j < kLegJoints; ++j) {
       lowest[j] = std::min(lowest[j], angles[j]);
     }
     ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
@@ -229,11 +229,11 @@ TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
     highest = std::max(highest, world.MechanicalEnergyJ());
     peak_kinetic = std::max(peak_kinetic, world.KineticEnergyJ());
     ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
-    const JointArray angles = world.AnglesRad();
-    for (int j = 0; j < kNumJoints; ++j) {
+    const LegAngles angles = world.AnglesRad();
+    for (int j = 0; j < kLegJoints; ++j) {
       // Stops 3 deg beyond the limits, with ODE's soft-stop penetration of a fraction of one.
-      ASSERT_GE(angles[j], world.joint(j).lower_rad - 4.0 * kDeg) << kJointNames[j];
-      ASSERT_LE(angles[j], world.joint(j).upper_rad + 4.0 * kDeg) << kJointNames[j];
+      ASSERT_GE(angles[j], world.joint(j).lower_rad - 4.0 * kDeg) << kLegJointNames[j];
+      ASSERT_LE(angles[j], world.joint(j).upper_rad + 4.0 * kDeg) << kLegJointNames[j];
     }
   }
   EXPECT_LE(highest - initial, 0.01 * peak_kinetic);

@@ -6,16 +6,11 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/core/leg.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/line_inverse.h"
 
 namespace leglab {
-
-/// Joints per leg, in the order rotator, abductor, knee.
-inline constexpr int kLegJoints = 3;
-
-/// One value per joint of a leg (rotator, abductor, knee), degrees.
-using LegAngles = std::array<double, kLegJoints>;
 
 /// One cycle of desired joint angles: desired[t][j] for tick t = 0..T-1, degrees. The
 /// trajectory repeats with period T (one walking step).

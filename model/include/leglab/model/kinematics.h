@@ -3,10 +3,9 @@
 #include <Eigen/Core>
 #include <array>
 
-namespace leglab {
+#include "leglab/core/leg.h"
 
-/// Index of each joint in a leg's angle vector, body to foot.
-enum LegJoint : int { kRotator = 0, kAbductor = 1, kKnee = 2 };
+namespace leglab {
 
 /// Lower and upper limit of one joint, radians.
 struct JointLimits {

@@ -20,8 +20,8 @@ class AngleSensor {
   AngleSensor(double noise_deg, std::uint64_t seed);
 
   /// One reading of every joint, rad, from the true angles `true_rad`, rad. Draws one normal
-  /// variate per joint, in JointArray order.
-  JointArray Measure(const JointArray& true_rad);
+  /// variate per joint, in LegAngles order.
+  LegAngles Measure(const LegAngles& true_rad);
 
   /// One standard normal variate (mean 0, variance 1).
   double StandardNormal();

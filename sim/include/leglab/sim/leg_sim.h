@@ -42,10 +42,10 @@ class LegSim {
   LegSim(const LegSim&) = delete;
   LegSim& operator=(const LegSim&) = delete;
 
-  /// Sets the request for the coming tick, deg (JointArray order). Each value is clamped to
+  /// Sets the request for the coming tick, deg (LegAngles order). Each value is clamped to
   /// its joint's URDF limits, as the real servo does. Until the next call, later ticks repeat
   /// it. Throws std::invalid_argument naming the joint for a non-finite value.
-  void SetRequestsDeg(const JointArray& request_deg);
+  void SetRequestsDeg(const LegAngles& request_deg);
 
   /// Advances one 8 ms control tick: kTickMs / physics_dt_ms physics steps, each running the
   /// servo firmware and one dWorldStep, then samples the sensors. Throws SimError naming the
@@ -54,13 +54,13 @@ class LegSim {
 
   /// The latest sensor reading, deg: true angle + Gaussian noise (sensor.noise_deg, seeded),
   /// quantised to 1 microradian; sampled once at the end of each Tick().
-  JointArray MeasuredDeg() const { return ToDeg(measured_rad_); }
+  LegAngles MeasuredDeg() const { return ToDeg(measured_rad_); }
 
   /// The exact hinge angles now, deg.
-  JointArray TrueDeg() const;
+  LegAngles TrueDeg() const;
 
   /// The latest request as the servo took it (clamped to the joint limits), deg.
-  JointArray CommandedDeg() const;
+  LegAngles CommandedDeg() const;
 
   /// Centre of the ball of the foot (the `foot` link origin) in the body frame, mm, from the
   /// ODE body poses.
@@ -70,7 +70,7 @@ class LegSim {
   /// smoothing) to hold there. Draws a fresh sensor reading. Does not advance tick().
   /// Throws std::invalid_argument naming the joint when an angle is non-finite or outside its
   /// URDF limits.
-  void SetJointAnglesDeg(const JointArray& q_deg);
+  void SetJointAnglesDeg(const LegAngles& q_deg);
 
   /// Powers the motors (default on). Off sets their maximum torque to 0, leaving a passive
   /// pendulum under gravity; the firmware keeps running and takes over when powered again.
@@ -89,17 +89,17 @@ class LegSim {
   const LegWorld& world() const { return world_; }
 
  private:
-  static JointArray ToDeg(const JointArray& rad);
+  static LegAngles ToDeg(const LegAngles& rad);
 
   SimConfig config_;
   LegWorld world_;
-  std::array<JointServo, kNumJoints> servos_;
-  std::array<double, kNumJoints> max_torque_nm_{};
+  std::array<JointServo, kLegJoints> servos_;
+  std::array<double, kLegJoints> max_torque_nm_{};
   AngleSensor sensor_;
   int steps_per_tick_;
   double physics_dt_s_;
-  JointArray request_rad_{};
-  JointArray measured_rad_{};
+  LegAngles request_rad_{};
+  LegAngles measured_rad_{};
   bool motors_enabled_ = true;
   long tick_ = 0;
 };

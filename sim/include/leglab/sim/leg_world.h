@@ -7,12 +7,13 @@
 #include <string_view>
 
 #include "leglab/sim/sim_config.h"
+#include "leglab/core/units.h"
 
 namespace leglab::sim {
 
 /// One simulated joint as described by the URDF.
 struct JointInfo {
-  std::string name;                 ///< URDF joint name (one of kJointNames)
+  std::string name;                 ///< URDF joint name (one of kLegJointNames)
   double lower_rad = 0.0;           ///< software lower limit, rad
   double upper_rad = 0.0;           ///< software upper limit, rad
   double effort_nm = 0.0;           ///< torque rating, N m
@@ -36,14 +37,14 @@ class LegWorld {
   static constexpr double kGravityMPerS2 = 9.81;
   /// How far beyond the URDF (software) limits the mechanical stops are, rad (3 deg, as on
   /// the ERS-210A).
-  static constexpr double kStopMarginRad = 3.0 * std::numbers::pi / 180.0;
+  static constexpr double kStopMarginRad = DegToRad(3.0);
   /// A hinge turning faster than this, rad/s, means the integration has blown up.
   static constexpr double kExplodedRateRadPerS = 1000.0;
 
   /// Parses the URDF at `urdf_path` (absolute or relative to the working directory) and builds
   /// the ODE world with every body at rest at q = 0.
   /// Throws std::runtime_error naming the file when it is missing or urdfdom rejects it (with
-  /// urdfdom's reason), and std::invalid_argument naming the item when a joint of kJointNames
+  /// urdfdom's reason), and std::invalid_argument naming the item when a joint of kLegJointNames
   /// or the `foot` link is missing, a joint is not revolute or has limits the stops cannot
   /// wrap within (-pi, pi), damping/friction/mimic is given (not modelled), another movable
   /// joint exists, or a moving link has no or an invalid mass/inertia.
@@ -54,14 +55,14 @@ class LegWorld {
   LegWorld(const LegWorld&) = delete;
   LegWorld& operator=(const LegWorld&) = delete;
 
-  /// The URDF description of joint `joint` (0 <= joint < kNumJoints, JointArray order).
+  /// The URDF description of joint `joint` (0 <= joint < kLegJoints, LegAngles order).
   const JointInfo& joint(int joint) const;
 
   /// Hinge angles as ODE reports them, rad (zero at the URDF's q = 0, sign of the URDF axis).
-  JointArray AnglesRad() const;
+  LegAngles AnglesRad() const;
 
   /// Hinge angular rates, rad/s.
-  JointArray RatesRadPerS() const;
+  LegAngles RatesRadPerS() const;
 
   /// Sets joint `joint`'s velocity motor: it holds `speed_rad_per_s` using at most
   /// `max_torque_nm` (>= 0; 0 switches the motor off).
@@ -72,7 +73,7 @@ class LegWorld {
 
   /// Teleports the leg to the joint angles `q_rad` (rad), every body at rest. Does not check
   /// limits.
-  void SetConfigurationRad(const JointArray& q_rad);
+  void SetConfigurationRad(const LegAngles& q_rad);
 
   /// Origin of link `link`'s frame in the body (= world) frame, mm, from the ODE body poses.
   /// Throws std::invalid_argument when the URDF has no such link.

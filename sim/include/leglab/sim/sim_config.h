@@ -1,25 +1,12 @@
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "leglab/core/leg.h"
+
 namespace leglab::sim {
-
-/// Length of one control tick, ms: the Aibo takes one joint request and reports one measured
-/// angle per joint every 8 ms.
-inline constexpr double kTickMs = 8.0;
-
-/// Number of simulated joints. Every JointArray is ordered rotator, abductor, knee.
-inline constexpr int kNumJoints = 3;
-
-/// One value per joint, ordered rotator, abductor, knee (the URDF joint names kJointNames).
-using JointArray = std::array<double, kNumJoints>;
-
-/// URDF names of the simulated joints, in JointArray order.
-inline constexpr std::array<std::string_view, kNumJoints> kJointNames = {"rotator", "abductor",
-                                                                         "knee"};
 
 /// URDF name of the link whose origin is the centre of the ball of the foot.
 inline constexpr std::string_view kFootLinkName = "foot";

@@ -1,0 +1,45 @@
+#pragma once
+
+#include <string_view>
+
+#include "leglab/core/leg.h"
+
+namespace leglab {
+
+/// What a plant reports at the end of a control tick, degrees.
+struct PlantReading {
+  LegAngles measured_deg{};  ///< the sensors' reading (what a controller may see)
+  LegAngles true_deg{};      ///< the exact joint angles (for scoring and plotting only)
+  LegAngles applied_deg{};   ///< the latest request as the servos took it (clamped to the limits)
+};
+
+/// A leg that takes one request per 8 ms control tick and reports its angles: ros2_control's
+/// write() / read() pair folded into one call. The simulated leg (sim::LegSim) and the joint
+/// model as an ideal plant (JointModelPlant) implement it; experiments drive any of them the
+/// same way.
+///
+/// Timing: Tick(R(t)) sends the request of tick t and returns the reading taken right after
+/// it, at the end of tick t: the paper's R(t) and actual angle at t.
+class Plant {
+ public:
+  virtual ~Plant() = default;
+
+  /// Puts the leg at rest at `pose_deg` with its servos holding that pose (every remembered
+  /// request equal to it); Read() then holds one reading of that pose. Does not advance time.
+  /// Throws std::invalid_argument naming the joint when an angle is non-finite or outside the
+  /// joint's limits.
+  virtual void Reset(const LegAngles& pose_deg) = 0;
+
+  /// One control tick: `request_deg` goes to the servos (each value clamped into its joint's
+  /// limits, as the servo does), the leg moves for 8 ms, and the reading at the end of the
+  /// tick is returned. Throws std::invalid_argument naming the joint for a non-finite request.
+  virtual const PlantReading& Tick(const LegAngles& request_deg) = 0;
+
+  /// The latest reading (of the pose after Reset(), or at the end of the latest tick).
+  virtual const PlantReading& Read() const = 0;
+
+  /// What kind of plant this is, for messages and outputs ("sim", "model").
+  virtual std::string_view name() const = 0;
+};
+
+}  // namespace leglab
