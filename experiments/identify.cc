@@ -6,14 +6,16 @@
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/rig.h"
+#include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
   using namespace leglab::experiments;
   return RunProgram("identify", "Table 1: identify the joint model from step responses", argc, argv,
                     [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, {"table1.", "step_"});
-                      const auto joints = IdentifyLeg(config);
-                      const std::string table = WriteTable1(joints, config, out);
+                      const Robot robot = LoadRobot(config.sim.urdf_path);
+                      const auto joints = IdentifyLeg(config, robot);
+                      const std::string table = WriteIdentifyOutputs(joints, config, out);
                       out.Commit();
                       std::cout << table;
                     });

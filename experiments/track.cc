@@ -5,7 +5,9 @@
 #include <iostream>
 
 #include "leglab/experiments/program.h"
+#include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
+#include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
   using namespace leglab::experiments;
@@ -13,7 +15,8 @@ int main(int argc, char** argv) {
                     argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, {"table2.", "trace_", "foot_", "shift_search."});
                       const TrackResult result = RunTrackExperiment(config);
-                      const std::string tables = WriteTable2(result, out);
+                      const std::string tables =
+                          WriteTrackOutputs(result, ComputeTable2(result), out);
                       out.Commit();
                       std::cout << tables;
                     });

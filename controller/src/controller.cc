@@ -1,30 +1,52 @@
 #include "leglab/controller/controller.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
-#include "leglab/controller/direct_controller.h"
-#include "leglab/controller/model_based_controller.h"
+#include "leglab/core/units.h"
 
 namespace leglab {
 
-const std::vector<std::string>& ControllerModes() {
-  static const std::vector<std::string> modes = {"direct", "time_shift", "model_based"};
-  return modes;
+ControllerContext MakeControllerContext(DesiredCycle desired,
+                                        const std::array<JointModelParams, kLegJoints>& models,
+                                        const std::array<JointLimits, kLegJoints>& limits,
+                                        int pwl_segments) {
+  if (desired.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
+  const auto period = static_cast<int>(desired.size());
+  if (pwl_segments < 1 || pwl_segments > period) {
+    throw std::invalid_argument("config: controller.pwl_segments must be at most the " +
+                                std::to_string(period) + " ticks of a step, got " +
+                                std::to_string(pwl_segments));
+  }
+  ControllerContext context{std::move(desired), models, limits, {}};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const std::string joint(kLegJointNames[j]);
+    try {
+      ValidateJointModelParams(models[j]);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("controller: model of the " + joint + ": " + e.what());
+    }
+    if (!(limits[j].lower_rad < limits[j].upper_rad)) {
+      throw std::invalid_argument("controller: limits of the " + joint + " must have lower < upper");
+    }
+    std::vector<double> joint_desired(period);
+    for (int t = 0; t < period; ++t) joint_desired[t] = context.desired[t][j];
+    context.approximations[j] =
+        FitPiecewiseLinear(joint_desired, models[j].v_max_deg_per_tick, {.segments = pwl_segments});
+  }
+  return context;
 }
 
-std::unique_ptr<JointController> MakeController(
-    const ControllerSpec& spec, const DesiredCycle& desired,
-    const std::array<JointModelParams, kLegJoints>& models) {
-  if (spec.mode == "direct") return std::make_unique<TimeShiftController>(desired, 0, "direct");
-  if (spec.mode == "time_shift") {
-    return std::make_unique<TimeShiftController>(desired, spec.shift_ticks, "time_shift");
+LegAngles ClampToLimits(const LegAngles& request_deg,
+                        const std::array<JointLimits, kLegJoints>& limits) {
+  LegAngles clamped;
+  for (int j = 0; j < kLegJoints; ++j) {
+    clamped[j] = std::clamp(request_deg[j], RadToDeg(limits[j].lower_rad),
+                            RadToDeg(limits[j].upper_rad));
   }
-  if (spec.mode == "model_based") {
-    return std::make_unique<ModelBasedController>(desired, models, spec.cm, spec.pwl_segments);
-  }
-  std::string valid;
-  for (const std::string& m : ControllerModes()) valid += (valid.empty() ? "" : ", ") + m;
-  throw std::invalid_argument("unknown controller mode '" + spec.mode + "' (valid: " + valid + ")");
+  return clamped;
 }
 
 }  // namespace leglab

@@ -4,15 +4,13 @@
 
 namespace leglab {
 
-TimeShiftController::TimeShiftController(DesiredCycle desired, int shift_ticks,
-                                         std::string_view name)
-    : desired_(std::move(desired)), shift_ticks_(shift_ticks), name_(name) {
+DirectController::DirectController(const Spec& /*spec*/, const ControllerContext& context)
+    : desired_(context.desired) {
   if (desired_.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
 }
 
-LegAngles TimeShiftController::Update(long tick, const LegAngles& /*measured_deg*/) {
-  const auto period = static_cast<long>(desired_.size());
-  return desired_[((tick + shift_ticks_) % period + period) % period];
+LegAngles DirectController::Update(long tick, const LegAngles& /*measured_deg*/) {
+  return CycleAt(desired_, tick);
 }
 
 }  // namespace leglab

@@ -6,26 +6,31 @@
 
 namespace leglab {
 
-ModelBasedController::ModelBasedController(const DesiredCycle& desired,
-                                           const std::array<JointModelParams, kLegJoints>& models,
-                                           CmMethod cm, int pwl_segments) {
-  if (desired.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
-  const auto period = static_cast<int>(desired.size());
+ModelBasedController::Spec ModelBasedController::ReadSpec(OptionReader& reader) {
+  std::string cm = "exact";
+  reader.Read("cm", cm);
+  if (cm != "exact" && cm != "closed") reader.Fail("cm", "closed or exact, got '" + cm + "'");
+  return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact};
+}
+
+ModelBasedController::ModelBasedController(const Spec& spec, const ControllerContext& context) {
+  if (context.desired.empty()) {
+    throw std::invalid_argument("controller: the desired cycle is empty");
+  }
+  const auto period = static_cast<int>(context.desired.size());
   requests_.resize(period);
   for (int j = 0; j < kLegJoints; ++j) {
-    std::vector<double> joint_desired(period);
-    for (int t = 0; t < period; ++t) joint_desired[t] = desired[t][j];
-    approximations_[j] =
-        FitPiecewiseLinear(joint_desired, models[j].v_max_deg_per_tick, {.segments = pwl_segments});
     const std::vector<double> joint_requests =
-        SynthesizeRequests(models[j], approximations_[j], cm);
+        SynthesizeRequests(context.models[j], context.approximations[j], spec.cm);
     for (int t = 0; t < period; ++t) requests_[t][j] = joint_requests[t];
   }
+  // R = P + C_m may ask beyond a limit near the ends of the range: ask for what the servo
+  // would take anyway.
+  for (LegAngles& r : requests_) r = ClampToLimits(r, context.limits);
 }
 
 LegAngles ModelBasedController::Update(long tick, const LegAngles& /*measured_deg*/) {
-  const auto period = static_cast<long>(requests_.size());
-  return requests_[(tick % period + period) % period];
+  return CycleAt(requests_, tick);
 }
 
 }  // namespace leglab

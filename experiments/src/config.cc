@@ -2,8 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <filesystem>
 #include <set>
+#include <string_view>
 
 namespace leglab::experiments {
 namespace {
@@ -140,8 +142,45 @@ class MapReader {
   std::set<std::string> used_;
 };
 
+// The registry's view of the `controller` map: each mode reads its own keys through it.
+class ControllerOptions final : public OptionReader {
+ public:
+  explicit ControllerOptions(MapReader& map) : map_(map) {}
+  void Read(std::string_view key, int& value) override { map_.Read(std::string(key), value); }
+  void Read(std::string_view key, double& value) override { map_.Read(std::string(key), value); }
+  void Read(std::string_view key, bool& value) override { map_.Read(std::string(key), value); }
+  void Read(std::string_view key, std::string& value) override {
+    map_.Read(std::string(key), value);
+  }
+  [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
+    config_fail(map_.Name(std::string(key)) + " must be " + expectation);
+  }
+
+ private:
+  static void config_fail(const std::string& what) { throw InputError("config: " + what); }
+  MapReader& map_;
+};
+
 void Require(bool ok, const std::string& key, const std::string& expectation) {
   if (!ok) Fail(key + " must be " + expectation);
+}
+
+bool IsMode(const std::string& name) {
+  for (const ControllerModeInfo& m : ControllerModes()) {
+    if (m.name == name) return true;
+  }
+  return false;
+}
+
+// The four keys of a joint model in `m` over `params`, validated by the model's own rules.
+void ReadJointModel(MapReader& m, JointModelParams& params) {
+  m.Read("v_max_deg_per_tick", params.v_max_deg_per_tick);
+  m.Read("theta0_deg", params.theta0_deg);
+  m.Read("lag_ticks", params.lag_ticks);
+  m.Read("accel_ticks", params.accel_ticks);
+  if (const std::string problem = JointModelParamsProblem(params); !problem.empty()) {
+    Fail(m.Name(problem));
+  }
 }
 
 fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
@@ -156,8 +195,8 @@ fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
 
 // An experiment file with the file named by its `extends:` key (relative to it) merged beneath,
 // recursively.
-YAML::Node LoadWithBase(const fs::path& path, int depth) {
-  YAML::Node node = LoadYamlFile(path, depth == 0 ? "config file" : "extended config file");
+YAML::Node LoadWithBase(const fs::path& path, int depth, const std::string& what = "config file") {
+  YAML::Node node = LoadYamlFile(path, depth == 0 ? what : "extended " + what);
   const YAML::Node base_name = node["extends"];
   if (!base_name) return node;
   if (depth >= 8) Fail("extends: more than 8 levels from '" + path.string() + "' (a cycle?)");
@@ -168,7 +207,7 @@ YAML::Node LoadWithBase(const fs::path& path, int depth) {
     Fail("extends: expected a file name in '" + path.string() + "'");
   }
   YAML::Node merged = LoadWithBase(
-      fs::path(base).is_absolute() ? fs::path(base) : path.parent_path() / base, depth + 1);
+      fs::path(base).is_absolute() ? fs::path(base) : path.parent_path() / base, depth + 1, what);
   node.remove("extends");
   MergeInto(merged, node);
   return merged;
@@ -191,7 +230,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   const fs::path robot_yaml = ResolveRobot(robot, fs::path(config_path).parent_path());
   if (!fs::exists(robot_yaml)) Fail("robot '" + robot + "': no " + robot_yaml.string());
   config.robot_yaml = robot_yaml.string();
-  YAML::Node merged = LoadYamlFile(robot_yaml, "robot file");
+  YAML::Node merged = LoadWithBase(robot_yaml, 0, "robot file");
   MergeInto(merged, experiment);
 
   MapReader root(merged, "");
@@ -231,33 +270,49 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     }
   }
 
-  // The controllers.
+  // The plant: the simulated leg, or the joint model as an ideal plant.
+  {
+    std::string plant = "sim";
+    root.Read("plant", plant);
+    Require(plant == "sim" || plant == "model", "plant", "sim or model, got '" + plant + "'");
+    config.plant = plant == "model" ? PlantKind::kModel : PlantKind::kSim;
+    MapReader m = root.Child("plant_model");
+    ReadJointModel(m, config.plant_model);
+    m.Finish();
+  }
+
+  // The controllers: every registered mode reads (and so validates) its own keys; the modes
+  // to run keep their options.
   {
     MapReader c = root.Child("controller");
-    c.Read("mode", config.controller.mode);
+    std::string mode;
+    c.Read("mode", mode);
+    if (!mode.empty() && !IsMode(mode)) {
+      Fail("controller.mode must be one of " + ControllerModeNames() + ", got '" + mode + "'");
+    }
     // A lone controller.mode picks the one mode to run; controller.modes, when given, wins.
-    config.modes =
-        c.Has("mode") ? std::vector<std::string>{config.controller.mode} : ControllerModes();
-    c.Read("modes", config.modes);
-    c.Read("shift_ticks", config.controller.shift_ticks);
-    std::string cm = "exact";
-    c.Read("cm", cm);
-    Require(cm == "exact" || cm == "closed", "controller.cm", "closed or exact, got '" + cm + "'");
-    config.controller.cm = cm == "closed" ? CmMethod::kClosed : CmMethod::kExact;
-    c.Read("pwl_segments", config.controller.pwl_segments);
-    Require(config.controller.pwl_segments >= 1, "controller.pwl_segments", "at least 1");
-    Require(config.controller.shift_ticks >= 0, "controller.shift_ticks", "non-negative");
-    auto valid_mode = [](const std::string& m) {
-      const auto& all = ControllerModes();
-      return std::find(all.begin(), all.end(), m) != all.end();
-    };
-    std::string valid;
-    for (const std::string& m : ControllerModes()) valid += (valid.empty() ? "" : ", ") + m;
-    Require(valid_mode(config.controller.mode), "controller.mode",
-            "one of " + valid + ", got '" + config.controller.mode + "'");
-    Require(!config.modes.empty(), "controller.modes", "a non-empty list");
-    for (const std::string& m : config.modes) {
-      Require(valid_mode(m), "controller.modes", "a list of " + valid + ", got '" + m + "'");
+    std::vector<std::string> modes;
+    if (!mode.empty()) modes = {mode};
+    if (modes.empty()) {
+      for (const ControllerModeInfo& m : ControllerModes()) modes.emplace_back(m.name);
+    }
+    c.Read("modes", modes);
+    Require(!modes.empty(), "controller.modes", "a non-empty list");
+    for (const std::string& m : modes) {
+      Require(IsMode(m), "controller.modes",
+              "a list of " + ControllerModeNames() + ", got '" + m + "'");
+    }
+    c.Read("pwl_segments", config.pwl_segments);
+    Require(config.pwl_segments >= 1, "controller.pwl_segments", "at least 1");
+    ControllerOptions options(c);
+    std::vector<ControllerSpec> all;
+    for (const ControllerModeInfo& m : ControllerModes()) {
+      all.push_back(ReadControllerSpec(m.name, options));
+    }
+    for (const std::string& m : modes) {
+      for (const ControllerSpec& spec : all) {
+        if (ModeOf(spec).name == m) config.controllers.push_back(spec);
+      }
     }
     c.Finish();
   }
@@ -269,15 +324,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       Require(m.Has(key), m.Name(key), "given (model.* needs all four keys, or none)");
     }
     JointModelParams p;
-    m.Read("v_max_deg_per_tick", p.v_max_deg_per_tick);
-    m.Read("theta0_deg", p.theta0_deg);
-    m.Read("lag_ticks", p.lag_ticks);
-    m.Read("accel_ticks", p.accel_ticks);
+    ReadJointModel(m, p);
     m.Finish();
-    Require(p.v_max_deg_per_tick > 0, "model.v_max_deg_per_tick", "positive");
-    Require(p.theta0_deg > 0, "model.theta0_deg", "positive");
-    Require(p.lag_ticks >= 0, "model.lag_ticks", "non-negative");
-    Require(p.accel_ticks >= 1, "model.accel_ticks", "at least 1");
     config.model = p;
   } else {
     root.Child("model");  // an explicit `model: ~` is the same as none
@@ -293,7 +341,10 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     id.Read("record_cycles", c.record_cycles);
     std::vector<double> hold(c.hold_deg.begin(), c.hold_deg.end());
     id.Read("hold_deg", hold);
-    Require(hold.size() == 3, "identify.hold_deg", "a list of 3 angles (rotator, abductor, knee)");
+    std::string joints;
+    for (std::string_view name : kLegJointNames) joints += (joints.empty() ? "" : ", ") + std::string(name);
+    Require(hold.size() == kLegJoints, "identify.hold_deg",
+            "a list of " + std::to_string(kLegJoints) + " angles (" + joints + ")");
     std::copy(hold.begin(), hold.end(), c.hold_deg.begin());
     std::vector<int> lag{c.search.lag_min_ticks, c.search.lag_max_ticks};
     std::vector<int> accel{c.search.accel_min_ticks, c.search.accel_max_ticks};
@@ -324,18 +375,20 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       t.desired_csv = (fs::path(config_path).parent_path() / t.desired_csv).string();
     }
     MapReader locus = desired.Child("locus");
-    locus.Read("length_mm", t.locus.length_mm);
-    locus.Read("height_mm", t.locus.height_mm);
-    locus.Read("ground_fraction", t.locus.ground_fraction);
+    locus.Read("length_mm", t.locus.shape.length_mm);
+    locus.Read("height_mm", t.locus.shape.height_mm);
+    locus.Read("ground_fraction", t.locus.shape.ground_fraction);
     locus.Read("forward_mm", t.locus.forward_mm);
     locus.Read("outward_mm", t.locus.outward_mm);
     locus.Read("ground_below_shoulder_mm", t.locus.ground_below_shoulder_mm);
     locus.Finish();
     desired.Finish();
-    Require(t.locus.length_mm >= 0, "desired.locus.length_mm", "non-negative");
-    Require(t.locus.height_mm >= 0, "desired.locus.height_mm", "non-negative");
-    Require(t.locus.ground_fraction > 0 && t.locus.ground_fraction < 1,
-            "desired.locus.ground_fraction", "in (0, 1)");
+    if (const std::string problem = HalfEllipseLocusProblem(t.locus.shape); !problem.empty()) {
+      Fail(locus.Name(problem));
+    }
+    for (const double v : {t.locus.forward_mm, t.locus.outward_mm, t.locus.ground_below_shoulder_mm}) {
+      Require(std::isfinite(v), "desired.locus", "finite in every placement key");
+    }
 
     MapReader track = root.Child("track");
     track.Read("t_step_ticks", t.t_step_ticks);

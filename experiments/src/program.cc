@@ -12,6 +12,9 @@ int RunProgram(const std::string& program, const std::string& description, int a
   ProgramArgs args;
   app.add_option("--config", args.config_path, "experiment config (YAML)")->required();
   app.add_option("--out", args.out_dir, "folder for the results")->required();
+  app.add_option("--threads", args.threads,
+                 "worker threads (default: one per core); results do not depend on it")
+      ->check(CLI::PositiveNumber);
   app.add_option("--set", args.overrides,
                  "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
   try {
@@ -23,7 +26,8 @@ int RunProgram(const std::string& program, const std::string& description, int a
     return 2;
   }
   try {
-    const ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides);
+    ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides);
+    config.threads = args.threads;
     body(args, config);
     return 0;
   } catch (const InputError& e) {

@@ -1,22 +1,25 @@
 #include "leglab/experiments/rig.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
-#include <cstdio>
 #include <fstream>
-#include <future>
 #include <sstream>
 
-#include "leglab/experiments/output.h"
-#include "leglab/model/joint_model.h"
+#include "leglab/core/units.h"
+#include "leglab/experiments/parallel.h"
+#include "leglab/model/joint_model_plant.h"
 #include "leglab/model/trajectories.h"
+#include "leglab/sim/leg_sim.h"
 
 namespace leglab::experiments {
 
-sim::LegSim MakePlant(const sim::SimConfig& config) {
+std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& robot) {
+  if (config.plant == PlantKind::kModel) {
+    std::array<JointModelParams, kLegJoints> models;
+    models.fill(config.plant_model);
+    return std::make_unique<JointModelPlant>(models, robot.geometry.limits);
+  }
   try {
-    return sim::LegSim(config);
+    return std::make_unique<sim::LegSim>(config.sim);
   } catch (const sim::SimError&) {
     throw;
   } catch (const std::exception& e) {
@@ -24,10 +27,9 @@ sim::LegSim MakePlant(const sim::SimConfig& config) {
   }
 }
 
-StepTestRun RunStepTest(const sim::SimConfig& sim_config, const IdentifyConfig& identify, int joint,
+StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
                         double theta_test_deg) {
-  sim::LegSim plant = MakePlant(sim_config);
-  plant.SetJointAnglesDeg(identify.hold_deg);
+  plant.Reset(identify.hold_deg);
   const std::vector<double> cycle = StepTestRequests(theta_test_deg, identify.t_step_ticks);
   StepTestRun run{joint, theta_test_deg, {}};
   const int total = (identify.settle_cycles + identify.record_cycles) * identify.t_step_ticks;
@@ -35,136 +37,40 @@ StepTestRun RunStepTest(const sim::SimConfig& sim_config, const IdentifyConfig& 
   LegAngles request = identify.hold_deg;
   for (int t = 0; t < total; ++t) {
     request[joint] = identify.hold_deg[joint] + cycle[t % identify.t_step_ticks];
-    plant.SetRequestsDeg(request);
-    plant.Tick();
+    const PlantReading& reading = plant.Tick(request);
     if (t >= first_recorded) {
-      run.recording.request_deg.push_back(plant.CommandedDeg()[joint]);
-      run.recording.measured_deg.push_back(plant.MeasuredDeg()[joint]);
+      run.recording.request_deg.push_back(reading.applied_deg[joint]);
+      run.recording.measured_deg.push_back(reading.measured_deg[joint]);
     }
   }
   return run;
 }
 
-std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config) {
+std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config,
+                                                        const Robot& robot) {
   // Build one plant first so that bad robot input fails before any thread starts.
-  MakePlant(config.sim);
-  auto identify_joint = [&config](int joint) {
-    JointIdentification result;
+  MakePlant(config, robot);
+  // Each joint with its own plants: the result does not depend on the schedule.
+  std::array<JointIdentification, kLegJoints> joints;
+  ParallelFor(kLegJoints, config.threads, [&](int joint) {
+    JointIdentification& result = joints[joint];
     std::vector<JointRecording> recordings;
     for (double theta : config.identify.theta_test_deg) {
-      result.runs.push_back(RunStepTest(config.sim, config.identify, joint, theta));
+      const std::unique_ptr<Plant> plant = MakePlant(config, robot);
+      result.runs.push_back(RunStepTest(*plant, config.identify, joint, theta));
       recordings.push_back(result.runs.back().recording);
     }
     result.fit = IdentifyJointModel(recordings, config.identify.search);
-    return result;
-  };
-  // Each joint on its own thread, with its own plants: the result does not depend on the
-  // schedule.
-  std::array<std::future<JointIdentification>, kLegJoints> pending;
-  for (int j = 0; j < kLegJoints; ++j) {
-    pending[j] = std::async(std::launch::async, identify_joint, j);
-  }
-  std::array<JointIdentification, kLegJoints> joints;
-  for (int j = 0; j < kLegJoints; ++j) joints[j] = pending[j].get();
+  });
   return joints;
 }
 
+Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg) {
+  return ForwardKinematics(
+      geometry, Eigen::Vector3d(DegToRad(q_deg[0]), DegToRad(q_deg[1]), DegToRad(q_deg[2])));
+}
+
 namespace {
-
-std::string ThetaLabel(double theta) {
-  return theta == std::round(theta) ? std::to_string(static_cast<long>(theta))
-                                    : FormatDouble(theta);
-}
-
-std::string Fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
-
-}  // namespace
-
-std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joints,
-                        const ExperimentConfig& config, const OutputDir& out) {
-  const JointModelParams paper{2.5, 7.0, 4, 6};
-  nlohmann::ordered_json json;
-  for (int j = 0; j < kLegJoints; ++j) {
-    const JointModelParams& p = joints[j].fit.params;
-    json["joints"][kJointNames[j]] = {{"v_max_deg_per_tick", p.v_max_deg_per_tick},
-                                      {"theta0_deg", p.theta0_deg},
-                                      {"lag_ticks", p.lag_ticks},
-                                      {"accel_ticks", p.accel_ticks},
-                                      {"fit_rms_deg", joints[j].fit.rms_residual_deg}};
-  }
-  json["paper"] = {{"v_max_deg_per_tick", paper.v_max_deg_per_tick},
-                   {"theta0_deg", paper.theta0_deg},
-                   {"lag_ticks", paper.lag_ticks},
-                   {"accel_ticks", paper.accel_ticks}};
-  json["plant"] = {{"robot", config.robot_yaml},
-                   {"delay_ms", config.sim.servo.delay_ms},
-                   {"max_speed_deg_s", config.sim.servo.max_speed_deg_s},
-                   {"gain_per_s", config.sim.servo.gain_per_s},
-                   {"smoothing_ms", config.sim.servo.smoothing_ms},
-                   {"max_torque_nm", config.sim.servo.max_torque_nm},
-                   {"noise_deg", config.sim.sensor.noise_deg},
-                   {"seed", config.sim.seed}};
-  WriteTextFile(out.Path("table1.json"), json.dump(2) + '\n');
-
-  std::ostringstream md;
-  md << "# Table 1: model parameters\n\n"
-     << "Identified from the simulated leg's step tests (eq. 1, theta_test";
-  for (double theta : config.identify.theta_test_deg) md << ' ' << ThetaLabel(theta);
-  md << " deg), beside the paper's values.\n\n"
-     << "| Parameter | Description | Paper | Rotator | Abductor | Knee |\n"
-     << "|---|---|---|---|---|---|\n";
-  auto row = [&](const char* symbol, const char* description, const std::string& paper_value,
-                 auto value_of) {
-    md << "| " << symbol << " | " << description << " | " << paper_value;
-    for (int j = 0; j < kLegJoints; ++j) md << " | " << value_of(joints[j]);
-    md << " |\n";
-  };
-  row("v_max", "Maximum angular speed (deg/t_u)", "2.5",
-      [](const JointIdentification& j) { return Fixed(j.fit.params.v_max_deg_per_tick, 2); });
-  row("theta_0", "Angle difference threshold (deg)", "7.0",
-      [](const JointIdentification& j) { return Fixed(j.fit.params.theta0_deg, 2); });
-  row("l", "Lag time (t_u)", "4",
-      [](const JointIdentification& j) { return std::to_string(j.fit.params.lag_ticks); });
-  row("a", "Acceleration time (t_u)", "6",
-      [](const JointIdentification& j) { return std::to_string(j.fit.params.accel_ticks); });
-  row("", "Fit RMS residual (deg)", "",
-      [](const JointIdentification& j) { return Fixed(j.fit.rms_residual_deg, 3); });
-  md << "\nt_u = 8 ms.\n";
-  WriteTextFile(out.Path("table1.md"), md.str());
-
-  for (const JointIdentification& joint : joints) {
-    for (const StepTestRun& run : joint.runs) {
-      const auto& r = run.recording;
-      const int period = config.identify.t_step_ticks;
-      // The identified model's prediction: its cyclic steady state under the request cycle.
-      const std::vector<double> cycle(r.request_deg.begin(), r.request_deg.begin() + period);
-      const std::vector<double> model = CyclicSteadyState(joint.fit.params, cycle);
-      CsvWriter csv(out.Path(std::string("step_") + kJointNames[run.joint] + "_" +
-                             ThetaLabel(run.theta_test_deg) + ".csv"),
-                    {"tick", "request_deg", "actual_deg", "model_deg"});
-      for (size_t t = 0; t < r.request_deg.size(); ++t) {
-        csv.Cell(static_cast<long>(t))
-            .Cell(r.request_deg[t])
-            .Cell(r.measured_deg[t])
-            .Cell(model[t % period]);
-        csv.EndRow();
-      }
-      csv.Close();
-    }
-  }
-  return md.str();
-}
-
-}  // namespace leglab::experiments
-
-namespace leglab::experiments {
-namespace {
-
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeometry& geometry) {
   std::ifstream in(path);
@@ -172,12 +78,12 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
   auto fail = [&](const std::string& what) {
     throw InputError("desired.csv '" + path + "': " + what);
   };
+  std::string header = "tick";
+  for (std::string_view joint : kLegJointNames) header += "," + std::string(joint) + "_deg";
   std::string line;
   if (!std::getline(in, line)) fail("is empty");
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line != "tick,rotator_deg,abductor_deg,knee_deg") {
-    fail("header must be 'tick,rotator_deg,abductor_deg,knee_deg', got '" + line + "'");
-  }
+  if (line != header) fail("header must be '" + header + "', got '" + line + "'");
   DesiredMotion d;
   for (int row = 1; std::getline(in, line); ++row) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -185,27 +91,27 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     std::vector<std::string> cells;
     std::stringstream s(line);
     for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    if (cells.size() != 4)
+    const auto columns = static_cast<size_t>(kLegJoints + 1);
+    if (cells.size() != columns) {
       fail("row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
-           " columns, expected 4");
-    double values[4];
-    for (int c = 0; c < 4; ++c) {
-      const char* names[4] = {"tick", "rotator_deg", "abductor_deg", "knee_deg"};
+           " columns, expected " + std::to_string(columns));
+    }
+    std::array<double, kLegJoints + 1> values{};
+    for (size_t c = 0; c < columns; ++c) {
+      const std::string name = c == 0 ? "tick" : std::string(kLegJointNames[c - 1]) + "_deg";
       try {
         size_t used = 0;
         values[c] = std::stod(cells[c], &used);
         if (used != cells[c].size()) throw std::invalid_argument("trailing text");
       } catch (const std::exception&) {
-        fail("row " + std::to_string(row) + ", " + names[c] + ": '" + cells[c] +
-             "' is not a number");
+        fail("row " + std::to_string(row) + ", " + name + ": '" + cells[c] + "' is not a number");
       }
-      if (!std::isfinite(values[c]))
-        fail("row " + std::to_string(row) + ", " + names[c] + " is not finite");
+      if (!std::isfinite(values[c])) fail("row " + std::to_string(row) + ", " + name + " is not finite");
       if (c > 0) {
         const JointLimits& lim = geometry.limits[c - 1];
-        if (values[c] * kDegToRad < lim.lower_rad - 1e-9 ||
-            values[c] * kDegToRad > lim.upper_rad + 1e-9) {
-          fail("row " + std::to_string(row) + ", " + names[c] + " = " + cells[c] +
+        if (DegToRad(values[c]) < lim.lower_rad - 1e-9 ||
+            DegToRad(values[c]) > lim.upper_rad + 1e-9) {
+          fail("row " + std::to_string(row) + ", " + name + " = " + cells[c] +
                " is outside the joint limits");
         }
       }
@@ -220,55 +126,54 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     fail("has " + std::to_string(d.angles_deg.size()) +
          " rows, expected one cycle of track.t_step_ticks = " + std::to_string(period));
   }
-  for (const LegAngles& q : d.angles_deg) {
-    d.foot_mm.push_back(ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]) * kDegToRad));
-  }
+  for (const LegAngles& q : d.angles_deg) d.foot_mm.push_back(FootMm(geometry, q));
   return d;
 }
 
 }  // namespace
 
 DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry) {
-  if (!track.desired_csv.empty())
+  if (!track.desired_csv.empty()) {
     return DesiredFromCsv(track.desired_csv, track.t_step_ticks, geometry);
-  HalfEllipseLocus locus;
-  locus.length_mm = track.locus.length_mm;
-  locus.height_mm = track.locus.height_mm;
-  locus.ground_fraction = track.locus.ground_fraction;
+  }
+  HalfEllipseLocus locus = track.locus.shape;
   locus.t_step_ticks = track.t_step_ticks;
-  locus.centre_mm =
-      geometry.shoulder_mm + Eigen::Vector3d(track.locus.forward_mm, track.locus.outward_mm,
-                                             -track.locus.ground_below_shoulder_mm);
+  locus.centre_mm = geometry.shoulder_mm +
+                    Eigen::Vector3d(track.locus.forward_mm,
+                                    geometry.OutwardSign() * track.locus.outward_mm,
+                                    -track.locus.ground_below_shoulder_mm);
   DesiredMotion d;
   d.foot_mm = HalfEllipseFootPath(locus);
   try {
-    for (const Eigen::Vector3d& q : JointTrajectoryDeg(geometry, d.foot_mm))
+    for (const Eigen::Vector3d& q : JointTrajectoryDeg(geometry, d.foot_mm)) {
       d.angles_deg.push_back({q[0], q[1], q[2]});
+    }
   } catch (const std::domain_error& e) {
     throw InputError(std::string("desired.locus: ") + e.what());
   }
   return d;
 }
 
-TrackingRun RunTracking(const sim::SimConfig& sim_config, JointController& controller,
-                        const DesiredCycle& desired, int warmup_steps, int steps) {
-  sim::LegSim plant = MakePlant(sim_config);
-  plant.SetJointAnglesDeg(desired[0]);
+TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                        int warmup_steps, int steps) {
+  plant.Reset(desired[0]);
+  controller.Reset();
   const long period = static_cast<long>(desired.size());
   const long first_recorded = warmup_steps * period;
   const long total = first_recorded + steps * period;
   TrackingRun run;
   run.request_deg.reserve(steps * period);
   run.measured_deg.reserve(steps * period);
-  LegAngles measured = plant.MeasuredDeg();
+  LegAngles measured = plant.Read().measured_deg;
   for (long t = 0; t < total; ++t) {
-    plant.SetRequestsDeg(controller.Update(t, measured));
-    plant.Tick();
-    measured = plant.MeasuredDeg();
+    const PlantReading& reading = plant.Tick(controller.Update(t, measured));
+    controller.Observe(t, reading.applied_deg, reading.measured_deg);
+    measured = reading.measured_deg;
     if (t >= first_recorded) {
-      run.request_deg.push_back(plant.CommandedDeg());
+      run.request_deg.push_back(reading.applied_deg);
       run.measured_deg.push_back(measured);
     }
+    if ((t + 1) % period == 0) controller.EndOfStep(t / period);
   }
   return run;
 }
@@ -278,10 +183,7 @@ std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& de
   const size_t period = desired.foot_mm.size();
   std::vector<double> errors(run.measured_deg.size());
   for (size_t t = 0; t < errors.size(); ++t) {
-    const LegAngles& q = run.measured_deg[t];
-    const Eigen::Vector3d foot =
-        ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]) * kDegToRad);
-    errors[t] = (foot - desired.foot_mm[t % period]).norm() / 10.0;
+    errors[t] = (FootMm(geometry, run.measured_deg[t]) - desired.foot_mm[t % period]).norm() / 10.0;
   }
   return errors;
 }

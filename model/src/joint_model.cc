@@ -23,16 +23,22 @@ double ModelVelocity(const JointModelParams& p, double angle_deg, RequestAt requ
 
 }  // namespace
 
-void ValidateJointModelParams(const JointModelParams& p) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("joint model: " + what); };
+std::string JointModelParamsProblem(const JointModelParams& p) {
   if (!(std::isfinite(p.v_max_deg_per_tick) && p.v_max_deg_per_tick > 0.0)) {
-    fail("v_max_deg_per_tick must be positive, got " + std::to_string(p.v_max_deg_per_tick));
+    return "v_max_deg_per_tick must be positive, got " + std::to_string(p.v_max_deg_per_tick);
   }
   if (!(std::isfinite(p.theta0_deg) && p.theta0_deg > 0.0)) {
-    fail("theta0_deg must be positive, got " + std::to_string(p.theta0_deg));
+    return "theta0_deg must be positive, got " + std::to_string(p.theta0_deg);
   }
-  if (p.lag_ticks < 0) fail("lag_ticks must be >= 0, got " + std::to_string(p.lag_ticks));
-  if (p.accel_ticks < 1) fail("accel_ticks must be >= 1, got " + std::to_string(p.accel_ticks));
+  if (p.lag_ticks < 0) return "lag_ticks must be >= 0, got " + std::to_string(p.lag_ticks);
+  if (p.accel_ticks < 1) return "accel_ticks must be >= 1, got " + std::to_string(p.accel_ticks);
+  return {};
+}
+
+void ValidateJointModelParams(const JointModelParams& p) {
+  if (const std::string problem = JointModelParamsProblem(p); !problem.empty()) {
+    throw std::invalid_argument("joint model: " + problem);
+  }
 }
 
 double SpeedResponse(const JointModelParams& p, double x_deg) {

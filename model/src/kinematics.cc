@@ -10,12 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "leglab/core/units.h"
+
 namespace leglab {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kLimitToleranceRad = 1e-9;
-constexpr const char* kJointNames[3] = {"rotator", "abductor", "knee"};
+constexpr double kAxisTolerance = 1e-9;
 
 Eigen::Matrix3d RotX(double angle_rad) {
   return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -57,23 +58,46 @@ int FirstViolatedJoint(const LegGeometry& geometry, const Eigen::Vector3d& q) {
   return -1;
 }
 
+// The sign s of an axis +-e (validated): R(s e, q) = R(e, s q), so each joint turns about a
+// coordinate axis by s q.
+double Sign(const Eigen::Vector3d& axis, int coordinate) { return axis[coordinate] < 0.0 ? -1.0 : 1.0; }
+
 }  // namespace
 
-LegGeometry LegGeometry::Ers210aFrontLeft() {
-  LegGeometry g;
-  g.shoulder_mm = {59.5, 59.2, 0.0};
-  g.upper_leg_mm = {12.8, 0.5, -64.0};
-  g.lower_leg_mm = {-18.88, 0.0, -66.0};
-  g.limits[kRotator] = {-117.0 * kDeg, 117.0 * kDeg};
-  g.limits[kAbductor] = {-11.0 * kDeg, 89.0 * kDeg};
-  g.limits[kKnee] = {-27.0 * kDeg, 147.0 * kDeg};
-  return g;
+void ValidateLegGeometry(const LegGeometry& geometry) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("leg geometry: " + what);
+  };
+  if (!geometry.shoulder_mm.allFinite()) fail("the shoulder vector is not finite");
+  if (!geometry.upper_leg_mm.allFinite()) fail("the upper-leg vector is not finite");
+  if (!geometry.lower_leg_mm.allFinite()) fail("the lower-leg vector is not finite");
+  // Rotator and knee about y, abductor about x: the form the closed-form IK solves.
+  constexpr int kCoordinate[kLegJoints] = {1, 0, 1};
+  constexpr const char* kAxisName[kLegJoints] = {"+-y", "+-x", "+-y"};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const std::string joint(kLegJointNames[j]);
+    const Eigen::Vector3d& a = geometry.axes[j];
+    if (!a.allFinite() || std::abs(std::abs(a[kCoordinate[j]]) - 1.0) > kAxisTolerance ||
+        std::abs(a.norm() - 1.0) > kAxisTolerance) {
+      std::ostringstream got;
+      got << a.transpose();
+      fail("the " + joint + " axis must be " + kAxisName[j] + ", got (" + got.str() + ")");
+    }
+    const JointLimits& lim = geometry.limits[j];
+    if (!std::isfinite(lim.lower_rad) || !std::isfinite(lim.upper_rad) ||
+        !(lim.lower_rad < lim.upper_rad)) {
+      fail("the " + joint + " limits must be finite with lower < upper");
+    }
+  }
 }
 
 Eigen::Vector3d ForwardKinematics(const LegGeometry& geometry, const Eigen::Vector3d& q_rad) {
-  const Eigen::Vector3d knee_to_foot = RotY(q_rad[kKnee]) * geometry.lower_leg_mm;
-  return geometry.shoulder_mm +
-         RotY(-q_rad[kRotator]) * RotX(q_rad[kAbductor]) * (geometry.upper_leg_mm + knee_to_foot);
+  const double s1 = Sign(geometry.axes[kRotator], 1);
+  const double s2 = Sign(geometry.axes[kAbductor], 0);
+  const double s3 = Sign(geometry.axes[kKnee], 1);
+  const Eigen::Vector3d knee_to_foot = RotY(s3 * q_rad[kKnee]) * geometry.lower_leg_mm;
+  return geometry.shoulder_mm + RotY(s1 * q_rad[kRotator]) * RotX(s2 * q_rad[kAbductor]) *
+                                    (geometry.upper_leg_mm + knee_to_foot);
 }
 
 Eigen::Vector3d InverseKinematics(const LegGeometry& geometry, const Eigen::Vector3d& foot_mm) {
@@ -89,23 +113,28 @@ Eigen::Vector3d InverseKinematics(const LegGeometry& geometry, const Eigen::Vect
                     0.5 * (v.squaredNorm() - u.squaredNorm() - w.squaredNorm()) - u.y() * w.y());
   if (knees.empty()) Unreachable(foot_mm, "it is out of the leg's workspace");
 
+  // Solved for the turns about the coordinate axes (c = s q); the angles are q = s c.
+  const double s1 = Sign(geometry.axes[kRotator], 1);
+  const double s2 = Sign(geometry.axes[kAbductor], 0);
+  const double s3 = Sign(geometry.axes[kKnee], 1);
   std::optional<Eigen::Vector3d> best;
   std::vector<std::string> rejected;  // why each branch outside the limits was dropped
-  for (double knee : knees) {
-    // Abductor: Ry(-q1) keeps the y component, so v.y = cos(q2) k.y - sin(q2) k.z.
-    const Eigen::Vector3d k = u + RotY(knee) * w;
-    for (double abductor : SolveHarmonic(k.y(), -k.z(), v.y())) {
-      // Rotator: the sagittal angle left between Rx(q2) k and v.
-      const Eigen::Vector3d r = RotX(abductor) * k;
-      const double rotator = WrapToPi(std::atan2(v.z(), v.x()) - std::atan2(r.z(), r.x()));
-      const Eigen::Vector3d q(rotator, abductor, knee);
+  for (double c3 : knees) {
+    // Abductor: RotY keeps the y component, so v.y = cos(c2) k.y - sin(c2) k.z.
+    const Eigen::Vector3d k = u + RotY(c3) * w;
+    for (double c2 : SolveHarmonic(k.y(), -k.z(), v.y())) {
+      // Rotator: the sagittal angle left between RotX(c2) k and v (RotY(c) turns the x-z
+      // plane's angle atan2(z, x) by -c).
+      const Eigen::Vector3d r = RotX(c2) * k;
+      const double c1 = WrapToPi(std::atan2(r.z(), r.x()) - std::atan2(v.z(), v.x()));
+      const Eigen::Vector3d q(s1 * c1, s2 * c2, s3 * c3);
       if (const int j = FirstViolatedJoint(geometry, q); j >= 0) {
         std::ostringstream why;
-        why << "the " << kJointNames[j] << " at " << q[j] / kDeg << " deg (limits ["
-            << geometry.limits[j].lower_rad / kDeg << ", " << geometry.limits[j].upper_rad / kDeg
-            << "])";
+        why << "the " << kLegJointNames[j] << " at " << RadToDeg(q[j]) << " deg (limits ["
+            << RadToDeg(geometry.limits[j].lower_rad) << ", "
+            << RadToDeg(geometry.limits[j].upper_rad) << "])";
         rejected.push_back(why.str());
-      } else if (!best || std::abs(rotator) < std::abs((*best)[kRotator])) {
+      } else if (!best || std::abs(q[kRotator]) < std::abs((*best)[kRotator])) {
         best = q;
       }
     }

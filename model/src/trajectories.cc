@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/core/units.h"
+
 namespace leglab {
 
 std::vector<double> StepTestRequests(double theta_test_deg, int t_step) {
@@ -16,17 +18,25 @@ std::vector<double> StepTestRequests(double theta_test_deg, int t_step) {
   return requests;
 }
 
-std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("half-ellipse locus: " + what);
-  };
-  if (locus.t_step_ticks < 4) fail("t_step_ticks must be >= 4");
-  if (!(locus.length_mm >= 0.0)) fail("length_mm must be >= 0");
-  if (!(locus.height_mm >= 0.0)) fail("height_mm must be >= 0");
-  if (!(locus.ground_fraction > 0.0 && locus.ground_fraction < 1.0)) {
-    fail("ground_fraction must be in (0, 1)");
+std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
+  if (locus.t_step_ticks < 4) return "t_step_ticks must be >= 4";
+  if (!(locus.length_mm >= 0.0 && std::isfinite(locus.length_mm))) {
+    return "length_mm must be finite and >= 0";
   }
-  if (!locus.centre_mm.allFinite()) fail("centre_mm must be finite");
+  if (!(locus.height_mm >= 0.0 && std::isfinite(locus.height_mm))) {
+    return "height_mm must be finite and >= 0";
+  }
+  if (!(locus.ground_fraction > 0.0 && locus.ground_fraction < 1.0)) {
+    return "ground_fraction must be in (0, 1)";
+  }
+  if (!locus.centre_mm.allFinite()) return "centre_mm must be finite";
+  return {};
+}
+
+std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) {
+  if (const std::string problem = HalfEllipseLocusProblem(locus); !problem.empty()) {
+    throw std::invalid_argument("half-ellipse locus: " + problem);
+  }
   const int period = locus.t_step_ticks;
   const int ground_ticks =
       std::clamp(static_cast<int>(std::lround(locus.ground_fraction * period)), 1, period - 1);
@@ -51,7 +61,8 @@ std::vector<Eigen::Vector3d> JointTrajectoryDeg(const LegGeometry& geometry,
   std::vector<Eigen::Vector3d> angles(foot_path_mm.size());
   for (size_t t = 0; t < foot_path_mm.size(); ++t) {
     try {
-      angles[t] = InverseKinematics(geometry, foot_path_mm[t]) * (180.0 / std::numbers::pi);
+      const Eigen::Vector3d q_rad = InverseKinematics(geometry, foot_path_mm[t]);
+      angles[t] = {RadToDeg(q_rad[0]), RadToDeg(q_rad[1]), RadToDeg(q_rad[2])};
     } catch (const std::domain_error& e) {
       throw std::domain_error("tick " + std::to_string(t) + ": " + e.what());
     }

@@ -1,3 +1,6 @@
+// The controller contract, split as JointController documents it: checks every registered mode
+// must pass (EveryMode), and checks only feed-forward modes must pass (FeedForwardMode), which
+// a controller that learns from measurements would fail. Then mode-specific checks.
 #include "leglab/controller/controller.h"
 
 #include <gtest/gtest.h>
@@ -5,56 +8,128 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "leglab/controller/registry.h"
+#include "leglab/model/joint_model_plant.h"
+#include "test_context.h"
 
 namespace leglab {
 namespace {
 
-const std::array<JointModelParams, kLegJoints> kPaperModels = {JointModelParams{2.5, 7.0, 4, 6},
-                                                               JointModelParams{2.5, 7.0, 4, 6},
-                                                               JointModelParams{2.5, 7.0, 4, 6}};
+using testing::MapOptions;
+using testing::PaperContext;
+using testing::SpecOf;
+using testing::Walkish;
 
-DesiredCycle Walkish(int period = 88) {
-  DesiredCycle d(period);
-  for (int t = 0; t < period; ++t) {
-    const double phase = 2.0 * M_PI * t / period;
-    d[t] = {10.0 + 30.0 * std::sin(phase), 15.0 + 8.0 * std::cos(phase),
-            60.0 + 25.0 * std::sin(phase + 1.0)};
+// Requests of `steps` steps of `controller` in closed loop on the ideal plant, with every
+// hook called as the experiments call them.
+std::vector<LegAngles> ClosedLoopRequests(JointController& controller, const DesiredCycle& desired,
+                                          int steps) {
+  const std::array<JointModelParams, kLegJoints> models = {paper::kTable1, paper::kTable1,
+                                                           paper::kTable1};
+  JointModelPlant plant(models, testing::Ers210aLimits());
+  plant.Reset(desired[0]);
+  controller.Reset();
+  std::vector<LegAngles> requests;
+  const long period = static_cast<long>(desired.size());
+  LegAngles measured = plant.Read().measured_deg;
+  for (long t = 0; t < steps * period; ++t) {
+    requests.push_back(controller.Update(t, measured));
+    const PlantReading& r = plant.Tick(requests.back());
+    controller.Observe(t, r.applied_deg, r.measured_deg);
+    measured = r.measured_deg;
+    if ((t + 1) % period == 0) controller.EndOfStep(t / period);
   }
-  return d;
+  return requests;
 }
 
-class EveryMode : public ::testing::TestWithParam<std::string> {
- protected:
-  ControllerSpec Spec() const {
-    ControllerSpec spec;
-    spec.mode = GetParam();
-    spec.shift_ticks = 5;
-    return spec;
+std::vector<std::string> ModeNames(bool feed_forward_only) {
+  std::vector<std::string> names;
+  for (const ControllerModeInfo& m : ControllerModes()) {
+    if (!feed_forward_only || m.feed_forward) names.emplace_back(m.name);
   }
-};
+  return names;
+}
+
+// Names the instances after the mode (the macro's own parameter is called `info`).
+std::string ModeName(const ::testing::TestParamInfo<std::string>& mode) { return mode.param; }
+
+class EveryMode : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryMode, NamesItselfAfterItsMode) {
-  EXPECT_EQ(MakeController(Spec(), Walkish(), kPaperModels)->name(), GetParam());
+  const ControllerSpec spec = SpecOf(GetParam());
+  EXPECT_EQ(ModeOf(spec).name, GetParam());
+  EXPECT_EQ(MakeController(spec, PaperContext(Walkish()))->name(), GetParam());
 }
 
-TEST_P(EveryMode, RequestsAreFiniteAndRepeatEveryCycle) {
-  const auto controller = MakeController(Spec(), Walkish(), kPaperModels);
-  const LegAngles measured{0.0, 0.0, 0.0};
-  for (long t = 0; t < 88; ++t) {
-    const LegAngles now = controller->Update(t, measured);
-    const LegAngles later = controller->Update(t + 3L * 88, measured);
-    for (int j = 0; j < kLegJoints; ++j) {
-      EXPECT_TRUE(std::isfinite(now[j]));
-      EXPECT_EQ(now[j], later[j]) << "tick " << t << " joint " << j;
+TEST_P(EveryMode, RequestsAreFiniteAndWithinTheLimitsInClosedLoop) {
+  // A cycle that asks for the limits themselves: requests must still stay inside.
+  DesiredCycle edge = Walkish();
+  for (LegAngles& q : edge) q[kKnee] = std::min(147.0, q[kKnee] + 70.0);
+  for (const DesiredCycle& desired : {Walkish(), edge}) {
+    const auto controller = MakeController(SpecOf(GetParam()), PaperContext(desired));
+    const std::array<JointLimits, kLegJoints> limits = testing::Ers210aLimits();
+    for (const LegAngles& r : ClosedLoopRequests(*controller, desired, 6)) {
+      for (int j = 0; j < kLegJoints; ++j) {
+        ASSERT_TRUE(std::isfinite(r[j])) << kLegJointNames[j];
+        EXPECT_GE(r[j], RadToDeg(limits[j].lower_rad) - 1e-9) << kLegJointNames[j];
+        EXPECT_LE(r[j], RadToDeg(limits[j].upper_rad) + 1e-9) << kLegJointNames[j];
+      }
     }
   }
 }
 
-TEST_P(EveryMode, HoldingStillRequestsTheHoldAngle) {
+TEST_P(EveryMode, SameSpecSameContextSameRequests) {
+  const ControllerContext context = PaperContext(Walkish());
+  const auto first = MakeController(SpecOf(GetParam()), context);
+  const auto second = MakeController(SpecOf(GetParam()), context);
+  const std::vector<LegAngles> a = ClosedLoopRequests(*first, context.desired, 4);
+  EXPECT_EQ(a, ClosedLoopRequests(*second, context.desired, 4));
+  // Reset() starts a new run from scratch: the same requests again.
+  EXPECT_EQ(a, ClosedLoopRequests(*first, context.desired, 4));
+}
+
+TEST_P(EveryMode, BadOptionsAreAClearErrorNamingTheKey) {
+  // Every key the mode reads, given a value no mode accepts.
+  MapOptions probe;
+  ReadControllerSpec(GetParam(), probe);
+  std::map<std::string, std::string> bad;
+  for (const auto& [key, count] : probe.read_keys()) bad[key] = "-1000000";
+  if (bad.empty()) GTEST_SKIP() << GetParam() << " has no options";
+  MapOptions reader(bad);
+  try {
+    ReadControllerSpec(GetParam(), reader);
+    FAIL() << "expected the reader's error";
+  } catch (const testing::OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("controller."), std::string::npos) << e.what();
+  }
+}
+
+TEST_P(EveryMode, EmptyCycleIsAnError) {
+  ControllerContext context = PaperContext(Walkish());
+  context.desired.clear();
+  EXPECT_THROW(MakeController(SpecOf(GetParam()), context), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Controllers, EveryMode, ::testing::ValuesIn(ModeNames(false)), ModeName);
+
+class FeedForwardMode : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FeedForwardMode, RequestsRepeatEveryCycleAndIgnoreMeasurements) {
+  const auto controller = MakeController(SpecOf(GetParam()), PaperContext(Walkish()));
+  for (long t = 0; t < 88; ++t) {
+    const LegAngles now = controller->Update(t, {0.0, 0.0, 0.0});
+    const LegAngles later = controller->Update(t + 3L * 88, {50.0, -5.0, 100.0});
+    EXPECT_EQ(now, later) << "tick " << t;
+  }
+}
+
+TEST_P(FeedForwardMode, HoldingStillRequestsTheHoldAngle) {
   // A constant desired cycle is a line of slope 0: every policy requests it unchanged
   // (C_0 = 0 for model_based, any shift of a constant is the constant).
   const DesiredCycle still(88, LegAngles{12.0, -3.0, 40.0});
-  const auto controller = MakeController(Spec(), still, kPaperModels);
+  const auto controller = MakeController(SpecOf(GetParam()), PaperContext(still));
   for (long t = 0; t < 88; ++t) {
     const LegAngles r = controller->Update(t, {0.0, 0.0, 0.0});
     EXPECT_NEAR(r[0], 12.0, 1e-9);
@@ -63,26 +138,45 @@ TEST_P(EveryMode, HoldingStillRequestsTheHoldAngle) {
   }
 }
 
-// Names the instances after the mode (the macro's own parameter is called `info`).
-std::string ModeName(const ::testing::TestParamInfo<std::string>& mode) { return mode.param; }
-
-INSTANTIATE_TEST_SUITE_P(Controllers, EveryMode, ::testing::ValuesIn(ControllerModes()), ModeName);
+INSTANTIATE_TEST_SUITE_P(Controllers, FeedForwardMode, ::testing::ValuesIn(ModeNames(true)),
+                         ModeName);
 
 TEST(Controllers, DirectRequestsTheDesiredAngles) {
   const DesiredCycle d = Walkish();
-  const auto controller = MakeController({.mode = "direct"}, d, kPaperModels);
+  const auto controller = MakeController(SpecOf("direct"), PaperContext(d));
   for (long t = 0; t < 88; ++t) EXPECT_EQ(controller->Update(t, {}), d[t]);
 }
 
 TEST(Controllers, TimeShiftLeadsByKTicks) {
   const DesiredCycle d = Walkish();
-  const auto controller = MakeController({.mode = "time_shift", .shift_ticks = 9}, d, kPaperModels);
+  const auto controller = MakeController(SpecOf("time_shift", {{"shift_ticks", "9"}}),
+                                         PaperContext(d));
   for (long t = 0; t < 88; ++t) EXPECT_EQ(controller->Update(t, {}), d[(t + 9) % 88]);
+  EXPECT_EQ(ModeParameters(SpecOf("time_shift", {{"shift_ticks", "9"}})),
+            (std::vector<std::pair<std::string_view, long>>{{"k", 9}}));
+}
+
+TEST(Controllers, TimeShiftSearchesEveryDistinctShift) {
+  const ControllerContext context = PaperContext(Walkish(20));
+  const std::vector<ControllerSpec> candidates = SearchCandidates(SpecOf("time_shift"), context);
+  ASSERT_EQ(candidates.size(), 20u);
+  for (long k = 0; k < 20; ++k) EXPECT_EQ(ModeParameters(candidates[k])[0].second, k);
+  // A mode without a search is its own only candidate.
+  EXPECT_EQ(SearchCandidates(SpecOf("direct"), context).size(), 1u);
+}
+
+TEST(Controllers, RegistryKnowsEachModesTraits) {
+  EXPECT_EQ(ControllerModeNames(), "direct, time_shift, model_based");
+  EXPECT_TRUE(FindControllerMode("time_shift").searchable);
+  EXPECT_EQ(FindControllerMode("time_shift").search_file, "shift_search");
+  EXPECT_FALSE(FindControllerMode("model_based").searchable);
+  EXPECT_TRUE(FindControllerMode("model_based").follows_approximation);
+  EXPECT_EQ(FindControllerMode("model_based").label, "MB");
 }
 
 TEST(Controllers, UnknownModeListsTheValidOnes) {
   try {
-    MakeController({.mode = "pid"}, Walkish(), kPaperModels);
+    SpecOf("pid");
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(),
@@ -90,9 +184,21 @@ TEST(Controllers, UnknownModeListsTheValidOnes) {
   }
 }
 
-TEST(Controllers, EmptyCycleIsAnError) {
-  for (const std::string& mode : ControllerModes()) {
-    EXPECT_THROW(MakeController({.mode = mode}, {}, kPaperModels), std::invalid_argument) << mode;
+TEST(Controllers, ModeOptionsAreValidated) {
+  EXPECT_THROW(SpecOf("time_shift", {{"shift_ticks", "-1"}}), testing::OptionError);
+  EXPECT_THROW(SpecOf("model_based", {{"cm", "approximate"}}), testing::OptionError);
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(SpecOf("model_based", {{"cm", "closed"}})).cm,
+            CmMethod::kClosed);
+}
+
+TEST(Controllers, ContextRejectsTooManySegments) {
+  const std::array<JointModelParams, kLegJoints> models = {paper::kTable1, paper::kTable1,
+                                                           paper::kTable1};
+  try {
+    MakeControllerContext(Walkish(10), models, testing::Ers210aLimits(), 11);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("controller.pwl_segments"), std::string::npos);
   }
 }
 

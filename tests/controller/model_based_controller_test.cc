@@ -1,35 +1,21 @@
 #include "leglab/controller/model_based_controller.h"
 
 #include "leglab/controller/direct_controller.h"
+#include "leglab/model/joint_model_plant.h"
+#include "test_context.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "leglab/model/metrics.h"
+#include "leglab/model/paper.h"
 
 namespace leglab {
 namespace {
 
-const JointModelParams kPaper{2.5, 7.0, 4, 6};
+constexpr JointModelParams kPaper = paper::kTable1;
 const std::array<JointModelParams, kLegJoints> kPaperModels = {kPaper, kPaper, kPaper};
-
-// A test double for the leg: a plant that *is* the paper's model, one per joint.
-class ModelPlant {
- public:
-  explicit ModelPlant(const LegAngles& start) {
-    for (int j = 0; j < kLegJoints; ++j) states_[j] = RestState(kPaper, start[j]);
-  }
-  LegAngles Tick(const LegAngles& request) {
-    LegAngles measured;
-    for (int j = 0; j < kLegJoints; ++j)
-      measured[j] = StepJointModel(kPaper, states_[j], request[j]);
-    return measured;
-  }
-
- private:
-  std::array<JointModelState, kLegJoints> states_;
-};
 
 // Faster than v_max = 2.5 deg/tick in places on every joint (peak slopes 6.4, 3.3, 4.9).
 DesiredCycle FastCycle() {
@@ -47,13 +33,15 @@ struct PlantRun {
   std::array<std::vector<double>, kLegJoints> actual;
 };
 
-// Runs the controller on the model plant for 10 cycles and returns the last one.
+// Runs the controller on the ideal plant (the paper's model on every joint) for 10 cycles and
+// returns the last one.
 PlantRun RunOnModelPlant(JointController& controller, const DesiredCycle& desired) {
-  ModelPlant plant(desired[0]);
+  JointModelPlant plant(kPaperModels, testing::Ers210aLimits());
+  plant.Reset(desired[0]);
   LegAngles measured = desired[0];
   PlantRun run;
   for (long t = 0; t < 10L * 88; ++t) {
-    measured = plant.Tick(controller.Update(t, measured));
+    measured = plant.Tick(controller.Update(t, measured)).measured_deg;
     if (t >= 9L * 88) {
       for (int j = 0; j < kLegJoints; ++j) run.actual[j].push_back(measured[j]);
     }
@@ -63,15 +51,16 @@ PlantRun RunOnModelPlant(JointController& controller, const DesiredCycle& desire
 
 TEST(ModelBasedController, FollowsItsPiecewiseLinearTargetOnTheModelPlant) {
   const DesiredCycle desired = FastCycle();
+  const ControllerContext context = testing::PaperContext(desired);
   for (CmMethod cm : {CmMethod::kExact, CmMethod::kClosed}) {
-    ModelBasedController mb(desired, kPaperModels, cm, 8);
-    TimeShiftController direct(desired, 0, "direct");
+    ModelBasedController mb({cm}, context);
+    DirectController direct({}, context);
     const PlantRun with_model = RunOnModelPlant(mb, desired);
     const PlantRun plain = RunOnModelPlant(direct, desired);
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> des(88);
       for (int t = 0; t < 88; ++t) des[t] = desired[t][j];
-      const std::vector<double> pwl = mb.approximation(j).Sample();
+      const std::vector<double> pwl = context.approximations[j].Sample();
       // The bound (the paper measured 2.7 deg on the real leg).
       EXPECT_LE(RmsDistance(pwl, with_model.actual[j]), 3.5) << "joint " << j;
       // And the paper's point: closer to the desired angles than requesting them directly.
@@ -82,10 +71,10 @@ TEST(ModelBasedController, FollowsItsPiecewiseLinearTargetOnTheModelPlant) {
 }
 
 TEST(ModelBasedController, ApproximationsRespectVmax) {
-  ModelBasedController mb(FastCycle(), kPaperModels, CmMethod::kExact, 8);
+  const ControllerContext context = testing::PaperContext(FastCycle());
   for (int j = 0; j < kLegJoints; ++j) {
-    for (int k = 0; k < mb.approximation(j).num_segments(); ++k) {
-      EXPECT_LE(std::abs(mb.approximation(j).Slope(k)), 2.5 + 1e-9);
+    for (int k = 0; k < context.approximations[j].num_segments(); ++k) {
+      EXPECT_LE(std::abs(context.approximations[j].Slope(k)), 2.5 + 1e-9);
     }
   }
 }

@@ -42,6 +42,13 @@ class ConfigTest : public ::testing::Test {
   fs::path dir_;
 };
 
+// The names of the modes a config runs, in order.
+std::vector<std::string> Modes(const ExperimentConfig& c) {
+  std::vector<std::string> names;
+  for (const ControllerSpec& spec : c.controllers) names.emplace_back(ModeOf(spec).name);
+  return names;
+}
+
 const std::string kRobot =
     std::string("robot: ") + LEGLAB_SOURCE_DIR + "/robots/ers210a/robot.yaml\n";
 
@@ -52,7 +59,7 @@ TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
   EXPECT_TRUE(fs::exists(c.sim.urdf_path));     // resolved beside robot.yaml
   EXPECT_EQ(fs::path(c.sim.urdf_path).filename(), "leg.urdf");
   EXPECT_FALSE(c.model.has_value());
-  EXPECT_EQ(c.modes, (std::vector<std::string>{"direct", "time_shift", "model_based"}));
+  EXPECT_EQ(Modes(c), (std::vector<std::string>{"direct", "time_shift", "model_based"}));
 }
 
 TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
@@ -61,18 +68,37 @@ TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
       {"servo.gain_per_s=31.5", "controller.modes=[direct]", "seed=7", "controller.cm=closed",
        "servo.gain_per_s=33"});
   EXPECT_EQ(c.sim.servo.gain_per_s, 33.0);  // the last --set wins
-  EXPECT_EQ(c.modes, std::vector<std::string>{"direct"});
+  EXPECT_EQ(Modes(c), std::vector<std::string>{"direct"});
   EXPECT_EQ(c.sim.seed, 7u);
-  EXPECT_EQ(c.controller.mode, "time_shift");
-  EXPECT_EQ(c.controller.cm, CmMethod::kClosed);
+}
+
+TEST_F(ConfigTest, EachModeKeepsItsOwnOptions) {
+  const ExperimentConfig c = LoadExperimentConfig(
+      Write(kRobot), {"controller.modes=[time_shift, model_based]", "controller.cm=closed",
+                      "controller.shift_ticks=9", "controller.pwl_segments=12"});
+  ASSERT_EQ(c.controllers.size(), 2u);
+  EXPECT_EQ(std::get<TimeShiftController::Spec>(c.controllers[0]).shift_ticks, 9);
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).cm, CmMethod::kClosed);
+  EXPECT_EQ(c.pwl_segments, 12);
+}
+
+TEST_F(ConfigTest, PlantIsTheSimOrTheModel) {
+  EXPECT_EQ(LoadExperimentConfig(Write(kRobot)).plant, PlantKind::kSim);
+  const ExperimentConfig c = LoadExperimentConfig(
+      Write(kRobot), {"plant=model", "plant_model.lag_ticks=5", "plant_model.theta0_deg=6"});
+  EXPECT_EQ(c.plant, PlantKind::kModel);
+  // Unset keys keep the paper's Table 1.
+  EXPECT_EQ(c.plant_model, (JointModelParams{2.5, 6.0, 5, 6}));
+  EXPECT_NE(ErrorOf(kRobot, {"plant=hardware"}).find("plant"), std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_model.accel_ticks=0"}).find("plant_model.accel_ticks"),
+            std::string::npos);
 }
 
 TEST_F(ConfigTest, ALoneModePicksTheModeToRunAndModesWins) {
-  EXPECT_EQ(LoadExperimentConfig(Write(kRobot), {"controller.mode=model_based"}).modes,
+  EXPECT_EQ(Modes(LoadExperimentConfig(Write(kRobot), {"controller.mode=model_based"})),
             std::vector<std::string>{"model_based"});
-  EXPECT_EQ(LoadExperimentConfig(Write(kRobot),
-                                 {"controller.mode=direct", "controller.modes=[time_shift]"})
-                .modes,
+  EXPECT_EQ(Modes(LoadExperimentConfig(
+                Write(kRobot), {"controller.mode=direct", "controller.modes=[time_shift]"})),
             std::vector<std::string>{"time_shift"});
 }
 
@@ -125,7 +151,7 @@ TEST_F(ConfigTest, ExtendsMergesTheBaseFileBeneath) {
       LoadExperimentConfig(Write("extends: base.yaml\nservo: {gain_per_s: 31}\n"));
   EXPECT_EQ(c.sim.servo.gain_per_s, 31.0);    // this file wins
   EXPECT_EQ(c.sim.servo.smoothing_ms, 24.0);  // the base's value stays
-  EXPECT_EQ(c.modes, std::vector<std::string>{"direct"});
+  EXPECT_EQ(Modes(c), std::vector<std::string>{"direct"});
   Write("extends: loop.yaml\n", "loop.yaml");
   EXPECT_NE(ErrorOf("extends: loop.yaml\n").find("cycle"), std::string::npos);
 }
@@ -136,7 +162,7 @@ TEST_F(ConfigTest, ShippedConfigsLoad) {
                            "controller_time_shift.yaml", "controller_model_based.yaml"}) {
     EXPECT_NO_THROW(LoadExperimentConfig(dir + name)) << name;
   }
-  EXPECT_EQ(LoadExperimentConfig(dir + "controller_model_based.yaml").modes,
+  EXPECT_EQ(Modes(LoadExperimentConfig(dir + "controller_model_based.yaml")),
             std::vector<std::string>{"model_based"});
 }
 

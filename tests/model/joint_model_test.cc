@@ -1,4 +1,5 @@
 #include "leglab/model/joint_model.h"
+#include "leglab/model/paper.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +11,7 @@
 namespace leglab {
 namespace {
 
-const JointModelParams kPaper{2.5, 7.0, 4, 6};  // Table 1
+constexpr JointModelParams kPaper = paper::kTable1;
 
 TEST(SpeedResponse, MatchesEquation2ByHand) {
   EXPECT_DOUBLE_EQ(SpeedResponse(kPaper, 0.0), 0.0);

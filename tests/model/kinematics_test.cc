@@ -1,4 +1,5 @@
 #include "leglab/model/kinematics.h"
+#include "test_legs.h"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +20,7 @@ void ExpectNear(const Eigen::Vector3d& actual, const Eigen::Vector3d& expected, 
 
 // Hand-worked poses from ers210a.md's vectors: u + w = (-6.08, 0.5, -130).
 TEST(Kinematics, ForwardByHand) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   ExpectNear(ForwardKinematics(g, {0, 0, 0}), {53.42, 59.7, -130.0}, 1e-12);
   // Rotator +90: the leg points forward, (x, z) -> (-z, x).
   ExpectNear(ForwardKinematics(g, {90 * kDeg, 0, 0}), {59.5 + 130.0, 59.7, -6.08}, 1e-12);
@@ -30,8 +31,71 @@ TEST(Kinematics, ForwardByHand) {
              1e-12);
 }
 
+// The hind leg mirrors x: rotator about +y (+ swings the paw backward), knee about -y (+
+// swings it forward). u + w = (16.56, 0.5, -134.88).
+TEST(Kinematics, HindLegForwardByHand) {
+  const LegGeometry g = testing::HindLeftLeg();
+  ExpectNear(ForwardKinematics(g, {0, 0, 0}), {-42.94, 59.7, -134.88}, 1e-12);
+  // Rotator +90 about +y: (x, z) -> (z, -x), the leg points backward.
+  ExpectNear(ForwardKinematics(g, {90 * kDeg, 0, 0}), {-59.5 - 134.88, 59.7, -16.56}, 1e-12);
+  // Abductor +90 about +x: outward, as for the front leg.
+  ExpectNear(ForwardKinematics(g, {0, 90 * kDeg, 0}), {-42.94, 59.2 + 134.88, 0.5}, 1e-12);
+  // Knee +90 about -y: w -> (-wz, 0, wx) = (70.88, 0, 29.36), the paw swings forward and up.
+  ExpectNear(ForwardKinematics(g, {0, 0, 90 * kDeg}), {-59.5 - 12.8 + 70.88, 59.7, -64.0 + 29.36},
+             1e-12);
+}
+
+TEST(Kinematics, HindLegRoundTripOverAGrid) {
+  const LegGeometry g = testing::HindLeftLeg();
+  int checked = 0, exact = 0;
+  for (double q1 = -116.0; q1 <= 116.0; q1 += 8.0) {
+    for (double q2 = -10.0; q2 <= 88.0; q2 += 7.0) {
+      for (double q3 = -26.0; q3 <= 146.0; q3 += 8.6) {
+        const Eigen::Vector3d q = Eigen::Vector3d(q1, q2, q3) * kDeg;
+        const Eigen::Vector3d foot = ForwardKinematics(g, q);
+        const Eigen::Vector3d solved = InverseKinematics(g, foot);
+        ExpectNear(ForwardKinematics(g, solved), foot, 1e-9);
+        // Another solution is returned only if its rotator is nearer zero.
+        if ((solved - q).lpNorm<Eigen::Infinity>() > 1e-9) {
+          EXPECT_LT(std::abs(solved[kRotator]), std::abs(q[kRotator])) << q.transpose() / kDeg;
+        } else {
+          ++exact;
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 5000);
+  EXPECT_GT(exact, checked * 9 / 10);
+}
+
+TEST(Kinematics, ValidateLegGeometryNamesTheItem) {
+  EXPECT_NO_THROW(ValidateLegGeometry(testing::FrontLeftLeg()));
+  EXPECT_NO_THROW(ValidateLegGeometry(testing::HindLeftLeg()));
+  auto message = [](const LegGeometry& g) {
+    try {
+      ValidateLegGeometry(g);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  LegGeometry g = testing::FrontLeftLeg();
+  g.axes[kAbductor] = Eigen::Vector3d::UnitY();
+  EXPECT_NE(message(g).find("abductor axis"), std::string::npos) << message(g);
+  g = testing::FrontLeftLeg();
+  g.axes[kKnee] = Eigen::Vector3d(0.0, 2.0, 0.0);
+  EXPECT_NE(message(g).find("knee axis"), std::string::npos) << message(g);
+  g = testing::FrontLeftLeg();
+  g.limits[kRotator] = {1.0, -1.0};
+  EXPECT_NE(message(g).find("rotator limits"), std::string::npos) << message(g);
+  g = testing::FrontLeftLeg();
+  g.lower_leg_mm.x() = NAN;
+  EXPECT_NE(message(g).find("lower-leg"), std::string::npos) << message(g);
+}
+
 TEST(Kinematics, RoundTripOverAGridOfTheWorkspace) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   int checked = 0, other_branch = 0;
   // The knee's lower limit (-27 deg) is within 0.3 deg of the straight leg (-27.3 deg), where
   // the two knee branches meet; stay a degree inside every limit.
@@ -58,7 +122,7 @@ TEST(Kinematics, RoundTripOverAGridOfTheWorkspace) {
 }
 
 TEST(Kinematics, OutOfReachNamesThePointAndTheReason) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   try {
     InverseKinematics(g, {59.5, 59.2, -200.0});  // 200 mm below the shoulder; the leg is 134
     FAIL() << "expected std::domain_error";
@@ -70,7 +134,7 @@ TEST(Kinematics, OutOfReachNamesThePointAndTheReason) {
 }
 
 TEST(Kinematics, OutsideTheJointLimitsNamesTheJoint) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   // Abductor -40 deg (limit -11): reachable by the links, not by the joint.
   const Eigen::Vector3d inward = ForwardKinematics(g, Eigen::Vector3d(10, -40, 30) * kDeg);
   try {

@@ -1,4 +1,5 @@
 #include "leglab/model/line_inverse.h"
+#include "leglab/model/paper.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 namespace leglab {
 namespace {
 
-const JointModelParams kPaper{2.5, 7.0, 4, 6};  // Table 1
+constexpr JointModelParams kPaper = paper::kTable1;
 
 // Brute force: request the ramp L(t) = m t for a long time and read off L - M at the end.
 double RampOffsetByBruteForce(const JointModelParams& p, double m, int ticks = 4000) {

@@ -7,11 +7,12 @@
 #include <vector>
 
 #include "leglab/model/metrics.h"
+#include "leglab/model/paper.h"
 
 namespace leglab {
 namespace {
 
-const JointModelParams kPaper{2.5, 7.0, 4, 6};
+constexpr JointModelParams kPaper = paper::kTable1;
 
 TEST(RequestSynthesis, SwitchLeadIsLagPlusHalfTheAccelerationTime) {
   EXPECT_EQ(SwitchLeadTicks(kPaper), 7);            // 4 + 6/2

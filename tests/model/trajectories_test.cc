@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "test_legs.h"
+
 namespace leglab {
 namespace {
 
@@ -56,7 +58,7 @@ TEST(HalfEllipse, RejectsBadParameters) {
 }
 
 TEST(JointTrajectory, InverseKinematicsOfEveryTick) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   HalfEllipseLocus locus;
   locus.centre_mm = {70.0, 75.0, -115.0};
   const auto path = HalfEllipseFootPath(locus);
@@ -69,7 +71,7 @@ TEST(JointTrajectory, InverseKinematicsOfEveryTick) {
 }
 
 TEST(JointTrajectory, UnreachableTickIsNamed) {
-  const LegGeometry g = LegGeometry::Ers210aFrontLeft();
+  const LegGeometry g = testing::FrontLeftLeg();
   std::vector<Eigen::Vector3d> path = {{60.0, 60.0, -120.0}, {60.0, 60.0, -300.0}};
   try {
     JointTrajectoryDeg(g, path);

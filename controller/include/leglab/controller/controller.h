@@ -1,14 +1,14 @@
 #pragma once
 
 #include <array>
-#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "leglab/core/leg.h"
 #include "leglab/model/joint_model.h"
-#include "leglab/model/line_inverse.h"
+#include "leglab/model/kinematics.h"
+#include "leglab/model/piecewise_linear.h"
 
 namespace leglab {
 
@@ -16,37 +16,78 @@ namespace leglab {
 /// trajectory repeats with period T (one walking step).
 using DesiredCycle = std::vector<LegAngles>;
 
-/// A request policy for one leg. Once per 8 ms control tick the experiment hands it the tick
-/// and the angles just measured, and sends the angles it returns to the servos. Controllers
-/// see no simulator type (ros2_control's update(time, period) in miniature).
+/// What every controller is built from besides its own options: what to follow, each joint's
+/// model and limits, and each joint's slope-limited piecewise-linear approximation of the
+/// desired cycle (fitted once per run, by MakeControllerContext).
+struct ControllerContext {
+  DesiredCycle desired;                                     ///< deg, one step
+  std::array<JointModelParams, kLegJoints> models;          ///< identified or given
+  std::array<JointLimits, kLegJoints> limits;               ///< rad, the plant's software limits
+  std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
+};
+
+/// Builds the context: fits each joint's approximation with `pwl_segments` segments and its
+/// model's v_max. Throws std::invalid_argument on an empty cycle, an invalid model or limits,
+/// or pwl_segments outside [1, T] (the message names `controller.pwl_segments`).
+ControllerContext MakeControllerContext(DesiredCycle desired,
+                                        const std::array<JointModelParams, kLegJoints>& models,
+                                        const std::array<JointLimits, kLegJoints>& limits,
+                                        int pwl_segments);
+
+/// A request policy for one leg (ros2_control's update(time, period) in miniature). Per
+/// 8 ms control tick the experiment calls, in order:
+///   r = Update(tick, measured)    the requests for this tick, from the last reading;
+///   Observe(tick, applied, measured)  what the plant did with them (applied = clamped r);
+/// and after the last tick of every step (of T ticks, warm-up steps included) EndOfStep().
+/// Learning controllers adapt in Observe/EndOfStep; feed-forward ones ignore both.
+/// Controllers see no simulator type.
 class JointController {
  public:
   virtual ~JointController() = default;
 
-  /// Requested angles (deg) for tick `tick` (0, 1, 2, ... from the start of the run), given the
-  /// angles measured right after the previous request.
+  /// Back to the state right after construction: a new run starts at tick 0.
+  virtual void Reset() {}
+
+  /// Requested angles (deg) for tick `tick` (0, 1, 2, ... from the start of the run), given
+  /// the angles measured right after the previous request. Finite and within the limits.
   virtual LegAngles Update(long tick, const LegAngles& measured_deg) = 0;
+
+  /// After tick `tick`: the requests as the plant applied them (clamped), and the angles
+  /// measured right after.
+  virtual void Observe(long /*tick*/, const LegAngles& /*applied_deg*/,
+                       const LegAngles& /*measured_deg*/) {}
+
+  /// Step `step` (0, 1, ... from the start of the run) has ended.
+  virtual void EndOfStep(long /*step*/) {}
 
   /// The mode's name, as chosen in the config.
   virtual std::string_view name() const = 0;
 };
 
-/// What a controller is built from: the `controller.*` config keys.
-struct ControllerSpec {
-  std::string mode = "direct";     ///< one of ControllerModes()
-  int shift_ticks = 0;             ///< time_shift: requests lead the desired angles by k ticks
-  CmMethod cm = CmMethod::kExact;  ///< model_based: closed-form or exact C_m
-  int pwl_segments = 8;            ///< model_based: segments of each joint's approximation
+/// Reads a mode's options (its `controller.*` keys) for the registry. The config loader
+/// implements it over YAML, so controllers never see the config format; tests implement it
+/// over a map.
+class OptionReader {
+ public:
+  virtual ~OptionReader() = default;
+  /// Sets `value` to key `key` when the config gives it (else leaves it); throws the loader's
+  /// bad-input error naming the key when it has the wrong type.
+  virtual void Read(std::string_view key, int& value) = 0;
+  virtual void Read(std::string_view key, double& value) = 0;
+  virtual void Read(std::string_view key, bool& value) = 0;
+  virtual void Read(std::string_view key, std::string& value) = 0;
+  /// Throws the loader's bad-input error: "<key as the user wrote it> must be <expectation>".
+  [[noreturn]] virtual void Fail(std::string_view key, const std::string& expectation) = 0;
 };
 
-/// The valid mode names: direct, time_shift, model_based.
-const std::vector<std::string>& ControllerModes();
+/// desired[tick mod T] (any integer tick).
+inline const LegAngles& CycleAt(const DesiredCycle& cycle, long tick) {
+  const auto period = static_cast<long>(cycle.size());
+  return cycle[static_cast<size_t>((tick % period + period) % period)];
+}
 
-/// Builds the controller `spec.mode` for the desired cycle, with each joint's model (used by
-/// model_based only). Throws std::invalid_argument for an unknown mode (listing the valid ones),
-/// an empty cycle or a bad parameter, and what model_based's construction throws.
-std::unique_ptr<JointController> MakeController(
-    const ControllerSpec& spec, const DesiredCycle& desired,
-    const std::array<JointModelParams, kLegJoints>& models);
+/// `request_deg` clamped into `limits` (rad), as the servos would.
+LegAngles ClampToLimits(const LegAngles& request_deg,
+                        const std::array<JointLimits, kLegJoints>& limits);
 
 }  // namespace leglab

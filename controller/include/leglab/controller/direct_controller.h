@@ -4,19 +4,24 @@
 
 namespace leglab {
 
-/// Requests the desired angles `shift_ticks` ahead: R(t) = D(t + k). With k = 0 this is the
-/// paper's direct method (requests = desired angles); k > 0 is its time-shift baseline.
-class TimeShiftController final : public JointController {
+/// The paper's direct method: requests the desired angles, R(t) = D(t).
+class DirectController final : public JointController {
  public:
-  /// Throws std::invalid_argument on an empty cycle.
-  TimeShiftController(DesiredCycle desired, int shift_ticks, std::string_view name);
+  /// No options.
+  struct Spec {
+    friend bool operator==(const Spec&, const Spec&) = default;
+  };
+  static constexpr std::string_view kName = "direct";
+  static constexpr std::string_view kLabel = "Dir";  ///< in Table 2's keys, e.g. L2(Des,Dir)
+  static constexpr bool kFeedForward = true;
+  static Spec ReadSpec(OptionReader& /*reader*/) { return {}; }
+
+  DirectController(const Spec& spec, const ControllerContext& context);
   LegAngles Update(long tick, const LegAngles& measured_deg) override;
-  std::string_view name() const override { return name_; }
+  std::string_view name() const override { return kName; }
 
  private:
   DesiredCycle desired_;
-  int shift_ticks_;
-  std::string name_;
 };
 
 }  // namespace leglab

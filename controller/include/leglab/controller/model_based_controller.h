@@ -1,31 +1,39 @@
 #pragma once
 
 #include "leglab/controller/controller.h"
-#include "leglab/model/piecewise_linear.h"
+#include "leglab/model/line_inverse.h"
 
 namespace leglab {
 
 /// The paper's method (section 4): each joint's desired cycle is approximated by a
-/// slope-limited piecewise-linear P (automatic breakpoints), every segment is inverted with
-/// C_m and the requests switch l + a/2 ticks early. All of it is computed once, at
+/// slope-limited piecewise-linear P (the context's approximations), every segment is inverted
+/// with C_m and the requests switch l + a/2 ticks early. All of it is computed once, at
 /// construction; Update() is a table look-up.
 class ModelBasedController final : public JointController {
  public:
-  /// Throws std::invalid_argument on an empty cycle or bad segments, std::domain_error from
-  /// the closed-form C_m outside eq. 13.
-  ModelBasedController(const DesiredCycle& desired,
-                       const std::array<JointModelParams, kLegJoints>& models, CmMethod cm,
-                       int pwl_segments);
-  LegAngles Update(long tick, const LegAngles& measured_deg) override;
-  std::string_view name() const override { return "model_based"; }
+  /// `controller.cm`: the paper's closed-form C_m or the exact discrete root (default).
+  struct Spec {
+    CmMethod cm = CmMethod::kExact;
+    friend bool operator==(const Spec&, const Spec&) = default;
+  };
+  static constexpr std::string_view kName = "model_based";
+  static constexpr std::string_view kLabel = "MB";
+  static constexpr bool kFeedForward = true;
+  /// It follows the approximation P, so Table 2 also compares it with P (L2(Pwl,MB)).
+  static constexpr bool kFollowsApproximation = true;
+  /// Throws the reader's error unless controller.cm is `closed` or `exact`.
+  static Spec ReadSpec(OptionReader& reader);
 
-  /// Joint j's piecewise-linear approximation P.
-  const PiecewiseLinear& approximation(int joint) const { return approximations_[joint]; }
+  /// Throws std::invalid_argument on an empty cycle or a slope over v_max, std::domain_error
+  /// from the closed-form C_m outside eq. 13.
+  ModelBasedController(const Spec& spec, const ControllerContext& context);
+  LegAngles Update(long tick, const LegAngles& measured_deg) override;
+  std::string_view name() const override { return kName; }
+
   /// One cycle of the requests, requests()[t][j].
   const DesiredCycle& requests() const { return requests_; }
 
  private:
-  std::array<PiecewiseLinear, kLegJoints> approximations_;
   DesiredCycle requests_;
 };
 

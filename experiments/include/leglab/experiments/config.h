@@ -5,9 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "leglab/controller/controller.h"
+#include "leglab/controller/registry.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
+#include "leglab/model/paper.h"
 #include "leglab/model/trajectories.h"
 #include "leglab/sim/sim_config.h"
 
@@ -30,14 +31,14 @@ struct IdentifyConfig {
   IdentificationOptions search;       ///< lag_range_ticks, accel_range_ticks
 };
 
-/// `desired.locus.*`: the half-elliptical foot locus, relative to the shoulder.
+/// `desired.locus.*`: the half-elliptical foot locus (its shape, the model's HalfEllipseLocus
+/// with the cited walk's defaults) and where it sits relative to the leg's shoulder. These
+/// are the only defaults of the locus, equal to the shipped track.yaml.
 struct LocusConfig {
-  double length_mm = 48.93;                 ///< flat bottom, fore-aft
-  double height_mm = 42.0;                  ///< arc height
-  double ground_fraction = 0.5;             ///< fraction of the step on the ground
+  HalfEllipseLocus shape;  ///< length_mm, height_mm, ground_fraction (centre and period unused)
   double forward_mm = 49.0;                 ///< centre of the flat bottom ahead of the shoulder
-  double outward_mm = 28.0;                 ///< ... outward of the shoulder (+y for a left leg)
-  double ground_below_shoulder_mm = 115.0;  ///< ... below the shoulder
+  double outward_mm = 28.0;                 ///< ... outward of the shoulder (away from the body)
+  double ground_below_shoulder_mm = 100.0;  ///< ... below the shoulder
 };
 
 /// `desired.*` and `track.*`: what to follow and for how long.
@@ -50,23 +51,36 @@ struct TrackConfig {
   bool search_shift = true;       ///< `track.search_shift`: time_shift searches every k by foot L2
 };
 
+/// Which plant the experiments drive (`plant:`).
+enum class PlantKind {
+  kSim,    ///< `sim`: the simulated leg (sim::LegSim), the default
+  kModel,  ///< `model`: the joint model itself as an ideal plant (JointModelPlant)
+};
+
 /// A whole experiment's configuration: the robot's robot.yaml merged under the experiment's
 /// YAML file, then the --set overrides.
 struct ExperimentConfig {
-  std::string robot_yaml;     ///< the robot description file that was merged in
-  sim::SimConfig sim;         ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
-  ControllerSpec controller;  ///< controller.mode, shift_ticks, cm, pwl_segments
-  /// controller.modes: the modes track runs; all three by default, or [controller.mode] when
-  /// only that key is given.
-  std::vector<std::string> modes;
+  std::string robot_yaml;  ///< the robot description file that was merged in
+  PlantKind plant = PlantKind::kSim;
+  /// `plant_model.*`: the ideal plant's joint model (plant: model), the same for every joint;
+  /// default the paper's Table 1.
+  JointModelParams plant_model = paper::kTable1;
+  sim::SimConfig sim;  ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
+  /// The modes track runs with their options, in order: controller.modes, or [controller.mode]
+  /// when only that key is given, else every registered mode.
+  std::vector<ControllerSpec> controllers;
+  int pwl_segments = 8;  ///< `controller.pwl_segments`: segments of each joint's approximation
   std::optional<JointModelParams> model;  ///< model.* when given (all four keys)
   IdentifyConfig identify;
   TrackConfig track;
+  /// Worker threads (`--threads`, not a config key); 0 means one per core. Results do not
+  /// depend on it.
+  int threads = 0;
 };
 
 /// Loads `config_path` (with the file its `extends:` key names, relative to it, merged beneath
 /// it, recursively), merges the robot it names (`robot:` a name under robots/ or a path to
-/// a robot.yaml, default ers210a) beneath it, applies `overrides` ("key.path=value", value in
+/// a robot.yaml, default ers210a; a robot file may `extends:` another) beneath it, applies `overrides` ("key.path=value", value in
 /// YAML syntax) last and in order, and converts the result into structs with defaults.
 /// Throws InputError naming the file or key for a missing or malformed file, an unknown key,
 /// a value of the wrong type or out of range, or a missing URDF.

@@ -8,12 +8,13 @@
 
 namespace leglab::experiments {
 
-/// What every experiment program takes: `--config FILE`, `--out DIR`, and any number of
-/// `--set key=value` applied last.
+/// What every experiment program takes: `--config FILE`, `--out DIR`, `--threads N` and any
+/// number of `--set key=value` applied last.
 struct ProgramArgs {
   std::string config_path;
   std::string out_dir;
   std::vector<std::string> overrides;
+  int threads = 0;  ///< 0: one per core
 };
 
 /// Parses the flags, loads the config and runs `body`. Bad input (flags, config, robot, URDF,

@@ -1,23 +1,23 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "leglab/controller/controller.h"
+#include "leglab/core/plant.h"
 #include "leglab/experiments/config.h"
+#include "leglab/experiments/robot.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/kinematics.h"
-#include "leglab/sim/leg_sim.h"
 
 namespace leglab::experiments {
 
-/// Joint names in LegAngles order.
-inline constexpr std::array<const char*, kLegJoints> kJointNames = {"rotator", "abductor", "knee"};
-
-/// Builds the simulated leg; a missing or malformed URDF (or a missing joint or link in it) is
-/// reported as InputError naming the file or item.
-sim::LegSim MakePlant(const sim::SimConfig& config);
+/// A fresh plant of the kind the config names (`plant: sim` or `model`), at rest at q = 0 (or
+/// the pose nearest it inside the limits). Bad robot input (a missing or malformed URDF, a
+/// bad servo value) is reported as InputError naming the file or key.
+std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& robot);
 
 /// One step-test recording of one joint (the data of the paper's figures 3 and 4).
 struct StepTestRun {
@@ -27,9 +27,9 @@ struct StepTestRun {
 };
 
 /// Runs the square wave of eq. 1 (0 and theta_test alternating every half step, added to the
-/// joint's hold angle) on `joint` with the other joints held still: settle_cycles cycles to
-/// reach equilibrium, then record_cycles cycles recorded.
-StepTestRun RunStepTest(const sim::SimConfig& sim_config, const IdentifyConfig& identify, int joint,
+/// joint's hold angle) on `joint` of `plant` with the other joints held still: settle_cycles
+/// cycles to reach equilibrium, then record_cycles cycles recorded.
+StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
                         double theta_test_deg);
 
 /// The model identified for one joint, with the recordings it was fitted to.
@@ -38,17 +38,10 @@ struct JointIdentification {
   std::vector<StepTestRun> runs;
 };
 
-/// Step tests and identification of every joint (joints in parallel, deterministic).
-std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config);
-
-/// `identify`'s outputs into `out`: table1.json, table1.md and step_<joint>_<theta>.csv.
-/// Returns the Markdown table (also printed by the program).
-std::string WriteTable1(const std::array<JointIdentification, kLegJoints>& joints,
-                        const ExperimentConfig& config, const class OutputDir& out);
-
-}  // namespace leglab::experiments
-
-namespace leglab::experiments {
+/// Step tests (each on a fresh plant) and identification of every joint, joints in parallel
+/// on config.threads threads (the result does not depend on the count).
+std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config,
+                                                        const Robot& robot);
 
 /// One cycle of desired joint angles and the foot path it draws (body frame, mm).
 struct DesiredMotion {
@@ -58,20 +51,25 @@ struct DesiredMotion {
 
 /// The desired cycle: `desired.csv` when given (columns tick,rotator_deg,abductor_deg,knee_deg,
 /// t = 0..T-1, one row a tick, angles within the joint limits), else the half-elliptical locus
-/// through closed-form inverse kinematics. Throws InputError naming the file, row and column,
-/// or the unreachable tick and point.
+/// placed relative to the leg's shoulder (outward meaning away from the body, whichever side
+/// the leg is on) through closed-form inverse kinematics. Throws InputError naming the file,
+/// row and column, or the unreachable tick and point.
 DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry);
 
-/// What one run of a controller on the leg recorded over the measured steps.
+/// What one run of a controller on a plant recorded over the measured steps.
 struct TrackingRun {
-  std::vector<LegAngles> request_deg;   ///< steps * T ticks, as the servos took them
+  std::vector<LegAngles> request_deg;   ///< steps * T ticks, as the servos applied them
   std::vector<LegAngles> measured_deg;  ///< the angles measured right after each request
 };
 
-/// Runs `controller` on a fresh plant that starts at rest at the desired cycle's first pose:
-/// `warmup_steps` steps, then `steps` steps recorded.
-TrackingRun RunTracking(const sim::SimConfig& sim_config, JointController& controller,
-                        const DesiredCycle& desired, int warmup_steps, int steps);
+/// Runs `controller` (Reset first) on `plant` from rest at the desired cycle's first pose:
+/// `warmup_steps` steps, then `steps` steps recorded. Calls the controller's Update, Observe
+/// and EndOfStep hooks as JointController documents.
+TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                        int warmup_steps, int steps);
+
+/// Foot position (body frame, mm) for joint angles in degrees.
+Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg);
 
 /// Euclidean foot error per tick (cm) of a run against the desired foot path, by forward
 /// kinematics of the measured angles.

@@ -1,43 +1,50 @@
 #pragma once
 
-#include <array>
 #include <string>
 #include <vector>
 
+#include "leglab/controller/registry.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/rig.h"
-#include "leglab/model/piecewise_linear.h"
+#include "leglab/experiments/robot.h"
 
 namespace leglab::experiments {
 
-/// One controller mode's run on the leg.
+/// One controller mode's run on the plant.
 struct ModeRun {
-  std::string mode;
-  int shift_ticks = 0;  ///< time_shift: the k used (the best one when searched)
+  ControllerSpec spec;  ///< the options used (a searched mode's best candidate)
   TrackingRun run;
   std::vector<double> foot_error_cm;  ///< per recorded tick
 };
 
+/// A searched mode's candidates (SearchCandidates, e.g. time_shift's k = 0..T-1), each with its
+/// mean foot L2 over the measured steps, cm.
+struct ModeSearch {
+  ControllerSpec best;
+  std::vector<ControllerSpec> candidates;
+  std::vector<double> foot_l2_cm;
+};
+
 /// Everything `track` measured.
 struct TrackResult {
+  Robot robot;
   DesiredMotion desired;
-  std::array<JointModelParams, kLegJoints> models;
+  ControllerContext context;      ///< desired angles, models, limits, approximations P
   bool models_identified = false;  ///< identified on the plant (no model.* keys given)
-  std::array<PiecewiseLinear, kLegJoints> approximations;  ///< model_based's P per joint
-  std::vector<ModeRun> runs;                               ///< in controller.modes order
-  std::vector<double> shift_search_foot_l2_cm;  ///< mean foot L2 for k = 0..T-1 (if searched)
+  std::vector<ModeRun> runs;       ///< in the config's mode order
+  std::vector<ModeSearch> searches;  ///< for the searched modes, in run order
   int steps = 0;
   int period = 0;
 };
 
-/// Runs Table 2's experiment: the desired cycle, the models (given or identified as
-/// `identify` does), every mode in controller.modes (time_shift searching every k by foot
-/// L2 across cores when track.search_shift), warmup_steps then steps measured steps.
+/// Runs Table 2's experiment: the robot, the desired cycle, the models (given or identified
+/// as `identify` does), every configured mode (a searchable mode, e.g. time_shift, tries
+/// every candidate and keeps the best by foot L2 when track.search_shift), warmup_steps then
+/// steps measured steps. Parallel on config.threads threads; the result does not depend on
+/// the count.
 TrackResult RunTrackExperiment(const ExperimentConfig& config);
 
-/// Writes table2.json, table2.md, trace_<mode>.csv and foot_<mode>.csv (and the time-shift
-/// search, shift_search.csv) into `out`. Returns the Markdown tables.
-std::string WriteTable2(const TrackResult& result, const OutputDir& out);
+/// Mean over steps of the per-step RMS of `foot_error_cm` (steps of `period` ticks), cm.
+double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period);
 
 }  // namespace leglab::experiments

@@ -1,23 +1,29 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <vector>
 
 namespace leglab {
 
 /// Parameters of the paper's joint model (its Table 1): what identification fits.
-/// Angles are in degrees and time in control ticks of 8 ms, the paper's units.
+/// Angles are in degrees and time in control ticks of 8 ms, the paper's units. There are no
+/// default values (a model is identified or given); the paper's own is paper::kTable1.
 struct JointModelParams {
-  double v_max_deg_per_tick = 2.5;  ///< v_max: the joint's top speed
-  double theta0_deg = 7.0;          ///< theta_0: request-actual difference that gives top speed
-  int lag_ticks = 4;                ///< l: ticks before a request starts to act
-  int accel_ticks = 6;              ///< a: ticks over which the velocity is averaged
+  double v_max_deg_per_tick = 0.0;  ///< v_max: the joint's top speed
+  double theta0_deg = 0.0;          ///< theta_0: request-actual difference that gives top speed
+  int lag_ticks = 0;                ///< l: ticks before a request starts to act
+  int accel_ticks = 0;              ///< a: ticks over which the velocity is averaged
 
   friend bool operator==(const JointModelParams&, const JointModelParams&) = default;
 };
 
-/// Throws std::invalid_argument naming the parameter unless v_max > 0, theta_0 > 0 (both
-/// finite), l >= 0 and a >= 1.
+/// Empty when v_max > 0, theta_0 > 0 (both finite), l >= 0 and a >= 1; otherwise what is
+/// wrong, naming the field ("theta0_deg must be positive, got -1").
+std::string JointModelParamsProblem(const JointModelParams& params);
+
+/// Throws std::invalid_argument "joint model: <problem>" unless JointModelParamsProblem is
+/// empty.
 void ValidateJointModelParams(const JointModelParams& params);
 
 /// The speed response f of eq. 2 (deg/tick) to a request-actual difference `x_deg`:

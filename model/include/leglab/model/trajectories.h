@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "leglab/model/kinematics.h"
@@ -24,6 +25,10 @@ struct HalfEllipseLocus {
   Eigen::Vector3d centre_mm{0.0, 0.0, 0.0};  ///< middle of the flat bottom, body frame
   int t_step_ticks = kStepTicks;             ///< ticks per step
 };
+
+/// Empty when the locus is valid; otherwise what is wrong, naming the field
+/// ("ground_fraction must be in (0, 1)").
+std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus);
 
 /// One step of foot positions (body frame, mm), t = 0..t_step-1; t = 0 is the front end of the
 /// flat bottom (touch-down). Throws std::invalid_argument naming a bad locus parameter.

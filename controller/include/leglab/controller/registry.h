@@ -1,0 +1,86 @@
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "leglab/controller/controller.h"
+#include "leglab/controller/direct_controller.h"
+#include "leglab/controller/model_based_controller.h"
+#include "leglab/controller/time_shift_controller.h"
+
+namespace leglab {
+
+/// A list of controller mode classes. Each is a JointController with
+///   struct Spec;                                  its options (a value type with ==)
+///   static constexpr std::string_view kName;      its name in configs and file names
+///   static constexpr std::string_view kLabel;     its short label in Table 2's keys
+///   static Spec ReadSpec(OptionReader&);          its `controller.*` keys, validated
+///   Mode(const Spec&, const ControllerContext&);  its factory
+/// and optionally
+///   static constexpr bool kFeedForward = true;    requests periodic, independent of measurements
+///   static constexpr bool kFollowsApproximation = true;  Table 2 also compares it with P
+///   static std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&);
+///   static constexpr std::string_view kSearchFile;  where a search's scores go (no .csv)
+///   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&);
+template <typename... Modes>
+struct ControllerModeList {
+  using Spec = std::variant<typename Modes::Spec...>;
+};
+
+/// THE registry: every controller mode, in the order tables list them. A new mode is its own
+/// file pair plus its class here.
+using RegisteredControllerModes =
+    ControllerModeList<DirectController, TimeShiftController, ModelBasedController>;
+
+/// One mode's options: the variant alternative of its class's Spec.
+using ControllerSpec = RegisteredControllerModes::Spec;
+
+/// What the experiments need to know about a mode besides building it.
+struct ControllerModeInfo {
+  std::string_view name;    ///< in configs (controller.mode/modes) and output file names
+  std::string_view label;   ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
+  bool feed_forward;        ///< requests periodic and independent of what is measured
+  bool follows_approximation;  ///< Table 2 also compares it with the approximation P
+  bool searchable;             ///< has SearchCandidates (searched when the experiment asks)
+  std::string_view search_file;  ///< a searched mode's output file (without .csv)
+};
+
+/// Every registered mode, in registry order.
+std::span<const ControllerModeInfo> ControllerModes();
+
+/// The registered names joined by ", " (for messages).
+std::string ControllerModeNames();
+
+/// The mode called `name`; throws std::invalid_argument "unknown controller mode 'x' (valid:
+/// ...)".
+const ControllerModeInfo& FindControllerMode(std::string_view name);
+
+/// The mode of `spec`.
+const ControllerModeInfo& ModeOf(const ControllerSpec& spec);
+
+/// Mode `name`'s options read through `reader` (its ReadSpec); throws as FindControllerMode
+/// for an unknown name, and what the mode's ReadSpec throws.
+ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader);
+
+/// The default options of mode `name` (its Spec{}); throws as FindControllerMode.
+ControllerSpec DefaultControllerSpec(std::string_view name);
+
+/// Builds the controller of `spec` for `context`; throws what the mode's constructor throws.
+std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,
+                                                const ControllerContext& context);
+
+/// The specs an experiment searches for the best one: the mode's SearchCandidates, or just
+/// `spec` for a mode without.
+std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
+                                             const ControllerContext& context);
+
+/// Named integer parameters of `spec` worth reporting (e.g. time_shift's {"k", 8}); empty for a
+/// mode without Parameters.
+std::vector<std::pair<std::string_view, long>> ModeParameters(const ControllerSpec& spec);
+
+}  // namespace leglab

@@ -1,0 +1,117 @@
+#include "leglab/controller/registry.h"
+
+#include <array>
+#include <stdexcept>
+
+namespace leglab {
+namespace {
+
+template <typename Mode>
+constexpr ControllerModeInfo InfoOf() {
+  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, {}};
+  if constexpr (requires { Mode::kSearchFile; }) info.search_file = Mode::kSearchFile;
+  if constexpr (requires { Mode::kFeedForward; }) info.feed_forward = Mode::kFeedForward;
+  if constexpr (requires { Mode::kFollowsApproximation; }) {
+    info.follows_approximation = Mode::kFollowsApproximation;
+  }
+  info.searchable = requires(const typename Mode::Spec& s, const ControllerContext& c) {
+    Mode::SearchCandidates(s, c);
+  };
+  return info;
+}
+
+template <typename List>
+struct Registry;
+
+template <typename... Modes>
+struct Registry<ControllerModeList<Modes...>> {
+  static constexpr std::array<ControllerModeInfo, sizeof...(Modes)> kInfo = {InfoOf<Modes>()...};
+
+  // Calls fn.template operator()<Mode>() for the mode at `index` (registry order) and returns
+  // its result.
+  template <typename Result, typename Fn>
+  static Result Dispatch(size_t index, Fn&& fn) {
+    Result result{};
+    size_t i = 0;
+    ((i++ == index ? (void)(result = fn.template operator()<Modes>()) : void()), ...);
+    return result;
+  }
+};
+
+using Modes = Registry<RegisteredControllerModes>;
+
+size_t IndexOf(std::string_view name) {
+  for (size_t i = 0; i < Modes::kInfo.size(); ++i) {
+    if (Modes::kInfo[i].name == name) return i;
+  }
+  throw std::invalid_argument("unknown controller mode '" + std::string(name) +
+                              "' (valid: " + ControllerModeNames() + ")");
+}
+
+}  // namespace
+
+std::span<const ControllerModeInfo> ControllerModes() { return Modes::kInfo; }
+
+std::string ControllerModeNames() {
+  std::string names;
+  for (const ControllerModeInfo& m : Modes::kInfo) {
+    if (!names.empty()) names += ", ";
+    names += m.name;
+  }
+  return names;
+}
+
+const ControllerModeInfo& FindControllerMode(std::string_view name) {
+  return Modes::kInfo[IndexOf(name)];
+}
+
+const ControllerModeInfo& ModeOf(const ControllerSpec& spec) { return Modes::kInfo[spec.index()]; }
+
+ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader) {
+  return Modes::Dispatch<ControllerSpec>(IndexOf(name), [&]<typename Mode>() {
+    return ControllerSpec(std::in_place_type<typename Mode::Spec>, Mode::ReadSpec(reader));
+  });
+}
+
+ControllerSpec DefaultControllerSpec(std::string_view name) {
+  return Modes::Dispatch<ControllerSpec>(IndexOf(name), []<typename Mode>() {
+    return ControllerSpec(std::in_place_type<typename Mode::Spec>);
+  });
+}
+
+std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,
+                                                const ControllerContext& context) {
+  return Modes::Dispatch<std::unique_ptr<JointController>>(
+      spec.index(), [&]<typename Mode>() -> std::unique_ptr<JointController> {
+        return std::make_unique<Mode>(std::get<typename Mode::Spec>(spec), context);
+      });
+}
+
+std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
+                                             const ControllerContext& context) {
+  return Modes::Dispatch<std::vector<ControllerSpec>>(spec.index(), [&]<typename Mode>() {
+    std::vector<ControllerSpec> out;
+    const auto& own = std::get<typename Mode::Spec>(spec);
+    if constexpr (requires { Mode::SearchCandidates(own, context); }) {
+      for (auto& candidate : Mode::SearchCandidates(own, context)) {
+        out.emplace_back(std::in_place_type<typename Mode::Spec>, std::move(candidate));
+      }
+    } else {
+      out.push_back(spec);
+    }
+    return out;
+  });
+}
+
+std::vector<std::pair<std::string_view, long>> ModeParameters(const ControllerSpec& spec) {
+  return Modes::Dispatch<std::vector<std::pair<std::string_view, long>>>(
+      spec.index(), [&]<typename Mode>() {
+        std::vector<std::pair<std::string_view, long>> out;
+        if constexpr (requires { Mode::Parameters(std::get<typename Mode::Spec>(spec)); }) {
+          out = Mode::Parameters(std::get<typename Mode::Spec>(spec));
+        }
+        return out;
+      });
+}
+
+}  // namespace leglab

@@ -1,0 +1,16 @@
+#pragma once
+
+#include <functional>
+
+namespace leglab::experiments {
+
+/// Worker threads for `requested` (--threads): itself when positive, else one per core.
+int ThreadCount(int requested);
+
+/// Calls fn(i) for i = 0..n-1 on up to ThreadCount(threads) threads (the calling thread is
+/// one of them). Each i must write only its own results, so the outcome does not depend on
+/// the schedule or the thread count. The first exception thrown by any fn(i) is rethrown
+/// after every thread has stopped.
+void ParallelFor(int n, int threads, const std::function<void(int)>& fn);
+
+}  // namespace leglab::experiments

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "leglab/core/leg.h"
+#include "leglab/experiments/rig.h"
+#include "leglab/experiments/track.h"
+#include "leglab/model/metrics.h"
+
+/// The paper's tables computed as plain data: the writers (writers.h) format them, the
+/// regression test checks them in-process.
+namespace leglab::experiments {
+
+/// Table 1: the model identified on each joint.
+struct Table1 {
+  std::array<IdentificationResult, kLegJoints> joints;
+  std::vector<double> theta_test_deg;  ///< the step heights it was identified from
+};
+
+/// Table 1 of an identification.
+Table1 ComputeTable1(const std::array<JointIdentification, kLegJoints>& joints,
+                     const IdentifyConfig& identify);
+
+/// One row of Table 2: a distance between two angle trajectories per joint, deg, as mean and
+/// sample std over the measured steps.
+struct Table2Row {
+  std::string key;  ///< "L2(Des,Dir)", "Linf(Pwl,MB)", ...: table2.json's field name
+  std::array<MeanStd, kLegJoints> joints;
+};
+
+/// One row of the foot table: the Euclidean foot error, cm.
+struct FootRow {
+  std::string mode;
+  std::vector<std::pair<std::string_view, long>> parameters;  ///< e.g. time_shift's {"k", 8}
+  MeanStd l2_cm;
+  MeanStd linf_cm;
+};
+
+/// Table 2 and the foot table.
+struct Table2 {
+  int steps = 0;
+  int period = 0;
+  std::vector<Table2Row> rows;     ///< per mode: L2 and Linf to D, and to P if it follows P
+  std::vector<FootRow> foot;       ///< per mode, in run order
+  std::array<JointModelParams, kLegJoints> models;
+  bool models_identified = false;
+  std::array<int, kLegJoints> pwl_segments{};
+
+  /// The row with `key`, or nullptr.
+  const Table2Row* Find(std::string_view key) const;
+  /// The foot row of `mode`, or nullptr.
+  const FootRow* FindFoot(std::string_view mode) const;
+};
+
+/// Table 2 of a track run.
+Table2 ComputeTable2(const TrackResult& result);
+
+}  // namespace leglab::experiments

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/output.h"
+#include "leglab/experiments/tables.h"
+
+/// The tables as files: Markdown for people, JSON and CSV for scripts. Formatting only; every
+/// number comes from tables.h (and the paper's from leglab/model/paper.h).
+namespace leglab::experiments {
+
+/// Table 1 as Markdown, beside the paper's values.
+std::string Table1Markdown(const Table1& table);
+
+/// Table 1 as JSON: joints.<joint>.{v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks,
+/// fit_rms_deg}, the paper's values, and the plant it was identified on.
+std::string Table1Json(const Table1& table, const ExperimentConfig& config);
+
+/// `identify`'s outputs into `out`: table1.json, table1.md and step_<joint>_<theta>.csv
+/// (tick,request_deg,actual_deg,model_deg). Returns the Markdown table.
+std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoints>& joints,
+                                 const ExperimentConfig& config, const OutputDir& out);
+
+/// Table 2 and the foot table as Markdown, the paper's values in brackets.
+std::string Table2Markdown(const Table2& table);
+
+/// Table 2 as JSON: steps, joints.<joint>.<row key>.{mean, std},
+/// foot_cm.<mode>.{[k,] L2, Linf}, model.<joint>.
+std::string Table2Json(const Table2& table);
+
+/// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv and
+/// each search's CSV (time_shift's shift_search.csv). Returns the Markdown tables.
+std::string WriteTrackOutputs(const TrackResult& result, const Table2& table,
+                              const OutputDir& out);
+
+}  // namespace leglab::experiments

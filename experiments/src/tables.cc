@@ -1,0 +1,90 @@
+#include "leglab/experiments/tables.h"
+
+#include <span>
+
+namespace leglab::experiments {
+namespace {
+
+// Per-step values of `per_tick` (steps * period) reduced by `reduce`.
+template <typename Reduce>
+std::vector<double> PerStep(const std::vector<double>& per_tick, int period, Reduce reduce) {
+  std::vector<double> out;
+  for (size_t s = 0; s * period < per_tick.size(); ++s) {
+    out.push_back(reduce(std::span<const double>(per_tick).subspan(s * period, period)));
+  }
+  return out;
+}
+
+// L2 or Linf per step between a joint's target cycle and its measured angles.
+MeanStd JointDistance(const std::vector<double>& target_cycle, const TrackingRun& run, int joint,
+                      int period, bool linf) {
+  std::vector<double> per_step;
+  for (size_t s = 0; s * period < run.measured_deg.size(); ++s) {
+    std::vector<double> actual(period);
+    for (int t = 0; t < period; ++t) actual[t] = run.measured_deg[s * period + t][joint];
+    per_step.push_back(linf ? MaxAbsDistance(target_cycle, actual)
+                            : RmsDistance(target_cycle, actual));
+  }
+  return MeanAndStd(per_step);
+}
+
+}  // namespace
+
+Table1 ComputeTable1(const std::array<JointIdentification, kLegJoints>& joints,
+                     const IdentifyConfig& identify) {
+  Table1 table;
+  for (int j = 0; j < kLegJoints; ++j) table.joints[j] = joints[j].fit;
+  table.theta_test_deg = identify.theta_test_deg;
+  return table;
+}
+
+const Table2Row* Table2::Find(std::string_view key) const {
+  for (const Table2Row& row : rows) {
+    if (row.key == key) return &row;
+  }
+  return nullptr;
+}
+
+const FootRow* Table2::FindFoot(std::string_view mode) const {
+  for (const FootRow& row : foot) {
+    if (row.mode == mode) return &row;
+  }
+  return nullptr;
+}
+
+Table2 ComputeTable2(const TrackResult& r) {
+  Table2 table;
+  table.steps = r.steps;
+  table.period = r.period;
+  table.models = r.context.models;
+  table.models_identified = r.models_identified;
+  std::array<std::vector<double>, kLegJoints> desired, pwl;
+  for (int j = 0; j < kLegJoints; ++j) {
+    pwl[j] = r.context.approximations[j].Sample();
+    for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
+    table.pwl_segments[j] = r.context.approximations[j].num_segments();
+  }
+  auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle,
+                      const ModeRun& run) {
+    const std::string label(ModeOf(run.spec).label);
+    for (const bool linf : {false, true}) {
+      Table2Row row{std::string(linf ? "Linf(" : "L2(") + target + "," + label + ")", {}};
+      for (int j = 0; j < kLegJoints; ++j) {
+        row.joints[j] = JointDistance(cycle[j], run.run, j, r.period, linf);
+      }
+      table.rows.push_back(std::move(row));
+    }
+  };
+  for (const ModeRun& run : r.runs) {
+    add_rows("Des", desired, run);
+    if (ModeOf(run.spec).follows_approximation) add_rows("Pwl", pwl, run);
+    auto rms = [](std::span<const double> v) { return Rms(v); };
+    auto max_abs = [](std::span<const double> v) { return MaxAbs(v); };
+    table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),
+                          MeanAndStd(PerStep(run.foot_error_cm, r.period, rms)),
+                          MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
+  }
+  return table;
+}
+
+}  // namespace leglab::experiments

@@ -1,0 +1,253 @@
+#include "leglab/experiments/writers.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "leglab/model/joint_model.h"
+#include "leglab/model/paper.h"
+
+namespace leglab::experiments {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string Fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string ThetaLabel(double theta) {
+  return theta == std::round(theta) ? std::to_string(static_cast<long>(theta))
+                                    : FormatDouble(theta);
+}
+
+Json ModelJson(const JointModelParams& p) {
+  return {{"v_max_deg_per_tick", p.v_max_deg_per_tick},
+          {"theta0_deg", p.theta0_deg},
+          {"lag_ticks", p.lag_ticks},
+          {"accel_ticks", p.accel_ticks}};
+}
+
+Json StatJson(const MeanStd& s) { return {{"mean", s.mean}, {"std", s.std}}; }
+
+std::string Cell(const MeanStd& s) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.2f (± %.2f)", s.mean, s.std);
+  return buffer;
+}
+
+// The identified model's cyclic steady state under one cycle of `requests` (the model column
+// of the step and trace CSVs).
+std::vector<double> ModelPrediction(const JointModelParams& model,
+                                    const std::vector<double>& cycle) {
+  return CyclicSteadyState(model, cycle);
+}
+
+}  // namespace
+
+std::string Table1Markdown(const Table1& table) {
+  const JointModelParams& paper = paper::kTable1;
+  std::ostringstream md;
+  md << "# Table 1: model parameters\n\n"
+     << "Identified from the simulated leg's step tests (eq. 1, theta_test";
+  for (double theta : table.theta_test_deg) md << ' ' << ThetaLabel(theta);
+  md << " deg), beside the paper's values.\n\n"
+     << "| Parameter | Description | Paper | Rotator | Abductor | Knee |\n"
+     << "|---|---|---|---|---|---|\n";
+  auto row = [&](const char* symbol, const char* description, const std::string& paper_value,
+                 auto value_of) {
+    md << "| " << symbol << " | " << description << " | " << paper_value;
+    for (const IdentificationResult& joint : table.joints) md << " | " << value_of(joint);
+    md << " |\n";
+  };
+  row("v_max", "Maximum angular speed (deg/t_u)", Fixed(paper.v_max_deg_per_tick, 1),
+      [](const IdentificationResult& j) { return Fixed(j.params.v_max_deg_per_tick, 2); });
+  row("theta_0", "Angle difference threshold (deg)", Fixed(paper.theta0_deg, 1),
+      [](const IdentificationResult& j) { return Fixed(j.params.theta0_deg, 2); });
+  row("l", "Lag time (t_u)", std::to_string(paper.lag_ticks),
+      [](const IdentificationResult& j) { return std::to_string(j.params.lag_ticks); });
+  row("a", "Acceleration time (t_u)", std::to_string(paper.accel_ticks),
+      [](const IdentificationResult& j) { return std::to_string(j.params.accel_ticks); });
+  row("", "Fit RMS residual (deg)", "",
+      [](const IdentificationResult& j) { return Fixed(j.rms_residual_deg, 3); });
+  md << "\nt_u = 8 ms.\n";
+  return md.str();
+}
+
+std::string Table1Json(const Table1& table, const ExperimentConfig& config) {
+  Json json;
+  for (int j = 0; j < kLegJoints; ++j) {
+    Json joint = ModelJson(table.joints[j].params);
+    joint["fit_rms_deg"] = table.joints[j].rms_residual_deg;
+    json["joints"][std::string(kLegJointNames[j])] = joint;
+  }
+  json["paper"] = ModelJson(paper::kTable1);
+  json["plant"] = {{"robot", config.robot_yaml},
+                   {"delay_ms", config.sim.servo.delay_ms},
+                   {"max_speed_deg_s", config.sim.servo.max_speed_deg_s},
+                   {"gain_per_s", config.sim.servo.gain_per_s},
+                   {"smoothing_ms", config.sim.servo.smoothing_ms},
+                   {"max_torque_nm", config.sim.servo.max_torque_nm},
+                   {"noise_deg", config.sim.sensor.noise_deg},
+                   {"seed", config.sim.seed}};
+  if (config.plant == PlantKind::kModel) {
+    json["plant"]["kind"] = "model";
+    json["plant"]["model"] = ModelJson(config.plant_model);
+  }
+  return json.dump(2) + '\n';
+}
+
+std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoints>& joints,
+                                 const ExperimentConfig& config, const OutputDir& out) {
+  const Table1 table = ComputeTable1(joints, config.identify);
+  WriteTextFile(out.Path("table1.json"), Table1Json(table, config));
+  const std::string md = Table1Markdown(table);
+  WriteTextFile(out.Path("table1.md"), md);
+  const int period = config.identify.t_step_ticks;
+  for (const JointIdentification& joint : joints) {
+    for (const StepTestRun& run : joint.runs) {
+      const JointRecording& r = run.recording;
+      const std::vector<double> model = ModelPrediction(
+          joint.fit.params, {r.request_deg.begin(), r.request_deg.begin() + period});
+      CsvWriter csv(out.Path("step_" + std::string(kLegJointNames[run.joint]) + "_" +
+                             ThetaLabel(run.theta_test_deg) + ".csv"),
+                    {"tick", "request_deg", "actual_deg", "model_deg"});
+      for (size_t t = 0; t < r.request_deg.size(); ++t) {
+        csv.Cell(static_cast<long>(t))
+            .Cell(r.request_deg[t])
+            .Cell(r.measured_deg[t])
+            .Cell(model[t % period]);
+        csv.EndRow();
+      }
+      csv.Close();
+    }
+  }
+  return md;
+}
+
+std::string Table2Markdown(const Table2& table) {
+  std::ostringstream md;
+  md << "# Table 2: distances between angle trajectories (deg)\n\n"
+     << "Mean (± sample std) over " << table.steps << " steps of " << table.period
+     << " ticks; paper values in brackets.\n\n| Comparison | Rotator | Abductor | Knee |\n"
+     << "|---|---|---|---|\n";
+  for (const Table2Row& row : table.rows) {
+    const paper::Table2Row* paper_row = paper::FindTable2Row(row.key);
+    md << "| " << row.key;
+    for (int j = 0; j < kLegJoints; ++j) {
+      md << " | " << Cell(row.joints[j]);
+      if (paper_row) md << " [" << paper_row->mean_deg[j] << "]";
+    }
+    md << " |\n";
+  }
+  md << "\n# Foot: Euclidean distance between desired and actual foot positions (cm)\n\n"
+     << "| Method | L2 | L-infinity | Paper L2 | Paper L-infinity |\n|---|---|---|---|---|\n";
+  for (const FootRow& row : table.foot) {
+    md << "| " << row.mode;
+    for (const auto& [name, value] : row.parameters) {
+      md << " (" << name << " = " << value << ")";
+    }
+    md << " | " << Cell(row.l2_cm) << " | " << Cell(row.linf_cm) << " | ";
+    if (const paper::FootRow* paper_row = paper::FindFootRow(row.mode)) {
+      md << Cell(paper_row->l2_cm) << " | " << Cell(paper_row->linf_cm);
+    } else {
+      md << "|";
+    }
+    md << " |\n";
+  }
+  md << "\nModel " << (table.models_identified ? "identified on the plant" : "from model.* keys")
+     << ": ";
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = table.models[j];
+    char buffer[160];
+    std::snprintf(buffer, sizeof buffer, "%s v_max %.2f, theta_0 %.2f, l %d, a %d%s",
+                  std::string(kLegJointNames[j]).c_str(), p.v_max_deg_per_tick, p.theta0_deg,
+                  p.lag_ticks, p.accel_ticks, j + 1 < kLegJoints ? "; " : ".\n");
+    md << buffer;
+  }
+  return md.str();
+}
+
+std::string Table2Json(const Table2& table) {
+  Json json;
+  json["steps"] = table.steps;
+  for (const Table2Row& row : table.rows) {
+    for (int j = 0; j < kLegJoints; ++j) {
+      json["joints"][std::string(kLegJointNames[j])][row.key] = StatJson(row.joints[j]);
+    }
+  }
+  for (const FootRow& row : table.foot) {
+    Json entry;
+    for (const auto& [name, value] : row.parameters) entry[std::string(name)] = value;
+    entry["L2"] = StatJson(row.l2_cm);
+    entry["Linf"] = StatJson(row.linf_cm);
+    json["foot_cm"][row.mode] = entry;
+  }
+  for (int j = 0; j < kLegJoints; ++j) {
+    Json model = ModelJson(table.models[j]);
+    model["identified"] = table.models_identified;
+    model["pwl_segments"] = table.pwl_segments[j];
+    json["model"][std::string(kLegJointNames[j])] = model;
+  }
+  return json.dump(2) + '\n';
+}
+
+std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
+  WriteTextFile(out.Path("table2.json"), Table2Json(table));
+  const std::string md = Table2Markdown(table);
+  WriteTextFile(out.Path("table2.md"), md);
+
+  const int period = r.period;
+  std::array<std::vector<double>, kLegJoints> pwl;
+  for (int j = 0; j < kLegJoints; ++j) pwl[j] = r.context.approximations[j].Sample();
+  for (const ModeRun& run : r.runs) {
+    const std::string mode(ModeOf(run.spec).name);
+    std::array<std::vector<double>, kLegJoints> model;
+    for (int j = 0; j < kLegJoints; ++j) {
+      std::vector<double> cycle(period);
+      for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
+      model[j] = ModelPrediction(r.context.models[j], cycle);
+    }
+    CsvWriter trace(out.Path("trace_" + mode + ".csv"),
+                    {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",
+                     "model_deg"});
+    CsvWriter foot(out.Path("foot_" + mode + ".csv"),
+                   {"step", "tick", "desired_x_cm", "desired_y_cm", "desired_z_cm", "actual_x_cm",
+                    "actual_y_cm", "actual_z_cm"});
+    for (size_t i = 0; i < run.run.measured_deg.size(); ++i) {
+      const long step = static_cast<long>(i / period), tick = static_cast<long>(i % period);
+      for (int j = 0; j < kLegJoints; ++j) {
+        trace.Cell(step).Cell(tick).Cell(std::string(kLegJointNames[j]));
+        trace.Cell(r.context.desired[tick][j]).Cell(pwl[j][tick]).Cell(run.run.request_deg[i][j]);
+        trace.Cell(run.run.measured_deg[i][j]).Cell(model[j][tick]);
+        trace.EndRow();
+      }
+      const Eigen::Vector3d actual = FootMm(r.robot.geometry, run.run.measured_deg[i]) / 10.0;
+      const Eigen::Vector3d want = r.desired.foot_mm[tick] / 10.0;
+      foot.Cell(step).Cell(tick).Cell(want.x()).Cell(want.y()).Cell(want.z());
+      foot.Cell(actual.x()).Cell(actual.y()).Cell(actual.z());
+      foot.EndRow();
+    }
+    trace.Close();
+    foot.Close();
+  }
+  for (const ModeSearch& search : r.searches) {
+    const ControllerModeInfo& mode = ModeOf(search.best);
+    const auto parameters = ModeParameters(search.best);
+    const std::string column = parameters.empty() ? "candidate" : std::string(parameters[0].first);
+    CsvWriter csv(out.Path(std::string(mode.search_file) + ".csv"), {column, "foot_l2_cm"});
+    for (size_t k = 0; k < search.candidates.size(); ++k) {
+      const auto p = ModeParameters(search.candidates[k]);
+      csv.Cell(p.empty() ? static_cast<long>(k) : p[0].second).Cell(search.foot_l2_cm[k]);
+      csv.EndRow();
+    }
+    csv.Close();
+  }
+  return md;
+}
+
+}  // namespace leglab::experiments
