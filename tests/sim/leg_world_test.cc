@@ -1,22 +1,16 @@
 #include "leglab/sim/leg_world.h"
 
-#include "leglab/model/kinematics.h"
-
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
-#include <utility>
-#include <vector>
+
+#include "temp_urdf.h"
 
 namespace leglab::sim {
 namespace {
@@ -50,43 +44,8 @@ LegAngles RandomAnglesRad(const LegWorld& world, std::mt19937_64& engine) {
   return q;
 }
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// A copy of the shipped URDF with each `from` replaced by its `to`, in a file of this test's
-// own that is removed with the object.
-using Edits = std::vector<std::pair<std::string, std::string>>;  // (from, to) pairs
-
-class TempUrdf {
- public:
-  explicit TempUrdf(const Edits& edits) {
-    std::string text = ReadFile(kUrdf);
-    for (const auto& [from, to] : edits) {
-      const std::size_t at = text.find(from);
-      EXPECT_NE(at, std::string::npos) << from;
-      if (at != std::string::npos) {
-        text.replace(at, from.size(), to);
-      }
-    }
-    const std::string name = std::string("leglab_") +
-                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-                             std::to_string(::getpid()) + ".urdf";
-    path_ = (std::filesystem::temp_directory_path() / name).string();
-    std::ofstream(path_) << text;
-  }
-  TempUrdf(const std::string& from, const std::string& to) : TempUrdf(Edits{{from, to}}) {}
-  ~TempUrdf() { std::filesystem::remove(path_); }
-  TempUrdf(const TempUrdf&) = delete;
-  TempUrdf& operator=(const TempUrdf&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
+using testing::Edits;
+using testing::TempUrdf;
 
 template <typename Error>
 std::string ErrorOf(const std::string& path) {
@@ -132,24 +91,6 @@ TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
   }
 }
 
-// The URDF and leglab::model describe the same leg: same foot, same limits.
-TEST(LegWorldTest, AgreesWithLeglabModelKinematics) {
-  LegWorld world(kUrdf);
-  const LegGeometry geometry = LegGeometry::Ers210aFrontLeft();
-  for (int j = 0; j < kLegJoints; ++j) {
-    EXPECT_NEAR(world.joint(j).lower_rad, geometry.limits[j].lower_rad, 1e-9) << kLegJointNames[j];
-    EXPECT_NEAR(world.joint(j).upper_rad, geometry.limits[j].upper_rad, 1e-9) << kLegJointNames[j];
-  }
-  std::mt19937_64 engine(99);
-  for (int trial = 0; trial < 100; ++trial) {
-    const LegAngles q = RandomAnglesRad(world, engine);
-    world.SetConfigurationRad(q);
-    const Eigen::Vector3d model_foot =
-        leglab::ForwardKinematics(geometry, Eigen::Vector3d(q[0], q[1], q[2]));
-    EXPECT_LT((FootMm(world) - model_foot).norm(), 0.1);
-  }
-}
-
 TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
   LegWorld world(kUrdf);
   std::mt19937_64 engine(7);
@@ -187,8 +128,8 @@ TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
 // The unpowered leg comes to rest with its knee on the -30 deg stop, so for a free swing the
 // test moves the knee and abductor stops out of the way.
 TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
-  const TempUrdf wide_stops(Edits{{R"(lower="-0.4712388980")", R"(lower="-2.0943951024")"},
-                                  {R"(lower="-0.1919862177")", R"(lower="-0.6981317008")"}});
+  const TempUrdf wide_stops(kUrdf, Edits{{R"(lower="-0.4712388980")", R"(lower="-2.0943951024")"},
+                                         {R"(lower="-0.1919862177")", R"(lower="-0.6981317008")"}});
   LegWorld world(wide_stops.path());
   world.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
   const double initial = world.MechanicalEnergyJ();
@@ -242,65 +183,56 @@ TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
 
 // ---- Errors name the item --------------------------------------------------------------
 
-TEST(LegWorldTest, MissingFileNamesTheFile) {
-  const std::string message = ErrorOf<std::runtime_error>("/nonexistent/leg.urdf");
-  EXPECT_NE(message.find("not found"), std::string::npos) << message;
-  EXPECT_NE(message.find("/nonexistent/leg.urdf"), std::string::npos) << message;
+// The URDF checks are LoadLegDescription's (leg_description_test.cc); the path constructor
+// passes its errors on.
+TEST(LegWorldTest, PathConstructorPassesOnTheDescriptionsErrors) {
+  const std::string missing = ErrorOf<std::runtime_error>("/nonexistent/leg.urdf");
+  EXPECT_NE(missing.find("/nonexistent/leg.urdf"), std::string::npos) << missing;
+  const std::string knee = ErrorOf<std::invalid_argument>(
+      TempUrdf(kUrdf, R"(joint name="knee")", R"(joint name="knie")"));
+  EXPECT_NE(knee.find("joint 'knee' not found"), std::string::npos) << knee;
 }
 
-TEST(LegWorldTest, MalformedXmlNamesTheFileAndTheReason) {
-  const TempUrdf urdf("</robot>", "");
-  const std::string message = ErrorOf<std::runtime_error>(urdf.path());
-  EXPECT_NE(message.find("failed to parse URDF file '" + urdf.path() + "'"), std::string::npos)
-      << message;
+TEST(LegWorldTest, BuiltFromADescriptionAsFromItsUrdf) {
+  const LegDescription leg = LoadLegDescription(kUrdf);
+  LegWorld from_description(leg);
+  LegWorld from_path(kUrdf);
+  EXPECT_EQ(from_description.description().urdf_path, kUrdf);
+  const LegAngles q{0.3, 0.4, 1.2};
+  from_description.SetConfigurationRad(q);
+  from_path.SetConfigurationRad(q);
+  EXPECT_EQ(from_description.LinkOriginMm("foot"), from_path.LinkOriginMm("foot"));
+  // At q = 0 the world puts the foot where the description says.
+  from_description.SetConfigurationRad(LegAngles{});
+  const auto foot_mm = from_description.LinkOriginMm("foot");
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(foot_mm[i], 1000.0 * leg.foot_position_m[i], 1e-9);
+  }
 }
 
-TEST(LegWorldTest, MissingJointNamesTheJoint) {
-  const std::string message =
-      ErrorOf<std::invalid_argument>(TempUrdf(R"(joint name="knee")", R"(joint name="knie")"));
-  EXPECT_NE(message.find("joint 'knee' not found"), std::string::npos) << message;
+TEST(LegWorldTest, DescriptionThatIsNotATreeIsRejected) {
+  LegDescription leg = LoadLegDescription(kUrdf);
+  leg.links[3].joint = kAbductor;  // the knee's link claims the abductor: two links, no knee
+  try {
+    LegWorld world(leg);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("joint 'abductor' must move exactly one link"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
-TEST(LegWorldTest, FixedJointWhereAHingeBelongsNamesTheJoint) {
-  const std::string message = ErrorOf<std::invalid_argument>(TempUrdf(
-      R"(<joint name="abductor" type="revolute">)", R"(<joint name="abductor" type="fixed">)"));
-  EXPECT_NE(message.find("joint 'abductor' must be revolute"), std::string::npos) << message;
-}
-
-TEST(LegWorldTest, MissingFootLinkNamesTheLink) {
-  const std::string message = ErrorOf<std::invalid_argument>(
-      TempUrdf(Edits{{R"(<link name="foot"/>)", R"(<link name="paw"/>)"},
-                     {R"(<child link="foot"/>)", R"(<child link="paw"/>)"}}));
-  EXPECT_NE(message.find("link 'foot' not found"), std::string::npos) << message;
-}
-
-TEST(LegWorldTest, BadInertiaNamesTheLink) {
-  const std::string message =
-      ErrorOf<std::invalid_argument>(TempUrdf(R"(ixx="3.12954e-05")", R"(ixx="-3.12954e-05")"));
-  EXPECT_NE(message.find("link 'lower_leg'"), std::string::npos) << message;
-  EXPECT_NE(message.find("positive definite"), std::string::npos) << message;
-}
-
-TEST(LegWorldTest, InertiaBreakingTheTriangleInequalityNamesTheLink) {
-  const std::string message = ErrorOf<std::invalid_argument>(TempUrdf(R"(izz="5.256e-06"/>
-    </inertial>
-  </link>
-
-  <link name="lower_leg">)",
-                                                                      R"(izz="1e-03"/>
-    </inertial>
-  </link>
-
-  <link name="lower_leg">)"));
-  EXPECT_NE(message.find("link 'upper_leg'"), std::string::npos) << message;
-  EXPECT_NE(message.find("triangle inequality"), std::string::npos) << message;
-}
-
-TEST(LegWorldTest, UnsupportedDampingNamesTheJoint) {
-  const std::string message = ErrorOf<std::invalid_argument>(
-      TempUrdf(R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 1 0"/><dynamics damping="0.01"/>)"));
-  EXPECT_NE(message.find("joint 'knee'"), std::string::npos) << message;
-  EXPECT_NE(message.find("damping"), std::string::npos) << message;
+TEST(LegWorldTest, MassOdeRejectsNamesTheLink) {
+  LegDescription leg = LoadLegDescription(kUrdf);
+  leg.bodies[1].inertia_kg_m2[0][0] = -1.0;  // upper_leg; LoadLegDescription never gives this
+  try {
+    LegWorld world(leg);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("link 'upper_leg': ODE rejects"), std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(LegWorldTest, UnknownLinkIsNamed) {

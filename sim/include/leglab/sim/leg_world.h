@@ -2,28 +2,21 @@
 
 #include <array>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <string_view>
 
-#include "leglab/sim/sim_config.h"
-#include "leglab/core/units.h"
+#include "leglab/core/leg.h"
+#include "leglab/sim/leg_description.h"
 
 namespace leglab::sim {
 
-/// One simulated joint as described by the URDF.
-struct JointInfo {
-  std::string name;                 ///< URDF joint name (one of kLegJointNames)
-  double lower_rad = 0.0;           ///< software lower limit, rad
-  double upper_rad = 0.0;           ///< software upper limit, rad
-  double effort_nm = 0.0;           ///< torque rating, N m
-  double velocity_rad_per_s = 0.0;  ///< speed rating, rad/s
-};
+/// One simulated joint as described by the URDF (the older name of JointDescription).
+using JointInfo = JointDescription;
 
-/// The rigid-body physics of the leg: the URDF turned into an ODE world, nothing else (no
-/// servo firmware, no sensor; LegSim adds those). The root link is fixed to the world at the
-/// world origin, so world coordinates are body-frame coordinates. Each link moved by a
-/// revolute joint becomes an ODE body placed at its centre of mass; links hung on fixed joints
+/// The rigid-body physics of the leg: a LegDescription (the URDF, checked) turned into an ODE
+/// world, nothing else (no servo firmware, no sensor; LegSim adds those). The root link is fixed to
+/// the world at the world origin, so world coordinates are body-frame coordinates. Each link moved
+/// by a revolute joint becomes an ODE body placed at its centre of mass; links hung on fixed joints
 /// are lumped into their parent (a link without <inertial>, such as `foot`, is just a frame).
 /// Each revolute joint is an ODE hinge with a velocity motor and mechanical stops
 /// kStopMarginRad beyond its URDF limits. Gravity is -kGravityMPerS2 along z.
@@ -37,17 +30,20 @@ class LegWorld {
   static constexpr double kGravityMPerS2 = 9.81;
   /// How far beyond the URDF (software) limits the mechanical stops are, rad (3 deg, as on
   /// the ERS-210A).
-  static constexpr double kStopMarginRad = DegToRad(3.0);
+  static constexpr double kStopMarginRad = kMechanicalStopMarginRad;
   /// A hinge turning faster than this, rad/s, means the integration has blown up.
   static constexpr double kExplodedRateRadPerS = 1000.0;
 
-  /// Parses the URDF at `urdf_path` (absolute or relative to the working directory) and builds
-  /// the ODE world with every body at rest at q = 0.
-  /// Throws std::runtime_error naming the file when it is missing or urdfdom rejects it (with
-  /// urdfdom's reason), and std::invalid_argument naming the item when a joint of kLegJointNames
-  /// or the `foot` link is missing, a joint is not revolute or has limits the stops cannot
-  /// wrap within (-pi, pi), damping/friction/mimic is given (not modelled), another movable
-  /// joint exists, or a moving link has no or an invalid mass/inertia.
+  /// Builds the ODE world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
+  /// off). `leg` is normally LoadLegDescription's result; throws std::invalid_argument when its
+  /// indices do not form a tree with each LegJoint moving one link and each body carried by
+  /// its link, or naming the link when ODE rejects a body's mass.
+  explicit LegWorld(const LegDescription& leg);
+
+  /// LegWorld(LoadLegDescription(urdf_path)): parses the URDF at `urdf_path` (absolute or
+  /// relative to the working directory) and builds its world. Throws what LoadLegDescription
+  /// throws (std::runtime_error naming a missing or malformed file, std::invalid_argument
+  /// naming an invalid joint or link).
   explicit LegWorld(const std::string& urdf_path);
   ~LegWorld();
   LegWorld(LegWorld&&) noexcept;             ///< A moved-from LegWorld may only be destroyed.
@@ -56,7 +52,10 @@ class LegWorld {
   LegWorld& operator=(const LegWorld&) = delete;
 
   /// The URDF description of joint `joint` (0 <= joint < kLegJoints, LegAngles order).
-  const JointInfo& joint(int joint) const;
+  const JointDescription& joint(int joint) const;
+
+  /// The leg this world was built from.
+  const LegDescription& description() const;
 
   /// Hinge angles as ODE reports them, rad (zero at the URDF's q = 0, sign of the URDF axis).
   LegAngles AnglesRad() const;

@@ -2,14 +2,10 @@
 
 #include <cstdint>
 #include <string>
-#include <string_view>
 
 #include "leglab/core/leg.h"
 
 namespace leglab::sim {
-
-/// URDF name of the link whose origin is the centre of the ball of the foot.
-inline constexpr std::string_view kFootLinkName = "foot";
 
 /// The servo firmware of every joint (robot.yaml `servo.*`). Defaults emulate the paper's Aibo
 /// (Stronger & Stone, Table 1); see robots/ers210a/robot.yaml for the reasoning.

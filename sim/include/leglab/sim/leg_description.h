@@ -1,0 +1,110 @@
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "leglab/core/leg.h"
+#include "leglab/core/units.h"
+
+namespace leglab::sim {
+
+/// URDF name of the link whose origin is the centre of the ball of the foot.
+inline constexpr std::string_view kFootLinkName = "foot";
+
+/// How far beyond the URDF (software) limits the mechanical stops are, rad (3 deg, as on the
+/// ERS-210A). A URDF's limits must leave room for them inside (-pi, pi).
+inline constexpr double kMechanicalStopMarginRad = DegToRad(3.0);
+
+/// A rigid transform: a point p given in the child frame is rotation * p + translation_m in
+/// the parent frame.
+struct RigidTransform {
+  /// Rotation matrix, row-major (rotation[row][column]); its columns are the child's axes in
+  /// the parent frame.
+  std::array<std::array<double, 3>, 3> rotation{
+      {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}};
+  /// The child frame's origin in the parent frame, m.
+  std::array<double, 3> translation_m{};
+};
+
+/// One revolute joint of the leg as the URDF describes it.
+struct JointDescription {
+  std::string name;                    ///< URDF joint name, one of kLegJointNames
+  double lower_rad = 0.0;              ///< software lower limit, rad
+  double upper_rad = 0.0;              ///< software upper limit, rad
+  double effort_nm = 0.0;              ///< torque rating, N m (> 0)
+  double velocity_rad_per_s = 0.0;     ///< speed rating, rad/s
+  std::array<double, 3> position_m{};  ///< the joint's origin in the root (body) frame at q = 0, m
+  std::array<double, 3> axis{};        ///< its unit axis in the root (body) frame at q = 0
+};
+
+/// One URDF link. LegDescription::links lists them depth-first from the root, so a parent
+/// always precedes its children.
+struct LinkDescription {
+  std::string name;  ///< URDF link name
+  /// Index of the parent link in LegDescription::links; -1 for the root.
+  int parent = -1;
+  /// LegJoint of the revolute joint that moves this link relative to its parent; -1 when it
+  /// hangs on a fixed joint (or is the root).
+  int joint = -1;
+  /// This link's frame at q = 0 in its parent's frame (the URDF joint origin); identity for
+  /// the root.
+  RigidTransform origin{};
+  /// Unit axis of `joint` in this link's frame (the URDF <axis>, normalised); (0, 0, 1) when
+  /// `joint` is -1.
+  std::array<double, 3> axis{0.0, 0.0, 1.0};
+  /// Index in LegDescription::bodies of the rigid body this link rides on; -1 for the root and
+  /// links fixed to it (they stay put).
+  int body = -1;
+  /// This link's frame in the frame of the link that carries its body (LinkDescription at
+  /// bodies[body].link), or in the root frame when `body` is -1. Identity for a moving link.
+  RigidTransform in_body{};
+};
+
+/// One rigid body: a link moved by a revolute joint, with the links hung on it by fixed joints
+/// lumped in (their masses combined about the joint centre of mass, parallel-axis theorem).
+struct BodyDescription {
+  /// Index in LegDescription::links of the moving link whose frame the body carries.
+  int link = -1;
+  /// Total mass, kg (> 0).
+  double mass_kg = 0.0;
+  /// Centre of mass in the carrying link's frame, m.
+  std::array<double, 3> com_m{};
+  /// Inertia about the centre of mass in the carrying link's axes, kg m^2, row-major
+  /// (symmetric, positive definite).
+  std::array<std::array<double, 3>, 3> inertia_kg_m2{};
+};
+
+/// A leg's URDF as plain data, checked: what the simulator builds its physics from.
+struct LegDescription {
+  /// The URDF file it was read from, as given to LoadLegDescription.
+  std::string urdf_path;
+  /// The URDF's <robot name="...">.
+  std::string robot_name;
+  /// The three revolute joints, in LegJoint order.
+  std::array<JointDescription, kLegJoints> joints;
+  /// Origin of link kFootLinkName in the root frame at q = 0, m.
+  std::array<double, 3> foot_position_m{};
+  /// Every link, depth-first from the root (links[0]).
+  std::vector<LinkDescription> links;
+  /// Every moving rigid body, in the depth-first order of the links that carry them.
+  std::vector<BodyDescription> bodies;
+
+  /// Index in `links` of the link called `name`; -1 when there is none.
+  int FindLink(std::string_view name) const;
+};
+
+/// Parses and checks the URDF at `urdf_path` (absolute or relative to the working directory):
+/// reads its tree depth-first, its three joints and lumps fixed children into their moving
+/// parent. Touches no physics engine.
+/// Throws std::runtime_error naming the file when it is missing or urdfdom rejects it (with
+/// urdfdom's reason), and std::invalid_argument naming the item when a joint of kLegJointNames
+/// or the `foot` link is missing, a joint is not revolute or has limits the stops
+/// (kMechanicalStopMarginRad beyond them) cannot wrap within (-pi, pi), damping/friction/mimic
+/// is given (not modelled), another movable joint exists, or a moving link has no or an
+/// invalid mass/inertia (non-positive mass, an inertia that is not positive definite or
+/// breaks the triangle inequality).
+LegDescription LoadLegDescription(const std::string& urdf_path);
+
+}  // namespace leglab::sim
