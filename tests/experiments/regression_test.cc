@@ -6,68 +6,63 @@
 // the model or a controller that moves a norm by a few times the noise does not. Changing a
 // pin is a deliberate commit that says why.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/rig.h"
+#include "leglab/experiments/tables.h"
+#include "leglab/experiments/track.h"
+#include "leglab/model/paper.h"
+
+namespace leglab::experiments {
 namespace {
 
-namespace fs = std::filesystem;
+const std::string kConfigs = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
 
-nlohmann::json RunAndRead(const std::string& program, const std::string& config,
-                          const std::string& extra, const std::string& file) {
-  const fs::path out = fs::temp_directory_path() / ("leglab_regression_" + file);
-  fs::remove_all(out);
-  const std::string command = "cd '" LEGLAB_SOURCE_DIR "' && " + program + " --config " + config +
-                              " --out '" + out.string() + "' " + extra + " >/dev/null";
-  const int status = std::system(command.c_str());
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command;
-  std::ifstream in(out / file);
-  nlohmann::json j = nlohmann::json::parse(in);
-  fs::remove_all(out);
-  return j;
+// Table 1 as `identify` computes it, in-process.
+Table1 Identify(const std::string& config_file, const std::vector<std::string>& overrides = {}) {
+  const ExperimentConfig config = LoadExperimentConfig(kConfigs + config_file, overrides);
+  return ComputeTable1(IdentifyLeg(config, LoadRobot(config.sim.urdf_path)), config.identify);
 }
 
 // The paper's Table 1 and the tolerances the plant must meet (the sim issue).
 TEST(Regression, IdentifyFindsTable1OnTheDefaultRobot) {
-  const nlohmann::json t =
-      RunAndRead(LEGLAB_IDENTIFY_BIN, "experiments/configs/identify.yaml", "", "table1.json");
-  for (const char* joint : {"rotator", "abductor", "knee"}) {
-    const nlohmann::json& p = t["joints"][joint];
-    EXPECT_NEAR(p["v_max_deg_per_tick"].get<double>(), 2.5, 0.25) << joint;
-    EXPECT_NEAR(p["theta0_deg"].get<double>(), 7.0, 1.5) << joint;
-    EXPECT_EQ(p["lag_ticks"].get<int>(), 4) << joint;
-    EXPECT_NEAR(p["accel_ticks"].get<int>(), 6, 1) << joint;
-    EXPECT_LT(p["fit_rms_deg"].get<double>(), 0.5) << joint;
+  const Table1 t = Identify("identify.yaml");
+  const JointModelParams& paper = paper::kTable1;
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = t.joints[j].params;
+    EXPECT_NEAR(p.v_max_deg_per_tick, paper.v_max_deg_per_tick, 0.25) << kLegJointNames[j];
+    EXPECT_NEAR(p.theta0_deg, paper.theta0_deg, 1.5) << kLegJointNames[j];
+    EXPECT_EQ(p.lag_ticks, paper.lag_ticks) << kLegJointNames[j];
+    EXPECT_NEAR(p.accel_ticks, paper.accel_ticks, 1) << kLegJointNames[j];
+    EXPECT_LT(t.joints[j].rms_residual_deg, 0.5) << kLegJointNames[j];
   }
   // Pinned (seed 1): l and a exactly, the continuous parameters to well inside the spread a
   // seed change gives (0.01 deg/tick, 0.1 deg).
   const struct {
-    const char* joint;
     double v_max, theta0;
-  } pins[] = {{"rotator", 2.50, 5.65}, {"abductor", 2.52, 8.34}, {"knee", 2.50, 5.64}};
-  for (const auto& pin : pins) {
-    const nlohmann::json& p = t["joints"][pin.joint];
-    EXPECT_NEAR(p["v_max_deg_per_tick"].get<double>(), pin.v_max, 0.03) << pin.joint;
-    EXPECT_NEAR(p["theta0_deg"].get<double>(), pin.theta0, 0.3) << pin.joint;
-    EXPECT_EQ(p["accel_ticks"].get<int>(), 6) << pin.joint;
+  } pins[kLegJoints] = {{2.50, 5.65}, {2.52, 8.34}, {2.50, 5.64}};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = t.joints[j].params;
+    EXPECT_NEAR(p.v_max_deg_per_tick, pins[j].v_max, 0.03) << kLegJointNames[j];
+    EXPECT_NEAR(p.theta0_deg, pins[j].theta0, 0.3) << kLegJointNames[j];
+    EXPECT_EQ(p.accel_ticks, 6) << kLegJointNames[j];
   }
 }
 
 // Another plant gives that plant's model, not the paper's: one more tick of delay is one more
 // tick of lag (l = delay / 8 - 1 under the timing convention in leg_sim.h).
 TEST(Regression, IdentifyFindsAnotherPlantsLag) {
-  const nlohmann::json t = RunAndRead(LEGLAB_IDENTIFY_BIN, "experiments/configs/identify.yaml",
-                                      "--set servo.delay_ms=48", "table1.json");
-  for (const char* joint : {"rotator", "abductor", "knee"}) {
-    EXPECT_EQ(t["joints"][joint]["lag_ticks"].get<int>(), 5) << joint;
-    EXPECT_NEAR(t["joints"][joint]["accel_ticks"].get<int>(), 6, 1) << joint;
-    EXPECT_NEAR(t["joints"][joint]["v_max_deg_per_tick"].get<double>(), 2.5, 0.25) << joint;
+  const Table1 t = Identify("identify.yaml", {"servo.delay_ms=48"});
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = t.joints[j].params;
+    EXPECT_EQ(p.lag_ticks, 5) << kLegJointNames[j];
+    EXPECT_NEAR(p.accel_ticks, 6, 1) << kLegJointNames[j];
+    EXPECT_NEAR(p.v_max_deg_per_tick, 2.5, 0.25) << kLegJointNames[j];
   }
 }
 
@@ -76,19 +71,28 @@ TEST(Regression, IdentifyFindsAnotherPlantsLag) {
 class TrackRegression : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    table_ = new nlohmann::json(RunAndRead(LEGLAB_TRACK_BIN, "experiments/configs/track.yaml",
-                                           "--set steps=4 --set warmup_steps=2", "table2.json"));
+    table_.emplace(ComputeTable2(RunTrackExperiment(
+        LoadExperimentConfig(kConfigs + "track.yaml", {"steps=4", "warmup_steps=2"}))));
   }
-  static void TearDownTestSuite() { delete table_; }
+  static void TearDownTestSuite() { table_.reset(); }
   static double Mean(const char* joint, const char* row) {
-    return (*table_)["joints"][joint][row]["mean"].get<double>();
+    const Table2Row* found = table_->Find(row);
+    EXPECT_NE(found, nullptr) << row;
+    for (int j = 0; j < kLegJoints; ++j) {
+      if (kLegJointNames[j] == joint) return found ? found->joints[j].mean : NAN;
+    }
+    ADD_FAILURE() << joint;
+    return NAN;
   }
   static double Foot(const char* mode, const char* norm) {
-    return (*table_)["foot_cm"][mode][norm]["mean"].get<double>();
+    const FootRow* found = table_->FindFoot(mode);
+    EXPECT_NE(found, nullptr) << mode;
+    if (!found) return NAN;
+    return std::string(norm) == "L2" ? found->l2_cm.mean : found->linf_cm.mean;
   }
-  static nlohmann::json* table_;
+  static std::optional<Table2> table_;
 };
-nlohmann::json* TrackRegression::table_ = nullptr;
+std::optional<Table2> TrackRegression::table_;
 
 TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
   // Pin (seed 1) and tolerance: three times the spread of that mean over seeds 1-5, at least
@@ -128,7 +132,10 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
     EXPECT_NEAR(Foot(f.mode, "L2"), f.l2, f.l2_tolerance) << f.mode;
     EXPECT_NEAR(Foot(f.mode, "Linf"), f.linf, f.linf_tolerance) << f.mode;
   }
-  EXPECT_EQ((*table_)["foot_cm"]["time_shift"]["k"].get<int>(), 8);  // 8 for every seed
+  const FootRow* shift = table_->FindFoot("time_shift");
+  ASSERT_NE(shift, nullptr);
+  EXPECT_EQ(shift->parameters, (std::vector<std::pair<std::string_view, long>>{{"k", 8}}))
+      << "8 for every seed";
 }
 
 // The paper's result in shape (the track issue's bounds, independent of the pins).
@@ -143,3 +150,4 @@ TEST_F(TrackRegression, ModelBasedHalvesTheDirectErrors) {
 }
 
 }  // namespace
+}  // namespace leglab::experiments
