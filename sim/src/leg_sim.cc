@@ -79,17 +79,24 @@ void LegSim::Tick() {
         " (t = " + std::to_string(static_cast<double>(tick_) * kTickMs) + " ms): " + problem);
   }
   ++tick_;
-  measured_rad_ = sensor_.Measure(world_.AnglesRad());
+  SampleReading();
 }
 
-LegAngles LegSim::TrueDeg() const { return ToDeg(world_.AnglesRad()); }
+const PlantReading& LegSim::Tick(const LegAngles& request_deg) {
+  SetRequestsDeg(request_deg);
+  Tick();
+  return reading_;
+}
 
-LegAngles LegSim::CommandedDeg() const {
-  LegAngles commanded{};
+void LegSim::SampleReading() {
+  const LegAngles angles_rad = world_.AnglesRad();
+  LegAngles commanded_rad{};
   for (int j = 0; j < kLegJoints; ++j) {
-    commanded[j] = servos_[j].latest_request_rad();
+    commanded_rad[j] = servos_[j].latest_request_rad();
   }
-  return ToDeg(commanded);
+  reading_.measured_deg = ToDeg(sensor_.Measure(angles_rad));
+  reading_.true_deg = ToDeg(angles_rad);
+  reading_.applied_deg = ToDeg(commanded_rad);
 }
 
 void LegSim::SetJointAnglesDeg(const LegAngles& q_deg) {
@@ -111,7 +118,7 @@ void LegSim::SetJointAnglesDeg(const LegAngles& q_deg) {
     servos_[j].Hold(q_rad[j]);
   }
   request_rad_ = q_rad;
-  measured_rad_ = sensor_.Measure(world_.AnglesRad());
+  SampleReading();
 }
 
 }  // namespace leglab::sim

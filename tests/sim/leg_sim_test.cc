@@ -1,4 +1,6 @@
 #include "leglab/sim/leg_sim.h"
+#include "leglab/core/plant.h"
+#include "leglab/core/units.h"
 
 #include <gtest/gtest.h>
 
@@ -221,6 +223,102 @@ TEST(LegSimTest, PlantsOnParallelThreadsMatchSerialRuns) {
     EXPECT_TRUE(BitIdentical(trace.measured, serial.measured));
     EXPECT_TRUE(BitIdentical(trace.truth, serial.truth));
   }
+}
+
+// ---- As a leglab::Plant -----------------------------------------------------------------
+
+LegAngles Wave(int t) {
+  const double phase = 2.0 * 3.141592653589793 * t / 88.0;
+  return {30.0 * std::sin(phase), 20.0 + 15.0 * std::cos(phase),
+          60.0 + 40.0 * std::sin(2.0 * phase)};
+}
+
+bool SameBits(const LegAngles& a, const LegAngles& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(LegAngles)) == 0;
+}
+
+LegAngles ToDegrees(const LegAngles& rad) {
+  return {RadToDeg(rad[0]), RadToDeg(rad[1]), RadToDeg(rad[2])};
+}
+
+// Two plants with the same seed: one driven by the LegSim calls, one through Plant&. Every
+// reading has the same bits; the true angles are also ODE's hinge angles read directly.
+TEST(LegSimPlantTest, PlantCallsGiveTheSameBitsAsTheLegSimCalls) {
+  SimConfig config = Config(40.0, 0.1);
+  config.seed = 3;
+  LegSim old_calls(config);
+  LegSim plant_sim(config);
+  Plant& plant = plant_sim;
+  const LegAngles pose{10.0, 20.0, 40.0};
+  old_calls.SetJointAnglesDeg(pose);
+  plant.Reset(pose);
+  EXPECT_TRUE(SameBits(plant.Read().measured_deg, old_calls.MeasuredDeg()));
+  for (int t = 0; t < 200; ++t) {
+    old_calls.SetRequestsDeg(Wave(t));
+    old_calls.Tick();
+    const PlantReading& reading = plant.Tick(Wave(t));
+    ASSERT_TRUE(SameBits(reading.measured_deg, old_calls.MeasuredDeg())) << "tick " << t;
+    ASSERT_TRUE(SameBits(reading.true_deg, old_calls.TrueDeg())) << "tick " << t;
+    ASSERT_TRUE(SameBits(reading.applied_deg, old_calls.CommandedDeg())) << "tick " << t;
+    ASSERT_TRUE(SameBits(reading.true_deg, ToDegrees(plant_sim.world().AnglesRad())))
+        << "tick " << t;
+    ASSERT_EQ(&plant.Read(), &reading);  // the latest reading, kept by the plant
+  }
+  EXPECT_EQ(plant_sim.tick(), 200);
+}
+
+TEST(LegSimPlantTest, AppliedIsTheClampedRequest) {
+  LegSim sim(Config(0.0));
+  Plant& plant = sim;
+  const PlantReading& beyond = plant.Tick({500.0, -90.0, 200.0});
+  // The limits: rotator -117..117, abductor -11..89, knee -27..147 deg (radians to 10
+  // decimals in the URDF).
+  EXPECT_NEAR(beyond.applied_deg[0], 117.0, 1e-6);
+  EXPECT_NEAR(beyond.applied_deg[1], -11.0, 1e-6);
+  EXPECT_NEAR(beyond.applied_deg[2], 147.0, 1e-6);
+  const LegAngles within{-30.0, 45.0, -20.0};
+  const PlantReading& inside = plant.Tick(within);
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_NEAR(inside.applied_deg[j], within[j], 1e-12) << kLegJointNames[j];
+  }
+}
+
+TEST(LegSimPlantTest, ReadingIsValidAfterConstructionAndReset) {
+  LegSim sim(Config(32.0, 0.1));
+  const Plant& plant = sim;
+  EXPECT_EQ(plant.name(), "sim");
+  EXPECT_EQ(plant.Read().true_deg, (LegAngles{0.0, 0.0, 0.0}));
+  EXPECT_EQ(plant.Read().applied_deg, (LegAngles{0.0, 0.0, 0.0}));
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_LT(std::abs(plant.Read().measured_deg[j]), 1.0);  // 10 sigma of the noise
+  }
+  sim.Tick(LegAngles{20.0, 20.0, 20.0});
+  const LegAngles pose{-40.0, 60.0, 120.0};
+  sim.Reset(pose);
+  EXPECT_EQ(sim.tick(), 1);  // Reset does not advance time
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_NEAR(plant.Read().true_deg[j], pose[j], 1e-9) << kLegJointNames[j];
+    EXPECT_NEAR(plant.Read().applied_deg[j], pose[j], 1e-12) << kLegJointNames[j];
+    EXPECT_NEAR(plant.Read().measured_deg[j], pose[j], 1.0) << kLegJointNames[j];
+  }
+}
+
+TEST(LegSimPlantTest, BadRequestAndPoseNameTheJoint) {
+  LegSim sim(Config());
+  Plant& plant = sim;
+  try {
+    plant.Tick({0.0, 0.0, std::nan("")});
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'knee'"), std::string::npos) << error.what();
+  }
+  try {
+    plant.Reset({-120.0, 0.0, 0.0});
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("'rotator'"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(sim.tick(), 0);
 }
 
 // ---- Errors --------------------------------------------------------------------------

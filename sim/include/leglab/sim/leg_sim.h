@@ -2,7 +2,9 @@
 
 #include <array>
 #include <stdexcept>
+#include <string_view>
 
+#include "leglab/core/plant.h"
 #include "leglab/sim/angle_sensor.h"
 #include "leglab/sim/joint_servo.h"
 #include "leglab/sim/leg_world.h"
@@ -18,7 +20,9 @@ class SimError : public std::runtime_error {
 
 /// The simulated plant: one ERS-210A leg held in the air (LegWorld physics), driven by servo
 /// firmware (JointServo, one per joint) and read by noisy angle sensors (AngleSensor). It is
-/// hardware to the controller: write requests, tick, read measured angles.
+/// hardware to the controller: write requests, tick, read measured angles. As a leglab::Plant,
+/// Reset() is SetJointAnglesDeg(), Tick(request) is SetRequestsDeg(request) then Tick(), and
+/// the reading is {MeasuredDeg(), TrueDeg(), CommandedDeg()}.
 ///
 /// Timing: at control tick t the caller calls SetRequestsDeg(R(t)) and then Tick(); after
 /// Tick() returns, MeasuredDeg() is the angle recorded immediately after request t, sampled at
@@ -28,15 +32,15 @@ class SimError : public std::runtime_error {
 ///
 /// Deterministic: the same config (including seed) and calls give bit-identical results, also
 /// when separate LegSims run on parallel threads (one LegSim per thread at a time).
-class LegSim {
+class LegSim final : public leglab::Plant {
  public:
   /// Validates `config` (std::invalid_argument naming the key), then builds the leg from
   /// config.urdf_path (std::runtime_error naming the file if it is missing or malformed,
   /// std::invalid_argument naming the joint or link if one is missing or invalid; see
   /// LegWorld). The leg starts at rest at q = 0 with every request 0, tick() == 0, and
-  /// MeasuredDeg() holds one reading of that pose.
+  /// MeasuredDeg() and Read() hold one reading of that pose.
   explicit LegSim(const SimConfig& config);
-  ~LegSim();
+  ~LegSim() override;
   LegSim(LegSim&&) noexcept;             ///< A moved-from LegSim may only be destroyed.
   LegSim& operator=(LegSim&&) noexcept;  ///< A moved-from LegSim may only be destroyed.
   LegSim(const LegSim&) = delete;
@@ -52,15 +56,31 @@ class LegSim {
   /// tick when the state turns non-finite or explodes (the sim is then unusable).
   void Tick();
 
+  /// Plant: SetRequestsDeg(request_deg), then Tick(); returns the reading at the end of the
+  /// tick ({MeasuredDeg(), TrueDeg(), CommandedDeg()}), valid until the next Tick or Reset.
+  /// Throws std::invalid_argument naming the joint for a non-finite request, SimError when
+  /// the simulation breaks down.
+  const PlantReading& Tick(const LegAngles& request_deg) override;
+
+  /// Plant: SetJointAnglesDeg(pose_deg) (throws as it does).
+  void Reset(const LegAngles& pose_deg) override { SetJointAnglesDeg(pose_deg); }
+
+  /// Plant: the reading at the end of the latest Tick(), or of the pose after construction or
+  /// the latest SetJointAnglesDeg()/Reset(); deg.
+  const PlantReading& Read() const override { return reading_; }
+
+  /// Plant: "sim".
+  std::string_view name() const override { return "sim"; }
+
   /// The latest sensor reading, deg: true angle + Gaussian noise (sensor.noise_deg, seeded),
   /// quantised to 1 microradian; sampled once at the end of each Tick().
-  LegAngles MeasuredDeg() const { return ToDeg(measured_rad_); }
+  LegAngles MeasuredDeg() const { return reading_.measured_deg; }
 
   /// The exact hinge angles now, deg.
-  LegAngles TrueDeg() const;
+  LegAngles TrueDeg() const { return reading_.true_deg; }
 
   /// The latest request as the servo took it (clamped to the joint limits), deg.
-  LegAngles CommandedDeg() const;
+  LegAngles CommandedDeg() const { return reading_.applied_deg; }
 
   /// Centre of the ball of the foot (the `foot` link origin) in the body frame, mm, from the
   /// ODE body poses.
@@ -90,6 +110,10 @@ class LegSim {
 
  private:
   static LegAngles ToDeg(const LegAngles& rad);
+  // Takes the reading, in degrees: one sensor sample of the hinge angles, the hinge angles
+  // themselves and the servos' latest requests. The state changes only in Tick() and
+  // SetJointAnglesDeg(), which call it last; the getters return parts of it.
+  void SampleReading();
 
   SimConfig config_;
   LegWorld world_;
@@ -99,7 +123,7 @@ class LegSim {
   int steps_per_tick_;
   double physics_dt_s_;
   LegAngles request_rad_{};
-  LegAngles measured_rad_{};
+  PlantReading reading_{};
   bool motors_enabled_ = true;
   long tick_ = 0;
 };
