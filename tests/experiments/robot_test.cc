@@ -33,6 +33,8 @@ const Published kLegs[] = {
     {"ers210a_hind", {-59.5, 59.2, 0.0}, {-12.8, 0.5, -64.0}, {29.36, 0.0, -70.88}, 1.0, -1.0},
 };
 
+void PrintTo(const Published& leg, std::ostream* out) { *out << leg.robot; }
+
 class RobotTest : public ::testing::TestWithParam<Published> {};
 
 TEST_P(RobotTest, GeometryIsThePublishedOne) {
