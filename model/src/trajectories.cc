@@ -62,7 +62,7 @@ std::vector<Eigen::Vector3d> JointTrajectoryDeg(const LegGeometry& geometry,
   for (size_t t = 0; t < foot_path_mm.size(); ++t) {
     try {
       const Eigen::Vector3d q_rad = InverseKinematics(geometry, foot_path_mm[t]);
-      angles[t] = q_rad * (180.0 / std::numbers::pi);
+      angles[t] = {RadToDeg(q_rad[0]), RadToDeg(q_rad[1]), RadToDeg(q_rad[2])};
     } catch (const std::domain_error& e) {
       throw std::domain_error("tick " + std::to_string(t) + ": " + e.what());
     }
