@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -175,6 +177,40 @@ TEST_F(ProgramsTest, ADirectRunDoesNotNeedWhatModelBasedNeeds) {
   EXPECT_FALSE(fs::exists(out_ / "trace_model_based.csv"));
   fs::remove_all(out_);
   ExpectBadInput(kTrack, args + " --set controller.modes=[model_based]", "eq. 13");
+}
+
+// Reads every file of `dir` into name -> bytes.
+std::map<std::string, std::string> FilesOf(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    files[entry.path().filename().string()].assign(std::istreambuf_iterator<char>(in), {});
+  }
+  return files;
+}
+
+TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
+  const std::string short_run =
+      " --set steps=2 --set warmup_steps=1 --set identify.record_cycles=2"
+      " --set identify.settle_cycles=1";
+  for (const char* config : {"identify.yaml", "track.yaml"}) {
+    const std::string program = std::string(config) == "track.yaml" ? kTrack : kIdentify;
+    std::map<std::string, std::string> first;
+    for (const int threads : {1, 2}) {
+      const fs::path out = dir_ / ("threads" + std::to_string(threads));
+      const Result r = RunCommand(program + " --config experiments/configs/" + config +
+                                  " --out '" + out.string() + "' --threads " +
+                                  std::to_string(threads) + short_run);
+      ASSERT_EQ(r.status, 0) << r.stderr_text;
+      if (threads == 1) {
+        first = FilesOf(out);
+        EXPECT_GE(first.size(), 4u);
+      } else {
+        EXPECT_EQ(FilesOf(out), first) << config;
+      }
+    }
+  }
+  ExpectBadInput(kTrack, "--config experiments/configs/track.yaml --threads 0", "threads");
 }
 
 TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {
