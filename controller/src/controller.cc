@@ -16,8 +16,8 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
   if (desired.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
   const auto period = static_cast<int>(desired.size());
   if (pwl_segments < 1 || pwl_segments > period) {
-    throw std::invalid_argument("config: controller.pwl_segments must be at most the " +
-                                std::to_string(period) + " ticks of a step, got " +
+    throw std::invalid_argument("config: controller.pwl_segments must be in [1, " +
+                                std::to_string(period) + "] (the ticks of a step), got " +
                                 std::to_string(pwl_segments));
   }
   ControllerContext context{std::move(desired), models, limits, {}};

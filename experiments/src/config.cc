@@ -153,11 +153,10 @@ class ControllerOptions final : public OptionReader {
     map_.Read(std::string(key), value);
   }
   [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
-    config_fail(map_.Name(std::string(key)) + " must be " + expectation);
+    leglab::experiments::Fail(map_.Name(std::string(key)) + " must be " + expectation);
   }
 
  private:
-  static void config_fail(const std::string& what) { throw InputError("config: " + what); }
   MapReader& map_;
 };
 
@@ -303,7 +302,6 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
               "a list of " + ControllerModeNames() + ", got '" + m + "'");
     }
     c.Read("pwl_segments", config.pwl_segments);
-    Require(config.pwl_segments >= 1, "controller.pwl_segments", "at least 1");
     ControllerOptions options(c);
     std::vector<ControllerSpec> all;
     for (const ControllerModeInfo& m : ControllerModes()) {
