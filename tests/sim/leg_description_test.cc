@@ -19,6 +19,7 @@ using testing::Edits;
 using testing::TempUrdf;
 
 const std::string kFrontUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+const std::string kHindUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a_hind/leg.urdf";
 
 using Vec = std::array<double, 3>;
 using Mat = std::array<std::array<double, 3>, 3>;
@@ -128,6 +129,46 @@ TEST(LegDescriptionTest, LinksDepthFirstWithFixedLinksRidingOnTheirParentsBody) 
   EXPECT_LT(Distance(Mm(leg.links[3].origin.translation_m), Vec{12.8, 0.5, -64.0}), 1e-9);
 }
 
+// ---- The hind leg at q = 0 ----------------------------------------------------------------
+
+TEST(LegDescriptionTest, HindLegJointsAndFootAtZero) {
+  const LegDescription leg = LoadLegDescription(kHindUrdf);
+  EXPECT_EQ(leg.robot_name, "ers210a_hind_left_leg");
+  // hip = (-59.5, 59.2, 0); knee = hip + upper leg (-12.8, 0.5, -64);
+  // foot = knee + lower leg (29.36, 0, -70.88), mm.
+  const Vec hip{-59.5, 59.2, 0.0};
+  const Vec knee{-59.5 - 12.8, 59.2 + 0.5, 0.0 - 64.0};
+  const Vec foot{-59.5 - 12.8 + 29.36, 59.2 + 0.5 + 0.0, 0.0 - 64.0 - 70.88};
+  const std::array<Vec, kLegJoints> positions{hip, hip, knee};
+  // Mirrored in x, the axes about y flip: rotator +y (+ swings the paw backward), abductor +x
+  // (+ outward), knee -y (+ flexes, swinging the paw forward).
+  const std::array<Vec, kLegJoints> axes{Vec{0, 1, 0}, Vec{1, 0, 0}, Vec{0, -1, 0}};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointDescription& joint = leg.joints[j];
+    EXPECT_EQ(joint.name, kLegJointNames[j]);
+    EXPECT_LT(Distance(Mm(joint.position_m), positions[j]), 1e-9) << joint.name;
+    EXPECT_LT(Distance(joint.axis, axes[j]), 1e-12) << joint.name;
+  }
+  EXPECT_LT(Distance(Mm(leg.foot_position_m), foot), 1e-9);
+}
+
+// The same servos: limits and ratings exactly the front leg's; the same stand-in masses.
+TEST(LegDescriptionTest, HindLegHasTheFrontLegsLimitsRatingsAndMasses) {
+  const LegDescription front = LoadLegDescription(kFrontUrdf);
+  const LegDescription hind = LoadLegDescription(kHindUrdf);
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_EQ(hind.joints[j].lower_rad, front.joints[j].lower_rad) << kLegJointNames[j];
+    EXPECT_EQ(hind.joints[j].upper_rad, front.joints[j].upper_rad) << kLegJointNames[j];
+    EXPECT_EQ(hind.joints[j].effort_nm, front.joints[j].effort_nm) << kLegJointNames[j];
+    EXPECT_EQ(hind.joints[j].velocity_rad_per_s, front.joints[j].velocity_rad_per_s)
+        << kLegJointNames[j];
+  }
+  ASSERT_EQ(hind.bodies.size(), front.bodies.size());
+  for (std::size_t b = 0; b < hind.bodies.size(); ++b) {
+    EXPECT_EQ(hind.bodies[b].mass_kg, front.bodies[b].mass_kg);
+  }
+}
+
 // ---- Masses ----------------------------------------------------------------------------------
 
 // The root (body, 0.613 kg) is fixed to the world and belongs to no body; the three moving
@@ -198,6 +239,13 @@ TEST(LegDescriptionTest, FrontSegmentsAreRodsAlongTheSegments) {
   const LegDescription leg = LoadLegDescription(kFrontUrdf);
   ExpectRodAlong(leg, {"upper_leg", {12.8, 0.5, -64.0}});
   ExpectRodAlong(leg, {"lower_leg", {-18.88, 0.0, -66.0}});
+}
+
+// Checks the hind URDF's worked inertial origins and rpy (see its header comment).
+TEST(LegDescriptionTest, HindSegmentsAreRodsAlongTheSegments) {
+  const LegDescription leg = LoadLegDescription(kHindUrdf);
+  ExpectRodAlong(leg, {"upper_leg", {-12.8, 0.5, -64.0}});
+  ExpectRodAlong(leg, {"lower_leg", {29.36, 0.0, -70.88}});
 }
 
 // ---- Errors name the item ---------------------------------------------------------------

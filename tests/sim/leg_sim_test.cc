@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -234,7 +236,12 @@ LegAngles Wave(int t) {
 }
 
 bool SameBits(const LegAngles& a, const LegAngles& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(LegAngles)) == 0;
+  for (int j = 0; j < kLegJoints; ++j) {
+    if (std::bit_cast<std::uint64_t>(a[j]) != std::bit_cast<std::uint64_t>(b[j])) {
+      return false;
+    }
+  }
+  return true;
 }
 
 LegAngles ToDegrees(const LegAngles& rad) {

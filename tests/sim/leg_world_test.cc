@@ -4,8 +4,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <ostream>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -17,17 +19,61 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+const std::string kHindUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a_hind/leg.urdf";
 
-// The ERS-210A front-left kinematics written out by hand from the robot notes, independent of
-// the URDF and of leglab::model:
-//   foot = shoulder + Ry(-q1) Rx(q2) (upper_leg + Ry(q3) lower_leg), mm.
-Eigen::Vector3d HandFootMm(const LegAngles& q_rad) {
-  const Eigen::Vector3d shoulder(59.5, 59.2, 0.0);
-  const Eigen::Vector3d upper_leg(12.8, 0.5, -64.0);
-  const Eigen::Vector3d lower_leg(-18.88, 0.0, -66.0);
-  const auto ry = [](double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()); };
-  const auto rx = [](double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()); };
-  return shoulder + ry(-q_rad[0]) * (rx(q_rad[1]) * (upper_leg + ry(q_rad[2]) * lower_leg));
+// An ERS-210A left leg written out by hand from the robot notes (ers210a.md), independent of
+// the URDF: the CMPack'02 vectors, mm, and the joint axes in the body frame at q = 0.
+struct HandLeg {
+  std::string name;
+  std::string urdf;
+  Eigen::Vector3d shoulder;   // body centre -> J1/J2
+  Eigen::Vector3d upper_leg;  // J1/J2 -> knee
+  Eigen::Vector3d lower_leg;  // knee -> ball of the foot
+  std::array<Eigen::Vector3d, kLegJoints> axes;
+  Eigen::Vector3d foot_at_zero;  // shoulder + upper_leg + lower_leg, summed by hand
+  // Which way the paw moves along x (+1 forward, -1 backward) when the rotator, resp. the
+  // knee, turns positive from q = 0.
+  double rotator_paw_dx_sign;
+  double knee_paw_dx_sign;
+};
+
+// Rotator + swings the front paw forward (axis -y); abductor + outward (+x); knee + flexes
+// (+y), swinging the paw backward.
+const HandLeg kFrontLeg{
+    "Front",
+    kUrdf,
+    {59.5, 59.2, 0.0},
+    {12.8, 0.5, -64.0},
+    {-18.88, 0.0, -66.0},
+    {-Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()},
+    {59.5 + 12.8 - 18.88, 59.2 + 0.5 + 0.0, 0.0 - 64.0 - 66.0},
+    +1.0,
+    -1.0};
+
+// The hind leg mirrors x: its axes about y flip. Rotator + swings the hind paw backward (+y);
+// abductor + outward (+x); knee + flexes (-y), swinging the paw forward.
+const HandLeg kHindLeg{
+    "Hind",
+    kHindUrdf,
+    {-59.5, 59.2, 0.0},
+    {-12.8, 0.5, -64.0},
+    {29.36, 0.0, -70.88},
+    {Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitY()},
+    {-59.5 - 12.8 + 29.36, 59.2 + 0.5 + 0.0, 0.0 - 64.0 - 70.88},
+    -1.0,
+    +1.0};
+
+// gtest prints a failing test's parameter with this.
+void PrintTo(const HandLeg& leg, std::ostream* out) { *out << leg.name << " leg"; }
+
+//   foot = shoulder + R(a1, q1) R(a2, q2) (upper_leg + R(a3, q3) lower_leg), mm.
+Eigen::Vector3d HandFootMm(const HandLeg& leg, const LegAngles& q_rad) {
+  const auto turn = [&leg](int joint, double angle) {
+    return Eigen::AngleAxisd(angle, leg.axes[joint]);
+  };
+  return leg.shoulder +
+         turn(kRotator, q_rad[0]) *
+             (turn(kAbductor, q_rad[1]) * (leg.upper_leg + turn(kKnee, q_rad[2]) * leg.lower_leg));
 }
 
 Eigen::Vector3d FootMm(const LegWorld& world) {
@@ -62,8 +108,12 @@ std::string ErrorOf(const TempUrdf& urdf) {
   return ErrorOf<Error>(urdf.path());
 }
 
-TEST(LegWorldTest, ReadsJointsAndLimitsFromTheUrdf) {
-  const LegWorld world(kUrdf);
+// ---- Front and hind: the URDF against the hand kinematics ----------------------------------
+
+class LegKinematicsTest : public ::testing::TestWithParam<HandLeg> {};
+
+TEST_P(LegKinematicsTest, ReadsJointsAndLimitsFromTheUrdf) {
+  const LegWorld world(GetParam().urdf);
   const double limits_deg[3][2] = {{-117, 117}, {-11, 89}, {-27, 147}};
   for (int j = 0; j < kLegJoints; ++j) {
     EXPECT_EQ(world.joint(j).name, kLegJointNames[j]);
@@ -74,25 +124,28 @@ TEST(LegWorldTest, ReadsJointsAndLimitsFromTheUrdf) {
   EXPECT_EQ(world.AnglesRad(), (LegAngles{0.0, 0.0, 0.0}));
 }
 
-TEST(LegWorldTest, FootAtZeroIsTheSumOfTheLinkVectors) {
-  const LegWorld world(kUrdf);
-  // (59.5 + 12.8 - 18.88, 59.2 + 0.5 + 0, 0 - 64 - 66) mm.
-  EXPECT_LT((FootMm(world) - Eigen::Vector3d(53.42, 59.7, -130.0)).norm(), 1e-9);
+TEST_P(LegKinematicsTest, FootAtZeroIsTheSumOfTheLinkVectors) {
+  const HandLeg& leg = GetParam();
+  const LegWorld world(leg.urdf);
+  EXPECT_LT((FootMm(world) - leg.foot_at_zero).norm(), 1e-9);
+  EXPECT_LT((HandFootMm(leg, LegAngles{}) - leg.foot_at_zero).norm(), 1e-12);
 }
 
-TEST(LegWorldTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
-  LegWorld world(kUrdf);
+TEST_P(LegKinematicsTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
+  const HandLeg& leg = GetParam();
+  LegWorld world(leg.urdf);
   std::mt19937_64 engine(2024);
   for (int trial = 0; trial < 200; ++trial) {
     const LegAngles q = RandomAnglesRad(world, engine);
     world.SetConfigurationRad(q);
-    EXPECT_LT((FootMm(world) - HandFootMm(q)).norm(), 0.1)
+    // The bodies are placed from the URDF's transforms: only round-off separates the two.
+    EXPECT_LT((FootMm(world) - HandFootMm(leg, q)).norm(), 1e-9)
         << "q = " << q[0] << ", " << q[1] << ", " << q[2] << " rad";
   }
 }
 
-TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
-  LegWorld world(kUrdf);
+TEST_P(LegKinematicsTest, HingeAngleEqualsUrdfJointAngle) {
+  LegWorld world(GetParam().urdf);
   std::mt19937_64 engine(7);
   for (int trial = 0; trial < 50; ++trial) {
     const LegAngles q = RandomAnglesRad(world, engine);
@@ -107,9 +160,10 @@ TEST(LegWorldTest, HingeAngleEqualsUrdfJointAngle) {
 // ODE's hinge sign depends on attach order and axis direction: drive each joint alone with
 // its motor and check that the angle ODE reports grows, and that the foot lands where the
 // hand kinematics puts it for that angle (so positive means what the URDF says).
-TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
+TEST_P(LegKinematicsTest, MotorTurnsEachJointTheUrdfWay) {
+  const HandLeg& leg = GetParam();
   for (int j = 0; j < kLegJoints; ++j) {
-    LegWorld world(kUrdf);
+    LegWorld world(leg.urdf);
     LegAngles start{0.0, 20.0 * kDeg, 30.0 * kDeg};
     world.SetConfigurationRad(start);
     for (int step = 0; step < 200; ++step) {  // 0.2 s at 1 rad/s
@@ -120,10 +174,33 @@ TEST(LegWorldTest, MotorTurnsEachJointTheUrdfWay) {
     }
     const LegAngles angles = world.AnglesRad();
     EXPECT_NEAR(angles[j] - start[j], 0.2, 1e-3) << kLegJointNames[j];
-    EXPECT_LT((FootMm(world) - HandFootMm(angles)).norm(), 0.1) << kLegJointNames[j];
-    EXPECT_GT((FootMm(world) - HandFootMm(start)).norm(), 5.0) << kLegJointNames[j];
+    EXPECT_LT((FootMm(world) - HandFootMm(leg, angles)).norm(), 0.1) << kLegJointNames[j];
+    EXPECT_GT((FootMm(world) - HandFootMm(leg, start)).norm(), 5.0) << kLegJointNames[j];
   }
 }
+
+// The signs the robot notes give, read off the foot: rotator + swings the front paw forward and
+// the hind paw backward, abductor + moves the paw outward (+y, left legs), knee + swings the
+// front paw backward and the hind paw forward.
+TEST_P(LegKinematicsTest, PositiveAnglesMoveThePawTheDocumentedWay) {
+  const HandLeg& leg = GetParam();
+  LegWorld world(leg.urdf);
+  const Eigen::Vector3d at_zero = FootMm(world);
+  const auto moved = [&world, &at_zero](const LegAngles& q) -> Eigen::Vector3d {
+    world.SetConfigurationRad(q);
+    return FootMm(world) - at_zero;
+  };
+  EXPECT_GT(leg.rotator_paw_dx_sign * moved({0.3, 0.0, 0.0}).x(), 10.0);
+  EXPECT_GT(moved({0.0, 0.3, 0.0}).y(), 10.0);
+  EXPECT_GT(leg.knee_paw_dx_sign * moved({0.0, 0.0, 0.3}).x(), 10.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Legs, LegKinematicsTest, ::testing::Values(kFrontLeg, kHindLeg),
+                         [](const ::testing::TestParamInfo<HandLeg>& param_info) {
+                           return param_info.param.name;
+                         });
+
+// ---- The front leg's physics -------------------------------------------------------------
 
 // The unpowered leg comes to rest with its knee on the -30 deg stop, so for a free swing the
 // test moves the knee and abductor stops out of the way.
