@@ -27,8 +27,8 @@
 
 namespace {
 
-using leglab::LegAngles;
 using leglab::kLegJoints;
+using leglab::LegAngles;
 using leglab::sim::LegSim;
 using leglab::sim::LegWorld;
 using leglab::sim::SimConfig;

@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-#include "leglab/sim/sim_config.h"
 #include "leglab/core/units.h"
+#include "leglab/sim/sim_config.h"
 
 namespace leglab::sim {
 
