@@ -1,18 +1,56 @@
+include(GNUInstallDirs)
+
 # leglab_set_warnings(target): the project's warning set, applied per target.
 function(leglab_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
                                            -Wno-sign-conversion -Wnon-virtual-dtor)
 endfunction()
 
-# leglab_add_library(<name> SOURCES <files...> [PUBLIC <deps...>] [PRIVATE <deps...>])
+# leglab_add_library(<name> [INTERFACE] [SOURCES <files...>] [PUBLIC <deps...>]
+#                    [PRIVATE <deps...>])
 # One folder's library: leglab_<name> with the alias leglab::<name>, the folder's include/ as
-# its public headers, C++20 and the project's warnings. List only the dependencies it uses.
+# its public headers, C++20 and the project's warnings. INTERFACE makes a header-only library
+# (no SOURCES, no PRIVATE). List only the dependencies it uses.
+# Installed: the library into the export set leglabTargets as leglab::<name>, and the folder's
+# include/leglab/... under <prefix>/include. A PRIVATE dependency of a static library is still
+# needed when a program links it: leglabConfig.cmake.in must find_dependency() it.
 function(leglab_add_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
-  add_library(leglab_${name} ${ARG_SOURCES})
-  add_library(leglab::${name} ALIAS leglab_${name})
-  target_include_directories(leglab_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-  target_compile_features(leglab_${name} PUBLIC cxx_std_20)
-  target_link_libraries(leglab_${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
-  leglab_set_warnings(leglab_${name})
+  cmake_parse_arguments(ARG "INTERFACE" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  set(target leglab_${name})
+  if(ARG_INTERFACE)
+    add_library(${target} INTERFACE)
+    set(public INTERFACE)
+  else()
+    add_library(${target} ${ARG_SOURCES})
+    target_link_libraries(${target} PRIVATE ${ARG_PRIVATE})
+    leglab_set_warnings(${target})
+    set(public PUBLIC)
+  endif()
+  add_library(leglab::${name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  target_include_directories(${target} ${public}
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_features(${target} ${public} cxx_std_20)
+  target_link_libraries(${target} ${public} ${ARG_PUBLIC})
+
+  install(TARGETS ${target} EXPORT leglabTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endfunction()
+
+# leglab_add_data(<folder> <destination>): a data folder of the source tree (e.g. robots) that
+# programs read at run time, as <prefix>/share/leglab/<destination> when installed and as
+# <build>/share/leglab/<destination> (a symbolic link to the source folder, so edits show at
+# once) in the build tree. Programs find it relative to their own executable (DataDir()), so
+# the build tree mirrors the installed layout: bin/ beside share/leglab/.
+function(leglab_add_data folder destination)
+  set(source ${CMAKE_CURRENT_SOURCE_DIR}/${folder})
+  set(link ${PROJECT_BINARY_DIR}/${LEGLAB_DATA_DIR}/${destination})
+  get_filename_component(parent ${link} DIRECTORY)
+  file(MAKE_DIRECTORY ${parent})
+  file(CREATE_LINK ${source} ${link} SYMBOLIC)
+  install(DIRECTORY ${source}/ DESTINATION ${LEGLAB_DATA_DIR}/${destination})
 endfunction()

@@ -7,6 +7,8 @@
 #include <set>
 #include <string_view>
 
+#include "leglab/experiments/data_dir.h"
+
 namespace leglab::experiments {
 namespace {
 
@@ -186,10 +188,11 @@ fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
   if (robot.find('/') != std::string::npos || fs::path(robot).extension() == ".yaml") {
     return fs::path(robot).is_absolute() ? fs::path(robot) : config_dir / robot;
   }
-  // A robot name: robots/<name>/robot.yaml in the working directory, else in the source tree.
+  // A robot name: robots/<name>/robot.yaml in the working directory, else leglab's own
+  // (DataDir(): the installed share/leglab, or the build tree's link to the source folder).
   fs::path here = fs::path("robots") / robot / "robot.yaml";
   if (fs::exists(here)) return here;
-  return fs::path(LEGLAB_SOURCE_DIR) / "robots" / robot / "robot.yaml";
+  return DataDir() / "robots" / robot / "robot.yaml";
 }
 
 // An experiment file with the file named by its `extends:` key (relative to it) merged beneath,

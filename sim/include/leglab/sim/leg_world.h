@@ -6,7 +6,9 @@
 #include <string_view>
 
 #include "leglab/core/leg.h"
+#include "leglab/core/units.h"
 #include "leglab/sim/leg_description.h"
+#include "leglab/sim/sim_config.h"
 
 namespace leglab::sim {
 

@@ -1,0 +1,56 @@
+# ctest Install.Consumer (see CMakeLists.txt here). Variables: BUILD_DIR (the leglab build),
+# WORK_DIR (scratch, removed before and after a passing run; left for inspection on failure),
+# CONSUMER_DIR, GENERATOR, CXX_COMPILER, BUILD_TYPE, CXX_FLAGS and EXE_LINKER_FLAGS (the
+# consumer is compiled as leglab was, sanitizers included), PROGRAMS (experiments built),
+# BINDIR, DATADIR (relative to the prefix).
+
+# run(<var> <command...>): runs the command, fails the test unless it exits 0; its standard
+# output and error go to <var>.
+function(run var)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out
+                  WORKING_DIRECTORY ${WORK_DIR})
+  if(NOT rc EQUAL 0)
+    list(JOIN ARGN " " command)
+    message(FATAL_ERROR "exit status ${rc}: ${command}\n${out}")
+  endif()
+  set(${var} "${out}" PARENT_SCOPE)
+endfunction()
+
+function(expect text regex what)
+  if(NOT text MATCHES "${regex}")
+    message(FATAL_ERROR "${what}: expected '${regex}' in:\n${text}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+
+run(out ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+
+run(out ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
+        -D CMAKE_PREFIX_PATH=${prefix} -D CMAKE_CXX_COMPILER=${CXX_COMPILER}
+        -D CMAKE_BUILD_TYPE=${BUILD_TYPE} -D "CMAKE_CXX_FLAGS=${CXX_FLAGS}"
+        -D "CMAKE_EXE_LINKER_FLAGS=${EXE_LINKER_FLAGS}")
+run(out ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+run(out ${WORK_DIR}/build/consumer ${prefix}/${DATADIR}/robots/ers210a/leg.urdf)
+# C_m by hand (eq. 6, m = 1): the six speeds f(C - 4) .. f(C - 9) are all on the linear part
+# of f, so S(C) = (2.5 / 7) (C - 6.5) = 1 gives C = 9.3.
+expect("${out}" "C_m = 9\\.3000 deg" "consumer, the model")
+# A 10 deg request, 25 ticks: about 5 of lag and 4 at top speed; the servo holds near 10.
+expect("${out}" "rotator = (9\\.[5-9]|10\\.[0-4]) deg" "consumer, the sim")
+
+if(PROGRAMS)
+  run(out ${prefix}/${BINDIR}/identify --help)
+  expect("${out}" "--config" "identify --help")
+  # The installed identify and config, run from a folder with no robots/: robot ers210a is
+  # found beside the program (<prefix>/share/leglab), not in the source tree.
+  run(out ${prefix}/${BINDIR}/identify
+          --config ${prefix}/${DATADIR}/experiments/configs/identify.yaml --out ${WORK_DIR}/out
+          --set identify.settle_cycles=1 --set identify.record_cycles=1)
+  if(NOT EXISTS ${WORK_DIR}/out/table1.json)
+    message(FATAL_ERROR "installed identify wrote no table1.json:\n${out}")
+  endif()
+endif()
+
+file(REMOVE_RECURSE ${WORK_DIR})
