@@ -79,7 +79,11 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     throw InputError("desired.csv '" + path + "': " + what);
   };
   std::string header = "tick";
-  for (std::string_view joint : kLegJointNames) header += "," + std::string(joint) + "_deg";
+  for (std::string_view joint : kLegJointNames) {
+    header += ',';  // appended piecewise: GCC 12 misfires -Wrestrict on "," + ...
+    header += joint;
+    header += "_deg";
+  }
   std::string line;
   if (!std::getline(in, line)) fail("is empty");
   if (!line.empty() && line.back() == '\r') line.pop_back();

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "leglab/model/line_inverse.h"
+#include "leglab/model/paper.h"
 #include "leglab/sim/leg_sim.h"
 
 int main(int argc, char** argv) {
@@ -11,7 +12,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: consumer <leg.urdf>\n");
     return 2;
   }
-  const leglab::JointModelParams paper;  // v_max 2.5, theta_0 7, l 4, a 6
+  const leglab::JointModelParams paper = leglab::paper::kTable1;  // 2.5, 7, 4, 6
   std::printf("C_m = %.4f deg\n", leglab::LineInverseOffsetExact(paper, 1.0));
 
   leglab::sim::SimConfig config;
