@@ -29,7 +29,8 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
       throw std::invalid_argument("controller: model of the " + joint + ": " + e.what());
     }
     if (!(limits[j].lower_rad < limits[j].upper_rad)) {
-      throw std::invalid_argument("controller: limits of the " + joint + " must have lower < upper");
+      throw std::invalid_argument("controller: limits of the " + joint +
+                                  " must have lower < upper");
     }
     std::vector<double> joint_desired(period);
     for (int t = 0; t < period; ++t) joint_desired[t] = context.desired[t][j];
@@ -43,8 +44,8 @@ LegAngles ClampToLimits(const LegAngles& request_deg,
                         const std::array<JointLimits, kLegJoints>& limits) {
   LegAngles clamped;
   for (int j = 0; j < kLegJoints; ++j) {
-    clamped[j] = std::clamp(request_deg[j], RadToDeg(limits[j].lower_rad),
-                            RadToDeg(limits[j].upper_rad));
+    clamped[j] =
+        std::clamp(request_deg[j], RadToDeg(limits[j].lower_rad), RadToDeg(limits[j].upper_rad));
   }
   return clamped;
 }

@@ -343,7 +343,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     std::vector<double> hold(c.hold_deg.begin(), c.hold_deg.end());
     id.Read("hold_deg", hold);
     std::string joints;
-    for (std::string_view name : kLegJointNames) joints += (joints.empty() ? "" : ", ") + std::string(name);
+    for (std::string_view name : kLegJointNames)
+      joints += (joints.empty() ? "" : ", ") + std::string(name);
     Require(hold.size() == kLegJoints, "identify.hold_deg",
             "a list of " + std::to_string(kLegJoints) + " angles (" + joints + ")");
     std::copy(hold.begin(), hold.end(), c.hold_deg.begin());
@@ -387,7 +388,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     if (const std::string problem = HalfEllipseLocusProblem(t.locus.shape); !problem.empty()) {
       Fail(locus.Name(problem));
     }
-    for (const double v : {t.locus.forward_mm, t.locus.outward_mm, t.locus.ground_below_shoulder_mm}) {
+    for (const double v :
+         {t.locus.forward_mm, t.locus.outward_mm, t.locus.ground_below_shoulder_mm}) {
       Require(std::isfinite(v), "desired.locus", "finite in every placement key");
     }
 

@@ -110,7 +110,8 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
       } catch (const std::exception&) {
         fail("row " + std::to_string(row) + ", " + name + ": '" + cells[c] + "' is not a number");
       }
-      if (!std::isfinite(values[c])) fail("row " + std::to_string(row) + ", " + name + " is not finite");
+      if (!std::isfinite(values[c]))
+        fail("row " + std::to_string(row) + ", " + name + " is not finite");
       if (c > 0) {
         const JointLimits& lim = geometry.limits[c - 1];
         if (DegToRad(values[c]) < lim.lower_rad - 1e-9 ||
@@ -142,10 +143,10 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
   }
   HalfEllipseLocus locus = track.locus.shape;
   locus.t_step_ticks = track.t_step_ticks;
-  locus.centre_mm = geometry.shoulder_mm +
-                    Eigen::Vector3d(track.locus.forward_mm,
-                                    geometry.OutwardSign() * track.locus.outward_mm,
-                                    -track.locus.ground_below_shoulder_mm);
+  locus.centre_mm =
+      geometry.shoulder_mm + Eigen::Vector3d(track.locus.forward_mm,
+                                             geometry.OutwardSign() * track.locus.outward_mm,
+                                             -track.locus.ground_below_shoulder_mm);
   DesiredMotion d;
   d.foot_mm = HalfEllipseFootPath(locus);
   try {

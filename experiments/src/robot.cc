@@ -19,9 +19,7 @@ Eigen::Vector3d Mm(const std::array<double, 3>& m) {
   return mm;
 }
 
-Eigen::Vector3d Rounded(const Eigen::Vector3d& mm) {
-  return (mm * 1e6).array().round() / 1e6;
-}
+Eigen::Vector3d Rounded(const Eigen::Vector3d& mm) { return (mm * 1e6).array().round() / 1e6; }
 
 }  // namespace
 

@@ -63,8 +63,8 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
     search.candidates = SearchCandidates(spec, r.context);
     search.foot_l2_cm.resize(search.candidates.size());
     ParallelFor(static_cast<int>(search.candidates.size()), config.threads, [&](int k) {
-      search.foot_l2_cm[k] = MeanFootL2Cm(RunMode(config, r, search.candidates[k]).foot_error_cm,
-                                          r.period);
+      search.foot_l2_cm[k] =
+          MeanFootL2Cm(RunMode(config, r, search.candidates[k]).foot_error_cm, r.period);
     });
     const auto best = std::min_element(search.foot_l2_cm.begin(), search.foot_l2_cm.end()) -
                       search.foot_l2_cm.begin();

@@ -32,8 +32,7 @@ JointModelPlant::JointModelPlant(const std::array<JointModelParams, kLegJoints>&
 
 void JointModelPlant::Reset(const LegAngles& pose_deg) {
   for (int j = 0; j < kLegJoints; ++j) {
-    if (!std::isfinite(pose_deg[j]) || pose_deg[j] < lower_deg_[j] ||
-        pose_deg[j] > upper_deg_[j]) {
+    if (!std::isfinite(pose_deg[j]) || pose_deg[j] < lower_deg_[j] || pose_deg[j] > upper_deg_[j]) {
       throw std::invalid_argument("joint '" + std::string(kLegJointNames[j]) + "': pose " +
                                   std::to_string(pose_deg[j]) + " deg is outside its limits [" +
                                   std::to_string(lower_deg_[j]) + ", " +

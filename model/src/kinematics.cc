@@ -60,14 +60,14 @@ int FirstViolatedJoint(const LegGeometry& geometry, const Eigen::Vector3d& q) {
 
 // The sign s of an axis +-e (validated): R(s e, q) = R(e, s q), so each joint turns about a
 // coordinate axis by s q.
-double Sign(const Eigen::Vector3d& axis, int coordinate) { return axis[coordinate] < 0.0 ? -1.0 : 1.0; }
+double Sign(const Eigen::Vector3d& axis, int coordinate) {
+  return axis[coordinate] < 0.0 ? -1.0 : 1.0;
+}
 
 }  // namespace
 
 void ValidateLegGeometry(const LegGeometry& geometry) {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("leg geometry: " + what);
-  };
+  auto fail = [](const std::string& what) { throw std::invalid_argument("leg geometry: " + what); };
   if (!geometry.shoulder_mm.allFinite()) fail("the shoulder vector is not finite");
   if (!geometry.upper_leg_mm.allFinite()) fail("the upper-leg vector is not finite");
   if (!geometry.lower_leg_mm.allFinite()) fail("the lower-leg vector is not finite");

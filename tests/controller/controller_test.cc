@@ -149,8 +149,8 @@ TEST(Controllers, DirectRequestsTheDesiredAngles) {
 
 TEST(Controllers, TimeShiftLeadsByKTicks) {
   const DesiredCycle d = Walkish();
-  const auto controller = MakeController(SpecOf("time_shift", {{"shift_ticks", "9"}}),
-                                         PaperContext(d));
+  const auto controller =
+      MakeController(SpecOf("time_shift", {{"shift_ticks", "9"}}), PaperContext(d));
   for (long t = 0; t < 88; ++t) EXPECT_EQ(controller->Update(t, {}), d[(t + 9) % 88]);
   EXPECT_EQ(ModeParameters(SpecOf("time_shift", {{"shift_ticks", "9"}})),
             (std::vector<std::pair<std::string_view, long>>{{"k", 9}}));

@@ -46,7 +46,8 @@ struct OptionError : std::invalid_argument {
 /// Options from a map of key -> text; every key read is remembered.
 class MapOptions final : public OptionReader {
  public:
-  explicit MapOptions(std::map<std::string, std::string> values = {}) : values_(std::move(values)) {}
+  explicit MapOptions(std::map<std::string, std::string> values = {})
+      : values_(std::move(values)) {}
   void Read(std::string_view key, int& value) override {
     if (const std::string* text = Find(key)) value = std::stoi(*text);
   }

@@ -198,9 +198,9 @@ TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
     std::map<std::string, std::string> first;
     for (const int threads : {1, 2}) {
       const fs::path out = dir_ / ("threads" + std::to_string(threads));
-      const Result r = RunCommand(program + " --config experiments/configs/" + config +
-                                  " --out '" + out.string() + "' --threads " +
-                                  std::to_string(threads) + short_run);
+      const Result r =
+          RunCommand(program + " --config experiments/configs/" + config + " --out '" +
+                     out.string() + "' --threads " + std::to_string(threads) + short_run);
       ASSERT_EQ(r.status, 0) << r.stderr_text;
       if (threads == 1) {
         first = FilesOf(out);

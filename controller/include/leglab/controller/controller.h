@@ -20,9 +20,9 @@ using DesiredCycle = std::vector<LegAngles>;
 /// model and limits, and each joint's slope-limited piecewise-linear approximation of the
 /// desired cycle (fitted once per run, by MakeControllerContext).
 struct ControllerContext {
-  DesiredCycle desired;                                     ///< deg, one step
-  std::array<JointModelParams, kLegJoints> models;          ///< identified or given
-  std::array<JointLimits, kLegJoints> limits;               ///< rad, the plant's software limits
+  DesiredCycle desired;                                    ///< deg, one step
+  std::array<JointModelParams, kLegJoints> models;         ///< identified or given
+  std::array<JointLimits, kLegJoints> limits;              ///< rad, the plant's software limits
   std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
 };
 

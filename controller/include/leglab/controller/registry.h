@@ -42,11 +42,11 @@ using ControllerSpec = RegisteredControllerModes::Spec;
 
 /// What the experiments need to know about a mode besides building it.
 struct ControllerModeInfo {
-  std::string_view name;    ///< in configs (controller.mode/modes) and output file names
-  std::string_view label;   ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
-  bool feed_forward;        ///< requests periodic and independent of what is measured
-  bool follows_approximation;  ///< Table 2 also compares it with the approximation P
-  bool searchable;             ///< has SearchCandidates (searched when the experiment asks)
+  std::string_view name;         ///< in configs (controller.mode/modes) and output file names
+  std::string_view label;        ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
+  bool feed_forward;             ///< requests periodic and independent of what is measured
+  bool follows_approximation;    ///< Table 2 also compares it with the approximation P
+  bool searchable;               ///< has SearchCandidates (searched when the experiment asks)
   std::string_view search_file;  ///< a searched mode's output file (without .csv)
 };
 

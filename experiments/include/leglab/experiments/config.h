@@ -35,9 +35,9 @@ struct IdentifyConfig {
 /// with the cited walk's defaults) and where it sits relative to the leg's shoulder. These
 /// are the only defaults of the locus, equal to the shipped track.yaml.
 struct LocusConfig {
-  HalfEllipseLocus shape;  ///< length_mm, height_mm, ground_fraction (centre and period unused)
-  double forward_mm = 49.0;                 ///< centre of the flat bottom ahead of the shoulder
-  double outward_mm = 28.0;                 ///< ... outward of the shoulder (away from the body)
+  HalfEllipseLocus shape;    ///< length_mm, height_mm, ground_fraction (centre and period unused)
+  double forward_mm = 49.0;  ///< centre of the flat bottom ahead of the shoulder
+  double outward_mm = 28.0;  ///< ... outward of the shoulder (away from the body)
   double ground_below_shoulder_mm = 100.0;  ///< ... below the shoulder
 };
 
@@ -80,10 +80,10 @@ struct ExperimentConfig {
 
 /// Loads `config_path` (with the file its `extends:` key names, relative to it, merged beneath
 /// it, recursively), merges the robot it names (`robot:` a name under robots/ or a path to
-/// a robot.yaml, default ers210a; a robot file may `extends:` another) beneath it, applies `overrides` ("key.path=value", value in
-/// YAML syntax) last and in order, and converts the result into structs with defaults.
-/// Throws InputError naming the file or key for a missing or malformed file, an unknown key,
-/// a value of the wrong type or out of range, or a missing URDF.
+/// a robot.yaml, default ers210a; a robot file may `extends:` another) beneath it, applies
+/// `overrides` ("key.path=value", value in YAML syntax) last and in order, and converts the result
+/// into structs with defaults. Throws InputError naming the file or key for a missing or malformed
+/// file, an unknown key, a value of the wrong type or out of range, or a missing URDF.
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides = {});
 

@@ -44,8 +44,8 @@ struct FootRow {
 struct Table2 {
   int steps = 0;
   int period = 0;
-  std::vector<Table2Row> rows;     ///< per mode: L2 and Linf to D, and to P if it follows P
-  std::vector<FootRow> foot;       ///< per mode, in run order
+  std::vector<Table2Row> rows;  ///< per mode: L2 and Linf to D, and to P if it follows P
+  std::vector<FootRow> foot;    ///< per mode, in run order
   std::array<JointModelParams, kLegJoints> models;
   bool models_identified = false;
   std::array<int, kLegJoints> pwl_segments{};

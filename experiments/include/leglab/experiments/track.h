@@ -29,9 +29,9 @@ struct ModeSearch {
 struct TrackResult {
   Robot robot;
   DesiredMotion desired;
-  ControllerContext context;      ///< desired angles, models, limits, approximations P
-  bool models_identified = false;  ///< identified on the plant (no model.* keys given)
-  std::vector<ModeRun> runs;       ///< in the config's mode order
+  ControllerContext context;         ///< desired angles, models, limits, approximations P
+  bool models_identified = false;    ///< identified on the plant (no model.* keys given)
+  std::vector<ModeRun> runs;         ///< in the config's mode order
   std::vector<ModeSearch> searches;  ///< for the searched modes, in run order
   int steps = 0;
   int period = 0;

@@ -32,7 +32,6 @@ std::string Table2Json(const Table2& table);
 
 /// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv and
 /// each search's CSV (time_shift's shift_search.csv). Returns the Markdown tables.
-std::string WriteTrackOutputs(const TrackResult& result, const Table2& table,
-                              const OutputDir& out);
+std::string WriteTrackOutputs(const TrackResult& result, const Table2& table, const OutputDir& out);
 
 }  // namespace leglab::experiments

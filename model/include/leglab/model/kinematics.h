@@ -23,7 +23,7 @@ struct JointLimits {
 ///   foot = shoulder + R(a1, q1) R(a2, q2) (upper_leg + R(a3, q3) lower_leg),
 /// where R(a, q) turns by q about the unit axis a.
 struct LegGeometry {
-  Eigen::Vector3d shoulder_mm;  ///< body centre -> shoulder (J1/J2 axes' intersection)
+  Eigen::Vector3d shoulder_mm;   ///< body centre -> shoulder (J1/J2 axes' intersection)
   Eigen::Vector3d upper_leg_mm;  ///< shoulder -> knee
   Eigen::Vector3d lower_leg_mm;  ///< knee -> centre of the ball of the foot
   /// Each joint's unit axis at q = 0, indexed by LegJoint: rotator and knee +-y, abductor +-x.
