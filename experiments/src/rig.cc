@@ -95,7 +95,7 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     std::vector<std::string> cells;
     std::stringstream s(line);
     for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    const auto columns = static_cast<size_t>(kLegJoints + 1);
+    constexpr size_t columns = kLegJoints + 1;
     if (cells.size() != columns) {
       fail("row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
            " columns, expected " + std::to_string(columns));

@@ -105,7 +105,7 @@ std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoint
                                  const ExperimentConfig& config, const OutputDir& out) {
   const Table1 table = ComputeTable1(joints, config.identify);
   WriteTextFile(out.Path("table1.json"), Table1Json(table, config));
-  const std::string md = Table1Markdown(table);
+  std::string md = Table1Markdown(table);
   WriteTextFile(out.Path("table1.md"), md);
   const int period = config.identify.t_step_ticks;
   for (const JointIdentification& joint : joints) {
@@ -198,7 +198,7 @@ std::string Table2Json(const Table2& table) {
 
 std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
   WriteTextFile(out.Path("table2.json"), Table2Json(table));
-  const std::string md = Table2Markdown(table);
+  std::string md = Table2Markdown(table);
   WriteTextFile(out.Path("table2.md"), md);
 
   const int period = r.period;
