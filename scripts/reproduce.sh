@@ -17,8 +17,15 @@ if [ -x build/bin/track ]; then
   build/bin/track --config experiments/configs/track.yaml --out "$out"
   ran=1
 fi
+# The left hind leg: its own Table 1 and Table 2 in results/hind/.
+if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
+  build/bin/identify --config experiments/configs/identify.yaml --set robot=ers210a_hind \
+    --out "$out/hind"
+  build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
+fi
 if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out"
+  /usr/bin/python3 scripts/plot_figures.py "$out/hind"
 fi
 if [ $ran -eq 0 ]; then
   echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2
