@@ -14,7 +14,7 @@ namespace {
 // The smoothing is quartered from stage to stage while it is at least this fraction of theta_0.
 constexpr double kLastSmoothingTheta0 = 1e-3;
 // A smoothed stage only warms up the next one: it stops once a step gains less than this.
-constexpr double kSmoothedStageToleranceDeg = 1e-5;
+constexpr double kSmoothedStageToleranceDeg = 1e-6;
 
 // Eq. 3 run round a request cycle with f of eq. 2 (smoothing 0) or, for smoothing s > 0, the
 // surrogate f_s(x) = (k/2) (sqrt((x + theta_0)^2 + s^2) - sqrt((x - theta_0)^2 + s^2)),
@@ -330,9 +330,6 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   std::vector<char> saturated_at_kink(static_cast<std::size_t>(n) * a, 0);
 
   while (used < budget) {
-    // With f exact a dead request (every term it enters saturated) has no first-order effect;
-    // moving it to the edge of f's linear range changes nothing now and lets it act again.
-    if (exact) PullBackDeadRequests(params, it.angles, options, it.requests);
     const PeriodicModel model(params, it.requests, stage.smoothing, /*closed_kinks=*/exact);
     const double kink_width = 1e-9 * (1.0 + th);
     auto term = [&](int t, int i) { return it.requests[index(t - i)] - it.angles[index(t - 1)]; };

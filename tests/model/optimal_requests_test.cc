@@ -150,8 +150,8 @@ TEST(SteadyStateSensitivity, RowsSumToOneAndCausalityHolds) {
 
 // --- Brute force on small cycles -----------------------------------------------------------
 
-// The best RMS error over an exhaustive grid on a box of requests, each of the 20 best grid
-// points refined by compass search (halving the step down to 1e-8 deg).
+// The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
+// of the 40 best grid points refined by compass search (halving the step down to 1e-8 deg).
 double BruteForceBest(const JointModelParams& p, std::span<const double> d,
                       std::vector<double>* best_requests) {
   const int n = static_cast<int>(d.size());
@@ -160,7 +160,7 @@ double BruteForceBest(const JointModelParams& p, std::span<const double> d,
   const double reach = p.theta0_deg + p.v_max_deg_per_tick * (p.lag_ticks + p.accel_ticks) + 2.0;
   const double lo = *dmin - reach;
   const double hi = *dmax + reach;
-  const int points = n == 4 ? 19 : 10;
+  const int points = n == 4 ? 21 : 11;
   const double spacing = (hi - lo) / (points - 1);
   auto score = [&](const std::vector<double>& r) {
     try {
@@ -180,7 +180,7 @@ double BruteForceBest(const JointModelParams& p, std::span<const double> d,
     while (k < n && ++index[k] == points) index[k++] = 0;
     if (k == n) break;
   }
-  const std::size_t starts = 20;
+  const std::size_t starts = 40;
   std::partial_sort(grid.begin(), grid.begin() + starts, grid.end());
 
   double best = std::numeric_limits<double>::infinity();
@@ -214,44 +214,31 @@ double BruteForceBest(const JointModelParams& p, std::span<const double> d,
 struct SmallCase {
   JointModelParams params;
   std::vector<double> desired;
+  bool saturated_optimum;  // every term of eq. 3 saturated at the optimum
 };
 
 TEST(OptimizeRequests, ReachesTheBruteForceOptimumOnSmallCycles) {
   // T = 4 or 5, l = 0 or 1, a = 1 or 2, D a small step or spike, too fast to follow exactly.
+  // In the two a = 2 steps the best answer saturates every term of eq. 3 all round the cycle
+  // (bang-bang requests): the model then has a whole interval of steady states, of which
+  // CyclicSteadyState picks the one through the mean request, and the error jumps where a
+  // term leaves saturation; the optimum is reached there too.
   const std::vector<SmallCase> cases = {
-      {{2.5, 7.0, 0, 1}, {0, 0, 6, 6}},    {{2.5, 7.0, 1, 1}, {0, 0, 6, 6}},
-      {{2.5, 7.0, 0, 1}, {0, 0, 8, 0, 0}}, {{2.5, 7.0, 0, 2}, {0, 0, 8, 0, 0}},
-      {{2.5, 7.0, 1, 2}, {0, 0, 8, 0, 0}}, {{1.0, 2.0, 1, 2}, {0, 0, 3, 3, 0}},
-      {{1.0, 2.0, 0, 1}, {0, 4, 4, 0}},    {{1.0, 2.0, 1, 1}, {0, 0, 3, 0, 0}},
+      {{2.5, 7.0, 0, 1}, {0, 0, 6, 6}, false},    {{2.5, 7.0, 1, 1}, {0, 0, 6, 6}, false},
+      {{2.5, 7.0, 0, 2}, {0, 0, 6, 6}, true},     {{2.5, 7.0, 1, 2}, {0, 0, 6, 6}, true},
+      {{2.5, 7.0, 0, 1}, {0, 0, 8, 0, 0}, false}, {{2.5, 7.0, 0, 2}, {0, 0, 8, 0, 0}, false},
+      {{2.5, 7.0, 1, 2}, {0, 0, 8, 0, 0}, false}, {{1.0, 2.0, 1, 2}, {0, 0, 3, 3, 0}, false},
+      {{1.0, 2.0, 0, 1}, {0, 4, 4, 0}, false},    {{1.0, 2.0, 1, 1}, {0, 0, 3, 0, 0}, false},
   };
   for (const SmallCase& c : cases) {
     std::vector<double> grid_requests;
     const double grid_best = BruteForceBest(c.params, c.desired, &grid_requests);
-    // The optimum is a unique steady state: some term of eq. 3 works in f's linear range.
-    ASSERT_TRUE(SummariseTerms(c.params, grid_requests).any_live);
+    EXPECT_EQ(SummariseTerms(c.params, grid_requests).any_live, !c.saturated_optimum);
     const OptimalRequests opt = OptimizeRequests(c.desired, c.params, c.desired);
-    EXPECT_LT(opt.rms_error_deg, grid_best + 1e-5)
+    EXPECT_LT(opt.rms_error_deg, grid_best + 2e-6)
         << "T " << c.desired.size() << " l " << c.params.lag_ticks << " a " << c.params.accel_ticks
         << ": grid " << grid_best;
     EXPECT_NEAR(opt.rms_error_deg, RmsError(c.params, opt.requests_deg, c.desired), 1e-9);
-  }
-}
-
-TEST(OptimizeRequests, ComesCloseToADegenerateBruteForceOptimum) {
-  // With a = 2 the best answer to this step saturates every term of eq. 3 all round the cycle
-  // (bang-bang requests): the model then has a whole interval of steady states, of which
-  // CyclicSteadyState picks the one through the mean request, and the error jumps where a
-  // term leaves saturation. Approaching that optimum from the unique side, the optimiser ends
-  // a little short of it (a known limit, pinned here).
-  const std::vector<SmallCase> cases = {{{2.5, 7.0, 0, 2}, {0, 0, 6, 6}},
-                                        {{2.5, 7.0, 1, 2}, {0, 0, 6, 6}}};
-  for (const SmallCase& c : cases) {
-    std::vector<double> grid_requests;
-    const double grid_best = BruteForceBest(c.params, c.desired, &grid_requests);
-    ASSERT_FALSE(SummariseTerms(c.params, grid_requests).any_live);
-    const OptimalRequests opt = OptimizeRequests(c.desired, c.params, c.desired);
-    EXPECT_GE(opt.rms_error_deg, grid_best - 1e-6);
-    EXPECT_LT(opt.rms_error_deg, grid_best + 5e-4) << "l " << c.params.lag_ticks;
   }
 }
 
