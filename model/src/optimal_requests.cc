@@ -1,0 +1,555 @@
+#include "leglab/model/optimal_requests.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace leglab {
+namespace {
+
+// The smoothing is quartered from stage to stage while it is at least this fraction of theta_0.
+constexpr double kLastSmoothingTheta0 = 1e-3;
+// A smoothed stage only warms up the next one: it stops once a step gains less than this.
+constexpr double kSmoothedStageToleranceDeg = 1e-6;
+
+// Eq. 3 run round a request cycle with f of eq. 2 (smoothing 0) or, for smoothing s > 0, the
+// surrogate f_s(x) = (k/2) (sqrt((x + theta_0)^2 + s^2) - sqrt((x - theta_0)^2 + s^2)),
+// k = v_max / theta_0: f itself at s = 0, odd, bounded by v_max, but increasing everywhere, so
+// that a saturated request still has a (small) first-order effect.
+class PeriodicModel {
+ public:
+  // `closed_kinks`: f' at x = +-theta_0 exactly is k (the linear branch's) instead of 0 (the
+  // branch SpeedResponse takes there).
+  PeriodicModel(const JointModelParams& params, std::span<const double> requests_deg,
+                double smoothing_deg, bool closed_kinks)
+      : params_(params),
+        requests_(requests_deg),
+        smoothing_(smoothing_deg),
+        closed_kinks_(closed_kinks) {}
+
+  int period() const { return static_cast<int>(requests_.size()); }
+  // The index of R(t - i) in the cycle.
+  int IndexBefore(int t, int i) const { return ((t - i) % period() + period()) % period(); }
+  double RequestBefore(int t, int i) const { return requests_[IndexBefore(t, i)]; }
+
+  double Response(double x) const {
+    if (smoothing_ == 0.0) return SpeedResponse(params_, x);
+    const double th = params_.theta0_deg;
+    const double s2 = smoothing_ * smoothing_;
+    return 0.5 * Gain() *
+           (std::sqrt((x + th) * (x + th) + s2) - std::sqrt((x - th) * (x - th) + s2));
+  }
+
+  double ResponseSlope(double x) const {
+    const double th = params_.theta0_deg;
+    if (smoothing_ == 0.0) {
+      const bool linear = closed_kinks_ ? (x >= -th && x <= th) : (x > -th && x < th);
+      return linear ? Gain() : 0.0;
+    }
+    const double s2 = smoothing_ * smoothing_;
+    return 0.5 * Gain() *
+           ((x + th) / std::sqrt((x + th) * (x + th) + s2) -
+            (x - th) / std::sqrt((x - th) * (x - th) + s2));
+  }
+
+  // One cycle of eq. 3 from M(-1) = `start_deg`; writes M(0..T-1) to `angles` when given.
+  // Returns M(T-1) and d M(T-1) / d M(-1).
+  std::pair<double, double> RunCycle(double start_deg, std::vector<double>* angles) const {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    double angle = start_deg;
+    double gain = 1.0;
+    for (int t = 0; t < period(); ++t) {
+      double velocity = 0.0;
+      double slope = 0.0;
+      for (int i = l + 1; i <= l + a; ++i) {
+        const double x = RequestBefore(t, i) - angle;
+        velocity += Response(x);
+        slope += ResponseSlope(x);
+      }
+      gain *= 1.0 - slope / a;
+      angle += velocity / a;
+      if (angles != nullptr) (*angles)[t] = angle;
+    }
+    return {angle, gain};
+  }
+
+  // The cyclic steady state M(0..T-1) that CyclicSteadyState converges to: the limit of the
+  // cycle map P (M(-1) -> M(T-1)) iterated from M(-1) = mean R. With v_max <= theta_0 every
+  // factor 1 - (1/a) sum f' of P' lies in [0, 1], so P is non-decreasing and phi(m) = P(m) - m
+  // non-increasing, and the iterates climb (phi > 0) or fall (phi < 0) monotonically to the
+  // nearest fixed point on that side. That point is found here by Newton's method from the
+  // outer side, safeguarded by bisection: with f exact phi is piecewise linear, so this takes
+  // a few cycles where iterating P converges only as fast as the model forgets (slowly, or
+  // never exactly, when most of the cycle is saturated; where all of it is, the fixed points
+  // fill an interval and the mean picks one). With v_max > theta_0, P need not be monotone:
+  // CyclicSteadyState itself (f exact only).
+  std::vector<double> SteadyState() const {
+    if (params_.v_max_deg_per_tick > params_.theta0_deg) {
+      assert(smoothing_ == 0.0);
+      return CyclicSteadyState(params_, requests_);
+    }
+    double mean = 0.0;
+    double scale = 1.0;
+    for (double r : requests_) {
+      mean += r;
+      scale = std::max(scale, std::abs(r));
+    }
+    mean /= period();
+    const double tolerance = 1e-12 * scale;
+    // Work on the side where phi > 0 (mirrored when the iterates fall): find the least m >=
+    // m0 with phi(m) <= tolerance. `outer` keeps phi > tolerance, `inner` phi <= tolerance.
+    const auto [end0, gain0] = RunCycle(mean, nullptr);
+    const double sign = end0 - mean >= 0.0 ? 1.0 : -1.0;
+    double m = mean;
+    if (std::abs(end0 - mean) > tolerance) {
+      auto phi = [&](double x) {
+        const auto [end, gain] = RunCycle(x, nullptr);
+        return std::pair{sign * (end - x), gain};
+      };
+      double outer = mean;
+      double phi_outer = sign * (end0 - mean);
+      double gain_outer = gain0;
+      // P maps [min R, max R] into itself, so the fixed point is no further than the far end.
+      const auto [min_it, max_it] = std::minmax_element(requests_.begin(), requests_.end());
+      double inner = sign > 0.0 ? *max_it : *min_it;
+      const double resolution = 1e-14 * scale;
+      for (int iteration = 0; iteration < 200 && std::abs(inner - outer) > resolution;
+           ++iteration) {
+        // Newton from the outer side (phi' = P' - 1 <= 0 in the signed variable).
+        double next = 0.5 * (outer + inner);
+        if (gain_outer < 1.0) {
+          const double newton = outer + sign * phi_outer / (1.0 - gain_outer);
+          if (sign * (newton - outer) > 0.0 && sign * (inner - newton) > 0.0) next = newton;
+        }
+        const auto [phi_next, gain_next] = phi(next);
+        if (phi_next > tolerance) {
+          outer = next;
+          phi_outer = phi_next;
+          gain_outer = gain_next;
+          continue;
+        }
+        inner = next;
+        // Landed on the fixed point itself, not past it into a flat run of fixed points? On
+        // the outer side's linear piece phi would be 2 * tolerance a little way back.
+        if (gain_outer < 1.0) {
+          const double back = next - sign * 2.0 * tolerance / (1.0 - gain_outer);
+          if (sign * (back - outer) <= 0.0 || phi(back).first > tolerance) break;
+        }
+      }
+      m = inner;
+    }
+    std::vector<double> angles(period());
+    RunCycle(m, &angles);
+    return angles;
+  }
+
+  // d M_ss / d R at the steady state `angles`. With S(t) = d M(t) / d R (a row), eq. 3 gives
+  //   S(t) = alpha_t S(t-1) + (1/a) sum_i f'(x_ti) e_{t-i},  alpha_t = 1 - (1/a) sum_i f'(x_ti),
+  // x_ti = R(t-i) - M(t-1). Run from S(-1) = 0 it gives S0; the periodic solution is
+  // S(t) = S0(t) + (alpha_0 ... alpha_t) X, X = S(T-1) = S0(T-1) / (1 - alpha_0 ... alpha_{T-1}).
+  // Written to `s` (resized to T x T). Terms (t, i) with saturated[t * a + i - l - 1] set take
+  // f' = 0 (the side of a kink a step moves them to).
+  void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
+                   const std::vector<char>* saturated = nullptr) const {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    const int n = period();
+    s.resize(n, n);
+    Eigen::VectorXd decay(n);  // alpha_0 ... alpha_t
+    Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n);
+    std::vector<double> slopes(a);  // f'(x_ti) / a
+    double product = 1.0;
+    for (int t = 0; t < n; ++t) {
+      const double previous = angles[(t - 1 + n) % n];
+      double slope_sum = 0.0;
+      for (int i = l + 1; i <= l + a; ++i) {
+        const bool forced = saturated != nullptr && (*saturated)[t * a + i - l - 1] != 0;
+        slopes[i - l - 1] = forced ? 0.0 : ResponseSlope(RequestBefore(t, i) - previous) / a;
+        slope_sum += slopes[i - l - 1];
+      }
+      const double alpha = 1.0 - slope_sum;
+      row *= alpha;
+      for (int i = l + 1; i <= l + a; ++i) row[IndexBefore(t, i)] += slopes[i - l - 1];
+      product *= alpha;
+      decay[t] = product;
+      s.row(t) = row;
+    }
+    Eigen::RowVectorXd periodic_start;
+    if (1.0 - product > 0.0) {
+      periodic_start = s.row(n - 1) / (1.0 - product);
+    } else {
+      // Every term of the cycle saturated: a whole interval of steady states, of which
+      // SteadyState takes the one through M(-1) = mean R. Each request moves it through the
+      // mean, by 1/T.
+      periodic_start = Eigen::RowVectorXd::Constant(n, 1.0 / n);
+    }
+    s.noalias() += decay * periodic_start;
+  }
+
+ private:
+  double Gain() const { return params_.v_max_deg_per_tick / params_.theta0_deg; }
+
+  JointModelParams params_;
+  std::span<const double> requests_;
+  double smoothing_;
+  bool closed_kinks_;
+};
+
+void RequireFinite(std::span<const double> values, const char* what) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw std::invalid_argument(std::string("optimal requests: ") + what + "[" +
+                                  std::to_string(i) + "] is not finite");
+    }
+  }
+}
+
+double SumOfSquares(std::span<const double> angles, std::span<const double> desired) {
+  double sum = 0.0;
+  for (std::size_t t = 0; t < angles.size(); ++t) {
+    const double e = angles[t] - desired[t];
+    sum += e * e;
+  }
+  return sum;
+}
+
+struct Iterate {
+  std::vector<double> requests;
+  std::vector<double> angles;
+  double cost = 0.0;  // sum of squared errors
+};
+
+Iterate Evaluate(const JointModelParams& params, std::vector<double> requests, double smoothing,
+                 std::span<const double> desired) {
+  Iterate it;
+  it.angles = PeriodicModel(params, requests, smoothing, false).SteadyState();
+  it.cost = SumOfSquares(it.angles, desired);
+  it.requests = std::move(requests);
+  return it;
+}
+
+// Where request s acts: the angles M(t-1) it is compared with, t = s + l + 1 .. s + l + a.
+// Returns their least and greatest.
+std::pair<double, double> WindowRange(const JointModelParams& p, std::span<const double> angles,
+                                      int s) {
+  const int n = static_cast<int>(angles.size());
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+    const double c = angles[(s + i - 1) % n];
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  return {lo, hi};
+}
+
+// Moves every request that no term of eq. 3 sees in f's linear range (a dead request: f is
+// +-v_max for every term it enters) to the nearest point where one term is at the edge of
+// that range, without entering it. The f values, hence the trajectory, do not change, but
+// the request can act again at first order (from the inside of the edge).
+void PullBackDeadRequests(const JointModelParams& p, std::span<const double> angles,
+                          const OptimalRequestsOptions& options, std::vector<double>& requests) {
+  const int n = static_cast<int>(requests.size());
+  const double th = p.theta0_deg;
+  for (int s = 0; s < n; ++s) {
+    const double r = requests[s];
+    double below = -std::numeric_limits<double>::infinity();  // nearest edge <= r
+    double above = std::numeric_limits<double>::infinity();   // nearest edge >= r
+    bool live = false;
+    for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks && !live; ++i) {
+      const double c = angles[(s + i - 1) % n];
+      if (r > c - th && r < c + th) live = true;
+      if (c + th <= r) below = std::max(below, c + th);
+      if (c - th >= r) above = std::min(above, c - th);
+    }
+    if (live) continue;
+    const bool below_ok = below >= options.lower_deg;
+    const bool above_ok = above <= options.upper_deg;
+    if (below_ok && (!above_ok || r - below <= above - r)) {
+      requests[s] = below;
+    } else if (above_ok) {
+      requests[s] = above;
+    }
+  }
+}
+
+// One stage of the optimisation: f smoothed by `smoothing` (0: eq. 2 exactly), stopped when a
+// step gains less than `tolerance_deg` of RMS error.
+struct Stage {
+  double smoothing = 0.0;
+  double tolerance_deg = 0.0;
+};
+
+// Projected Levenberg-Marquardt on the sum of squared errors of the model of `stage`, from `it`
+// (evaluated with that model); every accepted step lowers that sum. Uses at most `budget`
+// sensitivities; returns how many it used.
+//
+// With f exact the objective is piecewise quadratic: while no term x_ti = R(t-i) - M(t-1) of
+// eq. 3 crosses a kink +-theta_0, M_ss is affine in R and the Gauss-Newton model is exact. A
+// step that fails because it crosses kinks is therefore retried up to the first crossing
+// (a ratio test, as in active-set methods), where the model still holds and the cost must
+// fall; the next linearisation then puts each term sitting on a kink on the side the step
+// moves it to. So the iterate pivots from piece to piece instead of crawling towards a kink
+// with ever shorter damped steps.
+int MinimiseStage(const JointModelParams& params, std::span<const double> desired,
+                  const OptimalRequestsOptions& options, const Stage& stage, int budget,
+                  Iterate& it) {
+  const int n = static_cast<int>(desired.size());
+  const int l = params.lag_ticks;
+  const int a = params.accel_ticks;
+  const double rms_scale = std::sqrt(static_cast<double>(n));
+  const double th = params.theta0_deg;
+  const bool exact = stage.smoothing == 0.0;
+  auto rms_gain = [&](double from, double to) {
+    return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale;
+  };
+  auto index = [n](int t) { return ((t % n) + n) % n; };
+  double damping = 1e-3;
+  int used = 0;
+  // Work space, allocated once a stage.
+  Eigen::MatrixXd jacobian(n, n);
+  Eigen::MatrixXd j_free(n, n);
+  Eigen::MatrixXd normal(n, n);
+  Eigen::MatrixXd damped(n, n);
+  Eigen::LDLT<Eigen::MatrixXd> factor(n);
+  Eigen::VectorXd residual(n);
+  Eigen::VectorXd gradient(n);
+  Eigen::VectorXd g_free(n);
+  Eigen::VectorXd step(n);
+  Eigen::VectorXd full_step(n);   // step on every request (0 where held)
+  Eigen::VectorXd angle_step(n);  // the linearised change of M_ss
+  std::vector<double> box_lo(n);
+  std::vector<double> box_hi(n);
+  std::vector<int> free;
+  free.reserve(n);
+  std::vector<char> saturated_at_kink(static_cast<std::size_t>(n) * a, 0);
+
+  while (used < budget) {
+    const PeriodicModel model(params, it.requests, stage.smoothing, /*closed_kinks=*/exact);
+    const double kink_width = 1e-9 * (1.0 + th);
+    auto term = [&](int t, int i) { return it.requests[index(t - i)] - it.angles[index(t - 1)]; };
+    auto term_change = [&](int t, int i) {
+      return full_step[index(t - i)] - angle_step[index(t - 1)];
+    };
+    int m = 0;
+    double scale = 0.0;
+    std::fill(saturated_at_kink.begin(), saturated_at_kink.end(), 0);
+    auto solve = [&] {
+      damped = normal;
+      damped.diagonal().array() += damping * scale;
+      factor.compute(damped);
+      step.resize(m);
+      step = -factor.solve(g_free);
+      full_step.setZero();
+      for (int k = 0; k < m; ++k) full_step[free[k]] = step[k];
+      angle_step.noalias() = jacobian * full_step;
+    };
+    for (int pass = 0; pass < 2; ++pass) {
+      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr);
+      for (int t = 0; t < n; ++t) residual[t] = it.angles[t] - desired[t];
+      gradient.noalias() = jacobian.transpose() * residual;
+
+      // Each request's box: the joint limits, and the range where it acts at the current
+      // trajectory (widened by the smoothing): beyond it a step would only waste its length.
+      // A request at its box that the gradient pushes outward stays there (projected step).
+      free.clear();
+      for (int s = 0; s < n; ++s) {
+        const auto [lo, hi] = WindowRange(params, it.angles, s);
+        const double r = it.requests[s];
+        box_lo[s] = std::max(options.lower_deg, std::min(lo - th - stage.smoothing, r));
+        box_hi[s] = std::min(options.upper_deg, std::max(hi + th + stage.smoothing, r));
+        const bool held =
+            (r <= box_lo[s] && gradient[s] > 0.0) || (r >= box_hi[s] && gradient[s] < 0.0);
+        if (!held) free.push_back(s);
+      }
+      m = static_cast<int>(free.size());
+      if (m == 0) break;
+      j_free.resize(n, m);
+      g_free.resize(m);
+      for (int k = 0; k < m; ++k) {
+        j_free.col(k) = jacobian.col(free[k]);
+        g_free[k] = gradient[free[k]];
+      }
+      normal.resize(m, m);
+      normal.noalias() = j_free.transpose() * j_free;
+      scale = std::max(normal.diagonal().maxCoeff(), 1e-12);
+      solve();
+      if (!exact) break;
+      // Terms on a kink that this step carries outward, into saturation: re-linearise them
+      // as saturated (the closed convention took them as linear).
+      bool changed = false;
+      for (int t = 0; t < n; ++t) {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = term(t, i);
+          if (std::abs(std::abs(x) - th) > kink_width) continue;
+          if (x * term_change(t, i) > 0.0) {
+            saturated_at_kink[static_cast<std::size_t>(t) * a + i - l - 1] = 1;
+            changed = true;
+          }
+        }
+      }
+      if (!changed) break;
+    }
+    ++used;
+    if (m == 0) break;
+
+    // The largest fraction of the step that crosses no kink and leaves no box.
+    auto breakpoint_fraction = [&] {
+      double fraction = 1.0;
+      for (int t = 0; t < n; ++t) {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = term(t, i);
+          const double dx = term_change(t, i);
+          const bool forced = saturated_at_kink[static_cast<std::size_t>(t) * a + i - l - 1] != 0;
+          if (!forced && std::abs(x) <= th) {  // linear: until it reaches either kink
+            if (dx > 0.0) fraction = std::min(fraction, (th - x) / dx);
+            if (dx < 0.0) fraction = std::min(fraction, (-th - x) / dx);
+          } else if (x > 0.0 && dx < 0.0) {  // saturated high: until it comes back to theta_0
+            fraction = std::min(fraction, (x - th) / -dx);
+          } else if (x < 0.0 && dx > 0.0) {
+            fraction = std::min(fraction, (-th - x) / dx);
+          }
+        }
+      }
+      for (int s = 0; s < n; ++s) {
+        const double r = it.requests[s];
+        if (full_step[s] > 0.0) fraction = std::min(fraction, (box_hi[s] - r) / full_step[s]);
+        if (full_step[s] < 0.0) fraction = std::min(fraction, (box_lo[s] - r) / full_step[s]);
+      }
+      return std::max(fraction, 0.0);
+    };
+
+    // Raise the damping until a step lowers the true cost; stop once even the Gauss-Newton
+    // model of the damped step promises less than the tolerance.
+    bool improved = false;
+    for (bool first = true;; first = false) {
+      if (!first) solve();
+      const double predicted = -g_free.dot(step) - 0.5 * step.dot(normal * step);
+      if (!(rms_gain(it.cost, it.cost - 2.0 * predicted) >= stage.tolerance_deg)) break;
+      std::vector<double> trial = it.requests;
+      for (int s = 0; s < n; ++s) {
+        trial[s] = std::clamp(trial[s] + full_step[s], box_lo[s], box_hi[s]);
+      }
+      Iterate candidate = Evaluate(params, std::move(trial), stage.smoothing, desired);
+      if (candidate.cost < it.cost) {
+        improved = rms_gain(it.cost, candidate.cost) >= stage.tolerance_deg;
+        it = std::move(candidate);
+        damping = std::max(damping / 3.0, 1e-9);
+        break;
+      }
+      if (exact) {
+        const double fraction = breakpoint_fraction();
+        if (fraction > 0.0 && fraction < 1.0) {
+          std::vector<double> pivot = it.requests;
+          for (int s = 0; s < n; ++s) {
+            pivot[s] = std::clamp(pivot[s] + fraction * full_step[s], box_lo[s], box_hi[s]);
+          }
+          Iterate at_kink = Evaluate(params, std::move(pivot), 0.0, desired);
+          if (at_kink.cost < it.cost) {
+            it = std::move(at_kink);
+            improved = true;  // a pivot: the next piece may still go much further
+            break;
+          }
+        }
+      }
+      damping *= 4.0;
+    }
+    if (!improved) break;
+  }
+  return used;
+}
+
+void Validate(std::span<const double> desired, const JointModelParams& params,
+              std::span<const double> initial, const OptimalRequestsOptions& options) {
+  ValidateJointModelParams(params);
+  if (desired.empty()) throw std::invalid_argument("optimal requests: the desired cycle is empty");
+  if (initial.size() != desired.size()) {
+    throw std::invalid_argument("optimal requests: " + std::to_string(desired.size()) +
+                                " desired angles but " + std::to_string(initial.size()) +
+                                " initial requests");
+  }
+  RequireFinite(desired, "desired_deg");
+  RequireFinite(initial, "initial_requests_deg");
+  if (std::isnan(options.lower_deg) || std::isnan(options.upper_deg) ||
+      options.lower_deg > options.upper_deg) {
+    throw std::invalid_argument("optimal requests: need lower_deg <= upper_deg, got " +
+                                std::to_string(options.lower_deg) + " and " +
+                                std::to_string(options.upper_deg));
+  }
+  if (options.max_iterations < 1) {
+    throw std::invalid_argument("optimal requests: max_iterations must be >= 1, got " +
+                                std::to_string(options.max_iterations));
+  }
+  if (!(options.tolerance_deg >= 0.0)) {
+    throw std::invalid_argument("optimal requests: tolerance_deg must be >= 0, got " +
+                                std::to_string(options.tolerance_deg));
+  }
+  if (!(options.smoothing_theta0 >= 0.0 && std::isfinite(options.smoothing_theta0))) {
+    throw std::invalid_argument("optimal requests: smoothing_theta0 must be >= 0, got " +
+                                std::to_string(options.smoothing_theta0));
+  }
+}
+
+}  // namespace
+
+OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
+                                 const JointModelParams& params,
+                                 std::span<const double> initial_requests_deg,
+                                 const OptimalRequestsOptions& options) {
+  Validate(desired_deg, params, initial_requests_deg, options);
+  std::vector<double> start(initial_requests_deg.begin(), initial_requests_deg.end());
+  for (double& r : start) r = std::clamp(r, options.lower_deg, options.upper_deg);
+  const Iterate initial = Evaluate(params, start, 0.0, desired_deg);
+
+  // Smoothed stages, each a quarter of the last, then eq. 2 exactly. (With v_max > theta_0
+  // the steady state is CyclicSteadyState's iteration, for f exact only: no smoothing.)
+  std::vector<Stage> stages;
+  const double last_smoothing = kLastSmoothingTheta0 * params.theta0_deg;
+  double smoothing = options.smoothing_theta0 * params.theta0_deg;
+  if (params.v_max_deg_per_tick > params.theta0_deg) smoothing = 0.0;
+  for (; smoothing >= last_smoothing; smoothing /= 4.0) {
+    stages.push_back({smoothing, std::max(options.tolerance_deg, kSmoothedStageToleranceDeg)});
+  }
+  stages.push_back({0.0, options.tolerance_deg});
+
+  Iterate it = initial;
+  int used = 0;
+  for (std::size_t k = 0; k < stages.size() && used < options.max_iterations; ++k) {
+    const int remaining = options.max_iterations - used;
+    const int stages_left = static_cast<int>(stages.size() - k);
+    // Dead requests are moved to the edge of f's linear range (exactly neutral for f exact).
+    if (k == 0) PullBackDeadRequests(params, it.angles, options, it.requests);
+    it = Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg);
+    used += MinimiseStage(params, desired_deg, options, stages[k],
+                          std::max(1, remaining / stages_left), it);
+  }
+  // Scored with f exact (the last stage's model, unless the budget ran out before it), and
+  // never worse than the start.
+  it = Evaluate(params, std::move(it.requests), 0.0, desired_deg);
+  if (!(it.cost <= initial.cost)) it = initial;
+
+  OptimalRequests result;
+  result.requests_deg = std::move(it.requests);
+  result.steady_state_deg = std::move(it.angles);
+  result.rms_error_deg = std::sqrt(it.cost / static_cast<double>(desired_deg.size()));
+  result.iterations = used;
+  return result;
+}
+
+Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
+                                       std::span<const double> requests_deg) {
+  ValidateJointModelParams(params);
+  if (requests_deg.empty()) throw std::invalid_argument("optimal requests: the cycle is empty");
+  RequireFinite(requests_deg, "requests_deg");
+  const PeriodicModel model(params, requests_deg, 0.0, false);
+  Eigen::MatrixXd sensitivity;
+  model.Sensitivity(model.SteadyState(), sensitivity);
+  return sensitivity;
+}
+
+}  // namespace leglab

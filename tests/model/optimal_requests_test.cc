@@ -1,0 +1,402 @@
+#include "leglab/model/optimal_requests.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "leglab/model/metrics.h"
+#include "leglab/model/paper.h"
+#include "leglab/model/piecewise_linear.h"
+#include "leglab/model/request_synthesis.h"
+
+namespace leglab {
+namespace {
+
+constexpr JointModelParams kPaper = paper::kTable1;
+
+// The steady state everything here is scored against: CyclicSteadyState, converged tightly.
+std::vector<double> SteadyState(const JointModelParams& p, std::span<const double> requests) {
+  return CyclicSteadyState(p, requests, 1e-13);
+}
+
+double RmsError(const JointModelParams& p, std::span<const double> requests,
+                std::span<const double> desired) {
+  return RmsDistance(SteadyState(p, requests), desired);
+}
+
+// The walking-like cycle of the brief: D(t) = amplitude sin(2 pi t / 88) + 15 sin(4 pi t / 88 + 1).
+std::vector<double> WalkingCycle(double amplitude_deg) {
+  std::vector<double> d(88);
+  for (int t = 0; t < 88; ++t) {
+    const double phase = 2.0 * std::numbers::pi * t / 88.0;
+    d[t] = amplitude_deg * std::sin(phase) + 15.0 * std::sin(2.0 * phase + 1.0);
+  }
+  return d;
+}
+
+// The paper's method (sections 4.1-4.3): 8-segment PWL fit, exact C_m.
+std::vector<double> ModelBasedRequests(const JointModelParams& p, std::span<const double> d) {
+  const PiecewiseLinear pwl = FitPiecewiseLinear(d, p.v_max_deg_per_tick, {.segments = 8});
+  return SynthesizeRequests(p, pwl, CmMethod::kExact);
+}
+
+// x_ti = R(t-i) - M(t-1) for every term of eq. 3 in the steady state: how far each is from f's
+// kinks at +-theta_0 (the smallest such distance), and whether any lies inside (-theta_0,
+// theta_0) by more than 1e-4 deg.
+struct TermsSummary {
+  double kink_distance = std::numeric_limits<double>::infinity();
+  bool any_live = false;
+};
+TermsSummary SummariseTerms(const JointModelParams& p, std::span<const double> requests) {
+  const std::vector<double> m = SteadyState(p, requests);
+  const int n = static_cast<int>(requests.size());
+  TermsSummary summary;
+  for (int t = 0; t < n; ++t) {
+    for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+      const double x = requests[((t - i) % n + n) % n] - m[(t - 1 + n) % n];
+      summary.kink_distance = std::min(summary.kink_distance, std::abs(std::abs(x) - p.theta0_deg));
+      if (std::abs(x) < p.theta0_deg - 1e-4) summary.any_live = true;
+    }
+  }
+  return summary;
+}
+
+// --- Sensitivity -------------------------------------------------------------------------
+
+// Central differences of CyclicSteadyState. Inside one pattern of f's branches the steady state
+// is affine in R (f is piecewise linear), so away from the kinks the difference quotient is
+// exact up to rounding; the step is kept well inside the distance to the nearest kink.
+Eigen::MatrixXd FiniteDifferenceSensitivity(const JointModelParams& p,
+                                            std::span<const double> requests, double h) {
+  const int n = static_cast<int>(requests.size());
+  Eigen::MatrixXd s(n, n);
+  std::vector<double> plus(requests.begin(), requests.end());
+  std::vector<double> minus = plus;
+  for (int col = 0; col < n; ++col) {
+    plus[col] += h;
+    minus[col] -= h;
+    const std::vector<double> up = SteadyState(p, plus);
+    const std::vector<double> down = SteadyState(p, minus);
+    for (int row = 0; row < n; ++row) s(row, col) = (up[row] - down[row]) / (2.0 * h);
+    plus[col] = minus[col] = requests[col];
+  }
+  return s;
+}
+
+struct SensitivityCase {
+  JointModelParams params;
+  std::vector<double> requests;
+};
+
+std::vector<SensitivityCase> SensitivityCases() {
+  std::vector<SensitivityCase> cases;
+  // A slow cycle the model follows in f's linear range throughout.
+  {
+    std::vector<double> r(40);
+    for (int t = 0; t < 40; ++t) r[t] = 10.0 * std::sin(2.0 * std::numbers::pi * t / 40.0);
+    cases.push_back({kPaper, r});
+  }
+  // A square wave: most terms saturated (f' = 0), some in the linear range.
+  {
+    std::vector<double> r(30);
+    for (int t = 0; t < 30; ++t) r[t] = t < 12 ? 22.0 + 0.4 * t : -18.0 + 0.15 * t;
+    cases.push_back({kPaper, r});
+    cases.push_back({{2.5, 7.0, 0, 1}, r});
+    cases.push_back({{1.5, 4.0, 2, 3}, r});
+  }
+  // The paper's model-based requests for the walking cycle, T = 88.
+  cases.push_back({kPaper, ModelBasedRequests(kPaper, WalkingCycle(40.0))});
+  // A short, irregular cycle.
+  cases.push_back({{2.0, 5.0, 1, 2}, {0.0, 9.0, 4.0, -3.0, 12.0, 1.5, -8.0}});
+  return cases;
+}
+
+TEST(SteadyStateSensitivity, MatchesCentralDifferencesAwayFromTheKinks) {
+  for (const SensitivityCase& c : SensitivityCases()) {
+    const TermsSummary terms = SummariseTerms(c.params, c.requests);
+    const double h = 1e-5;
+    ASSERT_GT(terms.kink_distance, 20.0 * h) << "T = " << c.requests.size();
+    const Eigen::MatrixXd analytic = SteadyStateSensitivity(c.params, c.requests);
+    const Eigen::MatrixXd numeric = FiniteDifferenceSensitivity(c.params, c.requests, h);
+    ASSERT_EQ(analytic.rows(), static_cast<long>(c.requests.size()));
+    ASSERT_EQ(analytic.cols(), static_cast<long>(c.requests.size()));
+    EXPECT_LT((analytic - numeric).cwiseAbs().maxCoeff(), 1e-5) << "T = " << c.requests.size();
+    // Not trivially zero: the cycles do respond to their requests.
+    EXPECT_GT(numeric.cwiseAbs().maxCoeff(), 0.05);
+  }
+}
+
+TEST(SteadyStateSensitivity, RowsSumToOneAndCausalityHolds) {
+  // Eq. 3 depends only on R - M, so R + c gives M + c: every row of d M / d R sums to 1.
+  // And a request R(s) acts first at t = s + l + 1: in a cycle that forgets quickly, M(t) is
+  // (almost) blind to the l requests just before it.
+  const std::vector<double> r = SensitivityCases()[0].requests;
+  const Eigen::MatrixXd s = SteadyStateSensitivity(kPaper, r);
+  for (int t = 0; t < s.rows(); ++t) EXPECT_NEAR(s.row(t).sum(), 1.0, 1e-12) << "t = " << t;
+  const int n = static_cast<int>(r.size());
+  for (int t = 0; t < n; ++t) {
+    for (int back = 0; back < kPaper.lag_ticks; ++back) {
+      EXPECT_LT(std::abs(s(t, ((t - back) % n + n) % n)), 1e-6) << t << " " << back;
+    }
+  }
+}
+
+// --- Brute force on small cycles -----------------------------------------------------------
+
+// The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
+// of the 40 best grid points refined by compass search (halving the step down to 1e-8 deg).
+double BruteForceBest(const JointModelParams& p, std::span<const double> d,
+                      std::vector<double>* best_requests) {
+  const int n = static_cast<int>(d.size());
+  const auto [dmin, dmax] = std::minmax_element(d.begin(), d.end());
+  // Past theta_0 + (l + a) v_max beyond D a request is saturated for any nearby angle.
+  const double reach = p.theta0_deg + p.v_max_deg_per_tick * (p.lag_ticks + p.accel_ticks) + 2.0;
+  const double lo = *dmin - reach;
+  const double hi = *dmax + reach;
+  const int points = n == 4 ? 21 : 11;
+  const double spacing = (hi - lo) / (points - 1);
+  auto score = [&](const std::vector<double>& r) {
+    try {
+      return RmsError(p, r, d);
+    } catch (const std::runtime_error&) {  // no settled steady state: not a candidate
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+
+  std::vector<std::pair<double, std::vector<double>>> grid;
+  std::vector<int> index(n, 0);
+  std::vector<double> r(n);
+  while (true) {
+    for (int s = 0; s < n; ++s) r[s] = lo + spacing * index[s];
+    grid.emplace_back(score(r), r);
+    int k = 0;
+    while (k < n && ++index[k] == points) index[k++] = 0;
+    if (k == n) break;
+  }
+  const std::size_t starts = 40;
+  std::partial_sort(grid.begin(), grid.begin() + starts, grid.end());
+
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t g = 0; g < starts; ++g) {
+    std::vector<double> x = grid[g].second;
+    double fx = grid[g].first;
+    for (double step = spacing; step > 1e-8;) {
+      bool moved = false;
+      for (int s = 0; s < n; ++s) {
+        for (double sign : {-1.0, 1.0}) {
+          std::vector<double> y = x;
+          y[s] += sign * step;
+          const double fy = score(y);
+          if (fy < fx) {
+            fx = fy;
+            x = std::move(y);
+            moved = true;
+          }
+        }
+      }
+      if (!moved) step /= 2.0;
+    }
+    if (fx < best) {
+      best = fx;
+      *best_requests = x;
+    }
+  }
+  return best;
+}
+
+struct SmallCase {
+  JointModelParams params;
+  std::vector<double> desired;
+  bool saturated_optimum;  // every term of eq. 3 saturated at the optimum
+};
+
+TEST(OptimizeRequests, ReachesTheBruteForceOptimumOnSmallCycles) {
+  // T = 4 or 5, l = 0 or 1, a = 1 or 2, D a small step or spike, too fast to follow exactly.
+  // In the two a = 2 steps the best answer saturates every term of eq. 3 all round the cycle
+  // (bang-bang requests): the model then has a whole interval of steady states, of which
+  // CyclicSteadyState picks the one through the mean request, and the error jumps where a
+  // term leaves saturation; the optimum is reached there too.
+  const std::vector<SmallCase> cases = {
+      {{2.5, 7.0, 0, 1}, {0, 0, 6, 6}, false},    {{2.5, 7.0, 1, 1}, {0, 0, 6, 6}, false},
+      {{2.5, 7.0, 0, 2}, {0, 0, 6, 6}, true},     {{2.5, 7.0, 1, 2}, {0, 0, 6, 6}, true},
+      {{2.5, 7.0, 0, 1}, {0, 0, 8, 0, 0}, false}, {{2.5, 7.0, 0, 2}, {0, 0, 8, 0, 0}, false},
+      {{2.5, 7.0, 1, 2}, {0, 0, 8, 0, 0}, false}, {{1.0, 2.0, 1, 2}, {0, 0, 3, 3, 0}, false},
+      {{1.0, 2.0, 0, 1}, {0, 4, 4, 0}, false},    {{1.0, 2.0, 1, 1}, {0, 0, 3, 0, 0}, false},
+  };
+  for (const SmallCase& c : cases) {
+    std::vector<double> grid_requests;
+    const double grid_best = BruteForceBest(c.params, c.desired, &grid_requests);
+    EXPECT_EQ(SummariseTerms(c.params, grid_requests).any_live, !c.saturated_optimum);
+    const OptimalRequests opt = OptimizeRequests(c.desired, c.params, c.desired);
+    EXPECT_LT(opt.rms_error_deg, grid_best + 2e-6)
+        << "T " << c.desired.size() << " l " << c.params.lag_ticks << " a " << c.params.accel_ticks
+        << ": grid " << grid_best;
+    EXPECT_NEAR(opt.rms_error_deg, RmsError(c.params, opt.requests_deg, c.desired), 1e-9);
+  }
+}
+
+// --- Contract ------------------------------------------------------------------------------
+
+TEST(OptimizeRequests, FollowsAReachableCycleExactly) {
+  // D is the steady state of known requests R0, so some R has zero error; from R = D.
+  std::vector<double> r0(88);
+  for (int t = 0; t < 88; ++t) {
+    const double phase = 2.0 * std::numbers::pi * t / 88.0;
+    r0[t] = 20.0 * std::sin(phase) + 5.0 * std::sin(2.0 * phase + 1.0) + (t % 11 == 0 ? 3.0 : 0.0);
+  }
+  const std::vector<double> d = SteadyState(kPaper, r0);
+  ASSERT_GT(RmsError(kPaper, d, d), 1.0);  // requesting D itself lags it
+  const OptimalRequests opt = OptimizeRequests(d, kPaper, d);
+  EXPECT_LT(opt.rms_error_deg, 1e-6);
+  EXPECT_LT(RmsError(kPaper, opt.requests_deg, d), 1e-6);
+}
+
+TEST(OptimizeRequests, SteadyStateIsCyclicSteadyStatesAndErrorIsItsRms) {
+  const std::vector<double> d = WalkingCycle(40.0);
+  const OptimalRequests opt = OptimizeRequests(d, kPaper, ModelBasedRequests(kPaper, d));
+  ASSERT_EQ(opt.requests_deg.size(), d.size());
+  const std::vector<double> m = SteadyState(kPaper, opt.requests_deg);
+  ASSERT_EQ(opt.steady_state_deg.size(), d.size());
+  for (std::size_t t = 0; t < d.size(); ++t) EXPECT_NEAR(opt.steady_state_deg[t], m[t], 1e-8);
+  EXPECT_NEAR(opt.rms_error_deg, RmsDistance(m, d), 1e-9);
+  EXPECT_GT(opt.iterations, 0);
+}
+
+TEST(OptimizeRequests, RequestsStayWithinTheLimits) {
+  const std::vector<double> d = WalkingCycle(40.0);
+  const std::vector<double> model_based = ModelBasedRequests(kPaper, d);
+  const auto [lowest, highest] = std::minmax_element(model_based.begin(), model_based.end());
+  ASSERT_LT(*lowest, -55.0);  // the paper's requests overshoot D by up to C_m
+  ASSERT_GT(*highest, 45.0);
+  OptimalRequestsOptions limits;
+  limits.lower_deg = -50.0;
+  limits.upper_deg = 40.0;
+  const OptimalRequests opt = OptimizeRequests(d, kPaper, model_based, limits);
+  for (double r : opt.requests_deg) {
+    EXPECT_GE(r, limits.lower_deg);
+    EXPECT_LE(r, limits.upper_deg);
+  }
+  // Never worse than the start clamped into the limits.
+  std::vector<double> clamped = model_based;
+  for (double& r : clamped) r = std::clamp(r, limits.lower_deg, limits.upper_deg);
+  EXPECT_LE(opt.rms_error_deg, RmsError(kPaper, clamped, d) + 1e-9);
+}
+
+TEST(OptimizeRequests, NeverWorseThanTheStart) {
+  const std::vector<double> d = WalkingCycle(70.0);
+  std::vector<std::vector<double>> starts = {d, ModelBasedRequests(kPaper, d)};
+  std::vector<double> noisy = d;
+  for (int t = 0; t < 88; ++t) noisy[t] += 30.0 * std::sin(7.3 * t * t);
+  starts.push_back(noisy);
+  for (const std::vector<double>& start : starts) {
+    const double start_rms = RmsError(kPaper, start, d);
+    for (int iterations : {1, 3, 200}) {
+      OptimalRequestsOptions options;
+      options.max_iterations = iterations;
+      const OptimalRequests opt = OptimizeRequests(d, kPaper, start, options);
+      EXPECT_LE(opt.rms_error_deg, start_rms + 1e-9) << iterations;
+      EXPECT_LE(RmsError(kPaper, opt.requests_deg, d), start_rms + 1e-9) << iterations;
+      EXPECT_LE(opt.iterations, iterations);
+    }
+  }
+}
+
+TEST(OptimizeRequests, RevivesRequestsLostInSaturation) {
+  // Every other request starts 200 deg away: all its terms are saturated, so it has no
+  // first-order effect on the steady state. Exact f only (no smoothing), so it is the move to
+  // the edge of f's linear range that lets these requests work again.
+  std::vector<double> r0(88);
+  for (int t = 0; t < 88; ++t) r0[t] = 20.0 * std::sin(2.0 * std::numbers::pi * t / 88.0);
+  const std::vector<double> d = SteadyState(kPaper, r0);
+  std::vector<double> start = d;
+  for (int t = 1; t < 88; t += 2) start[t] += 200.0;
+  ASSERT_GT(RmsError(kPaper, start, d), 10.0);
+  OptimalRequestsOptions exact;
+  exact.smoothing_theta0 = 0.0;
+  EXPECT_LT(OptimizeRequests(d, kPaper, start, exact).rms_error_deg, 1e-3);
+  EXPECT_LT(OptimizeRequests(d, kPaper, start).rms_error_deg, 1e-3);
+}
+
+TEST(OptimizeRequests, IsDeterministic) {
+  const std::vector<double> d = WalkingCycle(70.0);
+  const std::vector<double> start = ModelBasedRequests(kPaper, d);
+  const OptimalRequests a = OptimizeRequests(d, kPaper, start);
+  const OptimalRequests b = OptimizeRequests(d, kPaper, start);
+  EXPECT_EQ(a.requests_deg, b.requests_deg);  // bit for bit
+  EXPECT_EQ(a.steady_state_deg, b.steady_state_deg);
+  EXPECT_EQ(a.rms_error_deg, b.rms_error_deg);
+  EXPECT_EQ(a.iterations, b.iterations);
+}
+
+TEST(OptimizeRequests, RejectsBadInput) {
+  const std::vector<double> d = {0.0, 1.0, 2.0};
+  const std::vector<double> r = {0.0, 1.0, 2.0};
+  EXPECT_THROW(OptimizeRequests({}, kPaper, {}), std::invalid_argument);
+  EXPECT_THROW(OptimizeRequests(d, kPaper, std::vector<double>{0.0, 1.0}), std::invalid_argument);
+  EXPECT_THROW(
+      OptimizeRequests(std::vector<double>{0.0, std::numeric_limits<double>::quiet_NaN(), 2.0},
+                       kPaper, r),
+      std::invalid_argument);
+  EXPECT_THROW(
+      OptimizeRequests(d, kPaper,
+                       std::vector<double>{0.0, std::numeric_limits<double>::infinity(), 2.0}),
+      std::invalid_argument);
+  EXPECT_THROW(OptimizeRequests(d, {2.5, -7.0, 4, 6}, r), std::invalid_argument);
+  OptimalRequestsOptions bad;
+  bad.lower_deg = 10.0;
+  bad.upper_deg = -10.0;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad = {};
+  bad.max_iterations = 0;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad = {};
+  bad.tolerance_deg = -1.0;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad = {};
+  bad.smoothing_theta0 = -0.5;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  EXPECT_THROW(SteadyStateSensitivity(kPaper, {}), std::invalid_argument);
+  EXPECT_THROW(SteadyStateSensitivity({0.0, 7.0, 4, 6}, r), std::invalid_argument);
+}
+
+// --- The paper's walking cycles --------------------------------------------------------------
+
+TEST(OptimizeRequests, BeatsThePapersModelBasedRequestsOnWalkingCycles) {
+  // Pinned RMS errors to D (deg): the paper's model-based requests (8-segment PWL, exact C_m)
+  // and the optimum from them. No steady state of the model can beat the best trajectory
+  // whose every step is within v_max (|M(t) - M(t-1)| <= v_max by eq. 3): a slope-limited
+  // least-squares fit with a breakpoint at every tick gives that bound independently.
+  struct Expected {
+    double amplitude_deg;
+    double model_based_rms_deg;
+    double optimal_rms_deg;
+  };
+  for (const Expected& e : {Expected{40.0, 7.0519, 6.9196}, Expected{70.0, 21.4292, 21.3496}}) {
+    const std::vector<double> d = WalkingCycle(e.amplitude_deg);
+    const std::vector<double> model_based = ModelBasedRequests(kPaper, d);
+    const double model_based_rms = RmsError(kPaper, model_based, d);
+    const OptimalRequests opt = OptimizeRequests(d, kPaper, model_based);
+    std::vector<int> every_tick(d.size());
+    std::iota(every_tick.begin(), every_tick.end(), 0);
+    const double bound =
+        PwlRmsError(FitPiecewiseLinearAt(d, kPaper.v_max_deg_per_tick, every_tick), d);
+    RecordProperty("model_based_rms_deg_" + std::to_string(static_cast<int>(e.amplitude_deg)),
+                   std::to_string(model_based_rms));
+    RecordProperty("optimal_rms_deg_" + std::to_string(static_cast<int>(e.amplitude_deg)),
+                   std::to_string(opt.rms_error_deg));
+    EXPECT_NEAR(model_based_rms, e.model_based_rms_deg, 2e-3) << e.amplitude_deg;
+    EXPECT_NEAR(opt.rms_error_deg, e.optimal_rms_deg, 5e-3) << e.amplitude_deg;
+    EXPECT_LT(opt.rms_error_deg, model_based_rms - 0.05) << e.amplitude_deg;
+    EXPECT_GT(opt.rms_error_deg, bound) << e.amplitude_deg;
+  }
+}
+
+}  // namespace
+}  // namespace leglab
