@@ -449,7 +449,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
           for (int s = 0; s < n; ++s) {
             pivot[s] = std::clamp(pivot[s] + fraction * full_step[s], box_lo[s], box_hi[s]);
           }
-          Iterate at_kink = Evaluate(params, std::move(pivot), 0.0, desired);
+          Iterate at_kink = Evaluate(params, std::move(pivot), stage.smoothing, desired);
           if (at_kink.cost < it.cost) {
             it = std::move(at_kink);
             improved = true;  // a pivot: the next piece may still go much further

@@ -15,7 +15,7 @@ struct OptimalRequestsOptions {
   double lower_deg = -std::numeric_limits<double>::infinity();
   double upper_deg = std::numeric_limits<double>::infinity();
   /// Sensitivity evaluations (Gauss-Newton linearisations) at most, over all stages. An
-  /// 88-tick walking cycle takes 35-140.
+  /// 88-tick walking cycle takes 35-170.
   int max_iterations = 200;
   /// The exact stage stops when a step lowers the RMS error by less than this, deg, or when
   /// the Gauss-Newton model of the step promises less. (The smoothed stages, which only warm
