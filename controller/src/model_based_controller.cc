@@ -13,21 +13,25 @@ ModelBasedController::Spec ModelBasedController::ReadSpec(OptionReader& reader) 
   return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact};
 }
 
-ModelBasedController::ModelBasedController(const Spec& spec, const ControllerContext& context) {
+DesiredCycle ModelBasedRequestCycle(const ControllerContext& context, CmMethod cm) {
   if (context.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
   const auto period = static_cast<int>(context.desired.size());
-  requests_.resize(period);
+  DesiredCycle requests(period);
   for (int j = 0; j < kLegJoints; ++j) {
     const std::vector<double> joint_requests =
-        SynthesizeRequests(context.models[j], context.approximations[j], spec.cm);
-    for (int t = 0; t < period; ++t) requests_[t][j] = joint_requests[t];
+        SynthesizeRequests(context.models[j], context.approximations[j], cm);
+    for (int t = 0; t < period; ++t) requests[t][j] = joint_requests[t];
   }
   // R = P + C_m may ask beyond a limit near the ends of the range: ask for what the servo
   // would take anyway.
-  for (LegAngles& r : requests_) r = ClampToLimits(r, context.limits);
+  for (LegAngles& r : requests) r = ClampToLimits(r, context.limits);
+  return requests;
 }
+
+ModelBasedController::ModelBasedController(const Spec& spec, const ControllerContext& context)
+    : requests_(ModelBasedRequestCycle(context, spec.cm)) {}
 
 LegAngles ModelBasedController::Update(long tick, const LegAngles& /*measured_deg*/) {
   return CycleAt(requests_, tick);

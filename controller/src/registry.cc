@@ -8,7 +8,8 @@ namespace {
 
 template <typename Mode>
 constexpr ControllerModeInfo InfoOf() {
-  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, {}};
+  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, {}, "controller"};
+  if constexpr (requires { Mode::kConfigSection; }) info.config_section = Mode::kConfigSection;
   if constexpr (requires { Mode::kSearchFile; }) info.search_file = Mode::kSearchFile;
   if constexpr (requires { Mode::kFeedForward; }) info.feed_forward = Mode::kFeedForward;
   if constexpr (requires { Mode::kFollowsApproximation; }) {

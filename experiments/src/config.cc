@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string_view>
 
@@ -305,9 +306,14 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
               "a list of " + ControllerModeNames() + ", got '" + m + "'");
     }
     c.Read("pwl_segments", config.pwl_segments);
-    ControllerOptions options(c);
+    // Each mode reads its keys from its own section (`controller` unless it says otherwise).
+    std::map<std::string, MapReader> sections;
+    sections.emplace("controller", c);
     std::vector<ControllerSpec> all;
     for (const ControllerModeInfo& m : ControllerModes()) {
+      const std::string section(m.config_section);
+      if (!sections.count(section)) sections.emplace(section, root.Child(section));
+      ControllerOptions options(sections.at(section));
       all.push_back(ReadControllerSpec(m.name, options));
     }
     for (const std::string& m : modes) {
@@ -315,7 +321,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
         if (ModeOf(spec).name == m) config.controllers.push_back(spec);
       }
     }
-    c.Finish();
+    for (const auto& [name, section] : sections) section.Finish();
   }
 
   // A given model (all four keys), else it is identified on the plant.

@@ -177,6 +177,8 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
     if (t >= first_recorded) {
       run.request_deg.push_back(reading.applied_deg);
       run.measured_deg.push_back(measured);
+    } else {
+      run.warmup_measured_deg.push_back(measured);
     }
     if ((t + 1) % period == 0) controller.EndOfStep(t / period);
   }

@@ -75,6 +75,22 @@ Table2 ComputeTable2(const TrackResult& r) {
       table.rows.push_back(std::move(row));
     }
   };
+  // The floor: the same trajectory every step, so one value and no spread.
+  {
+    std::array<Table2Row, 2> floor_rows{Table2Row{"L2(Des,Floor)", {}},
+                                        Table2Row{"Linf(Des,Floor)", {}}};
+    std::vector<double> foot_errors(r.period);
+    for (int t = 0; t < r.period; ++t) {
+      const LegAngles q{r.floor_deg[0][t], r.floor_deg[1][t], r.floor_deg[2][t]};
+      foot_errors[t] = (FootMm(r.robot.geometry, q) - r.desired.foot_mm[t]).norm() / 10.0;
+    }
+    for (int j = 0; j < kLegJoints; ++j) {
+      floor_rows[0].joints[j] = {RmsDistance(desired[j], r.floor_deg[j]), 0.0};
+      floor_rows[1].joints[j] = {MaxAbsDistance(desired[j], r.floor_deg[j]), 0.0};
+    }
+    table.rows.assign(floor_rows.begin(), floor_rows.end());
+    table.foot.push_back({"floor", {}, {Rms(foot_errors), 0.0}, {MaxAbs(foot_errors), 0.0}});
+  }
   for (const ModeRun& run : r.runs) {
     add_rows("Des", desired, run);
     if (ModeOf(run.spec).follows_approximation) add_rows("Pwl", pwl, run);
@@ -85,6 +101,33 @@ Table2 ComputeTable2(const TrackResult& r) {
                           MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
   }
   return table;
+}
+
+std::vector<LearningStep> LearningCurve(const ModeRun& run, const TrackResult& r) {
+  std::vector<LegAngles> all = run.run.warmup_measured_deg;
+  all.insert(all.end(), run.run.measured_deg.begin(), run.run.measured_deg.end());
+  const long warmup = static_cast<long>(run.run.warmup_measured_deg.size()) / r.period;
+  std::vector<LearningStep> curve;
+  for (size_t s = 0; (s + 1) * r.period <= all.size(); ++s) {
+    LearningStep step;
+    step.step = static_cast<long>(s) - warmup;
+    std::vector<double> foot(r.period);
+    for (int j = 0; j < kLegJoints; ++j) {
+      std::vector<double> desired(r.period), actual(r.period);
+      for (int t = 0; t < r.period; ++t) {
+        desired[t] = r.context.desired[t][j];
+        actual[t] = all[s * r.period + t][j];
+      }
+      step.l2_deg[j] = RmsDistance(desired, actual);
+    }
+    for (int t = 0; t < r.period; ++t) {
+      foot[t] =
+          (FootMm(r.robot.geometry, all[s * r.period + t]) - r.desired.foot_mm[t]).norm() / 10.0;
+    }
+    step.foot_l2_cm = Rms(foot);
+    curve.push_back(step);
+  }
+  return curve;
 }
 
 }  // namespace leglab::experiments

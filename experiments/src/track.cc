@@ -4,6 +4,7 @@
 #include <span>
 
 #include "leglab/experiments/parallel.h"
+#include "leglab/model/floor.h"
 #include "leglab/model/metrics.h"
 
 namespace leglab::experiments {
@@ -50,6 +51,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
                                       config.pwl_segments);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
+  }
+  r.context.warmup_steps = config.track.warmup_steps;
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> desired(r.period);
+    for (int t = 0; t < r.period; ++t) desired[t] = r.context.desired[t][j];
+    r.floor_deg[j] = FloorTrajectory(desired, models[j]);
   }
 
   for (const ControllerSpec& spec : config.controllers) {

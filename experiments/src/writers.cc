@@ -133,7 +133,10 @@ std::string Table2Markdown(const Table2& table) {
   std::ostringstream md;
   md << "# Table 2: distances between angle trajectories (deg)\n\n"
      << "Mean (± sample std) over " << table.steps << " steps of " << table.period
-     << " ticks; paper values in brackets.\n\n| Comparison | Rotator | Abductor | Knee |\n"
+     << " ticks; paper values in brackets. Floor: the cyclic trajectory nearest the desired "
+        "one that a joint with the model's top speed and acceleration time could follow at all "
+        "(a bound for every policy that respects the model).\n\n"
+     << "| Comparison | Rotator | Abductor | Knee |\n"
      << "|---|---|---|---|\n";
   for (const Table2Row& row : table.rows) {
     const paper::Table2Row* paper_row = paper::FindTable2Row(row.key);
@@ -196,6 +199,15 @@ std::string Table2Json(const Table2& table) {
   return json.dump(2) + '\n';
 }
 
+std::vector<std::string> TrackOutputPrefixes() {
+  std::vector<std::string> prefixes = {"table2.", "trace_", "foot_"};
+  for (const ControllerModeInfo& mode : ControllerModes()) {
+    if (mode.searchable) prefixes.push_back(std::string(mode.search_file) + ".");
+    if (!mode.feed_forward) prefixes.push_back(std::string(mode.name) + "_learning.");
+  }
+  return prefixes;
+}
+
 std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
   WriteTextFile(out.Path("table2.json"), Table2Json(table));
   std::string md = Table2Markdown(table);
@@ -234,6 +246,20 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     }
     trace.Close();
     foot.Close();
+  }
+  // Learning modes: every step's error, warm-up included (negative steps).
+  for (const ModeRun& run : r.runs) {
+    if (ModeOf(run.spec).feed_forward) continue;
+    CsvWriter csv(out.Path(std::string(ModeOf(run.spec).name) + "_learning.csv"),
+                  {"step", "joint", "l2_deg", "foot_l2_cm"});
+    for (const LearningStep& step : LearningCurve(run, r)) {
+      for (int j = 0; j < kLegJoints; ++j) {
+        csv.Cell(step.step).Cell(std::string(kLegJointNames[j])).Cell(step.l2_deg[j]);
+        csv.Cell(step.foot_l2_cm);
+        csv.EndRow();
+      }
+    }
+    csv.Close();
   }
   for (const ModeSearch& search : r.searches) {
     const ControllerModeInfo& mode = ModeOf(search.best);

@@ -166,7 +166,7 @@ TEST(Controllers, TimeShiftSearchesEveryDistinctShift) {
 }
 
 TEST(Controllers, RegistryKnowsEachModesTraits) {
-  EXPECT_EQ(ControllerModeNames(), "direct, time_shift, model_based");
+  EXPECT_EQ(ControllerModeNames(), "direct, time_shift, model_based, optimal, ilc");
   EXPECT_TRUE(FindControllerMode("time_shift").searchable);
   EXPECT_EQ(FindControllerMode("time_shift").search_file, "shift_search");
   EXPECT_FALSE(FindControllerMode("model_based").searchable);
@@ -179,8 +179,9 @@ TEST(Controllers, UnknownModeListsTheValidOnes) {
     SpecOf("pid");
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(),
-                 "unknown controller mode 'pid' (valid: direct, time_shift, model_based)");
+    EXPECT_STREQ(
+        e.what(),
+        "unknown controller mode 'pid' (valid: direct, time_shift, model_based, optimal, ilc)");
   }
 }
 

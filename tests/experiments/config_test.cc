@@ -59,7 +59,8 @@ TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
   EXPECT_TRUE(fs::exists(c.sim.urdf_path));     // resolved beside robot.yaml
   EXPECT_EQ(fs::path(c.sim.urdf_path).filename(), "leg.urdf");
   EXPECT_FALSE(c.model.has_value());
-  EXPECT_EQ(Modes(c), (std::vector<std::string>{"direct", "time_shift", "model_based"}));
+  EXPECT_EQ(Modes(c), (std::vector<std::string>{"direct", "time_shift", "model_based", "optimal",
+                                                "ilc"}));  // every registered mode
 }
 
 TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {

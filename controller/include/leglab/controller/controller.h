@@ -24,6 +24,8 @@ struct ControllerContext {
   std::array<JointModelParams, kLegJoints> models;         ///< identified or given
   std::array<JointLimits, kLegJoints> limits;              ///< rad, the plant's software limits
   std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
+  /// Steps the experiment runs before it measures (learning modes may treat them apart).
+  int warmup_steps = 0;
 };
 
 /// Builds the context: fits each joint's approximation with `pwl_segments` segments and its

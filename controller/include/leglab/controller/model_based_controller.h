@@ -37,4 +37,8 @@ class ModelBasedController final : public JointController {
   DesiredCycle requests_;
 };
 
+/// The paper's request cycle for `context` with C_m by `cm`, requests[t][j], clamped into the
+/// limits (what ModelBasedController requests). Throws as ModelBasedController.
+DesiredCycle ModelBasedRequestCycle(const ControllerContext& context, CmMethod cm);
+
 }  // namespace leglab

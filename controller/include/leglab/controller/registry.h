@@ -10,7 +10,9 @@
 
 #include "leglab/controller/controller.h"
 #include "leglab/controller/direct_controller.h"
+#include "leglab/controller/ilc_controller.h"
 #include "leglab/controller/model_based_controller.h"
+#include "leglab/controller/optimal_controller.h"
 #include "leglab/controller/time_shift_controller.h"
 
 namespace leglab {
@@ -26,6 +28,8 @@ namespace leglab {
 ///   static constexpr bool kFollowsApproximation = true;  Table 2 also compares it with P
 ///   static std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&);
 ///   static constexpr std::string_view kSearchFile;  where a search's scores go (no .csv)
+///   static constexpr std::string_view kConfigSection;  the config map of its keys (default
+///                                                      "controller")
 ///   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&);
 template <typename... Modes>
 struct ControllerModeList {
@@ -35,19 +39,21 @@ struct ControllerModeList {
 /// THE registry: every controller mode, in the order tables list them. A new mode is its own
 /// file pair plus its class here.
 using RegisteredControllerModes =
-    ControllerModeList<DirectController, TimeShiftController, ModelBasedController>;
+    ControllerModeList<DirectController, TimeShiftController, ModelBasedController,
+                       OptimalController, IlcController>;
 
 /// One mode's options: the variant alternative of its class's Spec.
 using ControllerSpec = RegisteredControllerModes::Spec;
 
 /// What the experiments need to know about a mode besides building it.
 struct ControllerModeInfo {
-  std::string_view name;         ///< in configs (controller.mode/modes) and output file names
-  std::string_view label;        ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
-  bool feed_forward;             ///< requests periodic and independent of what is measured
-  bool follows_approximation;    ///< Table 2 also compares it with the approximation P
-  bool searchable;               ///< has SearchCandidates (searched when the experiment asks)
-  std::string_view search_file;  ///< a searched mode's output file (without .csv)
+  std::string_view name;            ///< in configs (controller.mode/modes) and output file names
+  std::string_view label;           ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
+  bool feed_forward;                ///< requests periodic and independent of what is measured
+  bool follows_approximation;       ///< Table 2 also compares it with the approximation P
+  bool searchable;                  ///< has SearchCandidates (searched when the experiment asks)
+  std::string_view search_file;     ///< a searched mode's output file (without .csv)
+  std::string_view config_section;  ///< the config map its ReadSpec reads ("controller", "ilc")
 };
 
 /// Every registered mode, in registry order.

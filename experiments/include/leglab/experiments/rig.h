@@ -58,8 +58,9 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
 
 /// What one run of a controller on a plant recorded over the measured steps.
 struct TrackingRun {
-  std::vector<LegAngles> request_deg;   ///< steps * T ticks, as the servos applied them
-  std::vector<LegAngles> measured_deg;  ///< the angles measured right after each request
+  std::vector<LegAngles> request_deg;          ///< steps * T ticks, as the servos applied them
+  std::vector<LegAngles> measured_deg;         ///< the angles measured right after each request
+  std::vector<LegAngles> warmup_measured_deg;  ///< warmup_steps * T ticks before those
 };
 
 /// Runs `controller` (Reset first) on `plant` from rest at the desired cycle's first pose:

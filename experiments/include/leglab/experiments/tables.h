@@ -40,12 +40,21 @@ struct FootRow {
   MeanStd linf_cm;
 };
 
+/// One step of a run's learning curve: each joint's L2 distance to D and the foot's, that step.
+struct LearningStep {
+  long step = 0;  ///< warm-up steps negative, measured steps from 0
+  LegAngles l2_deg{};
+  double foot_l2_cm = 0.0;
+};
+
 /// Table 2 and the foot table.
 struct Table2 {
   int steps = 0;
   int period = 0;
-  std::vector<Table2Row> rows;  ///< per mode: L2 and Linf to D, and to P if it follows P
-  std::vector<FootRow> foot;    ///< per mode, in run order
+  /// The floor first (L2(Des,Floor), Linf(Des,Floor): one value, std 0), then per mode: L2
+  /// and Linf to D, and to P if it follows P.
+  std::vector<Table2Row> rows;
+  std::vector<FootRow> foot;  ///< the floor ("floor"), then per mode in run order
   std::array<JointModelParams, kLegJoints> models;
   bool models_identified = false;
   std::array<int, kLegJoints> pwl_segments{};
@@ -58,5 +67,8 @@ struct Table2 {
 
 /// Table 2 of a track run.
 Table2 ComputeTable2(const TrackResult& result);
+
+/// The learning curve of `run` (every step, warm-up included) against the desired motion.
+std::vector<LearningStep> LearningCurve(const ModeRun& run, const TrackResult& result);
 
 }  // namespace leglab::experiments

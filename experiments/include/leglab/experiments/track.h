@@ -29,7 +29,10 @@ struct ModeSearch {
 struct TrackResult {
   Robot robot;
   DesiredMotion desired;
-  ControllerContext context;         ///< desired angles, models, limits, approximations P
+  ControllerContext context;  ///< desired angles, models, limits, approximations P
+  /// Each joint's floor (FloorTrajectory): the cyclic trajectory nearest the desired one within
+  /// the model's speed and acceleration limits, deg, one step.
+  std::array<std::vector<double>, kLegJoints> floor_deg;
   bool models_identified = false;    ///< identified on the plant (no model.* keys given)
   std::vector<ModeRun> runs;         ///< in the config's mode order
   std::vector<ModeSearch> searches;  ///< for the searched modes, in run order

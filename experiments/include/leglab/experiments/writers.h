@@ -30,8 +30,14 @@ std::string Table2Markdown(const Table2& table);
 /// foot_cm.<mode>.{[k,] L2, Linf}, model.<joint>.
 std::string Table2Json(const Table2& table);
 
+/// The file-name prefixes `track` writes (and so replaces in --out): table2., trace_, foot_,
+/// each searched mode's search file, each learning mode's <mode>_learning.
+std::vector<std::string> TrackOutputPrefixes();
+
 /// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv and
-/// each search's CSV (time_shift's shift_search.csv). Returns the Markdown tables.
+/// each search's CSV (time_shift's shift_search.csv), and for every mode that is not
+/// feed-forward <mode>_learning.csv (step,joint,l2_deg,foot_l2_cm; warm-up steps negative).
+/// Returns the Markdown tables.
 std::string WriteTrackOutputs(const TrackResult& result, const Table2& table, const OutputDir& out);
 
 }  // namespace leglab::experiments

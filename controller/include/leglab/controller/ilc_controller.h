@@ -1,0 +1,76 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "leglab/controller/controller.h"
+
+namespace leglab {
+
+/// Iterative learning control across steps, optimisation-based (Schoellig and D'Andrea 2009,
+/// "Optimization-based iterative learning for precise quadrocopter trajectory tracking"): the
+/// identified model plus a repeating disturbance d that is learned from the measurements.
+/// Per joint, after every step that ran the request cycle R and measured y:
+///   d <- d + gain * (Q[y - M_ss(R)] - d)       what the model got wrong about this step
+///   R <- argmin_R' RMS(M_ss(R') + d - D)        OptimizeRequests, warm-started at R,
+/// where M_ss is the model's cyclic steady state (eqs. 2-3) and the new R stays within the
+/// limits. It starts from the best offline requests it has (`ilc.start`: optimal or
+/// model_based) with d = 0.
+///  - Learning filter: the model's own inverse, by optimisation rather than by a linearised
+///    gain. It carries the lead (a request at s first moves the joint at s + l + 1, so the
+///    correction for an error at t lands l + 1 ticks earlier, the classic P-type lead of
+///    Arimoto 1984) and the saturation: where the joint already runs at top speed the solver
+///    does not push harder, which is where a linear learning law (tried first: the Newton step
+///    (J'J + lambda I)^-1 J' e with J = SteadyStateSensitivity) made the knee worse step after
+///    step on the model itself.
+///  - Gain (`ilc.gain`, in (0, 1]): how much of the newly seen mismatch enters d per step.
+///    With an exact model d stays 0 and R stays optimal; below 1 it averages the 0.1 deg sensor
+///    noise over about 1/gain steps and damps the learning when the model misjudges the plant.
+///  - Robustness filter (`ilc.filter_ticks`, odd, 1 = off): a zero-phase cyclic moving average
+///    of the mismatch before it enters d, the standard Q-filter that keeps noise and unmodelled
+///    high-frequency dynamics from being learned (Bristow, Tharayil and Alleyne 2006, sec. 4).
+///  - Effort (`ilc.solver_iterations`): the solver's sensitivity evaluations per update.
+/// It learns during the warm-up steps and keeps learning while measured unless
+/// `ilc.freeze_after_warmup`. Requests are always finite and within the limits; a non-finite
+/// measurement or a failed solve leaves the cycle as it was.
+class IlcController final : public JointController {
+ public:
+  /// The `ilc.*` keys.
+  struct Spec {
+    double gain = 0.5;                 ///< ilc.gain, in (0, 1]
+    std::string start = "optimal";     ///< ilc.start: optimal or model_based
+    bool freeze_after_warmup = false;  ///< ilc.freeze_after_warmup
+    int filter_ticks = 3;              ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
+    int solver_iterations = 30;        ///< ilc.solver_iterations: >= 1
+    friend bool operator==(const Spec&, const Spec&) = default;
+  };
+  static constexpr std::string_view kName = "ilc";
+  static constexpr std::string_view kLabel = "ILC";
+  static constexpr std::string_view kConfigSection = "ilc";
+  /// Throws the reader's error naming the key for a value out of its range.
+  static Spec ReadSpec(OptionReader& reader);
+
+  /// Throws std::invalid_argument on an empty cycle or a bad spec.
+  IlcController(const Spec& spec, const ControllerContext& context);
+
+  void Reset() override;
+  LegAngles Update(long tick, const LegAngles& measured_deg) override;
+  void Observe(long tick, const LegAngles& applied_deg, const LegAngles& measured_deg) override;
+  void EndOfStep(long step) override;
+  std::string_view name() const override { return kName; }
+
+  /// The request cycle the next step will use, requests()[t][j].
+  const DesiredCycle& requests() const { return requests_; }
+
+ private:
+  Spec spec_;
+  ControllerContext context_;
+  DesiredCycle start_;     // the offline requests learning starts from
+  DesiredCycle requests_;  // the current cycle
+  DesiredCycle measured_;  // this step's measured angles, by tick of the cycle
+  std::vector<bool> seen_;  // which ticks of this step were observed
+  DesiredCycle disturbance_;  // d: the learned model-plant mismatch, by tick
+  DesiredCycle predicted_;    // M_ss(R) of the current cycle, by tick
+};
+
+}  // namespace leglab

@@ -1,0 +1,132 @@
+#include "leglab/controller/ilc_controller.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <stdexcept>
+#include <vector>
+
+#include "leglab/controller/model_based_controller.h"
+#include "leglab/controller/optimal_controller.h"
+#include "leglab/core/units.h"
+#include "leglab/model/joint_model.h"
+#include "leglab/model/optimal_requests.h"
+
+namespace leglab {
+namespace {
+
+// Zero-phase cyclic moving average over `window` (odd) ticks.
+Eigen::VectorXd CyclicMovingAverage(const Eigen::VectorXd& x, int window) {
+  if (window <= 1) return x;
+  const auto n = static_cast<int>(x.size());
+  const int half = window / 2;
+  Eigen::VectorXd out(n);
+  for (int t = 0; t < n; ++t) {
+    double sum = 0.0;
+    for (int k = -half; k <= half; ++k) sum += x[((t + k) % n + n) % n];
+    out[t] = sum / window;
+  }
+  return out;
+}
+
+}  // namespace
+
+IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
+  Spec spec;
+  reader.Read("gain", spec.gain);
+  reader.Read("start", spec.start);
+  reader.Read("freeze_after_warmup", spec.freeze_after_warmup);
+  reader.Read("filter_ticks", spec.filter_ticks);
+  reader.Read("solver_iterations", spec.solver_iterations);
+  if (!(spec.gain > 0.0 && spec.gain <= 1.0)) reader.Fail("gain", "in (0, 1]");
+  if (spec.start != "optimal" && spec.start != "model_based") {
+    reader.Fail("start", "optimal or model_based, got '" + spec.start + "'");
+  }
+  if (spec.filter_ticks < 1 || spec.filter_ticks % 2 == 0) {
+    reader.Fail("filter_ticks", "an odd number >= 1");
+  }
+  if (spec.solver_iterations < 1) reader.Fail("solver_iterations", "at least 1");
+  return spec;
+}
+
+IlcController::IlcController(const Spec& spec, const ControllerContext& context)
+    : spec_(spec), context_(context) {
+  if (context_.desired.empty()) {
+    throw std::invalid_argument("controller: the desired cycle is empty");
+  }
+  if (!(spec_.gain > 0.0 && spec_.gain <= 1.0) || spec_.filter_ticks < 1 ||
+      spec_.filter_ticks % 2 == 0 || spec_.solver_iterations < 1 ||
+      (spec_.start != "optimal" && spec_.start != "model_based")) {
+    throw std::invalid_argument("ilc: invalid options");
+  }
+  start_ = spec_.start == "model_based" ? ModelBasedRequestCycle(context_, CmMethod::kExact)
+                                        : OptimalRequestCycle(context_);
+  Reset();
+}
+
+void IlcController::Reset() {
+  const size_t period = start_.size();
+  requests_ = start_;
+  measured_.assign(period, LegAngles{});
+  seen_.assign(period, false);
+  disturbance_.assign(period, LegAngles{});
+  predicted_.assign(period, LegAngles{});
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> cycle(period);
+    for (size_t t = 0; t < period; ++t) cycle[t] = requests_[t][j];
+    const std::vector<double> steady = CyclicSteadyState(context_.models[j], cycle);
+    for (size_t t = 0; t < period; ++t) predicted_[t][j] = steady[t];
+  }
+}
+
+LegAngles IlcController::Update(long tick, const LegAngles& /*measured_deg*/) {
+  return CycleAt(requests_, tick);
+}
+
+void IlcController::Observe(long tick, const LegAngles& /*applied_deg*/,
+                            const LegAngles& measured_deg) {
+  const auto period = static_cast<long>(measured_.size());
+  const auto t = static_cast<size_t>((tick % period + period) % period);
+  measured_[t] = measured_deg;
+  seen_[t] = true;
+}
+
+void IlcController::EndOfStep(long step) {
+  const bool complete = std::all_of(seen_.begin(), seen_.end(), [](bool s) { return s; });
+  std::fill(seen_.begin(), seen_.end(), false);
+  if (!complete) return;  // a step it did not watch whole teaches nothing
+  if (spec_.freeze_after_warmup && step >= context_.warmup_steps) return;
+  const auto period = static_cast<int>(requests_.size());
+  for (int j = 0; j < kLegJoints; ++j) {
+    Eigen::VectorXd mismatch(period);
+    for (int t = 0; t < period; ++t) mismatch[t] = measured_[t][j] - predicted_[t][j];
+    if (!mismatch.allFinite()) continue;
+    mismatch = CyclicMovingAverage(mismatch, spec_.filter_ticks);
+    std::vector<double> target(period), current(period), disturbance(period);
+    for (int t = 0; t < period; ++t) {
+      disturbance[t] =
+          disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
+      target[t] = context_.desired[t][j] - disturbance[t];
+      current[t] = requests_[t][j];
+    }
+    OptimalRequestsOptions options;
+    options.lower_deg = RadToDeg(context_.limits[j].lower_rad);
+    options.upper_deg = RadToDeg(context_.limits[j].upper_rad);
+    options.max_iterations = spec_.solver_iterations;
+    options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
+    OptimalRequests next;
+    try {
+      next = OptimizeRequests(target, context_.models[j], current, options);
+    } catch (const std::exception&) {
+      continue;  // the 8 ms loop does not throw: keep the cycle it had
+    }
+    for (int t = 0; t < period; ++t) {
+      disturbance_[t][j] = disturbance[t];
+      requests_[t][j] = next.requests_deg[t];
+      predicted_[t][j] = next.steady_state_deg[t];
+    }
+  }
+}
+
+}  // namespace leglab
