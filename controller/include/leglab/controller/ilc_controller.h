@@ -40,7 +40,7 @@ class IlcController final : public JointController {
     double gain = 0.5;                 ///< ilc.gain, in (0, 1]
     std::string start = "optimal";     ///< ilc.start: optimal or model_based
     bool freeze_after_warmup = false;  ///< ilc.freeze_after_warmup
-    int filter_ticks = 3;              ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
+    int filter_ticks = 7;              ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
     int solver_iterations = 30;        ///< ilc.solver_iterations: >= 1
     friend bool operator==(const Spec&, const Spec&) = default;
   };
