@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Draws the paper's figures 1-8 (and the time-shift search) from the CSVs in a results folder.
+"""Draws the paper's figures 1-8 (and the time-shift search, the ILC learning curve and every
+mode's foot path) from the CSVs in a results folder.
 
 Usage: /usr/bin/python3 scripts/plot_figures.py RESULTS_DIR
 Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
@@ -54,7 +55,7 @@ def foot_figure(out, name, title, modes):
         ax.plot(closed(x), closed(z), style, label=label)
     ax.set(xlabel="x, forward (cm)", ylabel="z, up (cm)", title=title)
     ax.set_aspect("equal", adjustable="datalim")
-    ax.legend()
+    ax.legend(fontsize=8)
     save(fig, out, name)
 
 
@@ -144,6 +145,42 @@ def main(out):
         ax.set(xlabel="time shift k (ticks)", ylabel="foot L2 (cm)",
                title="Time-shift baseline: foot error for every k")
         save(fig, out, "fig9_shift_search.png")
+
+    # Figure 10: the ILC learning curve (every step, warm-up negative) against the floor.
+    if have("ilc_learning.csv") and have("table2.json"):
+        rows = read_csv(os.path.join(out, "ilc_learning.csv"))
+        with open(os.path.join(out, "table2.json")) as f:
+            table = json.load(f)
+        fig, (joints_ax, foot_ax) = plt.subplots(1, 2, figsize=(10, 4))
+        for joint, colour in (("rotator", "C0"), ("abductor", "C1"), ("knee", "C2")):
+            steps = column(rows, "step", joint=joint)
+            joints_ax.plot(steps, column(rows, "l2_deg", joint=joint), "o-", color=colour,
+                           ms=3, label=joint)
+            floor = table["joints"][joint]["L2(Des,Floor)"]["mean"]
+            joints_ax.axhline(floor, color=colour, ls=":", lw=1)
+        joints_ax.axvline(-0.5, color="0.6", lw=0.8)
+        joints_ax.set(xlabel="step (warm-up < 0)", ylabel="L2 to desired (deg)",
+                      title="ILC learning, joints (dotted: floor)")
+        joints_ax.legend()
+        steps = column(rows, "step", joint="rotator")
+        foot_ax.plot(steps, column(rows, "foot_l2_cm", joint="rotator"), "ko-", ms=3, label="ilc")
+        foot = table["foot_cm"]
+        for mode, style in (("floor", "k:"), ("model_based", "b--"), ("time_shift", "g--")):
+            if mode in foot:
+                foot_ax.axhline(foot[mode]["L2"]["mean"], ls=style[1:], color=style[0],
+                                lw=1, label=mode)
+        foot_ax.axvline(-0.5, color="0.6", lw=0.8)
+        foot_ax.set(xlabel="step (warm-up < 0)", ylabel="foot L2 (cm)",
+                    title="ILC learning, foot")
+        foot_ax.legend()
+        save(fig, out, "fig10_ilc_learning.png")
+
+    # Figure 11: the foot path of every mode that ran.
+    styles = {"direct": "r--", "time_shift": "g-.", "model_based": "b-", "optimal": "m-",
+              "ilc": "c-"}
+    modes = [(m, m, st) for m, st in styles.items() if have(f"foot_{m}.csv")]
+    if len(modes) > 1:
+        foot_figure(out, "fig11_foot_every_mode.png", "Foot trajectories, every mode", modes)
 
 
 if __name__ == "__main__":
