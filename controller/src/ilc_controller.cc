@@ -105,8 +105,7 @@ void IlcController::EndOfStep(long step) {
     mismatch = CyclicMovingAverage(mismatch, spec_.filter_ticks);
     std::vector<double> target(period), current(period), disturbance(period);
     for (int t = 0; t < period; ++t) {
-      disturbance[t] =
-          disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
+      disturbance[t] = disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
       target[t] = context_.desired[t][j] - disturbance[t];
       current[t] = requests_[t][j];
     }

@@ -145,12 +145,9 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
     const char* mode;
     double l2, l2_tolerance, linf, linf_tolerance;
   } foot[] = {
-      {"direct", 1.407, 0.005, 2.301, 0.018},
-      {"time_shift", 0.373, 0.005, 1.283, 0.103},
-      {"model_based", 0.360, 0.008, 0.915, 0.073},
-      {"floor", 0.296, 0.005, 0.964, 0.010},
-      {"optimal", 0.427, 0.012, 1.148, 0.111},
-      {"ilc", 0.318, 0.060, 0.903, 0.597},
+      {"direct", 1.407, 0.005, 2.301, 0.018},      {"time_shift", 0.373, 0.005, 1.283, 0.103},
+      {"model_based", 0.360, 0.008, 0.915, 0.073}, {"floor", 0.296, 0.005, 0.964, 0.010},
+      {"optimal", 0.427, 0.012, 1.148, 0.111},     {"ilc", 0.318, 0.060, 0.903, 0.597},
   };
   for (const auto& f : foot) {
     EXPECT_NEAR(Foot(f.mode, "L2"), f.l2, f.l2_tolerance) << f.mode;

@@ -65,10 +65,10 @@ class IlcController final : public JointController {
  private:
   Spec spec_;
   ControllerContext context_;
-  DesiredCycle start_;     // the offline requests learning starts from
-  DesiredCycle requests_;  // the current cycle
-  DesiredCycle measured_;  // this step's measured angles, by tick of the cycle
-  std::vector<bool> seen_;  // which ticks of this step were observed
+  DesiredCycle start_;        // the offline requests learning starts from
+  DesiredCycle requests_;     // the current cycle
+  DesiredCycle measured_;     // this step's measured angles, by tick of the cycle
+  std::vector<bool> seen_;    // which ticks of this step were observed
   DesiredCycle disturbance_;  // d: the learned model-plant mismatch, by tick
   DesiredCycle predicted_;    // M_ss(R) of the current cycle, by tick
 };
