@@ -74,12 +74,6 @@ ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader) {
   });
 }
 
-ControllerSpec DefaultControllerSpec(std::string_view name) {
-  return Modes::Dispatch<ControllerSpec>(IndexOf(name), []<typename Mode>() {
-    return ControllerSpec(std::in_place_type<typename Mode::Spec>);
-  });
-}
-
 std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,
                                                 const ControllerContext& context) {
   return Modes::Dispatch<std::unique_ptr<JointController>>(

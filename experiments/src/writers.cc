@@ -40,13 +40,6 @@ std::string Cell(const MeanStd& s) {
   return buffer;
 }
 
-// The identified model's cyclic steady state under one cycle of `requests` (the model column
-// of the step and trace CSVs).
-std::vector<double> ModelPrediction(const JointModelParams& model,
-                                    const std::vector<double>& cycle) {
-  return CyclicSteadyState(model, cycle);
-}
-
 }  // namespace
 
 std::string Table1Markdown(const Table1& table) {
@@ -111,8 +104,10 @@ std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoint
   for (const JointIdentification& joint : joints) {
     for (const StepTestRun& run : joint.runs) {
       const JointRecording& r = run.recording;
-      const std::vector<double> model = ModelPrediction(
-          joint.fit.params, {r.request_deg.begin(), r.request_deg.begin() + period});
+      // The model column: the identified model's cyclic steady state under the request cycle.
+      const std::vector<double> model = CyclicSteadyState(
+          joint.fit.params,
+          std::vector<double>(r.request_deg.begin(), r.request_deg.begin() + period));
       CsvWriter csv(out.Path("step_" + std::string(kLegJointNames[run.joint]) + "_" +
                              ThetaLabel(run.theta_test_deg) + ".csv"),
                     {"tick", "request_deg", "actual_deg", "model_deg"});
@@ -222,7 +217,7 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> cycle(period);
       for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
-      model[j] = ModelPrediction(r.context.models[j], cycle);
+      model[j] = CyclicSteadyState(r.context.models[j], cycle);
     }
     CsvWriter trace(out.Path("trace_" + mode + ".csv"),
                     {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",

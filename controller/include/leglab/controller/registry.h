@@ -73,9 +73,6 @@ const ControllerModeInfo& ModeOf(const ControllerSpec& spec);
 /// for an unknown name, and what the mode's ReadSpec throws.
 ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader);
 
-/// The default options of mode `name` (its Spec{}); throws as FindControllerMode.
-ControllerSpec DefaultControllerSpec(std::string_view name);
-
 /// Builds the controller of `spec` for `context`; throws what the mode's constructor throws.
 std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,
                                                 const ControllerContext& context);
