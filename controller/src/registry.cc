@@ -1,6 +1,7 @@
 #include "leglab/controller/registry.h"
 
 #include <array>
+#include <concepts>
 #include <stdexcept>
 
 namespace leglab {
@@ -8,7 +9,7 @@ namespace {
 
 template <typename Mode>
 constexpr ControllerModeInfo InfoOf() {
-  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, {}, "controller"};
+  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, false, {}, "controller"};
   if constexpr (requires { Mode::kConfigSection; }) info.config_section = Mode::kConfigSection;
   if constexpr (requires { Mode::kSearchFile; }) info.search_file = Mode::kSearchFile;
   if constexpr (requires { Mode::kFeedForward; }) info.feed_forward = Mode::kFeedForward;
@@ -17,6 +18,9 @@ constexpr ControllerModeInfo InfoOf() {
   }
   info.searchable = requires(const typename Mode::Spec& s, const ControllerContext& c) {
     Mode::SearchCandidates(s, c);
+  };
+  info.searchable_by_lead = requires(const typename Mode::Spec& s) {
+    { Mode::RequestLeadTicks(s) } -> std::same_as<int>;
   };
   return info;
 }
@@ -95,6 +99,16 @@ std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
       out.push_back(spec);
     }
     return out;
+  });
+}
+
+std::optional<int> RequestLeadTicks(const ControllerSpec& spec) {
+  return Modes::Dispatch<std::optional<int>>(spec.index(), [&]<typename Mode>() {
+    std::optional<int> lead;
+    if constexpr (requires { Mode::RequestLeadTicks(std::get<typename Mode::Spec>(spec)); }) {
+      lead = Mode::RequestLeadTicks(std::get<typename Mode::Spec>(spec));
+    }
+    return lead;
   });
 }
 

@@ -403,7 +403,19 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     track.Read("t_step_ticks", t.t_step_ticks);
     root.Read("warmup_steps", t.warmup_steps);  // top-level keys, as the track issue names them
     root.Read("steps", t.steps);
-    track.Read("search_shift", t.search_shift);
+    std::string search = "true";
+    track.Read("search_shift", search);
+    if (search == "exhaustive") {
+      t.search_shift = ShiftSearch::kExhaustive;
+    } else {
+      bool on = true;
+      try {
+        on = YAML::Load(search).as<bool>();
+      } catch (const YAML::Exception&) {
+        Fail("track.search_shift must be true, false or exhaustive, got '" + search + "'");
+      }
+      t.search_shift = on ? ShiftSearch::kShiftedRun : ShiftSearch::kNone;
+    }
     track.Finish();
     Require(t.t_step_ticks >= 4, "track.t_step_ticks", "at least 4");
     Require(t.warmup_steps >= 0, "warmup_steps", "non-negative");

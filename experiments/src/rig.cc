@@ -27,15 +27,19 @@ std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& ro
   }
 }
 
+long StepTestTicks(const IdentifyConfig& identify) {
+  return static_cast<long>(identify.settle_cycles + identify.record_cycles) * identify.t_step_ticks;
+}
+
 StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
                         double theta_test_deg) {
   plant.Reset(identify.hold_deg);
   const std::vector<double> cycle = StepTestRequests(theta_test_deg, identify.t_step_ticks);
   StepTestRun run{joint, theta_test_deg, {}};
-  const int total = (identify.settle_cycles + identify.record_cycles) * identify.t_step_ticks;
+  const long total = StepTestTicks(identify);
   const int first_recorded = identify.settle_cycles * identify.t_step_ticks;
   LegAngles request = identify.hold_deg;
-  for (int t = 0; t < total; ++t) {
+  for (long t = 0; t < total; ++t) {
     request[joint] = identify.hold_deg[joint] + cycle[t % identify.t_step_ticks];
     const PlantReading& reading = plant.Tick(request);
     if (t >= first_recorded) {

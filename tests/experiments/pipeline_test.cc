@@ -55,5 +55,65 @@ TEST(Pipeline, TrackOnTheModelPlantIsTheModelsSteadyState) {
   }
 }
 
+// The two ways of searching the time shift, on a config small enough for a test.
+struct ShiftSearches {
+  TrackResult shifted, exhaustive;
+};
+ShiftSearches RunBothSearches(std::vector<std::string> overrides) {
+  overrides.insert(overrides.end(), {"controller.modes=[time_shift]", "track.search_shift=true"});
+  ShiftSearches both;
+  both.shifted = RunTrackExperiment(LoadExperimentConfig(kConfigs + "track.yaml", overrides));
+  overrides.back() = "track.search_shift=exhaustive";
+  both.exhaustive = RunTrackExperiment(LoadExperimentConfig(kConfigs + "track.yaml", overrides));
+  return both;
+}
+
+// On the ideal plant (time-invariant, no noise) in steady state, requesting D(t + k) answers
+// with the direct run's response k ticks later exactly: every candidate's score from the one
+// run equals its score from its own run, and the search costs one run plus one step instead of
+// T runs (ticks counted here from the config, not from the code).
+TEST(Pipeline, ShiftSearchFromOneRunIsExactOnATimeInvariantPlant) {
+  const ShiftSearches both = RunBothSearches(
+      {"plant=model", "warmup_steps=12", "steps=2",
+       "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}"});
+  ASSERT_EQ(both.shifted.searches.size(), 1u);
+  ASSERT_EQ(both.exhaustive.searches.size(), 1u);
+  const ModeSearch& fast = both.shifted.searches[0];
+  const ModeSearch& slow = both.exhaustive.searches[0];
+  EXPECT_TRUE(fast.scored_from_one_run);
+  EXPECT_FALSE(slow.scored_from_one_run);
+  const long period = both.shifted.period;
+  ASSERT_EQ(fast.foot_l2_cm.size(), static_cast<size_t>(period));
+  ASSERT_EQ(slow.foot_l2_cm.size(), static_cast<size_t>(period));
+  for (long k = 0; k < period; ++k) {
+    EXPECT_NEAR(fast.foot_l2_cm[k], slow.foot_l2_cm[k], 1e-9) << "k = " << k;
+  }
+  EXPECT_EQ(fast.best, slow.best);
+  const long run_ticks = (12 + 2) * period;
+  EXPECT_EQ(both.shifted.plant_ticks, (run_ticks + period) + run_ticks);
+  EXPECT_EQ(both.exhaustive.plant_ticks, period * run_ticks + run_ticks);
+}
+
+// On the simulated leg (noise, physics) the one-run scores pick the same shift as the paper's
+// exhaustive search and differ from each run's own score by less than the sensor noise can
+// move the foot on one tick (reach x noise in radians, a bound on a mean of per-step RMS).
+TEST(Pipeline, ShiftSearchFromOneRunAgreesWithTheExhaustiveSearchOnTheSim) {
+  const ShiftSearches both = RunBothSearches(
+      {"warmup_steps=3", "steps=4",
+       "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}"});
+  const ExperimentConfig config = LoadExperimentConfig(kConfigs + "track.yaml");
+  const LegGeometry& g = both.shifted.robot.geometry;
+  const double reach_cm = (g.upper_leg_mm.norm() + g.lower_leg_mm.norm()) / 10.0;
+  const double noise_bound_cm = reach_cm * config.sim.sensor.noise_deg * M_PI / 180.0;
+  const ModeSearch& fast = both.shifted.searches.at(0);
+  const ModeSearch& slow = both.exhaustive.searches.at(0);
+  EXPECT_EQ(fast.best, slow.best);
+  for (size_t k = 0; k < slow.foot_l2_cm.size(); ++k) {
+    EXPECT_NEAR(fast.foot_l2_cm[k], slow.foot_l2_cm[k], noise_bound_cm) << "k = " << k;
+  }
+  // The reported run is the best candidate's own run either way: the same bits.
+  EXPECT_EQ(both.shifted.runs.at(0).run.measured_deg, both.exhaustive.runs.at(0).run.measured_deg);
+}
+
 }  // namespace
 }  // namespace leglab::experiments

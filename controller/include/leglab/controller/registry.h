@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -31,6 +32,9 @@ namespace leglab {
 ///   static constexpr std::string_view kConfigSection;  the config map of its keys (default
 ///                                                      "controller")
 ///   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&);
+///   static int RequestLeadTicks(const Spec&);    a search candidate requests what the
+///                                                candidate with lead 0 requests, this many
+///                                                ticks earlier: R(t) = R_0(t + lead)
 template <typename... Modes>
 struct ControllerModeList {
   using Spec = std::variant<typename Modes::Spec...>;
@@ -47,11 +51,14 @@ using ControllerSpec = RegisteredControllerModes::Spec;
 
 /// What the experiments need to know about a mode besides building it.
 struct ControllerModeInfo {
-  std::string_view name;            ///< in configs (controller.mode/modes) and output file names
-  std::string_view label;           ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
-  bool feed_forward;                ///< requests periodic and independent of what is measured
-  bool follows_approximation;       ///< Table 2 also compares it with the approximation P
-  bool searchable;                  ///< has SearchCandidates (searched when the experiment asks)
+  std::string_view name;       ///< in configs (controller.mode/modes) and output file names
+  std::string_view label;      ///< in Table 2's keys, e.g. "MB" in L2(Des,MB)
+  bool feed_forward;           ///< requests periodic and independent of what is measured
+  bool follows_approximation;  ///< Table 2 also compares it with the approximation P
+  bool searchable;             ///< has SearchCandidates (searched when the experiment asks)
+  /// Has RequestLeadTicks: on a time-invariant plant in steady state, a candidate's response is
+  /// the lead-0 candidate's response `lead` ticks earlier, so one run scores every candidate.
+  bool searchable_by_lead;
   std::string_view search_file;     ///< a searched mode's output file (without .csv)
   std::string_view config_section;  ///< the config map its ReadSpec reads ("controller", "ilc")
 };
@@ -81,6 +88,10 @@ std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,
 /// `spec` for a mode without.
 std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
                                              const ControllerContext& context);
+
+/// The mode's RequestLeadTicks(spec) when it has one: spec's requests are those of the same
+/// mode's lead-0 candidate `lead` ticks ahead. Empty for a mode without.
+std::optional<int> RequestLeadTicks(const ControllerSpec& spec);
 
 /// Named integer parameters of `spec` worth reporting (e.g. time_shift's {"k", 8}); empty for a
 /// mode without Parameters.

@@ -25,6 +25,8 @@ class TimeShiftController final : public JointController {
   /// The shifts an experiment may search (`track.search_shift`): k = 0..T-1, every distinct
   /// shift of a cycle of T ticks.
   static std::vector<Spec> SearchCandidates(const Spec& spec, const ControllerContext& context);
+  /// R_k(t) = D(t + k) = R_0(t + k): candidate k leads the unshifted requests by k ticks.
+  static int RequestLeadTicks(const Spec& spec) { return spec.shift_ticks; }
   /// The parameters a search chose, for the tables: {"k", shift_ticks}.
   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec& spec) {
     return {{"k", spec.shift_ticks}};

@@ -41,6 +41,17 @@ struct LocusConfig {
   double ground_below_shoulder_mm = 100.0;  ///< ... below the shoulder
 };
 
+/// `track.search_shift`: how a searched mode (time_shift) finds its best candidate.
+enum class ShiftSearch {
+  kNone,  ///< `false`: no search; the mode runs with its configured options
+  /// `true` (the default): a mode whose candidates differ only by how far ahead they request
+  /// (RequestLeadTicks) is scored from one run of its lead-0 candidate, one step longer: the
+  /// plant is time-invariant, so in steady state candidate k's response is that run's response
+  /// k ticks later. Other searched modes run every candidate.
+  kShiftedRun,
+  kExhaustive,  ///< `exhaustive`: every candidate run on its own plant (the paper's procedure)
+};
+
 /// `desired.*` and `track.*`: what to follow and for how long.
 struct TrackConfig {
   std::string desired_csv;        ///< `desired.csv`: a cycle of joint angles; empty = the locus
@@ -48,7 +59,7 @@ struct TrackConfig {
   int t_step_ticks = kStepTicks;  ///< `track.t_step_ticks`: ticks per step (a CSV's rows)
   int warmup_steps = 5;           ///< `warmup_steps`: steps run before measuring
   int steps = 20;                 ///< `steps`: measured steps (the paper: 20)
-  bool search_shift = true;       ///< `track.search_shift`: time_shift searches every k by foot L2
+  ShiftSearch search_shift = ShiftSearch::kShiftedRun;  ///< `track.search_shift`
 };
 
 /// Which plant the experiments drive (`plant:`).

@@ -32,6 +32,9 @@ struct StepTestRun {
 StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
                         double theta_test_deg);
 
+/// Plant ticks of one step test (settle and record cycles of t_step_ticks).
+long StepTestTicks(const IdentifyConfig& identify);
+
 /// The model identified for one joint, with the recordings it was fitted to.
 struct JointIdentification {
   IdentificationResult fit;

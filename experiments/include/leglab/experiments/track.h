@@ -15,6 +15,7 @@ struct ModeRun {
   ControllerSpec spec;  ///< the options used (a searched mode's best candidate)
   TrackingRun run;
   std::vector<double> foot_error_cm;  ///< per recorded tick
+  long ticks = 0;                     ///< plant ticks the run took (warm-up included)
 };
 
 /// A searched mode's candidates (SearchCandidates, e.g. time_shift's k = 0..T-1), each with its
@@ -23,6 +24,9 @@ struct ModeSearch {
   ControllerSpec best;
   std::vector<ControllerSpec> candidates;
   std::vector<double> foot_l2_cm;
+  /// The scores were taken from one run of the lead-0 candidate (track.search_shift: true),
+  /// not from a run of each candidate (exhaustive).
+  bool scored_from_one_run = false;
 };
 
 /// Everything `track` measured.
@@ -38,12 +42,15 @@ struct TrackResult {
   std::vector<ModeSearch> searches;  ///< for the searched modes, in run order
   int steps = 0;
   int period = 0;
+  /// Plant ticks run in all (identification's step tests, searches and every mode's run): the
+  /// physics the experiment cost, sim.physics_dt_ms steps each on the simulated leg.
+  long plant_ticks = 0;
 };
 
 /// Runs Table 2's experiment: the robot, the desired cycle, the models (given or identified
-/// as `identify` does), every configured mode (a searchable mode, e.g. time_shift, tries
-/// every candidate and keeps the best by foot L2 when track.search_shift), warmup_steps then
-/// steps measured steps. Parallel on config.threads threads; the result does not depend on
+/// as `identify` does), every configured mode (a searchable mode, e.g. time_shift, scores
+/// every candidate as track.search_shift says and runs the best by foot L2), warmup_steps
+/// then steps measured steps. Parallel on config.threads threads; the result does not depend on
 /// the count.
 TrackResult RunTrackExperiment(const ExperimentConfig& config);
 
