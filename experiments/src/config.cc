@@ -2,13 +2,17 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 #include <string_view>
 
 #include "leglab/experiments/data_dir.h"
+#include "leglab/experiments/output.h"
 
 namespace leglab::experiments {
 namespace {
@@ -116,7 +120,7 @@ class MapReader {
     if (!node_.IsMap()) return;
     for (const auto& item : node_) {
       const std::string key = item.first.as<std::string>();
-      if (!used_.count(key)) Fail("unknown key '" + Name(key) + "'");
+      if (!used_.count(key)) throw UnknownKeyError("config: unknown key '" + Name(key) + "'");
     }
   }
 
@@ -434,6 +438,184 @@ ExperimentConfig LoadExperimentConfig(const std::string& config_path,
   } catch (const YAML::Exception& e) {
     // What the conversions above did not catch (e.g. a key that is not a scalar).
     Fail("'" + config_path + "' is malformed: " + e.what());
+  }
+}
+
+// ---- Sweep files ----
+
+namespace {
+
+std::string FlowYaml(const YAML::Node& node) {
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+// One key=value per leaf of `node` under `prefix`: merging them one by one is a deep merge.
+void FlattenInto(const YAML::Node& node, const std::string& prefix, std::vector<std::string>& out) {
+  if (node.IsMap() && node.size() > 0) {
+    for (const auto& item : node) {
+      FlattenInto(item.second, prefix + "." + item.first.as<std::string>(), out);
+    }
+  } else {
+    out.push_back(prefix + "=" + FlowYaml(node));
+  }
+}
+
+// An integer written as one (no point, no exponent), for a sample range's type.
+bool WrittenAsInteger(const YAML::Node& node) {
+  if (!node.IsScalar()) return false;
+  const std::string& text = node.Scalar();
+  if (text.empty()) return false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (!(std::isdigit(static_cast<unsigned char>(c)) || (i == 0 && (c == '-' || c == '+')))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Uniform in [0, 1) from 53 random bits: the same on every standard library (unlike
+// std::uniform_real_distribution).
+double Uniform01(std::mt19937_64& random) {
+  return static_cast<double>(random() >> 11) * 0x1.0p-53;
+}
+
+SweepConfig LoadSweepConfigUnguarded(const std::string& path) {
+  const std::string where = "sweep '" + path + "'";
+  auto fail = [&](const std::string& what) -> void { throw InputError(where + ": " + what); };
+  const YAML::Node file = LoadYamlFile(path, "sweep file");
+  SweepConfig sweep;
+  sweep.path = path;
+  if (!file["base"] || !file["base"].IsScalar()) fail("base: expected the base config's file name");
+  const fs::path base(file["base"].Scalar());
+  sweep.base_path = (base.is_absolute() ? base : fs::path(path).parent_path() / base).string();
+  if (!fs::is_regular_file(sweep.base_path)) {
+    fail("base: '" + sweep.base_path + "' does not exist");
+  }
+  const bool has_grid = file["grid"].IsDefined(), has_sample = file["sample"].IsDefined();
+  if (has_grid == has_sample) fail("give either grid: or sample: (exactly one)");
+  for (const auto& item : file) {
+    const std::string key = item.first.as<std::string>();
+    if (key == "base" || key == "grid" || key == "sample") continue;
+    if (key == "extends") fail("extends: a sweep names its base config with base:");
+    FlattenInto(item.second, key, sweep.overrides);
+  }
+
+  if (has_grid) {
+    const YAML::Node grid = file["grid"];
+    if (!grid.IsMap() || grid.size() == 0) fail("grid: expected a map of key: [values...]");
+    std::vector<std::vector<std::string>> values;
+    long points = 1;
+    for (const auto& item : grid) {
+      const std::string key = item.first.as<std::string>();
+      if (!item.second.IsSequence() || item.second.size() == 0) {
+        fail("grid." + key + ": expected a non-empty list of values");
+      }
+      sweep.keys.push_back(key);
+      values.emplace_back();
+      for (const YAML::Node& v : item.second) values.back().push_back(FlowYaml(v));
+      points *= static_cast<long>(values.back().size());
+      if (points > kMaxSweepPoints) {
+        fail("grid: more than " + std::to_string(kMaxSweepPoints) + " points");
+      }
+    }
+    // The cartesian product in odometer order: the last key varies fastest.
+    for (long index = 0; index < points; ++index) {
+      SweepPoint p{index, std::vector<std::string>(values.size())};
+      long rest = index;
+      for (size_t k = values.size(); k-- > 0;) {
+        const long n = static_cast<long>(values[k].size());
+        p.values[k] = values[k][rest % n];
+        rest /= n;
+      }
+      sweep.points.push_back(std::move(p));
+    }
+    return sweep;
+  }
+
+  const YAML::Node sample = file["sample"];
+  if (!sample.IsMap()) fail("sample: expected {count: K, seed: S, keys: {...}}");
+  for (const auto& item : sample) {
+    const std::string key = item.first.as<std::string>();
+    if (key != "count" && key != "seed" && key != "keys") fail("unknown key 'sample." + key + "'");
+  }
+  long count = 0;
+  long long seed = 0;
+  try {
+    count = sample["count"].as<long>();
+  } catch (const YAML::Exception&) {
+    fail("sample.count: expected a whole number of points");
+  }
+  if (count < 1 || count > kMaxSweepPoints) {
+    fail("sample.count must be in [1, " + std::to_string(kMaxSweepPoints) + "], got " +
+         std::to_string(count));
+  }
+  try {
+    seed = sample["seed"].as<long long>();
+  } catch (const YAML::Exception&) {
+    fail("sample.seed: expected a non-negative integer");
+  }
+  if (seed < 0) fail("sample.seed must be non-negative");
+  const YAML::Node keys = sample["keys"];
+  if (!keys.IsMap() || keys.size() == 0) fail("sample.keys: expected {<key>: {min: a, max: b}}");
+  struct Range {
+    double min, max;
+    bool integer;
+  };
+  std::vector<Range> ranges;
+  for (const auto& item : keys) {
+    const std::string key = item.first.as<std::string>();
+    const std::string name = "sample.keys." + key;
+    const YAML::Node r = item.second;
+    if (!r.IsMap() || r.size() != 2 || !r["min"] || !r["max"]) {
+      fail(name + ": expected {min: a, max: b}");
+    }
+    Range range{};
+    try {
+      range = {r["min"].as<double>(), r["max"].as<double>(),
+               WrittenAsInteger(r["min"]) && WrittenAsInteger(r["max"])};
+    } catch (const YAML::Exception&) {
+      fail(name + ": min and max must be numbers");
+    }
+    if (!std::isfinite(range.min) || !std::isfinite(range.max) || range.min > range.max) {
+      fail(name + ": expected finite min <= max");
+    }
+    if (range.integer && range.max - range.min >= 0x1.0p53) fail(name + ": range too wide");
+    sweep.keys.push_back(key);
+    ranges.push_back(range);
+  }
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
+  for (long index = 0; index < count; ++index) {
+    SweepPoint p{index, {}};
+    for (const Range& r : ranges) {
+      const double u = Uniform01(random);
+      if (r.integer) {
+        const double n = r.max - r.min + 1.0;
+        p.values.push_back(std::to_string(static_cast<long long>(r.min + std::floor(u * n))));
+      } else {
+        p.values.push_back(FormatDouble(r.min + u * (r.max - r.min)));
+      }
+    }
+    sweep.points.push_back(std::move(p));
+  }
+  return sweep;
+}
+
+}  // namespace
+
+std::vector<std::string> SweepConfig::PointOverrides(const SweepPoint& p) const {
+  std::vector<std::string> out = overrides;
+  for (size_t k = 0; k < keys.size(); ++k) out.push_back(keys[k] + "=" + p.values[k]);
+  return out;
+}
+
+SweepConfig LoadSweepConfig(const std::string& path) {
+  try {
+    return LoadSweepConfigUnguarded(path);
+  } catch (const YAML::Exception& e) {
+    Fail("sweep '" + path + "' is malformed: " + e.what());
   }
 }
 

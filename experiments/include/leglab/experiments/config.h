@@ -21,6 +21,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Bad input of one kind: a config key that no reader asked for (a typo, or a key of another
+/// program). A sweep treats it as a broken sweep file, not as one bad point.
+class UnknownKeyError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// `identify.*`: the step test of eq. 1 on each joint in turn.
 struct IdentifyConfig {
   std::vector<double> theta_test_deg{40.0, 110.0};  ///< step heights, one recording each
@@ -97,5 +104,40 @@ struct ExperimentConfig {
 /// file, an unknown key, a value of the wrong type or out of range, or a missing URDF.
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides = {});
+
+/// One point of a sweep.
+struct SweepPoint {
+  long index = 0;                   ///< 0-based, in the sweep's order (a shard's selector)
+  std::vector<std::string> values;  ///< each swept key's value as YAML text, in key order
+};
+
+/// A sweep file (`sweep --config`): a base experiment and the points at which to run it.
+struct SweepConfig {
+  std::string path;       ///< the sweep file
+  std::string base_path;  ///< `base:`, relative to the sweep file
+  /// The sweep file's other keys, merged over the base as `extends:` would: one key=value
+  /// override per leaf (maps merge key by key, anything else replaces).
+  std::vector<std::string> overrides;
+  std::vector<std::string> keys;  ///< the swept keys (dotted config paths), in the file's order
+  std::vector<SweepPoint> points;
+
+  /// The overrides that make point `p`'s experiment: `overrides`, then key=value of each
+  /// swept key.
+  std::vector<std::string> PointOverrides(const SweepPoint& p) const;
+};
+
+/// Most points a sweep may have (a grid's product, a sample's count): 10^6.
+inline constexpr long kMaxSweepPoints = 1'000'000;
+
+/// Loads a sweep file: `base:` (required) and either `grid: {<key>: [values...], ...}` (the
+/// cartesian product, the first key varying slowest) or `sample: {count: K, seed: S, keys:
+/// {<key>: {min: a, max: b}, ...}}` (K points, each key uniform in [a, b]; integers when a
+/// and b are both written as integers; the same seed gives the same points on any machine).
+/// Every other key is an experiment config key merged over the base. Throws InputError naming
+/// the file and key for a missing or malformed file, a missing base, neither or both of grid
+/// and sample, an empty grid or value list, a bad count, seed or range, or more than
+/// kMaxSweepPoints points. Whether the swept keys exist is checked by loading the base
+/// (LoadExperimentConfig), not here.
+SweepConfig LoadSweepConfig(const std::string& path);
 
 }  // namespace leglab::experiments

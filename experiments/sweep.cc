@@ -1,0 +1,143 @@
+// sweep: runs a base experiment (track) at every point of a grid or a seeded random sample of
+// config values and writes one row per point to sweep.csv; with --shard I/N (or a Slurm or
+// Kubernetes job array) only every N-th point, into sweep.shard-I-of-N.csv. `sweep merge`
+// joins the shards into the sweep.csv an unsharded run writes, byte for byte.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/sweep.h"
+
+namespace {
+
+using namespace leglab::experiments;
+namespace fs = std::filesystem;
+
+// --out must be a folder or a path where one can be made; checked before any point runs.
+void CheckOutDir(const std::string& out) {
+  if (out.empty()) throw InputError("--out: empty path");
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    throw InputError("--out '" + out + "' exists and is not a folder");
+  }
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app(
+      "Sweep: run an experiment at every point of a grid or a random sample of config values, "
+      "one CSV row per point; shard it over a cluster and merge the shards",
+      "sweep");
+  std::string config_path, out_dir, shard_text;
+  std::optional<int> shards;
+  int threads = 0;
+  bool quiet = false;
+  app.add_option("--config", config_path, "sweep file (YAML: base, grid or sample)");
+  app.add_option("--out", out_dir, "folder for sweep.csv or sweep.shard-I-of-N.csv");
+  app.add_option("--shard", shard_text, "run only the points with index % N == I (I/N, 0-based)");
+  app.add_option("--shards", shards,
+                 "shard count when the index comes from JOB_COMPLETION_INDEX (or overrides "
+                 "SLURM_ARRAY_TASK_COUNT)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--threads", threads,
+                 "points run at once (default: one per core); rows do not depend on it")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  CLI::App* merge = app.add_subcommand(
+      "merge", "join sweep.shard-I-of-N.csv files from the folders given into --out/sweep.csv");
+  std::vector<std::string> merge_dirs;
+  std::string merge_out, merge_config;
+  merge->add_option("dirs", merge_dirs, "folders holding shard files")->required();
+  merge->add_option("--out", merge_out, "folder for sweep.csv")->required();
+  merge->add_option("--config", merge_config,
+                    "the sweep file: checks the point count, names it in the rerun command");
+  app.require_subcommand(0, 1);
+  try {
+    app.parse(argc, argv);
+    if (!merge->parsed() && (config_path.empty() || out_dir.empty())) {
+      throw CLI::ValidationError("--config and --out", "are required (or use `sweep merge`)");
+    }
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "sweep: error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+
+  if (merge->parsed()) {
+    CheckOutDir(merge_out);
+    std::vector<fs::path> dirs(merge_dirs.begin(), merge_dirs.end());
+    const MergeResult merged = MergeShards(dirs);
+    if (!merged.missing.empty()) {
+      std::string names;
+      for (const int i : merged.missing) {
+        names += (names.empty() ? "" : ", ") + ShardFileName({i, merged.shard_count});
+      }
+      std::cerr << "sweep merge: error: " << merged.missing.size() << " of "
+                << merged.shard_count << " shards missing: " << names
+                << "\nrerun them with:\n  "
+                << SlurmRerunCommand(merged.missing, merged.shard_count,
+                                     merge_config.empty() ? "SWEEP.yaml" : merge_config,
+                                     merge_dirs.front())
+                << '\n';
+      return 2;
+    }
+    if (!merge_config.empty()) {
+      const SweepConfig sweep = LoadSweepConfig(merge_config);
+      if (sweep.points.size() != merged.table.rows.size()) {
+        throw InputError("merge: the shards hold " + std::to_string(merged.table.rows.size()) +
+                         " points, '" + merge_config + "' has " +
+                         std::to_string(sweep.points.size()));
+      }
+    }
+    fs::create_directories(merge_out);
+    WriteSweepTable(merged.table, fs::path(merge_out) / "sweep.csv");
+    std::cerr << "sweep merge: " << merged.table.rows.size() << " points from "
+              << merged.shard_count << " shards into " << merge_out << "/sweep.csv\n";
+    return 0;
+  }
+
+  CheckOutDir(out_dir);
+  std::optional<Shard> shard;
+  if (!shard_text.empty()) {
+    shard = ParseShard(shard_text);
+  } else {
+    shard = ShardFromEnvironment([](const char* name) { return std::getenv(name); }, shards);
+  }
+  const SweepConfig sweep = LoadSweepConfig(config_path);
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start;
+  const SweepTable table = RunSweep(
+      sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
+        const auto now = std::chrono::steady_clock::now();
+        if (quiet || (done < total && now - last < std::chrono::seconds(2))) return;
+        last = now;
+        const double elapsed = std::chrono::duration<double>(now - start).count();
+        std::cerr << "sweep: " << done << "/" << total << " points, " << static_cast<long>(elapsed)
+                  << " s, about " << static_cast<long>(elapsed / static_cast<double>(done) * static_cast<double>(total - done))
+                  << " s left\n";
+      });
+  fs::create_directories(out_dir);
+  const fs::path file = fs::path(out_dir) / (shard ? ShardFileName(*shard) : "sweep.csv");
+  WriteSweepTable(table, file);
+  std::cerr << "sweep: " << table.rows.size() << " points (" << table.not_ok << " not ok) into "
+            << file.string() << '\n';
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const InputError& e) {
+    std::cerr << "sweep: error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "sweep: failed: " << e.what() << '\n';
+    return 1;
+  }
+}

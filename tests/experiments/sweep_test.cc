@@ -1,0 +1,275 @@
+// Sweeps: the points a sweep file describes, shards and their merge, and the sweep program's
+// contract (bad sweep files are exit 2 with nothing written; a bad point is its row's status).
+#include "leglab/experiments/sweep.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace leglab::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kConfigs = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
+const std::string kSweepBin = LEGLAB_SWEEP_BIN;
+// Run as if outside any job array, even when the tests run inside one.
+const std::string kNoJobArray =
+    "env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_COUNT -u JOB_COMPLETION_INDEX ";
+
+// A fast base: the ideal plant with a given model (no identification), two measured steps.
+const std::string kFastBase =
+    "base: " + kConfigs + "track.yaml\n" +
+    "plant: model\n"
+    "model: {v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}\n"
+    "controller: {modes: [direct, time_shift, model_based]}\n"
+    "warmup_steps: 2\n"
+    "steps: 2\n";
+
+class SweepTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("leglab_sweep_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string Write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+
+  // Runs the sweep program with `args`; returns its exit status and standard error.
+  std::pair<int, std::string> Sweep(const std::string& args) const {
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string command = kNoJobArray + kSweepBin + " " + args + " >/dev/null 2>'" +
+                                err.string() + "'";
+    const int raw = std::system(command.c_str());
+    std::stringstream text;
+    text << std::ifstream(err).rdbuf();
+    fs::remove(err);
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, text.str()};
+  }
+
+  // Expects exit status 2 with one line naming `needle`, and `out` not created.
+  void ExpectBadInput(const std::string& args, const fs::path& out, const std::string& needle) {
+    const auto [status, err] = Sweep(args);
+    EXPECT_EQ(status, 2) << args << "\n" << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find(needle), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+
+  fs::path dir_;
+};
+
+std::string ReadFile(const fs::path& path) {
+  std::stringstream s;
+  s << std::ifstream(path, std::ios::binary).rdbuf();
+  return s.str();
+}
+
+// The grid is the cartesian product in odometer order (last key fastest), counted by hand.
+TEST_F(SweepTest, AGridIsTheCartesianProductLastKeyFastest) {
+  const SweepConfig sweep = LoadSweepConfig(
+      Write("grid.yaml", kFastBase + "grid:\n  servo.delay_ms: [32, 48]\n"
+                                     "  track.t_step_ticks: [60, 88, 100]\n"));
+  ASSERT_EQ(sweep.keys, (std::vector<std::string>{"servo.delay_ms", "track.t_step_ticks"}));
+  const std::vector<std::vector<std::string>> expected = {
+      {"32", "60"}, {"32", "88"}, {"32", "100"}, {"48", "60"}, {"48", "88"}, {"48", "100"}};
+  ASSERT_EQ(sweep.points.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(sweep.points[i].index, static_cast<long>(i));
+    EXPECT_EQ(sweep.points[i].values, expected[i]) << i;
+  }
+  // The file's other keys become leaf overrides (a deep merge), before the point's keys.
+  const std::vector<std::string> overrides = sweep.PointOverrides(sweep.points[4]);
+  EXPECT_EQ(overrides.back(), "track.t_step_ticks=88");
+  EXPECT_NE(std::find(overrides.begin(), overrides.end(), "model.lag_ticks=4"), overrides.end());
+  EXPECT_NE(std::find(overrides.begin(), overrides.end(), "steps=2"), overrides.end());
+}
+
+// A sample: count points, each value inside its range, integers when the range is written in
+// integers, the same points for the same seed and others for another seed.
+TEST_F(SweepTest, ASampleIsSeededAndInsideItsRanges) {
+  auto sample = [&](int seed) {
+    return LoadSweepConfig(Write("sample.yaml",
+                                 kFastBase + "sample:\n  count: 200\n  seed: " +
+                                     std::to_string(seed) +
+                                     "\n  keys:\n"
+                                     "    servo.max_speed_deg_s: {min: 187.5, max: 437.5}\n"
+                                     "    servo.delay_ms: {min: 24, max: 72}\n"));
+  };
+  const SweepConfig a = sample(7), b = sample(7), c = sample(8);
+  ASSERT_EQ(a.points.size(), 200u);
+  std::set<std::string> delays;
+  for (const SweepPoint& p : a.points) {
+    const double speed = std::stod(p.values[0]);
+    EXPECT_GE(speed, 187.5);
+    EXPECT_LE(speed, 437.5);
+    const long delay = std::stol(p.values[1]);
+    EXPECT_EQ(std::to_string(delay), p.values[1]);  // an integer, written as one
+    EXPECT_GE(delay, 24);
+    EXPECT_LE(delay, 72);
+    delays.insert(p.values[1]);
+  }
+  // 200 draws over 49 integers: both ends appear (chance of missing one < 200 * (48/49)^200).
+  EXPECT_TRUE(delays.count("24") && delays.count("72"));
+  for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i].values, b.points[i].values);
+  int same = 0;
+  for (size_t i = 0; i < a.points.size(); ++i) same += a.points[i].values == c.points[i].values;
+  EXPECT_LT(same, 5);
+}
+
+TEST(Shard, ParsesIOfNAndRejectsTheRest) {
+  EXPECT_EQ(ParseShard("0/1"), (Shard{0, 1}));
+  EXPECT_EQ(ParseShard("2/3"), (Shard{2, 3}));
+  for (const char* bad : {"3/2", "0/0", "2/2", "-1/2", "1", "a/b", "1/", "/2", "1/2/3", " 1/2"}) {
+    EXPECT_THROW(ParseShard(bad), InputError) << bad;
+  }
+}
+
+TEST(Shard, ComesFromSlurmOrKubernetesWhenNoFlagIsGiven) {
+  auto env = [](std::map<std::string, std::string> vars) {
+    return [vars](const char* name) -> const char* {
+      const auto it = vars.find(name);
+      return it == vars.end() ? nullptr : it->second.c_str();
+    };
+  };
+  EXPECT_EQ(ShardFromEnvironment(env({}), std::nullopt), std::nullopt);
+  EXPECT_EQ(ShardFromEnvironment(
+                env({{"SLURM_ARRAY_TASK_ID", "3"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}),
+                std::nullopt),
+            (Shard{3, 8}));
+  // A rerun of missing shards (--array=3,7) has a task count of 2: --shards gives the real N.
+  EXPECT_EQ(ShardFromEnvironment(
+                env({{"SLURM_ARRAY_TASK_ID", "7"}, {"SLURM_ARRAY_TASK_COUNT", "2"}}), 8),
+            (Shard{7, 8}));
+  EXPECT_EQ(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "4"}}), 5), (Shard{4, 5}));
+  EXPECT_THROW(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "4"}}), std::nullopt),
+               InputError);
+  EXPECT_THROW(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "5"}}), 5), InputError);
+  EXPECT_THROW(ShardFromEnvironment(
+                   env({{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}),
+                   std::nullopt),
+               InputError);
+}
+
+TEST(Shard, TheRerunCommandNamesOnlyTheMissingShards) {
+  EXPECT_EQ(SlurmRerunCommand({1, 3, 4, 5, 9}, 10, "s.yaml", "out"),
+            "sbatch --array=1,3-5,9 scripts/sweep-slurm.sh s.yaml out 10");
+}
+
+// Every split of a sweep into N = 1..points+1 shards merges into the unsharded table byte for
+// byte (files written and read back as the programs do).
+TEST_F(SweepTest, AnySplitIntoShardsMergesIntoTheUnshardedTable) {
+  const SweepConfig sweep = LoadSweepConfig(Write(
+      "s.yaml", kFastBase + "grid:\n  servo.delay_ms: [32]\n  track.t_step_ticks: [40, 3, 64]\n"
+                            "  controller.pwl_segments: [4, 8]\n"));
+  const long points = static_cast<long>(sweep.points.size());
+  ASSERT_EQ(points, 6);
+  const SweepTable whole = RunSweep(sweep, Shard{}, 2);
+  EXPECT_EQ(whole.not_ok, 2);  // t_step 3 is below the minimum of 4, at both segment counts
+  WriteSweepTable(whole, dir_ / "sweep.csv");
+  const std::string expected = ReadFile(dir_ / "sweep.csv");
+  for (int n = 1; n <= points + 1; ++n) {
+    const fs::path shards = dir_ / ("n" + std::to_string(n));
+    fs::create_directories(shards);
+    for (int i = 0; i < n; ++i) {
+      const Shard shard{i, n};
+      WriteSweepTable(RunSweep(sweep, shard, 1), shards / ShardFileName(shard));
+    }
+    const MergeResult merged = MergeShards({shards});
+    ASSERT_TRUE(merged.missing.empty());
+    WriteSweepTable(merged.table, shards / "sweep.csv");
+    EXPECT_EQ(ReadFile(shards / "sweep.csv"), expected) << n << " shards";
+  }
+}
+
+// A bad value at one point is that row's status, naming the key; the other points run.
+TEST_F(SweepTest, ABadValueIsItsPointsStatusNotTheSweeps) {
+  const SweepConfig sweep =
+      LoadSweepConfig(Write("s.yaml", kFastBase + "grid:\n  servo.delay_ms: [32, -8, 48]\n"));
+  const SweepTable table = RunSweep(sweep, Shard{}, 2);
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_EQ(table.not_ok, 1);
+  EXPECT_EQ(table.rows[0].rfind("0,32,ok,", 0), 0u) << table.rows[0];
+  EXPECT_EQ(table.rows[2].rfind("2,48,ok,", 0), 0u) << table.rows[2];
+  EXPECT_EQ(table.rows[1].rfind("1,-8,", 0), 0u) << table.rows[1];
+  EXPECT_NE(table.rows[1].find("delay_ms"), std::string::npos) << table.rows[1];
+}
+
+// The sweep program: shards written where asked, merged into sweep.csv byte for byte; missing
+// shards named with the command that reruns them.
+TEST_F(SweepTest, TheProgramShardsAndMerges) {
+  const std::string file =
+      Write("s.yaml", kFastBase + "grid:\n  track.t_step_ticks: [48, 64, 80, 96, 112]\n");
+  const fs::path whole = dir_ / "whole", parts = dir_ / "parts", merged = dir_ / "merged";
+  ASSERT_EQ(Sweep("--config " + file + " --out " + whole.string() + " --threads 2").first, 0);
+  ASSERT_TRUE(fs::exists(whole / "sweep.csv"));
+  for (int i : {0, 2}) {
+    ASSERT_EQ(Sweep("--config " + file + " --out " + parts.string() + " --shard " +
+                    std::to_string(i) + "/3")
+                  .first,
+              0);
+  }
+  const auto [missing_status, missing_err] =
+      Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file);
+  EXPECT_EQ(missing_status, 2) << missing_err;
+  EXPECT_NE(missing_err.find("sweep.shard-1-of-3.csv"), std::string::npos) << missing_err;
+  EXPECT_NE(missing_err.find("sbatch --array=1 scripts/sweep-slurm.sh " + file), std::string::npos)
+      << missing_err;
+  EXPECT_FALSE(fs::exists(merged));
+  // The missing shard from a Slurm job array's environment.
+  const std::string slurm = "SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 ";
+  const int raw = std::system((kNoJobArray + slurm + kSweepBin + " --quiet --config " + file + " --out " +
+                               parts.string() + " 2>/dev/null")
+                                  .c_str());
+  ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0);
+  ASSERT_EQ(
+      Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file).first,
+      0);
+  EXPECT_EQ(ReadFile(merged / "sweep.csv"), ReadFile(whole / "sweep.csv"));
+}
+
+// A broken sweep file or shard spec is the user's: one line, exit 2, nothing written.
+TEST_F(SweepTest, BadSweepFilesAreExitTwoWithNothingWritten) {
+  const fs::path out = dir_ / "out";
+  auto bad = [&](const std::string& name, const std::string& text, const std::string& needle,
+                 const std::string& extra = "") {
+    ExpectBadInput("--config " + Write(name, text) + " --out " + out.string() + extra, out,
+                   needle);
+  };
+  bad("unknown.yaml", kFastBase + "grid:\n  servo.dealy_ms: [32]\n", "servo.dealy_ms");
+  bad("empty_grid.yaml", kFastBase + "grid: {}\n", "grid");
+  bad("empty_list.yaml", kFastBase + "grid:\n  servo.delay_ms: []\n", "grid.servo.delay_ms");
+  bad("both.yaml",
+      kFastBase + "grid:\n  servo.delay_ms: [32]\nsample: {count: 1, seed: 1, keys: {}}\n",
+      "either grid: or sample:");
+  bad("neither.yaml", kFastBase, "either grid: or sample:");
+  bad("no_base.yaml", "grid:\n  servo.delay_ms: [32]\n", "base");
+  bad("bad_base.yaml", kFastBase + "stepz: 3\ngrid:\n  servo.delay_ms: [32]\n", "stepz");
+  bad("count.yaml", kFastBase + "sample: {count: 0, seed: 1, keys: {steps: {min: 1, max: 2}}}\n",
+      "sample.count");
+  bad("range.yaml",
+      kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 5, max: 2}}}\n",
+      "sample.keys.steps");
+  const std::string good = kFastBase + "grid:\n  servo.delay_ms: [32]\n";
+  bad("shard1.yaml", good, "--shard '3/2'", " --shard 3/2");
+  bad("shard2.yaml", good, "--shard '0/0'", " --shard 0/0");
+  ExpectBadInput("--config " + Write("missing.yaml", good) + " --out " + out.string() +
+                     " --shards 0",
+                 out, "--shards");
+}
+
+}  // namespace
+}  // namespace leglab::experiments
