@@ -76,9 +76,8 @@ int Run(int argc, char** argv) {
       for (const int i : merged.missing) {
         names += (names.empty() ? "" : ", ") + ShardFileName({i, merged.shard_count});
       }
-      std::cerr << "sweep merge: error: " << merged.missing.size() << " of "
-                << merged.shard_count << " shards missing: " << names
-                << "\nrerun them with:\n  "
+      std::cerr << "sweep merge: error: " << merged.missing.size() << " of " << merged.shard_count
+                << " shards missing: " << names << "\nrerun them with:\n  "
                 << SlurmRerunCommand(merged.missing, merged.shard_count,
                                      merge_config.empty() ? "SWEEP.yaml" : merge_config,
                                      merge_dirs.front())
@@ -110,14 +109,16 @@ int Run(int argc, char** argv) {
   const SweepConfig sweep = LoadSweepConfig(config_path);
   const auto start = std::chrono::steady_clock::now();
   auto last = start;
-  const SweepTable table = RunSweep(
-      sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
+  const SweepTable table =
+      RunSweep(sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
         const auto now = std::chrono::steady_clock::now();
         if (quiet || (done < total && now - last < std::chrono::seconds(2))) return;
         last = now;
         const double elapsed = std::chrono::duration<double>(now - start).count();
         std::cerr << "sweep: " << done << "/" << total << " points, " << static_cast<long>(elapsed)
-                  << " s, about " << static_cast<long>(elapsed / static_cast<double>(done) * static_cast<double>(total - done))
+                  << " s, about "
+                  << static_cast<long>(elapsed / static_cast<double>(done) *
+                                       static_cast<double>(total - done))
                   << " s left\n";
       });
   fs::create_directories(out_dir);

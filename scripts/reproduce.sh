@@ -27,6 +27,13 @@ if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out"
   /usr/bin/python3 scripts/plot_figures.py "$out/hind"
 fi
+# The shipped sweeps, each with its figure, into results/sweeps/<name>/.
+if [ -x build/bin/sweep ]; then
+  for sweep in model_mismatch walk_speed; do
+    build/bin/sweep --config "experiments/sweeps/$sweep.yaml" --out "$out/sweeps/$sweep"
+    /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
+  done
+fi
 if [ $ran -eq 0 ]; then
   echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2
   exit 1

@@ -146,8 +146,8 @@ void CheckSweptKeys(const SweepConfig& sweep) {
     try {
       LoadExperimentConfig(sweep.base_path, overrides);
     } catch (const UnknownKeyError& e) {
-      throw InputError("sweep '" + sweep.path + "': swept key '" + sweep.keys[k] + "': " +
-                       e.what());
+      throw InputError("sweep '" + sweep.path + "': swept key '" + sweep.keys[k] +
+                       "': " + e.what());
     } catch (const std::exception&) {
       // A bad value: each point reports its own.
     }
@@ -160,8 +160,8 @@ void CheckSweptKeys(const SweepConfig& sweep) {
 
 Shard ParseShard(std::string_view text) {
   const auto fail = [&]() -> Shard {
-    throw InputError("--shard '" + std::string(text) + "': expected I/N with 0 <= I < N <= " +
-                     std::to_string(kMaxShards));
+    throw InputError("--shard '" + std::string(text) +
+                     "': expected I/N with 0 <= I < N <= " + std::to_string(kMaxShards));
   };
   const size_t slash = text.find('/');
   if (slash == std::string_view::npos) return fail();
@@ -312,8 +312,8 @@ MergeResult MergeShards(const std::vector<fs::path>& dirs) {
     for (std::string line; std::getline(in, line); expected += result.shard_count) {
       const auto index = ParseCount(std::string_view(line).substr(0, line.find(',')));
       if (!index || *index != expected) {
-        MergeFail("'" + path.string() + "': row " + std::to_string(expected) +
-                  " of shard " + std::to_string(shard) + " is missing or out of order");
+        MergeFail("'" + path.string() + "': row " + std::to_string(expected) + " of shard " +
+                  std::to_string(shard) + " is missing or out of order");
       }
       rows.emplace(*index, line);
     }

@@ -51,8 +51,8 @@ class SweepTest : public ::testing::Test {
   // Runs the sweep program with `args`; returns its exit status and standard error.
   std::pair<int, std::string> Sweep(const std::string& args) const {
     const fs::path err = dir_ / "stderr.txt";
-    const std::string command = kNoJobArray + kSweepBin + " " + args + " >/dev/null 2>'" +
-                                err.string() + "'";
+    const std::string command =
+        kNoJobArray + kSweepBin + " " + args + " >/dev/null 2>'" + err.string() + "'";
     const int raw = std::system(command.c_str());
     std::stringstream text;
     text << std::ifstream(err).rdbuf();
@@ -80,9 +80,9 @@ std::string ReadFile(const fs::path& path) {
 
 // The grid is the cartesian product in odometer order (last key fastest), counted by hand.
 TEST_F(SweepTest, AGridIsTheCartesianProductLastKeyFastest) {
-  const SweepConfig sweep = LoadSweepConfig(
-      Write("grid.yaml", kFastBase + "grid:\n  servo.delay_ms: [32, 48]\n"
-                                     "  track.t_step_ticks: [60, 88, 100]\n"));
+  const SweepConfig sweep =
+      LoadSweepConfig(Write("grid.yaml", kFastBase + "grid:\n  servo.delay_ms: [32, 48]\n"
+                                                     "  track.t_step_ticks: [60, 88, 100]\n"));
   ASSERT_EQ(sweep.keys, (std::vector<std::string>{"servo.delay_ms", "track.t_step_ticks"}));
   const std::vector<std::vector<std::string>> expected = {
       {"32", "60"}, {"32", "88"}, {"32", "100"}, {"48", "60"}, {"48", "88"}, {"48", "100"}};
@@ -102,12 +102,11 @@ TEST_F(SweepTest, AGridIsTheCartesianProductLastKeyFastest) {
 // integers, the same points for the same seed and others for another seed.
 TEST_F(SweepTest, ASampleIsSeededAndInsideItsRanges) {
   auto sample = [&](int seed) {
-    return LoadSweepConfig(Write("sample.yaml",
-                                 kFastBase + "sample:\n  count: 200\n  seed: " +
-                                     std::to_string(seed) +
-                                     "\n  keys:\n"
-                                     "    servo.max_speed_deg_s: {min: 187.5, max: 437.5}\n"
-                                     "    servo.delay_ms: {min: 24, max: 72}\n"));
+    return LoadSweepConfig(
+        Write("sample.yaml", kFastBase + "sample:\n  count: 200\n  seed: " + std::to_string(seed) +
+                                 "\n  keys:\n"
+                                 "    servo.max_speed_deg_s: {min: 187.5, max: 437.5}\n"
+                                 "    servo.delay_ms: {min: 24, max: 72}\n"));
   };
   const SweepConfig a = sample(7), b = sample(7), c = sample(8);
   ASSERT_EQ(a.points.size(), 200u);
@@ -147,21 +146,20 @@ TEST(Shard, ComesFromSlurmOrKubernetesWhenNoFlagIsGiven) {
   };
   EXPECT_EQ(ShardFromEnvironment(env({}), std::nullopt), std::nullopt);
   EXPECT_EQ(ShardFromEnvironment(
-                env({{"SLURM_ARRAY_TASK_ID", "3"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}),
-                std::nullopt),
+                env({{"SLURM_ARRAY_TASK_ID", "3"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}), std::nullopt),
             (Shard{3, 8}));
   // A rerun of missing shards (--array=3,7) has a task count of 2: --shards gives the real N.
-  EXPECT_EQ(ShardFromEnvironment(
-                env({{"SLURM_ARRAY_TASK_ID", "7"}, {"SLURM_ARRAY_TASK_COUNT", "2"}}), 8),
-            (Shard{7, 8}));
+  EXPECT_EQ(
+      ShardFromEnvironment(env({{"SLURM_ARRAY_TASK_ID", "7"}, {"SLURM_ARRAY_TASK_COUNT", "2"}}), 8),
+      (Shard{7, 8}));
   EXPECT_EQ(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "4"}}), 5), (Shard{4, 5}));
   EXPECT_THROW(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "4"}}), std::nullopt),
                InputError);
   EXPECT_THROW(ShardFromEnvironment(env({{"JOB_COMPLETION_INDEX", "5"}}), 5), InputError);
-  EXPECT_THROW(ShardFromEnvironment(
-                   env({{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}),
-                   std::nullopt),
-               InputError);
+  EXPECT_THROW(
+      ShardFromEnvironment(env({{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "8"}}),
+                           std::nullopt),
+      InputError);
 }
 
 TEST(Shard, TheRerunCommandNamesOnlyTheMissingShards) {
@@ -231,8 +229,8 @@ TEST_F(SweepTest, TheProgramShardsAndMerges) {
   EXPECT_FALSE(fs::exists(merged));
   // The missing shard from a Slurm job array's environment.
   const std::string slurm = "SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 ";
-  const int raw = std::system((kNoJobArray + slurm + kSweepBin + " --quiet --config " + file + " --out " +
-                               parts.string() + " 2>/dev/null")
+  const int raw = std::system((kNoJobArray + slurm + kSweepBin + " --quiet --config " + file +
+                               " --out " + parts.string() + " 2>/dev/null")
                                   .c_str());
   ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0);
   ASSERT_EQ(
@@ -246,8 +244,7 @@ TEST_F(SweepTest, BadSweepFilesAreExitTwoWithNothingWritten) {
   const fs::path out = dir_ / "out";
   auto bad = [&](const std::string& name, const std::string& text, const std::string& needle,
                  const std::string& extra = "") {
-    ExpectBadInput("--config " + Write(name, text) + " --out " + out.string() + extra, out,
-                   needle);
+    ExpectBadInput("--config " + Write(name, text) + " --out " + out.string() + extra, out, needle);
   };
   bad("unknown.yaml", kFastBase + "grid:\n  servo.dealy_ms: [32]\n", "servo.dealy_ms");
   bad("empty_grid.yaml", kFastBase + "grid: {}\n", "grid");
@@ -260,15 +257,14 @@ TEST_F(SweepTest, BadSweepFilesAreExitTwoWithNothingWritten) {
   bad("bad_base.yaml", kFastBase + "stepz: 3\ngrid:\n  servo.delay_ms: [32]\n", "stepz");
   bad("count.yaml", kFastBase + "sample: {count: 0, seed: 1, keys: {steps: {min: 1, max: 2}}}\n",
       "sample.count");
-  bad("range.yaml",
-      kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 5, max: 2}}}\n",
+  bad("range.yaml", kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 5, max: 2}}}\n",
       "sample.keys.steps");
   const std::string good = kFastBase + "grid:\n  servo.delay_ms: [32]\n";
   bad("shard1.yaml", good, "--shard '3/2'", " --shard 3/2");
   bad("shard2.yaml", good, "--shard '0/0'", " --shard 0/0");
-  ExpectBadInput("--config " + Write("missing.yaml", good) + " --out " + out.string() +
-                     " --shards 0",
-                 out, "--shards");
+  ExpectBadInput(
+      "--config " + Write("missing.yaml", good) + " --out " + out.string() + " --shards 0", out,
+      "--shards");
 }
 
 }  // namespace

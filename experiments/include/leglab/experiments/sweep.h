@@ -28,8 +28,8 @@ Shard ParseShard(std::string_view text);
 /// parameter so tests can supply one). Throws InputError naming the variable for a value
 /// that is not a number, an index not below the count, or JOB_COMPLETION_INDEX without
 /// `shards`.
-std::optional<Shard> ShardFromEnvironment(
-    const std::function<const char*(const char*)>& getenv, std::optional<int> shards);
+std::optional<Shard> ShardFromEnvironment(const std::function<const char*(const char*)>& getenv,
+                                          std::optional<int> shards);
 
 /// The file a shard writes: "sweep.shard-I-of-N.csv".
 std::string ShardFileName(const Shard& shard);
