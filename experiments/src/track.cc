@@ -15,7 +15,7 @@ ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const Cont
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   ModeRun run{spec, {}, {}};
   run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
-                        config.track.steps);
+                        config.track.steps, config.plant_changes);
   run.foot_error_cm = FootErrorsCm(run.run, r.desired, r.robot.geometry);
   return run;
 }
