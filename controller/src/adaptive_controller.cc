@@ -83,8 +83,8 @@ bool AdaptiveController::Replan(int joint, const JointModelParams& model) {
   try {
     std::vector<double> desired(period);
     for (int t = 0; t < period; ++t) desired[t] = context_.desired[t][joint];
-    const PiecewiseLinear pwl = FitPiecewiseLinear(
-        desired, model.v_max_deg_per_tick, {.segments = std::min(pwl_segments_, period)});
+    const PiecewiseLinear pwl = FitPiecewiseLinear(desired, model.v_max_deg_per_tick,
+                                                   {.segments = std::min(pwl_segments_, period)});
     const std::vector<double> r = SynthesizeRequests(model, pwl, CmMethod::kExact);
     if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })) return false;
     const double lower = RadToDeg(context_.limits[joint].lower_rad);

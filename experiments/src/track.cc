@@ -37,14 +37,34 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
   r.period = static_cast<int>(r.desired.angles_deg.size());
   r.steps = config.track.steps;
   MakePlant(config, r.robot);  // bad plant input fails here, before any run
+  // A mode that estimates the model is compared with what identify finds on the plant before
+  // and after each change.
+  const bool compare_estimates =
+      std::any_of(config.controllers.begin(), config.controllers.end(),
+                  [](const ControllerSpec& spec) { return ModeOf(spec).estimates_model; });
+  auto identify = [&](const ExperimentConfig& plant, int from_step) {
+    PlantIdentification p{from_step, {}};
+    const auto identified = IdentifyLeg(plant, r.robot);
+    for (int j = 0; j < kLegJoints; ++j) p.joints[j] = identified[j].fit;
+    return p;
+  };
+  if (compare_estimates || !config.model) {
+    r.plant_models.push_back(identify(config, -config.track.warmup_steps));
+  }
+  if (compare_estimates) {
+    for (size_t i = 0; i < config.plant_changes.size(); ++i) {
+      r.plant_models.push_back(
+          identify(ConfigAfterChanges(config, i + 1), config.plant_changes[i].at_step));
+    }
+  }
   std::array<JointModelParams, kLegJoints> models;
   if (config.model) {
     models.fill(*config.model);
   } else {
-    const auto identified = IdentifyLeg(config, r.robot);
-    for (int j = 0; j < kLegJoints; ++j) models[j] = identified[j].fit.params;
+    for (int j = 0; j < kLegJoints; ++j) models[j] = r.plant_models.front().joints[j].params;
     r.models_identified = true;
   }
+  if (!compare_estimates) r.plant_models.clear();
   // The approximations P, fitted once: model_based follows them, every trace shows them.
   try {
     r.context = MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry.limits,

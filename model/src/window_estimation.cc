@@ -12,16 +12,26 @@ WindowEstimate EstimateJointModelInWindow(const JointRecording& window,
   ValidateJointModelParams(current);
   const IdentificationOptions& b = options.bounds;
   IdentificationOptions search;
-  search.lag_min_ticks = std::clamp(current.lag_ticks - options.lag_radius_ticks,
-                                    b.lag_min_ticks, b.lag_max_ticks);
-  search.lag_max_ticks = std::clamp(current.lag_ticks + options.lag_radius_ticks,
-                                    b.lag_min_ticks, b.lag_max_ticks);
+  search.lag_min_ticks =
+      std::clamp(current.lag_ticks - options.lag_radius_ticks, b.lag_min_ticks, b.lag_max_ticks);
+  search.lag_max_ticks =
+      std::clamp(current.lag_ticks + options.lag_radius_ticks, b.lag_min_ticks, b.lag_max_ticks);
   search.accel_min_ticks = std::clamp(current.accel_ticks - options.accel_radius_ticks,
                                       b.accel_min_ticks, b.accel_max_ticks);
   search.accel_max_ticks = std::clamp(current.accel_ticks + options.accel_radius_ticks,
                                       b.accel_min_ticks, b.accel_max_ticks);
   WindowEstimate estimate;
   estimate.fit = IdentifyJointModel(std::span(&window, 1), search);
+  const JointModelParams& best = estimate.fit.params;
+  if (best.lag_ticks != current.lag_ticks || best.accel_ticks != current.accel_ticks) {
+    IdentificationOptions stay = search;
+    stay.lag_min_ticks = stay.lag_max_ticks = current.lag_ticks;
+    stay.accel_min_ticks = stay.accel_max_ticks = current.accel_ticks;
+    IdentificationResult kept = IdentifyJointModel(std::span(&window, 1), stay);
+    if (!(estimate.fit.rms_residual_deg < (1.0 - options.switch_margin) * kept.rms_residual_deg)) {
+      estimate.fit = kept;
+    }
+  }
 
   // Saturation of the fitted model along the measured path: a request acting at t that is at
   // least theta_0 away from the angle at t - 1.

@@ -12,6 +12,11 @@ struct WindowEstimationOptions {
   /// instead of the whole grid.
   int lag_radius_ticks = 2;
   int accel_radius_ticks = 2;
+  /// Hysteresis: l and a move only when the best neighbour's RMS residual is below (1 -
+  /// switch_margin) times the best fit at the current l and a. On a walk's smooth requests
+  /// neighbouring (l, a) with about the same l + a/2 fit almost equally well, and without it
+  /// the estimate hops between them with the noise.
+  double switch_margin = 0.05;
   /// The ranges l and a never leave (the identification's search ranges).
   IdentificationOptions bounds;
   /// v_max is taken as identified only when the fitted model saturates (|R(t-i) - M(t-1)| >=
@@ -31,7 +36,8 @@ struct WindowEstimate {
 /// requests and measured angles (consecutive ticks, e.g. the latest steps of a walk): the
 /// identification's own fit (IdentifyJointModel: open-loop prediction error, l and a
 /// exhaustively, v_max and theta_0 by Nelder-Mead) restricted to l and a within the radii of
-/// `current`. When the window never drives the joint into saturation, v_max is not
+/// `current`, keeping current's l and a unless a neighbour fits clearly better
+/// (switch_margin). When the window never drives the joint into saturation, v_max is not
 /// identifiable (eq. 2 is then the line f(x) = (v_max / theta_0) x); the estimate keeps
 /// current.v_max_deg_per_tick and sets theta_0 to keep the fitted slope.
 /// Throws what IdentifyJointModel throws (std::invalid_argument on a window too short for
