@@ -75,7 +75,8 @@ void JointModelPlant::ChangeSettings(std::span<const PlantSetting> settings) {
   }
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double>& past = states_[j].past_requests_deg;
-    const auto memory = static_cast<size_t>(changed[j].lag_ticks + changed[j].accel_ticks);
+    const size_t memory =
+        static_cast<size_t>(changed[j].lag_ticks) + static_cast<size_t>(changed[j].accel_ticks);
     past.resize(memory, past.back());  // newest first: the oldest is at the back
     models_[j] = changed[j];
   }

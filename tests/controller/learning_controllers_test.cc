@@ -190,7 +190,7 @@ TEST(AdaptiveController, RequestsStayFiniteAndWithinTheLimitsWhateverTheEstimate
     spec.probe_deg = 45.0;
     AdaptiveController adaptive(spec, context);
     const double junk[] = {std::nan(""), INFINITY, -1e9, 1e9};
-    for (long t = 0; t < 6 * 88; ++t) {
+    for (long t = 0; t < 6L * 88; ++t) {
       const LegAngles r = adaptive.Update(t, {});
       for (int j = 0; j < kLegJoints; ++j) {
         ASSERT_TRUE(std::isfinite(r[j])) << t;
@@ -199,8 +199,9 @@ TEST(AdaptiveController, RequestsStayFiniteAndWithinTheLimitsWhateverTheEstimate
       }
       // Steps 0-1: the angle follows the request exactly; steps 2-3: junk; then wild swings.
       LegAngles measured = r;
-      if (t >= 2 * 88 && t < 4 * 88) measured = {junk[t % 4], junk[(t + 1) % 4], junk[(t + 2) % 4]};
-      if (t >= 4 * 88) measured = {300.0 * std::sin(0.9 * t), -200.0, 1e4 * std::cos(t)};
+      if (t >= 2L * 88 && t < 4L * 88)
+        measured = {junk[t % 4], junk[(t + 1) % 4], junk[(t + 2) % 4]};
+      if (t >= 4L * 88) measured = {300.0 * std::sin(0.9 * t), -200.0, 1e4 * std::cos(t)};
       adaptive.Observe(t, r, measured);
       if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
     }
