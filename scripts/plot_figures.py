@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Draws the paper's figures 1-8 (and the time-shift search, the ILC learning curve and every
-mode's foot path) from the CSVs in a results folder.
+"""Draws the paper's figures 1-8 (and the time-shift search, the ILC learning curve, every
+mode's foot path, the adaptive mode's estimates and every mode's foot error per step) from the
+CSVs in a results folder.
 
 Usage: /usr/bin/python3 scripts/plot_figures.py RESULTS_DIR
 Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
@@ -181,6 +182,57 @@ def main(out):
     modes = [(m, m, st) for m, st in styles.items() if have(f"foot_{m}.csv")]
     if len(modes) > 1:
         foot_figure(out, "fig11_foot_every_mode.png", "Foot trajectories, every mode", modes)
+
+    # Figures 12, 13 (adaptive mode): its estimates every step against what identify finds on
+    # the plant before and after each change; every mode's foot error per step.
+    changes = []
+    if have("model_estimates.csv") and have("plant_models.csv"):
+        rows = read_csv(os.path.join(out, "model_estimates.csv"))
+        plant = read_csv(os.path.join(out, "plant_models.csv"))
+        starts = sorted({int(r["from_step"]) for r in plant})
+        changes = starts[1:]
+        last = max(int(r["step"]) for r in rows)
+        fig, axes = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
+        params = (("v_max_deg_per_tick", "v_max (deg/tick)"), ("theta0_deg", "theta_0 (deg)"),
+                  ("lag_ticks", "l (ticks)"), ("accel_ticks", "a (ticks)"))
+        for ax, (key, label) in zip(axes.flat, params):
+            for joint, colour in (("rotator", "C0"), ("abductor", "C1"), ("knee", "C2")):
+                ax.plot(column(rows, "step", joint=joint), column(rows, key, joint=joint), "o-",
+                        color=colour, ms=2.5, lw=1, label=joint)
+                for k, start in enumerate(starts):
+                    end = starts[k + 1] if k + 1 < len(starts) else last
+                    value = column(plant, key, joint=joint, from_step=start)[0]
+                    ax.hlines(value, start, end, color=colour, ls="--", lw=1.2)
+            for step in changes:
+                ax.axvline(step - 0.5, color="0.5", lw=0.8)
+            ax.set(ylabel=label)
+        for ax in axes[1]:
+            ax.set(xlabel="step (warm-up < 0)")
+        axes[0][0].legend(fontsize=8)
+        fig.suptitle("adaptive: estimates per step (dashed: identify on the plant as it is)")
+        save(fig, out, "fig12_model_estimates.png")
+    if have("per_step.csv") and have("model_estimates.csv"):
+        rows = read_csv(os.path.join(out, "per_step.csv"))
+        fig, ax = plt.subplots(figsize=(8, 4))
+        styles = {"direct": "r", "time_shift": "g", "model_based": "b", "optimal": "m",
+                  "ilc": "c", "adaptive": "k"}
+        for mode in dict.fromkeys(r["mode"] for r in rows):
+            ax.plot(column(rows, "step", mode=mode), column(rows, "foot_l2_cm", mode=mode), "o-",
+                    color=styles.get(mode), ms=2.5, lw=1, label=mode)
+        # model_based with a model identified on the changed plant, when reproduce.sh ran it.
+        worn = os.path.join(out, "worn_model", "per_step.csv")
+        if os.path.exists(worn):
+            rows = read_csv(worn)
+            ax.plot(column(rows, "step", mode="model_based"),
+                    column(rows, "foot_l2_cm", mode="model_based"), "--", color="b", lw=1,
+                    label="model_based, model of the changed plant")
+        for step in changes:
+            ax.axvline(step - 0.5, color="0.5", lw=0.8)
+        ax.set(xlabel="step (warm-up < 0; grey: plant change)", ylabel="foot L2 (cm)",
+               title="Foot error per step, every mode")
+        ax.set_yscale("log")
+        ax.legend(fontsize=8)
+        save(fig, out, "fig13_foot_per_step.png")
 
 
 if __name__ == "__main__":

@@ -23,9 +23,21 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
     --out "$out/hind"
   build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
 fi
+# Learning the model while walking (adaptive): from a wrong model, and through a change of
+# the plant at step 20. worn_model/: model_based with the model identified on the changed plant
+# (the change of adapt_wear.yaml made from the start), its yardstick.
+if [ -x build/bin/track ]; then
+  build/bin/track --config experiments/configs/adapt_cold_start.yaml --out "$out/adapt_cold_start"
+  build/bin/track --config experiments/configs/adapt_wear.yaml --out "$out/adapt_wear"
+  build/bin/track --config experiments/configs/adapt_wear.yaml --out "$out/adapt_wear/worn_model" \
+    --set 'plant_changes=[]' --set servo.max_speed_deg_s=250 --set servo.delay_ms=56 \
+    --set 'controller.modes=[model_based]'
+fi
 if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out"
   /usr/bin/python3 scripts/plot_figures.py "$out/hind"
+  /usr/bin/python3 scripts/plot_figures.py "$out/adapt_cold_start"
+  /usr/bin/python3 scripts/plot_figures.py "$out/adapt_wear"
 fi
 # The shipped sweeps, each with its figure, into results/sweeps/<name>/.
 if [ -x build/bin/sweep ]; then

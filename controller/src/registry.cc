@@ -13,6 +13,7 @@ constexpr ControllerModeInfo InfoOf() {
   if constexpr (requires { Mode::kConfigSection; }) info.config_section = Mode::kConfigSection;
   if constexpr (requires { Mode::kSearchFile; }) info.search_file = Mode::kSearchFile;
   if constexpr (requires { Mode::kFeedForward; }) info.feed_forward = Mode::kFeedForward;
+  if constexpr (requires { Mode::kEstimatesModel; }) info.estimates_model = Mode::kEstimatesModel;
   if constexpr (requires { Mode::kFollowsApproximation; }) {
     info.follows_approximation = Mode::kFollowsApproximation;
   }

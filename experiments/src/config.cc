@@ -13,6 +13,7 @@
 
 #include "leglab/experiments/data_dir.h"
 #include "leglab/experiments/output.h"
+#include "leglab/model/joint_model_plant.h"
 
 namespace leglab::experiments {
 namespace {
@@ -103,6 +104,13 @@ class MapReader {
     }
   }
 
+  // The node under `key` (undefined when absent), for values that are not a plain scalar, map
+  // or list of scalars.
+  YAML::Node Raw(const std::string& key) {
+    used_.insert(key);
+    return node_.IsMap() ? node_[key] : YAML::Node();
+  }
+
   bool Has(const std::string& key) const {
     return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
   }
@@ -150,21 +158,48 @@ class MapReader {
 };
 
 // The registry's view of the `controller` map: each mode reads its own keys through it.
+// A dotted key ("initial_model.theta0_deg") is read from the nested map it names.
 class ControllerOptions final : public OptionReader {
  public:
   explicit ControllerOptions(MapReader& map) : map_(map) {}
-  void Read(std::string_view key, int& value) override { map_.Read(std::string(key), value); }
-  void Read(std::string_view key, double& value) override { map_.Read(std::string(key), value); }
-  void Read(std::string_view key, bool& value) override { map_.Read(std::string(key), value); }
-  void Read(std::string_view key, std::string& value) override {
-    map_.Read(std::string(key), value);
-  }
+  void Read(std::string_view key, int& value) override { ReadAt(key, value); }
+  void Read(std::string_view key, double& value) override { ReadAt(key, value); }
+  void Read(std::string_view key, bool& value) override { ReadAt(key, value); }
+  void Read(std::string_view key, std::string& value) override { ReadAt(key, value); }
   [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
     leglab::experiments::Fail(map_.Name(std::string(key)) + " must be " + expectation);
   }
+  // Names the unknown keys of the nested maps read.
+  void Finish() const {
+    for (const auto& [name, child] : children_) child.Finish();
+  }
 
  private:
+  template <typename T>
+  void ReadAt(std::string_view key, T& value) {
+    const size_t dot = key.rfind('.');
+    if (dot == std::string_view::npos) return map_.Read(std::string(key), value);
+    const std::string path(key.substr(0, dot));
+    auto it = children_.find(path);
+    if (it == children_.end()) {
+      // Each level of the path is a child of the one before.
+      MapReader* parent = &map_;
+      std::string walked;
+      for (size_t start = 0; start <= path.size();) {
+        const size_t next = std::min(path.find('.', start), path.size());
+        const std::string part = path.substr(start, next - start);
+        walked += (walked.empty() ? "" : ".") + part;
+        if (!children_.count(walked)) children_.emplace(walked, parent->Child(part));
+        parent = &children_.at(walked);
+        start = next + 1;
+      }
+      it = children_.find(path);
+    }
+    it->second.Read(std::string(key.substr(dot + 1)), value);
+  }
+
   MapReader& map_;
+  std::map<std::string, MapReader> children_;
 };
 
 void Require(bool ok, const std::string& key, const std::string& expectation) {
@@ -288,6 +323,60 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     m.Finish();
   }
 
+  // Changes of the running plant: each checked against the plant the earlier ones left, with
+  // the plant's own rules (sim::ValidateSimConfig, the model plant's SetPlantModelSetting).
+  {
+    const YAML::Node list = root.Raw("plant_changes");
+    ExperimentConfig changed = config;
+    if (list.IsDefined() && !list.IsNull() && !list.IsSequence()) {
+      Fail("plant_changes must be a list of {at_step: N, set: {key: value, ...}}");
+    }
+    for (size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
+      const std::string name = "plant_changes[" + std::to_string(i) + "]";
+      MapReader item(list[i], name);
+      PlantChange change;
+      change.at_step = -1;
+      item.Read("at_step", change.at_step);
+      Require(change.at_step >= 0, name + ".at_step", "given, a measured step >= 0");
+      if (!config.plant_changes.empty()) {
+        Require(change.at_step > config.plant_changes.back().at_step, name + ".at_step",
+                "after the previous change's (" +
+                    std::to_string(config.plant_changes.back().at_step) + ")");
+      }
+      // `set` may name keys dotted (servo.delay_ms: 56) or nested (servo: {delay_ms: 56}).
+      const YAML::Node set = item.Raw("set");
+      item.Finish();
+      if (!set.IsMap() || set.size() == 0)
+        Fail(name + ".set must be a non-empty map of key: value");
+      std::vector<std::pair<std::string, YAML::Node>> pending;
+      for (const auto& entry : set)
+        pending.emplace_back(entry.first.as<std::string>(), entry.second);
+      for (size_t k = 0; k < pending.size(); ++k) {
+        const auto [key, value] = pending[k];
+        if (value.IsMap()) {
+          for (const auto& entry : value) {
+            pending.emplace_back(key + "." + entry.first.as<std::string>(), entry.second);
+          }
+          continue;
+        }
+        PlantSetting setting{key, 0.0};
+        try {
+          setting.value = value.as<double>();
+        } catch (const YAML::Exception&) {
+          Fail(name + ".set." + key + ": expected a number");
+        }
+        change.set.push_back(setting);
+      }
+      config.plant_changes.push_back(change);
+      try {
+        changed.plant_changes = {change};
+        changed = ConfigAfterChanges(changed, 1);
+      } catch (const std::invalid_argument& e) {
+        Fail(name + ".set." + e.what());
+      }
+    }
+  }
+
   // The controllers: every registered mode reads (and so validates) its own keys; the modes
   // to run keep their options.
   {
@@ -319,6 +408,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       if (!sections.count(section)) sections.emplace(section, root.Child(section));
       ControllerOptions options(sections.at(section));
       all.push_back(ReadControllerSpec(m.name, options));
+      options.Finish();
     }
     for (const std::string& m : modes) {
       for (const ControllerSpec& spec : all) {
@@ -424,12 +514,34 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     Require(t.t_step_ticks >= 4, "track.t_step_ticks", "at least 4");
     Require(t.warmup_steps >= 0, "warmup_steps", "non-negative");
     Require(t.steps >= 1, "steps", "at least 1");
+    for (size_t i = 0; i < config.plant_changes.size(); ++i) {
+      Require(config.plant_changes[i].at_step < t.steps,
+              "plant_changes[" + std::to_string(i) + "].at_step",
+              "a measured step, below steps = " + std::to_string(t.steps) + ", got " +
+                  std::to_string(config.plant_changes[i].at_step));
+    }
   }
   root.Finish();
   return config;
 }
 
 }  // namespace
+
+ExperimentConfig ConfigAfterChanges(const ExperimentConfig& config, size_t count) {
+  ExperimentConfig after = config;
+  for (size_t i = 0; i < count && i < config.plant_changes.size(); ++i) {
+    for (const PlantSetting& setting : config.plant_changes[i].set) {
+      if (config.plant == PlantKind::kModel) {
+        SetPlantModelSetting(after.plant_model, setting.key, setting.value);
+      } else {
+        sim::SetSimSetting(after.sim, setting.key, setting.value);
+        sim::ValidateSimConfig(after.sim);
+      }
+    }
+  }
+  after.plant_changes.clear();
+  return after;
+}
 
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "leglab/core/units.h"
@@ -164,7 +165,7 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
 }
 
 TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
-                        int warmup_steps, int steps) {
+                        int warmup_steps, int steps, std::span<const PlantChange> changes) {
   plant.Reset(desired[0]);
   controller.Reset();
   const long period = static_cast<long>(desired.size());
@@ -174,7 +175,12 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
   run.request_deg.reserve(steps * period);
   run.measured_deg.reserve(steps * period);
   LegAngles measured = plant.Read().measured_deg;
+  size_t next_change = 0;
   for (long t = 0; t < total; ++t) {
+    if (next_change < changes.size() &&
+        t == (warmup_steps + static_cast<long>(changes[next_change].at_step)) * period) {
+      plant.ChangeSettings(changes[next_change++].set);
+    }
     const PlantReading& reading = plant.Tick(controller.Update(t, measured));
     controller.Observe(t, reading.applied_deg, reading.measured_deg);
     measured = reading.measured_deg;
@@ -184,7 +190,12 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
     } else {
       run.warmup_measured_deg.push_back(measured);
     }
-    if ((t + 1) % period == 0) controller.EndOfStep(t / period);
+    if ((t + 1) % period == 0) {
+      controller.EndOfStep(t / period);
+      if (const std::optional<JointModelEstimates> estimates = controller.ModelEstimates()) {
+        run.model_estimates.push_back({t / period - warmup_steps, *estimates});
+      }
+    }
   }
   return run;
 }

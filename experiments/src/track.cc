@@ -17,7 +17,7 @@ ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const Cont
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   ModeRun run{spec, {}, {}, 0};
   run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
-                        config.track.steps + extra_steps);
+                        config.track.steps + extra_steps, config.plant_changes);
   run.foot_error_cm = FootErrorsCm(run.run, r.desired, r.robot.geometry);
   run.ticks =
       static_cast<long>(config.track.warmup_steps + config.track.steps + extra_steps) * r.period;
@@ -83,16 +83,36 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
   r.period = static_cast<int>(r.desired.angles_deg.size());
   r.steps = config.track.steps;
   MakePlant(config, r.robot);  // bad plant input fails here, before any run
+  // A mode that estimates the model is compared with what identify finds on the plant before
+  // and after each change.
+  const bool compare_estimates =
+      std::any_of(config.controllers.begin(), config.controllers.end(),
+                  [](const ControllerSpec& spec) { return ModeOf(spec).estimates_model; });
+  auto identify = [&](const ExperimentConfig& plant, int from_step) {
+    PlantIdentification p{from_step, {}};
+    const auto identified = IdentifyLeg(plant, r.robot);
+    r.plant_ticks += kLegJoints * static_cast<long>(plant.identify.theta_test_deg.size()) *
+                     StepTestTicks(plant.identify);
+    for (int j = 0; j < kLegJoints; ++j) p.joints[j] = identified[j].fit;
+    return p;
+  };
+  if (compare_estimates || !config.model) {
+    r.plant_models.push_back(identify(config, -config.track.warmup_steps));
+  }
+  if (compare_estimates) {
+    for (size_t i = 0; i < config.plant_changes.size(); ++i) {
+      r.plant_models.push_back(
+          identify(ConfigAfterChanges(config, i + 1), config.plant_changes[i].at_step));
+    }
+  }
   std::array<JointModelParams, kLegJoints> models;
   if (config.model) {
     models.fill(*config.model);
   } else {
-    const auto identified = IdentifyLeg(config, r.robot);
-    r.plant_ticks += kLegJoints * static_cast<long>(config.identify.theta_test_deg.size()) *
-                     StepTestTicks(config.identify);
-    for (int j = 0; j < kLegJoints; ++j) models[j] = identified[j].fit.params;
+    for (int j = 0; j < kLegJoints; ++j) models[j] = r.plant_models.front().joints[j].params;
     r.models_identified = true;
   }
+  if (!compare_estimates) r.plant_models.clear();
   // The approximations P, fitted once: model_based follows them, every trace shows them.
   try {
     r.context = MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry.limits,
@@ -116,7 +136,8 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
     ModeSearch search;
     search.candidates = SearchCandidates(spec, r.context);
     search.scored_from_one_run =
-        config.track.search_shift == ShiftSearch::kShiftedRun && ModeOf(spec).searchable_by_lead;
+        config.track.search_shift == ShiftSearch::kShiftedRun && ModeOf(spec).searchable_by_lead &&
+        config.plant_changes.empty();  // a plant that changes mid-run is not time-invariant
     search.foot_l2_cm = search.scored_from_one_run ? ScoreFromLeadZeroRun(config, r, search)
                                                    : ScoreEveryCandidate(config, r, search);
     const auto best = std::min_element(search.foot_l2_cm.begin(), search.foot_l2_cm.end()) -

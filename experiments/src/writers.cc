@@ -195,7 +195,8 @@ std::string Table2Json(const Table2& table) {
 }
 
 std::vector<std::string> TrackOutputPrefixes() {
-  std::vector<std::string> prefixes = {"table2.", "trace_", "foot_"};
+  std::vector<std::string> prefixes = {"table2.",   "trace_",          "foot_",
+                                       "per_step.", "model_estimates", "plant_models."};
   for (const ControllerModeInfo& mode : ControllerModes()) {
     if (mode.searchable) prefixes.push_back(std::string(mode.search_file) + ".");
     if (!mode.feed_forward) prefixes.push_back(std::string(mode.name) + "_learning.");
@@ -252,6 +253,61 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
         csv.Cell(step.step).Cell(std::string(kLegJointNames[j])).Cell(step.l2_deg[j]);
         csv.Cell(step.foot_l2_cm);
         csv.EndRow();
+      }
+    }
+    csv.Close();
+  }
+  // Every mode's error every step, warm-up included (negative steps).
+  {
+    CsvWriter csv(out.Path("per_step.csv"), {"mode", "step", "rotator_l2_deg", "abductor_l2_deg",
+                                             "knee_l2_deg", "foot_l2_cm"});
+    for (const ModeRun& run : r.runs) {
+      for (const LearningStep& step : LearningCurve(run, r)) {
+        csv.Cell(std::string(ModeOf(run.spec).name)).Cell(step.step);
+        for (int j = 0; j < kLegJoints; ++j) csv.Cell(step.l2_deg[j]);
+        csv.Cell(step.foot_l2_cm);
+        csv.EndRow();
+      }
+    }
+    csv.Close();
+  }
+  // The models a mode estimated after every step (the first such mode's in
+  // model_estimates.csv, any other's in model_estimates_<mode>.csv), and the plant's as
+  // identify finds it before and after each change.
+  const std::vector<std::string> model_columns = {"joint",     "v_max_deg_per_tick", "theta0_deg",
+                                                  "lag_ticks", "accel_ticks",        "fit_rms_deg"};
+  auto model_cells = [](CsvWriter& csv, int joint, const IdentificationResult& fit) {
+    csv.Cell(std::string(kLegJointNames[joint])).Cell(fit.params.v_max_deg_per_tick);
+    csv.Cell(fit.params.theta0_deg).Cell(static_cast<long>(fit.params.lag_ticks));
+    csv.Cell(static_cast<long>(fit.params.accel_ticks)).Cell(fit.rms_residual_deg);
+    csv.EndRow();
+  };
+  bool first_estimates = true;
+  for (const ModeRun& run : r.runs) {
+    if (run.run.model_estimates.empty()) continue;
+    std::vector<std::string> columns = {"step"};
+    columns.insert(columns.end(), model_columns.begin(), model_columns.end());
+    CsvWriter csv(out.Path(first_estimates
+                               ? std::string("model_estimates.csv")
+                               : "model_estimates_" + std::string(ModeOf(run.spec).name) + ".csv"),
+                  columns);
+    first_estimates = false;
+    for (const StepModelEstimates& step : run.run.model_estimates) {
+      for (int j = 0; j < kLegJoints; ++j) {
+        csv.Cell(step.step);
+        model_cells(csv, j, step.joints[j]);
+      }
+    }
+    csv.Close();
+  }
+  if (!r.plant_models.empty()) {
+    std::vector<std::string> columns = {"from_step"};
+    columns.insert(columns.end(), model_columns.begin(), model_columns.end());
+    CsvWriter csv(out.Path("plant_models.csv"), columns);
+    for (const PlantIdentification& plant : r.plant_models) {
+      for (int j = 0; j < kLegJoints; ++j) {
+        csv.Cell(static_cast<long>(plant.from_step));
+        model_cells(csv, j, plant.joints[j]);
       }
     }
     csv.Close();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "leglab/core/units.h"
 
@@ -41,6 +42,44 @@ void JointModelPlant::Reset(const LegAngles& pose_deg) {
     states_[j] = RestState(models_[j], pose_deg[j]);
   }
   reading_ = {pose_deg, pose_deg, pose_deg};
+}
+
+void SetPlantModelSetting(JointModelParams& params, std::string_view key, double value) {
+  const std::string name(key);
+  const bool whole = std::isfinite(value) && value == std::round(value) && std::abs(value) < 1e6;
+  if (key == "plant_model.v_max_deg_per_tick") {
+    params.v_max_deg_per_tick = value;
+  } else if (key == "plant_model.theta0_deg") {
+    params.theta0_deg = value;
+  } else if ((key == "plant_model.lag_ticks" || key == "plant_model.accel_ticks") && !whole) {
+    throw std::invalid_argument(name + " must be a whole number, got " + std::to_string(value));
+  } else if (key == "plant_model.lag_ticks") {
+    params.lag_ticks = static_cast<int>(value);
+  } else if (key == "plant_model.accel_ticks") {
+    params.accel_ticks = static_cast<int>(value);
+  } else {
+    throw std::invalid_argument(name +
+                                " cannot change on the model plant (can: "
+                                "plant_model.v_max_deg_per_tick, plant_model.theta0_deg, "
+                                "plant_model.lag_ticks, plant_model.accel_ticks)");
+  }
+  if (const std::string problem = JointModelParamsProblem(params); !problem.empty()) {
+    throw std::invalid_argument("plant_model." + problem);
+  }
+}
+
+void JointModelPlant::ChangeSettings(std::span<const PlantSetting> settings) {
+  std::array<JointModelParams, kLegJoints> changed = models_;
+  for (const PlantSetting& setting : settings) {
+    for (JointModelParams& p : changed) SetPlantModelSetting(p, setting.key, setting.value);
+  }
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double>& past = states_[j].past_requests_deg;
+    const size_t memory =
+        static_cast<size_t>(changed[j].lag_ticks) + static_cast<size_t>(changed[j].accel_ticks);
+    past.resize(memory, past.back());  // newest first: the oldest is at the back
+    models_[j] = changed[j];
+  }
 }
 
 const PlantReading& JointModelPlant::Tick(const LegAngles& request_deg) {

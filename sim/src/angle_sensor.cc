@@ -9,6 +9,8 @@ namespace leglab::sim {
 AngleSensor::AngleSensor(double noise_deg, std::uint64_t seed)
     : noise_rad_(DegToRad(noise_deg)), engine_(seed) {}
 
+void AngleSensor::set_noise_deg(double noise_deg) { noise_rad_ = DegToRad(noise_deg); }
+
 double AngleSensor::StandardNormal() {
   if (has_spare_) {
     has_spare_ = false;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <utility>
 
 namespace leglab::sim {
 
@@ -44,6 +45,39 @@ double JointServo::FrameSpeedRadPerS(double angle_rad, double rate_rad_per_s) {
   next_ = (next_ + 1) % window_.size();
   // A handful of frames: summing them afresh keeps the result exact and order-independent.
   return std::accumulate(window_.begin(), window_.end(), 0.0) / static_cast<double>(window_.size());
+}
+
+void JointServo::Reconfigure(const ServoConfig& config) {
+  gain_per_s_ = config.gain_per_s;
+  damping_ = config.damping;
+  max_speed_rad_per_s_ = DegToRad(config.max_speed_deg_s);
+
+  // The queue oldest first, re-sized at its old end.
+  const size_t delay_size = static_cast<size_t>(std::lround(config.delay_ms / kTickMs)) + 1;
+  std::vector<double> queue(delay_line_.size());
+  for (size_t i = 0; i < queue.size(); ++i) {
+    queue[i] = delay_line_[(oldest_ + i) % delay_line_.size()];
+  }
+  std::vector<double> delay_line(delay_size, queue.front());
+  for (size_t i = 0; i < std::min(delay_size, queue.size()); ++i) {
+    delay_line[delay_size - 1 - i] = queue[queue.size() - 1 - i];
+  }
+  delay_line_ = std::move(delay_line);
+  oldest_ = 0;
+
+  // The window newest last, re-sized at its old end.
+  const size_t window_size =
+      std::max<size_t>(1, static_cast<size_t>(std::lround(config.smoothing_ms / kTickMs)));
+  std::vector<double> history(window_.size());
+  for (size_t i = 0; i < history.size(); ++i) history[i] = window_[(next_ + i) % window_.size()];
+  const double mean =
+      std::accumulate(window_.begin(), window_.end(), 0.0) / static_cast<double>(window_.size());
+  std::vector<double> window(window_size, mean);
+  for (size_t i = 0; i < std::min(window_size, history.size()); ++i) {
+    window[window_size - 1 - i] = history[history.size() - 1 - i];
+  }
+  window_ = std::move(window);
+  next_ = 0;
 }
 
 void JointServo::Hold(double angle_rad) {

@@ -88,6 +88,18 @@ const PlantReading& LegSim::Tick(const LegAngles& request_deg) {
   return reading_;
 }
 
+void LegSim::ChangeSettings(std::span<const PlantSetting> settings) {
+  SimConfig changed = config_;
+  for (const PlantSetting& setting : settings) SetSimSetting(changed, setting.key, setting.value);
+  ValidateSimConfig(changed);
+  config_ = std::move(changed);
+  for (int j = 0; j < kLegJoints; ++j) {
+    servos_[j].Reconfigure(config_.servo);
+    max_torque_nm_[j] = std::min(config_.servo.max_torque_nm, world_.joint(j).effort_nm);
+  }
+  sensor_.set_noise_deg(config_.sensor.noise_deg);
+}
+
 void LegSim::SampleReading() {
   const LegAngles angles_rad = world_.AnglesRad();
   LegAngles commanded_rad{};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -62,6 +63,26 @@ void ValidateSimConfig(const SimConfig& config) {
   if (!std::isfinite(config.sensor.noise_deg) || config.sensor.noise_deg < 0.0) {
     Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
   }
+}
+
+void SetSimSetting(SimConfig& config, std::string_view key, double value) {
+  double* const fields[] = {&config.servo.delay_ms,     &config.servo.max_speed_deg_s,
+                            &config.servo.gain_per_s,   &config.servo.damping,
+                            &config.servo.smoothing_ms, &config.servo.max_torque_nm,
+                            &config.sensor.noise_deg};
+  static_assert(std::size(fields) == kChangeableSimSettings.size());
+  for (size_t i = 0; i < kChangeableSimSettings.size(); ++i) {
+    if (kChangeableSimSettings[i] == key) {
+      *fields[i] = value;
+      return;
+    }
+  }
+  std::string valid;
+  for (std::string_view name : kChangeableSimSettings) {
+    valid += (valid.empty() ? "" : ", ") + std::string(name);
+  }
+  throw std::invalid_argument(std::string(key) + " cannot change during a run (can: " + valid +
+                              ")");
 }
 
 int PhysicsStepsPerTick(double physics_dt_ms) {

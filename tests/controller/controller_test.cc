@@ -166,7 +166,9 @@ TEST(Controllers, TimeShiftSearchesEveryDistinctShift) {
 }
 
 TEST(Controllers, RegistryKnowsEachModesTraits) {
-  EXPECT_EQ(ControllerModeNames(), "direct, time_shift, model_based, optimal, ilc");
+  EXPECT_EQ(ControllerModeNames(), "direct, time_shift, model_based, optimal, ilc, adaptive");
+  EXPECT_TRUE(FindControllerMode("adaptive").estimates_model);
+  EXPECT_FALSE(FindControllerMode("ilc").estimates_model);
   EXPECT_TRUE(FindControllerMode("time_shift").searchable);
   EXPECT_EQ(FindControllerMode("time_shift").search_file, "shift_search");
   EXPECT_FALSE(FindControllerMode("model_based").searchable);
@@ -181,7 +183,8 @@ TEST(Controllers, UnknownModeListsTheValidOnes) {
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(
         e.what(),
-        "unknown controller mode 'pid' (valid: direct, time_shift, model_based, optimal, ilc)");
+        "unknown controller mode 'pid' (valid: direct, time_shift, model_based, optimal, ilc, "
+        "adaptive)");
   }
 }
 

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "leglab/controller/adaptive_controller.h"
 #include "leglab/controller/ilc_controller.h"
 #include "leglab/controller/model_based_controller.h"
 #include "leglab/controller/optimal_controller.h"
@@ -146,6 +148,65 @@ TEST(IlcController, FreezeAfterWarmupStopsLearningAtTheFirstMeasuredStep) {
   // ErrorPerStep resets the controller; run the warm-up again, then measured steps.
   ErrorPerStep(ilc, context, kPaperModels, 6);
   EXPECT_EQ(ilc.requests(), learned);
+}
+
+// ---- adaptive ---------------------------------------------------------------------------
+
+// On the ideal plant with a model unlike the paper's (l 5, a 4, v_max 2, theta_0 6), from the
+// issue's wrong start: the walk saturates rotator and knee, so they learn every parameter;
+// the abductor's motion does not, and it learns v_max only from the probe's pulses.
+TEST(AdaptiveController, LearnsThePlantsModelFromAWrongStart) {
+  const JointModelParams truth{2.0, 6.0, 5, 4};
+  const ControllerContext context = testing::PaperContext(FastCycle());
+  AdaptiveController::Spec spec;
+  spec.initial_model = {3.5, 3.0, 2, 2};
+  spec.probe_deg = 12.0;
+  AdaptiveController adaptive(spec, context);
+  ErrorPerStep(adaptive, context, {truth, truth, truth}, 8);
+  const std::optional<JointModelEstimates> estimates = adaptive.ModelEstimates();
+  ASSERT_TRUE(estimates.has_value());
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = (*estimates)[j].params;
+    EXPECT_EQ(p.lag_ticks, 5) << j;
+    EXPECT_EQ(p.accel_ticks, 4) << j;
+    EXPECT_NEAR(p.v_max_deg_per_tick, 2.0, 0.01) << j;
+    EXPECT_NEAR(p.theta0_deg, 6.0, 0.1) << j;
+    EXPECT_EQ(adaptive.planned_models()[j].lag_ticks, 5) << j;  // and plans with it
+  }
+}
+
+// Whatever it estimates or is told, the requests stay finite and inside the limits: extreme
+// starting models, a probe of 45 deg, and measurements that are not finite or far outside
+// any limit.
+TEST(AdaptiveController, RequestsStayFiniteAndWithinTheLimitsWhateverTheEstimate) {
+  const ControllerContext context = testing::PaperContext(FastCycle());
+  const std::array<JointLimits, kLegJoints> limits = context.limits;
+  for (const JointModelParams& start :
+       {JointModelParams{1e-3, 1e3, 12, 12}, JointModelParams{1e3, 1e-3, 0, 1},
+        JointModelParams{0.2, 50.0, 12, 1}}) {
+    AdaptiveController::Spec spec;
+    spec.initial_model = start;
+    spec.window_steps = 1;
+    spec.probe_deg = 45.0;
+    AdaptiveController adaptive(spec, context);
+    const double junk[] = {std::nan(""), INFINITY, -1e9, 1e9};
+    for (long t = 0; t < 6L * 88; ++t) {
+      const LegAngles r = adaptive.Update(t, {});
+      for (int j = 0; j < kLegJoints; ++j) {
+        ASSERT_TRUE(std::isfinite(r[j])) << t;
+        ASSERT_GE(r[j], limits[j].lower_rad * 180.0 / std::numbers::pi - 1e-9) << t;
+        ASSERT_LE(r[j], limits[j].upper_rad * 180.0 / std::numbers::pi + 1e-9) << t;
+      }
+      // Steps 0-1: the angle follows the request exactly; steps 2-3: junk; then wild swings.
+      LegAngles measured = r;
+      if (t >= 2L * 88 && t < 4L * 88)
+        measured = {junk[t % 4], junk[(t + 1) % 4], junk[(t + 2) % 4]};
+      const auto x = static_cast<double>(t);
+      if (t >= 4L * 88) measured = {300.0 * std::sin(0.9 * x), -200.0, 1e4 * std::cos(x)};
+      adaptive.Observe(t, r, measured);
+      if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
+    }
+  }
 }
 
 }  // namespace

@@ -60,7 +60,7 @@ TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
   EXPECT_EQ(fs::path(c.sim.urdf_path).filename(), "leg.urdf");
   EXPECT_FALSE(c.model.has_value());
   EXPECT_EQ(Modes(c), (std::vector<std::string>{"direct", "time_shift", "model_based", "optimal",
-                                                "ilc"}));  // every registered mode
+                                                "ilc", "adaptive"}));  // every registered mode
 }
 
 TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
@@ -130,6 +130,76 @@ TEST_F(ConfigTest, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf(kRobot, {"sensor.noise_deg=-1"}).find("sensor.noise_deg"), std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"steps=0"}).find("steps"), std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"nonsense"}).find("key=value"), std::string::npos);
+}
+
+TEST_F(ConfigTest, PlantChangesAreReadInOrderDottedOrNested) {
+  const ExperimentConfig c = LoadExperimentConfig(
+      Write(kRobot + "plant_changes:\n"
+                     "  - {at_step: 3, set: {servo.max_speed_deg_s: 250, servo.delay_ms: 56}}\n"
+                     "  - {at_step: 7, set: {sensor: {noise_deg: 0.3}}}\n"));
+  ASSERT_EQ(c.plant_changes.size(), 2u);
+  EXPECT_EQ(c.plant_changes[0].at_step, 3);
+  ASSERT_EQ(c.plant_changes[0].set.size(), 2u);
+  EXPECT_EQ(c.plant_changes[0].set[0].key, "servo.max_speed_deg_s");
+  EXPECT_EQ(c.plant_changes[0].set[0].value, 250.0);
+  EXPECT_EQ(c.plant_changes[0].set[1].key, "servo.delay_ms");
+  EXPECT_EQ(c.plant_changes[1].set[0].key, "sensor.noise_deg");
+  EXPECT_EQ(c.plant_changes[1].set[0].value, 0.3);
+  // The plant as the changes leave it; the config itself keeps the plant it starts with.
+  EXPECT_EQ(c.sim.servo.delay_ms, 40.0);
+  const ExperimentConfig after = ConfigAfterChanges(c, 1);
+  EXPECT_EQ(after.sim.servo.delay_ms, 56.0);
+  EXPECT_EQ(after.sim.servo.max_speed_deg_s, 250.0);
+  EXPECT_EQ(after.sim.sensor.noise_deg, 0.1);
+  EXPECT_TRUE(after.plant_changes.empty());
+  EXPECT_EQ(ConfigAfterChanges(c, 2).sim.sensor.noise_deg, 0.3);
+  // The model plant changes its model.
+  const ExperimentConfig m =
+      LoadExperimentConfig(Write(kRobot + "plant: model\nplant_changes: [{at_step: 0, set: "
+                                          "{plant_model.lag_ticks: 6}}]\n"));
+  EXPECT_EQ(ConfigAfterChanges(m, 1).plant_model.lag_ticks, 6);
+}
+
+TEST_F(ConfigTest, PlantChangeErrorsNameTheKeyAsWritten) {
+  const std::string change = "plant_changes=[{at_step: 2, set: {servo.delay_ms: 30}}]";
+  EXPECT_EQ(ErrorOf(kRobot, {change}),
+            "config: plant_changes[0].set.servo.delay_ms must be a non-negative multiple of 8 "
+            "ms, got 30");
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 2, set: {servo.colour: 1}}]"})
+                .find("plant_changes[0].set.servo.colour cannot change"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 2, set: {seed: 3}}]"})
+                .find("plant_changes[0].set.seed"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 2, set: {servo.damping: soft}}]"})
+                .find("plant_changes[0].set.servo.damping: expected a number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 20, set: {servo.damping: 1}}]"})
+                .find("plant_changes[0].at_step"),
+            std::string::npos);  // steps = 20: step 20 never runs
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 5, set: {servo.damping: 1}}, "
+                             "{at_step: 5, set: {servo.damping: 2}}]"})
+                .find("plant_changes[1].at_step"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{set: {servo.damping: 1}}]"})
+                .find("plant_changes[0].at_step"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 1, set: {}}]"}).find("plant_changes[0].set"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes=[{at_step: 1, sett: {servo.damping: 1}}]"})
+                .find("plant_changes[0].sett"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"plant_changes={at_step: 1}"}).find("plant_changes must be a list"),
+            std::string::npos);
+  // Validated against the plant the earlier changes left: 16 ms more twice is fine, but a
+  // smoothing of 4 ms is not whatever came before.
+  EXPECT_EQ(ErrorOf(kRobot, {"plant_changes=[{at_step: 1, set: {servo.delay_ms: 56}}, "
+                             "{at_step: 2, set: {servo.delay_ms: 72}}]"}),
+            "");
+  EXPECT_NE(
+      ErrorOf(kRobot, {"plant=model", "plant_changes=[{at_step: 1, set: {servo.delay_ms: 56}}]"})
+          .find("plant_changes[0].set.servo.delay_ms cannot change on the model plant"),
+      std::string::npos);
 }
 
 TEST_F(ConfigTest, MissingOrMalformedFilesAreNamed) {

@@ -2,7 +2,10 @@
 // programs_test.cc compares the output bytes of --threads 1 and 2.)
 #include <gtest/gtest.h>
 
+#include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "leglab/experiments/config.h"
@@ -113,6 +116,62 @@ TEST(Pipeline, ShiftSearchFromOneRunAgreesWithTheExhaustiveSearchOnTheSim) {
   }
   // The reported run is the best candidate's own run either way: the same bits.
   EXPECT_EQ(both.shifted.runs.at(0).run.measured_deg, both.exhaustive.runs.at(0).run.measured_deg);
+}
+
+// A plant that counts its ticks and notes when its settings change.
+class CountingPlant final : public Plant {
+ public:
+  void Reset(const LegAngles& pose_deg) override { reading_ = {pose_deg, pose_deg, pose_deg}; }
+  const PlantReading& Tick(const LegAngles& request_deg) override {
+    ++ticks_;
+    reading_ = {request_deg, request_deg, request_deg};
+    return reading_;
+  }
+  const PlantReading& Read() const override { return reading_; }
+  std::string_view name() const override { return "counting"; }
+  void ChangeSettings(std::span<const PlantSetting> settings) override {
+    changes_.emplace_back(ticks_, settings[0].key);
+  }
+  std::vector<std::pair<long, std::string>> changes_;
+
+ private:
+  long ticks_ = 0;
+  PlantReading reading_;
+};
+
+class Still final : public JointController {
+ public:
+  LegAngles Update(long /*tick*/, const LegAngles& measured_deg) override { return measured_deg; }
+  std::string_view name() const override { return "still"; }
+};
+
+// Measured step N starts after (warm-up + N) whole steps of ticks.
+TEST(Pipeline, PlantChangesApplyRightBeforeTheirMeasuredStep) {
+  CountingPlant plant;
+  Still controller;
+  const DesiredCycle desired(10, LegAngles{1.0, 2.0, 3.0});
+  const std::vector<PlantChange> changes = {{0, {{"a", 1.0}}}, {4, {{"b", 2.0}}}};
+  RunTracking(plant, controller, desired, /*warmup_steps=*/3, /*steps=*/6, changes);
+  ASSERT_EQ(plant.changes_.size(), 2u);
+  EXPECT_EQ(plant.changes_[0], (std::pair<long, std::string>{30, "a"}));
+  EXPECT_EQ(plant.changes_[1], (std::pair<long, std::string>{70, "b"}));
+}
+
+// On the model plant a change of its lag at step 1 shows exactly there: the direct requests'
+// measured steps equal an unchanged run's before step 1 and differ from its first tick on.
+TEST(Pipeline, AChangeMovesTheModelPlantAtTheNamedStep) {
+  const std::vector<std::string> common = {
+      "plant=model", "controller.modes=[direct]", "warmup_steps=1", "steps=3",
+      "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}"};
+  std::vector<std::string> changed = common;
+  changed.emplace_back("plant_changes=[{at_step: 1, set: {plant_model.lag_ticks: 6}}]");
+  const TrackResult a = RunTrackExperiment(LoadExperimentConfig(kConfigs + "track.yaml", common));
+  const TrackResult b = RunTrackExperiment(LoadExperimentConfig(kConfigs + "track.yaml", changed));
+  const auto& ma = a.runs[0].run.measured_deg;
+  const auto& mb = b.runs[0].run.measured_deg;
+  const auto period = static_cast<size_t>(a.period);
+  for (size_t t = 0; t < period; ++t) EXPECT_EQ(ma[t], mb[t]) << t;
+  EXPECT_NE(ma[period], mb[period]);
 }
 
 }  // namespace

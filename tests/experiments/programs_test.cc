@@ -113,6 +113,9 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
       "warmup_steps=0";
   ExpectBadInput(kTrack, good + " --set controller.modes=[direct,pid]", "controller.modes");
   ExpectBadInput(kTrack, good + " --set controller.pwl_segments=200", "controller.pwl_segments");
+  ExpectBadInput(kTrack,
+                 good + " --set 'plant_changes=[{at_step: 0, set: {servo.max_speed_deg_s: -1}}]'",
+                 "plant_changes[0].set.servo.max_speed_deg_s");
   ExpectBadInput(kTrack, good + " --set desired.locus.ground_below_shoulder_mm=200", "unreachable");
   ExpectBadInput(kTrack, good + " --set desired.csv=" + (dir_ / "none.csv").string(), "none.csv");
   std::string csv = DesiredCsv(88);

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "leglab/model/paper.h"
@@ -73,6 +75,56 @@ TEST(JointModelPlant, BadInputNamesTheJoint) {
   EXPECT_THROW(plant.Reset({0.0, 95.0, 0.0}), std::invalid_argument);  // abductor limit 89
   EXPECT_THROW(plant.Tick({0.0, NAN, 0.0}), std::invalid_argument);
   EXPECT_EQ(plant.name(), "model");
+}
+
+// A change at tick N: until N the plant is eq. 3 with the old model, from N on eq. 3 with the
+// new one, stepped here by hand on the same state (each joint's lag grown to 6: its oldest
+// remembered request repeated for the extra ticks).
+TEST(JointModelPlant, ChangedModelActsFromTheNextTick) {
+  JointModelPlant plant(kModels, testing::FrontLeftLeg().limits);
+  const LegAngles start{10.0, 5.0, 40.0};
+  plant.Reset(start);
+  std::array<JointModelState, kLegJoints> states;
+  for (int j = 0; j < kLegJoints; ++j) states[j] = RestState(kModels[j], start[j]);
+  std::array<JointModelParams, kLegJoints> models = kModels;
+  constexpr int kChangeTick = 40;
+  for (int t = 0; t < 100; ++t) {
+    if (t == kChangeTick) {
+      const std::vector<PlantSetting> wear = {{"plant_model.v_max_deg_per_tick", 2.0},
+                                              {"plant_model.lag_ticks", 6.0}};
+      plant.ChangeSettings(wear);
+      for (int j = 0; j < kLegJoints; ++j) {
+        const double oldest = states[j].past_requests_deg.back();
+        for (int k = models[j].lag_ticks; k < 6; ++k) states[j].past_requests_deg.push_back(oldest);
+        models[j].v_max_deg_per_tick = 2.0;
+        models[j].lag_ticks = 6;
+      }
+    }
+    const LegAngles request{40.0 * std::sin(0.1 * t), 20.0 + 15.0 * std::cos(0.05 * t),
+                            60.0 + 40.0 * std::sin(0.08 * t)};
+    const PlantReading& reading = plant.Tick(request);
+    for (int j = 0; j < kLegJoints; ++j) {
+      EXPECT_EQ(reading.true_deg[j], StepJointModel(models[j], states[j], request[j]))
+          << t << " " << j;
+    }
+  }
+  EXPECT_EQ(plant.model(2).v_max_deg_per_tick, 2.0);
+  EXPECT_EQ(plant.model(2).lag_ticks, 6);
+}
+
+TEST(JointModelPlant, BadChangesNameTheKeyAndChangeNothing) {
+  JointModelPlant plant(kModels, testing::FrontLeftLeg().limits);
+  for (const PlantSetting& bad :
+       {PlantSetting{"servo.delay_ms", 56.0}, PlantSetting{"plant_model.lag_ticks", 1.5},
+        PlantSetting{"plant_model.theta0_deg", -1.0}}) {
+    try {
+      plant.ChangeSettings(std::span(&bad, 1));
+      FAIL() << bad.key;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.key), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(plant.model(0), kModels[0]);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -376,6 +377,99 @@ TEST(LegSimTest, MovedSimKeepsRunning) {
   LegSim moved = std::move(sim);
   moved.Tick();
   EXPECT_EQ(moved.tick(), 2);
+}
+
+// ---- Settings changed during a run -----------------------------------------------------
+
+// Two identical sims, one changed at tick `change_tick`: everything is the same bit for bit
+// before it. Noise from 0.1 to 0.5 deg: the same draws, five times as large from the next tick
+// on, the motion untouched (the sensor does not act on the leg).
+TEST(LegSimChangeTest, NoiseChangesFromTheNextTickOnAndTheDrawsCarryOn) {
+  LegSim a(Config(40.0, 0.1)), b(Config(40.0, 0.1));
+  constexpr int kChangeTick = 30;
+  for (int t = 0; t < 60; ++t) {
+    if (t == kChangeTick) {
+      const PlantSetting noise{"sensor.noise_deg", 0.5};
+      b.ChangeSettings(std::span(&noise, 1));
+    }
+    const LegAngles request{30.0 * std::sin(0.1 * t), 20.0, 40.0};
+    const PlantReading ra = a.Tick(request), rb = b.Tick(request);
+    for (int j = 0; j < kLegJoints; ++j) {
+      EXPECT_EQ(ra.true_deg[j], rb.true_deg[j]) << t;
+      const double noise_a = ra.measured_deg[j] - ra.true_deg[j];
+      const double noise_b = rb.measured_deg[j] - rb.true_deg[j];
+      if (t < kChangeTick) {
+        EXPECT_EQ(noise_a, noise_b) << t;
+      } else {
+        // Quantised to 1 urad (5.7e-5 deg) before and after scaling.
+        EXPECT_NEAR(noise_b, 5.0 * noise_a, 4e-4) << t;
+      }
+    }
+  }
+}
+
+// The top speed halved while the joint runs at it: without smoothing the motor holds the new
+// cap from the very next tick, 156.25 deg/s = 1.25 deg a tick, and not a tick before.
+TEST(LegSimChangeTest, TopSpeedChangesAtTheNextTick) {
+  SimConfig config = Config(0.0, 0.0);
+  config.servo.smoothing_ms = 0.0;
+  LegSim a(config), b(config);
+  constexpr int kChangeTick = 10;
+  LegAngles previous = a.TrueDeg();
+  for (int t = 0; t < 20; ++t) {
+    if (t == kChangeTick) {
+      const PlantSetting slower{"servo.max_speed_deg_s", 156.25};
+      b.ChangeSettings(std::span(&slower, 1));
+    }
+    const PlantReading ra = a.Tick({100.0, 0.0, 0.0});
+    const PlantReading rb = b.Tick({100.0, 0.0, 0.0});
+    if (t < kChangeTick) {
+      EXPECT_EQ(ra.true_deg[0], rb.true_deg[0]) << t;
+    } else {
+      EXPECT_NEAR(rb.true_deg[0] - previous[0], 1.25, 0.03) << t;
+      EXPECT_GT(ra.true_deg[0] - rb.true_deg[0], 0.5 * (t - kChangeTick + 1)) << t;
+    }
+    previous = rb.true_deg;
+  }
+}
+
+// A longer delay set after a step was requested delays that step too: queued requests are
+// acted on in order. 40 -> 56 ms one tick after the request: the joint starts 7 ticks after
+// the request instead of 5.
+TEST(LegSimChangeTest, DelayGrownWhileARequestIsQueuedDelaysIt) {
+  LegSim sim(Config(40.0, 0.0));
+  sim.SetJointAnglesDeg({0.0, 10.0, 30.0});
+  for (int t = 0; t < 20; ++t) sim.Tick();
+  const double before = sim.TrueDeg()[0];
+  sim.Tick({40.0, 10.0, 30.0});  // tick t0: the step
+  const PlantSetting longer{"servo.delay_ms", 56.0};
+  sim.ChangeSettings(std::span(&longer, 1));
+  for (int k = 1; k <= 7; ++k) {
+    sim.Tick({40.0, 10.0, 30.0});
+    const double moved = sim.TrueDeg()[0] - before;
+    if (k < 7) {
+      EXPECT_LT(std::abs(moved), 1e-3) << "tick t0+" << k;
+    } else {
+      EXPECT_GT(moved, 0.05) << "tick t0+" << k;
+    }
+  }
+}
+
+TEST(LegSimChangeTest, BadChangesNameTheKeyAndChangeNothing) {
+  LegSim sim(Config(40.0, 0.1));
+  const std::vector<PlantSetting> bad_value = {{"servo.max_speed_deg_s", 200.0},
+                                               {"servo.delay_ms", 30.0}};
+  try {
+    sim.ChangeSettings(bad_value);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("servo.delay_ms"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sim.config().servo.max_speed_deg_s, 312.5);
+  const std::vector<PlantSetting> bad_key = {{"servo.colour", 1.0}};
+  EXPECT_THROW(sim.ChangeSettings(bad_key), std::invalid_argument);
+  const std::vector<PlantSetting> urdf = {{"sim.physics_dt_ms", 0.5}};
+  EXPECT_THROW(sim.ChangeSettings(urdf), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "leglab/core/leg.h"
+#include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/kinematics.h"
 #include "leglab/model/piecewise_linear.h"
@@ -36,6 +38,10 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointLimits, kLegJoints>& limits,
                                         int pwl_segments);
 
+/// Each joint's model as a controller currently estimates it, with the RMS residual of its fit
+/// to the data it was estimated from (deg).
+using JointModelEstimates = std::array<IdentificationResult, kLegJoints>;
+
 /// A request policy for one leg (ros2_control's update(time, period) in miniature). Per
 /// 8 ms control tick the experiment calls, in order:
 ///   r = Update(tick, measured)    the requests for this tick, from the last reading;
@@ -61,6 +67,10 @@ class JointController {
 
   /// Step `step` (0, 1, ... from the start of the run) has ended.
   virtual void EndOfStep(long /*step*/) {}
+
+  /// The joint models a controller that estimates them holds now (after the latest
+  /// EndOfStep); empty (this default) for a controller that does not.
+  virtual std::optional<JointModelEstimates> ModelEstimates() const { return std::nullopt; }
 
   /// The mode's name, as chosen in the config.
   virtual std::string_view name() const = 0;

@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "leglab/controller/adaptive_controller.h"
 #include "leglab/controller/controller.h"
 #include "leglab/controller/direct_controller.h"
 #include "leglab/controller/ilc_controller.h"
@@ -27,6 +28,7 @@ namespace leglab {
 /// and optionally
 ///   static constexpr bool kFeedForward = true;    requests periodic, independent of measurements
 ///   static constexpr bool kFollowsApproximation = true;  Table 2 also compares it with P
+///   static constexpr bool kEstimatesModel = true;  ModelEstimates() reports its joint models
 ///   static std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&);
 ///   static constexpr std::string_view kSearchFile;  where a search's scores go (no .csv)
 ///   static constexpr std::string_view kConfigSection;  the config map of its keys (default
@@ -44,7 +46,7 @@ struct ControllerModeList {
 /// file pair plus its class here.
 using RegisteredControllerModes =
     ControllerModeList<DirectController, TimeShiftController, ModelBasedController,
-                       OptimalController, IlcController>;
+                       OptimalController, IlcController, AdaptiveController>;
 
 /// One mode's options: the variant alternative of its class's Spec.
 using ControllerSpec = RegisteredControllerModes::Spec;
@@ -61,6 +63,7 @@ struct ControllerModeInfo {
   bool searchable_by_lead;
   std::string_view search_file;     ///< a searched mode's output file (without .csv)
   std::string_view config_section;  ///< the config map its ReadSpec reads ("controller", "ilc")
+  bool estimates_model = false;     ///< reports its joint models (ModelEstimates) every step
 };
 
 /// Every registered mode, in registry order.

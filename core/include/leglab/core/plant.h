@@ -1,5 +1,8 @@
 #pragma once
 
+#include <span>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "leglab/core/leg.h"
@@ -11,6 +14,13 @@ struct PlantReading {
   LegAngles measured_deg{};  ///< the sensors' reading (what a controller may see)
   LegAngles true_deg{};      ///< the exact joint angles (for scoring and plotting only)
   LegAngles applied_deg{};   ///< the latest request as the servos took it (clamped to the limits)
+};
+
+/// One setting of a running plant to change: its name as the config writes it (e.g.
+/// "servo.max_speed_deg_s") and its new value, in that key's units.
+struct PlantSetting {
+  std::string key;
+  double value = 0.0;
 };
 
 /// A leg that takes one request per 8 ms control tick and reports its angles: ros2_control's
@@ -40,6 +50,19 @@ class Plant {
 
   /// What kind of plant this is, for messages and outputs ("sim", "model").
   virtual std::string_view name() const = 0;
+
+  /// Changes settings of the running plant between two ticks, as wear or a swapped part would:
+  /// the motion, the remembered requests and the noise stream carry on, only the settings
+  /// differ from the next Tick() on. The settings are applied in order; all are checked before
+  /// any is applied. Throws std::invalid_argument naming the key for a key this plant does not
+  /// have or a value out of its range (the plant is then unchanged). A plant without
+  /// changeable settings throws for every key (this default).
+  virtual void ChangeSettings(std::span<const PlantSetting> settings) {
+    if (!settings.empty()) {
+      throw std::invalid_argument("the " + std::string(name()) + " plant cannot change " +
+                                  settings.front().key);
+    }
+  }
 };
 
 }  // namespace leglab

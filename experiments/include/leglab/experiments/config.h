@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "leglab/controller/registry.h"
+#include "leglab/core/plant.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/paper.h"
@@ -54,7 +55,8 @@ enum class ShiftSearch {
   /// `true` (the default): a mode whose candidates differ only by how far ahead they request
   /// (RequestLeadTicks) is scored from one run of its lead-0 candidate, one step longer: the
   /// plant is time-invariant, so in steady state candidate k's response is that run's response
-  /// k ticks later. Other searched modes run every candidate.
+  /// k ticks later. Other searched modes, and every mode when plant_changes make the plant
+  /// change mid-run, run every candidate.
   kShiftedRun,
   kExhaustive,  ///< `exhaustive`: every candidate run on its own plant (the paper's procedure)
 };
@@ -75,6 +77,14 @@ enum class PlantKind {
   kModel,  ///< `model`: the joint model itself as an ideal plant (JointModelPlant)
 };
 
+/// `plant_changes[i]`: settings of the running plant changed at the start of measured step
+/// `at_step` (0 = the first step after the warm-up) through Plant::ChangeSettings, without
+/// restarting it. Keys as in robot.yaml (servo.*, sensor.*; plant_model.* for plant: model).
+struct PlantChange {
+  int at_step = 0;
+  std::vector<PlantSetting> set;  ///< in the order written
+};
+
 /// A whole experiment's configuration: the robot's robot.yaml merged under the experiment's
 /// YAML file, then the --set overrides.
 struct ExperimentConfig {
@@ -84,6 +94,9 @@ struct ExperimentConfig {
   /// default the paper's Table 1.
   JointModelParams plant_model = paper::kTable1;
   sim::SimConfig sim;  ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
+  /// `plant_changes`: changes of the running plant during tracking runs, by increasing
+  /// at_step (each validated against the plant as the earlier ones left it).
+  std::vector<PlantChange> plant_changes;
   /// The modes track runs with their options, in order: controller.modes, or [controller.mode]
   /// when only that key is given, else every registered mode.
   std::vector<ControllerSpec> controllers;
@@ -104,6 +117,11 @@ struct ExperimentConfig {
 /// file, an unknown key, a value of the wrong type or out of range, or a missing URDF.
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides = {});
+
+/// `config` with the first `count` of its plant_changes applied to its plant settings (sim or
+/// plant_model) and none left to apply: the plant as it is after those changes, e.g. to
+/// identify it. `count` at most plant_changes.size().
+ExperimentConfig ConfigAfterChanges(const ExperimentConfig& config, size_t count);
 
 /// One point of a sweep.
 struct SweepPoint {

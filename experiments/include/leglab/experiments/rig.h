@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,18 +60,29 @@ struct DesiredMotion {
 /// row and column, or the unreachable tick and point.
 DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry);
 
+/// A controller's model estimates at the end of one step (JointController::ModelEstimates).
+struct StepModelEstimates {
+  long step = 0;  ///< warm-up steps negative, measured steps from 0
+  JointModelEstimates joints;
+};
+
 /// What one run of a controller on a plant recorded over the measured steps.
 struct TrackingRun {
   std::vector<LegAngles> request_deg;          ///< steps * T ticks, as the servos applied them
   std::vector<LegAngles> measured_deg;         ///< the angles measured right after each request
   std::vector<LegAngles> warmup_measured_deg;  ///< warmup_steps * T ticks before those
+  /// After every step (warm-up included), for a controller that estimates the model; else
+  /// empty.
+  std::vector<StepModelEstimates> model_estimates;
 };
 
 /// Runs `controller` (Reset first) on `plant` from rest at the desired cycle's first pose:
 /// `warmup_steps` steps, then `steps` steps recorded. Calls the controller's Update, Observe
-/// and EndOfStep hooks as JointController documents.
+/// and EndOfStep hooks as JointController documents, and records its ModelEstimates after
+/// every step. Each of `changes` (by increasing at_step) is applied to the plant
+/// (Plant::ChangeSettings) right before the first tick of measured step at_step.
 TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
-                        int warmup_steps, int steps);
+                        int warmup_steps, int steps, std::span<const PlantChange> changes = {});
 
 /// Foot position (body frame, mm) for joint angles in degrees.
 Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg);

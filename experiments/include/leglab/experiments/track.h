@@ -29,6 +29,13 @@ struct ModeSearch {
   bool scored_from_one_run = false;
 };
 
+/// The model `identify` finds on the plant as it is from measured step `from_step` on (before
+/// any change: -warmup_steps).
+struct PlantIdentification {
+  int from_step = 0;
+  std::array<IdentificationResult, kLegJoints> joints;
+};
+
 /// Everything `track` measured.
 struct TrackResult {
   Robot robot;
@@ -40,6 +47,9 @@ struct TrackResult {
   bool models_identified = false;    ///< identified on the plant (no model.* keys given)
   std::vector<ModeRun> runs;         ///< in the config's mode order
   std::vector<ModeSearch> searches;  ///< for the searched modes, in run order
+  /// When a mode estimates the model (ControllerModeInfo::estimates_model): the plant
+  /// identified before the changes and after each (plant_changes), for comparison; else empty.
+  std::vector<PlantIdentification> plant_models;
   int steps = 0;
   int period = 0;
   /// Plant ticks run in all (identification's step tests, searches and every mode's run): the

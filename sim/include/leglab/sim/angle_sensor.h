@@ -23,6 +23,9 @@ class AngleSensor {
   /// variate per joint, in LegAngles order.
   LegAngles Measure(const LegAngles& true_rad);
 
+  /// Changes the noise's standard deviation, deg (>= 0); the stream of draws carries on.
+  void set_noise_deg(double noise_deg);
+
   /// One standard normal variate (mean 0, variance 1).
   double StandardNormal();
 

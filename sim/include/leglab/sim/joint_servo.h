@@ -31,6 +31,13 @@ class JointServo {
   /// rad/s, given the joint angle, rad, and its angular rate, rad/s, at the frame's start.
   double FrameSpeedRadPerS(double angle_rad, double rate_rad_per_s);
 
+  /// Takes new firmware settings (`config` validated) without forgetting its state, as if the
+  /// firmware were swapped between two frames: requests already queued are still acted on in
+  /// order (a longer delay repeats the oldest queued request for the extra ticks, a shorter
+  /// one drops the oldest), and the smoothing keeps its newest commands (a longer window is
+  /// padded with the current mean, so the motor speed does not jump).
+  void Reconfigure(const ServoConfig& config);
+
   /// Forgets every queued request and the smoothing history: holds `angle_rad` (clamped) at
   /// rest, as after a long wait.
   void Hold(double angle_rad);

@@ -72,6 +72,13 @@ class LegSim final : public leglab::Plant {
   /// Plant: "sim".
   std::string_view name() const override { return "sim"; }
 
+  /// Plant: changes any of kChangeableSimSettings (robot.yaml's servo.* and sensor.* values)
+  /// from the next tick on, without restarting the physics: the links keep moving, the
+  /// servos keep their queued requests (JointServo::Reconfigure) and the sensor its stream of
+  /// draws. Throws std::invalid_argument naming the key for another key or a value
+  /// ValidateSimConfig rejects; nothing changes then.
+  void ChangeSettings(std::span<const PlantSetting> settings) override;
+
   /// The latest sensor reading, deg: true angle + Gaussian noise (sensor.noise_deg, seeded),
   /// quantised to 1 microradian; sampled once at the end of each Tick().
   LegAngles MeasuredDeg() const { return reading_.measured_deg; }

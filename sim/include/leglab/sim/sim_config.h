@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "leglab/core/leg.h"
 
@@ -54,6 +56,16 @@ struct SimConfig {
 /// Throws std::invalid_argument naming the offending key as in robot.yaml (e.g.
 /// "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
 void ValidateSimConfig(const SimConfig& config);
+
+/// The settings a running LegSim can change (LegSim::ChangeSettings), named as in robot.yaml.
+inline constexpr std::array<std::string_view, 7> kChangeableSimSettings = {
+    "servo.delay_ms",     "servo.max_speed_deg_s", "servo.gain_per_s", "servo.damping",
+    "servo.smoothing_ms", "servo.max_torque_nm",   "sensor.noise_deg"};
+
+/// Sets the value of `key` (one of kChangeableSimSettings) in `config`, unvalidated.
+/// Throws std::invalid_argument "<key> cannot change during a run (can: ...)" for any other
+/// key.
+void SetSimSetting(SimConfig& config, std::string_view key, double value);
 
 /// Number of physics steps in one control tick for a validated `physics_dt_ms`.
 int PhysicsStepsPerTick(double physics_dt_ms);

@@ -1,0 +1,91 @@
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "leglab/controller/controller.h"
+#include "leglab/model/window_estimation.h"
+
+namespace leglab {
+
+/// The paper's model-based requests from a model learned while walking (its future work: "learn
+/// the model of its joints automatically from experience based on its knowledge of the joint
+/// requests and actual angles over time"). Per joint it keeps the applied requests and
+/// measured angles of the latest `adaptive.window_steps` steps and, after every step,
+/// re-estimates {v_max, theta_0, l, a} from them (EstimateJointModelInWindow: the
+/// identification's open-loop fit, l and a searched within +-2 of the current estimate). It
+/// sees nothing else of the plant: not the step tests, not the identified model of the
+/// context, not the plant's settings; it starts from `adaptive.initial_model`.
+///
+/// Re-planning: when an estimate moves by more than the estimator resolves on a steady plant
+/// (l or a changes, v_max by more than kVmaxResolution or theta_0 by more than
+/// kTheta0Resolution from the model the requests were planned with), that joint's
+/// approximation P is refitted under the new v_max and its request cycle re-synthesised (R =
+/// P + C_m, exact C_m) for the next step.
+///
+/// Identifiability: v_max shows only where the joint saturates. A joint whose window never
+/// saturates keeps its v_max and learns the slope v_max / theta_0 (all the data determine).
+/// With `adaptive.probe_deg` > 0 such a joint is probed in the next step, until a window has
+/// saturated it since its l or a last changed: a pulse of probe_deg, l + a ticks long, is
+/// added to its requests from the step's first tick, away from its nearer limit, which
+/// saturates it when probe_deg exceeds theta_0 (a cost in tracking error for that step). 0
+/// (default) never probes.
+///
+/// Requests are always finite and within the limits: a failed estimate or re-plan keeps the
+/// previous model and cycle, and a non-finite request (which a valid model never gives)
+/// falls back to the desired angle.
+class AdaptiveController final : public JointController {
+ public:
+  /// The `adaptive.*` keys.
+  struct Spec {
+    JointModelParams initial_model = {2.5, 7.0, 4, 6};  ///< adaptive.initial_model (Table 1)
+    int window_steps = 2;                               ///< adaptive.window_steps, >= 1
+    double probe_deg = 0.0;                             ///< adaptive.probe_deg, >= 0
+    friend bool operator==(const Spec&, const Spec&) = default;
+  };
+  static constexpr std::string_view kName = "adaptive";
+  static constexpr std::string_view kLabel = "Ad";
+  static constexpr std::string_view kConfigSection = "adaptive";
+  static constexpr bool kEstimatesModel = true;
+  /// A v_max change smaller than this is not re-planned for, deg/tick.
+  static constexpr double kVmaxResolution = 0.03;
+  /// A theta_0 change smaller than this is not re-planned for, deg.
+  static constexpr double kTheta0Resolution = 0.3;
+  /// Throws the reader's error naming the key for a value out of its range.
+  static Spec ReadSpec(OptionReader& reader);
+
+  /// Throws std::invalid_argument on an empty cycle or a bad spec.
+  AdaptiveController(const Spec& spec, const ControllerContext& context);
+
+  void Reset() override;
+  LegAngles Update(long tick, const LegAngles& measured_deg) override;
+  void Observe(long tick, const LegAngles& applied_deg, const LegAngles& measured_deg) override;
+  void EndOfStep(long step) override;
+  std::optional<JointModelEstimates> ModelEstimates() const override { return estimates_; }
+  std::string_view name() const override { return kName; }
+
+  /// The request cycle the next step will use (without a probe), requests()[t][j].
+  const DesiredCycle& requests() const { return requests_; }
+  /// The model each joint's requests were planned with.
+  const std::array<JointModelParams, kLegJoints>& planned_models() const { return planned_; }
+
+ private:
+  // Re-plans joint j's column of requests_ for `model`; false (nothing changed) on failure.
+  bool Replan(int joint, const JointModelParams& model);
+
+  Spec spec_;
+  ControllerContext context_;
+  int pwl_segments_ = 8;
+  std::array<JointModelParams, kLegJoints> planned_;
+  JointModelEstimates estimates_;
+  DesiredCycle requests_;
+  // The latest window_steps * T observed ticks, oldest first (requests as applied, measured).
+  std::array<JointRecording, kLegJoints> window_;
+  long last_observed_tick_ = -1;
+  std::array<bool, kLegJoints> probe_next_{};  // probe this joint in the coming step
+  std::array<bool, kLegJoints> probing_{};     // probing it in the current step
+  // A window since the joint last changed (l or a) saturated it: its v_max is current.
+  std::array<bool, kLegJoints> vmax_known_{};
+};
+
+}  // namespace leglab

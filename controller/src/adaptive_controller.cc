@@ -1,0 +1,167 @@
+#include "leglab/controller/adaptive_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "leglab/core/units.h"
+#include "leglab/model/piecewise_linear.h"
+#include "leglab/model/request_synthesis.h"
+
+namespace leglab {
+namespace {
+
+constexpr double kNoFit = std::numeric_limits<double>::quiet_NaN();
+
+std::string SpecProblem(const AdaptiveController::Spec& spec) {
+  const JointModelParams& m = spec.initial_model;
+  if (!(std::isfinite(m.v_max_deg_per_tick) && m.v_max_deg_per_tick > 0.0)) {
+    return "initial_model.v_max_deg_per_tick";
+  }
+  if (!(std::isfinite(m.theta0_deg) && m.theta0_deg > 0.0)) return "initial_model.theta0_deg";
+  if (m.lag_ticks < 0 || m.lag_ticks > 12) return "initial_model.lag_ticks";
+  if (m.accel_ticks < 1 || m.accel_ticks > 12) return "initial_model.accel_ticks";
+  if (spec.window_steps < 1 || spec.window_steps > 50) return "window_steps";
+  if (!(std::isfinite(spec.probe_deg) && spec.probe_deg >= 0.0 && spec.probe_deg <= 45.0)) {
+    return "probe_deg";
+  }
+  return {};
+}
+
+}  // namespace
+
+AdaptiveController::Spec AdaptiveController::ReadSpec(OptionReader& reader) {
+  Spec spec;
+  reader.Read("initial_model.v_max_deg_per_tick", spec.initial_model.v_max_deg_per_tick);
+  reader.Read("initial_model.theta0_deg", spec.initial_model.theta0_deg);
+  reader.Read("initial_model.lag_ticks", spec.initial_model.lag_ticks);
+  reader.Read("initial_model.accel_ticks", spec.initial_model.accel_ticks);
+  reader.Read("window_steps", spec.window_steps);
+  reader.Read("probe_deg", spec.probe_deg);
+  const std::string problem = SpecProblem(spec);
+  if (problem == "initial_model.v_max_deg_per_tick" || problem == "initial_model.theta0_deg") {
+    reader.Fail(problem, "a finite number > 0");
+  }
+  if (problem == "initial_model.lag_ticks") reader.Fail(problem, "in [0, 12] (ticks)");
+  if (problem == "initial_model.accel_ticks") reader.Fail(problem, "in [1, 12] (ticks)");
+  if (problem == "window_steps") reader.Fail(problem, "in [1, 50] (steps)");
+  if (problem == "probe_deg") reader.Fail(problem, "in [0, 45] (deg; 0: no probing)");
+  return spec;
+}
+
+AdaptiveController::AdaptiveController(const Spec& spec, const ControllerContext& context)
+    : spec_(spec), context_(context) {
+  if (context_.desired.empty()) {
+    throw std::invalid_argument("controller: the desired cycle is empty");
+  }
+  if (const std::string problem = SpecProblem(spec_); !problem.empty()) {
+    throw std::invalid_argument("adaptive: invalid " + problem);
+  }
+  pwl_segments_ = std::max(1, context_.approximations[0].num_segments());
+  Reset();
+}
+
+void AdaptiveController::Reset() {
+  requests_ = context_.desired;  // replaced below; the fallback should a plan fail
+  for (int j = 0; j < kLegJoints; ++j) {
+    planned_[j] = spec_.initial_model;
+    estimates_[j] = {spec_.initial_model, kNoFit};
+    Replan(j, spec_.initial_model);
+    window_[j] = {};
+  }
+  last_observed_tick_ = -1;
+  probe_next_.fill(false);
+  probing_.fill(false);
+  vmax_known_.fill(false);
+}
+
+bool AdaptiveController::Replan(int joint, const JointModelParams& model) {
+  const auto period = static_cast<int>(context_.desired.size());
+  try {
+    std::vector<double> desired(period);
+    for (int t = 0; t < period; ++t) desired[t] = context_.desired[t][joint];
+    const PiecewiseLinear pwl = FitPiecewiseLinear(desired, model.v_max_deg_per_tick,
+                                                   {.segments = std::min(pwl_segments_, period)});
+    const std::vector<double> r = SynthesizeRequests(model, pwl, CmMethod::kExact);
+    if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); })) return false;
+    const double lower = RadToDeg(context_.limits[joint].lower_rad);
+    const double upper = RadToDeg(context_.limits[joint].upper_rad);
+    for (int t = 0; t < period; ++t) requests_[t][joint] = std::clamp(r[t], lower, upper);
+  } catch (const std::exception&) {
+    return false;  // the 8 ms loop does not throw: keep the plan it had
+  }
+  planned_[joint] = model;
+  return true;
+}
+
+LegAngles AdaptiveController::Update(long tick, const LegAngles& /*measured_deg*/) {
+  const auto period = static_cast<long>(requests_.size());
+  const long in_step = (tick % period + period) % period;
+  LegAngles request = CycleAt(requests_, tick);
+  for (int j = 0; j < kLegJoints; ++j) {
+    const double lower = RadToDeg(context_.limits[j].lower_rad);
+    const double upper = RadToDeg(context_.limits[j].upper_rad);
+    if (probing_[j] && in_step < planned_[j].lag_ticks + planned_[j].accel_ticks) {
+      // Away from the nearer limit, so the pulse is not clamped away.
+      request[j] += upper - request[j] >= request[j] - lower ? spec_.probe_deg : -spec_.probe_deg;
+    }
+    if (!std::isfinite(request[j])) request[j] = CycleAt(context_.desired, tick)[j];
+    request[j] = std::clamp(request[j], lower, upper);
+  }
+  return request;
+}
+
+void AdaptiveController::Observe(long tick, const LegAngles& applied_deg,
+                                 const LegAngles& measured_deg) {
+  // The estimator fits consecutive ticks: a gap starts the window afresh.
+  const bool consecutive = tick == last_observed_tick_ + 1;
+  last_observed_tick_ = tick;
+  const size_t capacity = static_cast<size_t>(spec_.window_steps) * context_.desired.size();
+  for (int j = 0; j < kLegJoints; ++j) {
+    JointRecording& w = window_[j];
+    if (!consecutive) w = {};
+    w.request_deg.push_back(applied_deg[j]);
+    w.measured_deg.push_back(measured_deg[j]);
+    if (w.request_deg.size() > capacity) {
+      const auto excess = static_cast<long>(w.request_deg.size() - capacity);
+      w.request_deg.erase(w.request_deg.begin(), w.request_deg.begin() + excess);
+      w.measured_deg.erase(w.measured_deg.begin(), w.measured_deg.begin() + excess);
+    }
+  }
+}
+
+void AdaptiveController::EndOfStep(long /*step*/) {
+  probing_.fill(false);
+  for (int j = 0; j < kLegJoints; ++j) {
+    // A whole step at least: shorter windows do not cover a walk's motion.
+    if (window_[j].request_deg.size() < context_.desired.size()) continue;
+    WindowEstimate estimate;
+    try {
+      estimate = EstimateJointModelInWindow(window_[j], estimates_[j].params);
+    } catch (const std::exception&) {
+      continue;  // e.g. a joint that did not move, or a non-finite sample: keep the estimate
+    }
+    const JointModelParams& now = estimate.fit.params;
+    const JointModelParams& before = estimates_[j].params;
+    // A new lag or acceleration time means the joint changed: its v_max is known no longer.
+    if (now.lag_ticks != before.lag_ticks || now.accel_ticks != before.accel_ticks) {
+      vmax_known_[j] = false;
+    }
+    if (estimate.v_max_identified) vmax_known_[j] = true;
+    probe_next_[j] = spec_.probe_deg > 0.0 && !vmax_known_[j];
+    estimates_[j] = estimate.fit;
+
+    const JointModelParams& planned = planned_[j];
+    if (now.lag_ticks != planned.lag_ticks || now.accel_ticks != planned.accel_ticks ||
+        std::abs(now.v_max_deg_per_tick - planned.v_max_deg_per_tick) > kVmaxResolution ||
+        std::abs(now.theta0_deg - planned.theta0_deg) > kTheta0Resolution) {
+      Replan(j, now);
+    }
+  }
+  probing_ = probe_next_;
+}
+
+}  // namespace leglab
