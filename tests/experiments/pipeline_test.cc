@@ -174,5 +174,19 @@ TEST(Pipeline, AChangeMovesTheModelPlantAtTheNamedStep) {
   EXPECT_NE(ma[period], mb[period]);
 }
 
+// A plant that changes mid-run is not time-invariant: the shift search then runs every shift
+// on its own (T runs of warm-up + steps, plus the best one's), not one run shifted.
+TEST(Pipeline, PlantChangesMakeTheShiftSearchExhaustive) {
+  const TrackResult r = RunTrackExperiment(LoadExperimentConfig(
+      kConfigs + "track.yaml",
+      {"plant=model", "controller.modes=[time_shift]", "warmup_steps=1", "steps=2",
+       "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}",
+       "plant_changes=[{at_step: 1, set: {plant_model.lag_ticks: 6}}]"}));
+  ASSERT_EQ(r.searches.size(), 1u);
+  EXPECT_FALSE(r.searches[0].scored_from_one_run);
+  const long run_ticks = 3L * r.period;
+  EXPECT_EQ(r.plant_ticks, r.period * run_ticks + run_ticks);
+}
+
 }  // namespace
 }  // namespace leglab::experiments
