@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -180,7 +181,7 @@ Candidate FitContinuous(const Candidate& guess, std::span<const JointRecording> 
 }  // namespace
 
 IdentificationResult PreviousIdentifyJointModel(std::span<const JointRecording> recordings,
-                                        const IdentificationOptions& o = {}) {
+                                                const IdentificationOptions& o = {}) {
   if (recordings.empty()) Fail("no recordings");
   if (o.lag_min_ticks < 0 || o.lag_max_ticks < o.lag_min_ticks) Fail("bad lag range");
   if (o.accel_min_ticks < 1 || o.accel_max_ticks < o.accel_min_ticks) Fail("bad accel range");
@@ -308,8 +309,8 @@ double Median(std::vector<double> values) {
 }
 
 void Print(const char* name, const IdentificationResult& r) {
-  std::printf("%s fit: v_max %.17g deg/tick, theta_0 %.17g deg, l %d, a %d, rms %.17g deg\n",
-              name, r.params.v_max_deg_per_tick, r.params.theta0_deg, r.params.lag_ticks,
+  std::printf("%s fit: v_max %.17g deg/tick, theta_0 %.17g deg, l %d, a %d, rms %.17g deg\n", name,
+              r.params.v_max_deg_per_tick, r.params.theta0_deg, r.params.lag_ticks,
               r.params.accel_ticks, r.rms_residual_deg);
 }
 
@@ -363,8 +364,13 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
     return 1;
   }
-  benchmark::RunSpecifiedBenchmarks();
+  try {  // the fits throw only on bad recordings, which these are not
+    benchmark::RunSpecifiedBenchmarks();
+    ReportSideBySideRatio(rounds);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "identification_benchmark: %s\n", e.what());
+    return 1;
+  }
   benchmark::Shutdown();
-  ReportSideBySideRatio(rounds);
   return 0;
 }

@@ -87,6 +87,7 @@ void SweepWithSensitivities(const JointModelParams& p, std::span<const double> r
   }
 }
 
+// Pass 2's polish (see IdentifyJointModel), the previous fit's optimiser unchanged.
 // Minimises f over R^n from `x` by Nelder-Mead (standard coefficients), with initial steps
 // `step`; stops when the simplex is smaller than 1e-9 in every coordinate. Returns f at the
 // best vertex, which it writes into `x`.
@@ -407,6 +408,22 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
   // measured angle. Pass 2: the best few again, also fitting where each recording's
   // prediction starts (one noisy sample would otherwise bias the fit: while the joint runs at
   // top speed nothing in the model pulls a wrong start back).
+  //
+  // Why this optimiser. The squared error is piecewise smooth: a term of eq. 3 switches between
+  // f's linear and saturated pieces where R - M crosses +-theta_0, and on a step test a whole
+  // window of equal requests switches at once, so each approach to a new request puts a kink
+  // of a few units of squared error per unit of ln theta_0 into the objective, about one
+  // every 1e-2 in ln theta_0. Its curvature is only a few hundred, so the minimum usually
+  // sits on such a kink (on the shipped knee: slopes -4.3 and +3.7 either side of it).
+  // Levenberg-Marquardt on the exact Jacobian reaches the kink's valley in a handful of steps
+  // from either start and then crawls along it; so pass 1, which only ranks the (l, a),
+  // stops once a step gains less than 1e-5 of the error (the ranking's gaps are percents).
+  // Pass 2 runs it to 1e-9 and then polishes with Nelder-Mead (the previous fit's optimiser,
+  // same stopping rule, simplex 1e-3 in the logs and 0.01 deg) from there, which settles on
+  // the kink's minimum in a few hundred cheap evaluations where the previous fit needed
+  // ~56000 for pass 1 alone. Same (l, a), and v_max, theta_0 within 4e-8 of the previous fit
+  // on the shipped config; tests/model/identification_test.cc checks the Jacobian and the
+  // optimum, benchmarks/identification_benchmark.cc the cost.
   constexpr size_t kRefined = 4;
   constexpr double kPolishStepLog = 1e-3;
   constexpr double kPolishStepDeg = 1e-2;
@@ -424,7 +441,7 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
           best_here = {{std::exp(x[0]), std::exp(x[1]), lag, accel}, error};
         }
       }
-      ranked.push_back(std::move(best_here));
+      ranked.push_back(best_here);
     }
   }
   const auto by_error = [](const Candidate& a, const Candidate& b) {

@@ -91,7 +91,8 @@ JointRecording HandRecording() {
   r.request_deg = {0,   0,   0,   0,   0,   3,    3,   3,   12,  12,  12,  12,  -4,  -4,
                    -4,  -4,  -4,  1.5, 1.5, 2.5,  3.5, 4.5, 5.5, 6.5, 7.5, 8.5, 8.5, 8.5,
                    8.5, 8.5, 8.5, 8.5, 0.7, -2.1, 4.3, 4.3, 4.3, 4.3, 4.3, 4.3};
-  for (size_t t = 0; t < r.request_deg.size(); ++t) r.measured_deg.push_back(0.1 * t - 0.2);
+  for (size_t t = 0; t < r.request_deg.size(); ++t)
+    r.measured_deg.push_back(0.1 * static_cast<double>(t) - 0.2);
   return r;
 }
 
@@ -245,9 +246,10 @@ TEST(Identification, FindsThePreviousFitsOptimum) {
     std::vector<double> requests;
     for (int k = 0; k < 13; ++k) requests.insert(requests.end(), cycle.begin(), cycle.end());
     const std::vector<double> angles = SimulateJointModel(truth, requests, RestState(truth, 0.0));
+    const long settled = 5L * 88;
     JointRecording r;
-    r.request_deg.assign(requests.begin() + 5 * 88, requests.end());
-    r.measured_deg.assign(angles.begin() + 5 * 88, angles.end());
+    r.request_deg.assign(requests.begin() + settled, requests.end());
+    r.measured_deg.assign(angles.begin() + settled, angles.end());
     for (double& m : r.measured_deg) m += noise(rng);
     recordings.push_back(std::move(r));
   }

@@ -56,11 +56,13 @@ PredictionSensitivities PredictRecordingSensitivities(const JointModelParams& pa
 
 /// Fits {v_max, theta_0, l, a} to the recordings by minimising the model's open-loop
 /// prediction error over every tick after the first lag_max + accel_max: l and a
-/// exhaustively over their ranges, v_max and theta_0 by Nelder-Mead (on their logarithms, so
-/// they stay positive) from two starts each. The best four (l, a) are then refitted together
-/// with the angle each recording's prediction starts from (a nuisance parameter: started
-/// from one noisy sample, as PredictRecording does, a prediction at top speed never recovers
-/// from that sample's error).
+/// exhaustively over their ranges, v_max and theta_0 (on their logarithms, so they stay
+/// positive) by Levenberg-Marquardt on the exact Jacobian (PredictionSensitivities) from two
+/// starts each. The best four (l, a) are then refitted together with the angle each
+/// recording's prediction starts from (a nuisance parameter: started from one noisy sample, as
+/// PredictRecording does, a prediction at top speed never recovers from that sample's error),
+/// by Levenberg-Marquardt and then a short Nelder-Mead polish: the optimum usually sits on a
+/// kink of f, where no derivative-based step makes progress. Deterministic.
 /// Throws std::invalid_argument on empty or mismatched recordings, non-finite samples, bad
 /// ranges, or recordings too short to score.
 IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
