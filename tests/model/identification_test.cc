@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -71,6 +72,194 @@ TEST(Identification, PredictionStartsFromTheMeasurementAfterTheWarmUp) {
   for (size_t t = 0; t < predicted.size(); ++t) {
     EXPECT_NEAR(predicted[t], recordings[0].measured_deg[t], 1e-9) << t;
   }
+}
+
+// The prediction from measured(W - 1) + offset computed independently, by the joint model
+// itself (SimulateJointModel) from the recorded requests before W.
+std::vector<double> IndependentPrediction(const JointModelParams& p, const JointRecording& r,
+                                          int warmup, double offset) {
+  JointModelState start{r.measured_deg[warmup - 1] + offset, {}};
+  for (int i = 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+    start.past_requests_deg.push_back(r.request_deg[warmup - i]);
+  }
+  return SimulateJointModel(p, std::span(r.request_deg).subspan(warmup), start);
+}
+
+// A hand case that runs f both saturated and linear, and never within 1e-3 deg of a kink.
+JointRecording HandRecording() {
+  JointRecording r;
+  r.request_deg = {0,   0,   0,   0,   0,   3,    3,   3,   12,  12,  12,  12,  -4,  -4,
+                   -4,  -4,  -4,  1.5, 1.5, 2.5,  3.5, 4.5, 5.5, 6.5, 7.5, 8.5, 8.5, 8.5,
+                   8.5, 8.5, 8.5, 8.5, 0.7, -2.1, 4.3, 4.3, 4.3, 4.3, 4.3, 4.3};
+  for (size_t t = 0; t < r.request_deg.size(); ++t)
+    r.measured_deg.push_back(0.1 * static_cast<double>(t) - 0.2);
+  return r;
+}
+
+TEST(PredictionSensitivities, MatchCentralDifferencesAwayFromKinks) {
+  const JointModelParams p{2.0, 6.0, 2, 3};
+  const JointRecording r = HandRecording();
+  const int warmup = 5;
+  const double offset = 0.2;
+  const std::vector<double> nominal = IndependentPrediction(p, r, warmup, offset);
+
+  // Away from kinks: every term R(t-i) - M(t-1) at least 1e-3 deg from +-theta_0, and both
+  // regimes of f exercised.
+  int saturated = 0, linear = 0;
+  for (size_t k = 0; k < nominal.size(); ++k) {
+    const long t = warmup + static_cast<long>(k);
+    const double previous = k == 0 ? r.measured_deg[warmup - 1] + offset : nominal[k - 1];
+    for (int i = p.lag_ticks + 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+      const double x = r.request_deg[t - i] - previous;
+      ASSERT_GT(std::abs(std::abs(x) - p.theta0_deg), 1e-3) << "tick " << t;
+      (std::abs(x) > p.theta0_deg ? saturated : linear)++;
+    }
+  }
+  ASSERT_GT(saturated, 10);
+  ASSERT_GT(linear, 10);
+
+  const PredictionSensitivities s = PredictRecordingSensitivities(p, r, warmup, offset);
+  ASSERT_EQ(s.angle_deg.size(), nominal.size());
+  ASSERT_EQ(s.d_log_v_max.size(), nominal.size());
+  ASSERT_EQ(s.d_log_theta0.size(), nominal.size());
+  ASSERT_EQ(s.d_start_offset.size(), nominal.size());
+  const double h = 1e-6;
+  auto scaled = [&](double v_factor, double theta_factor) {
+    return JointModelParams{p.v_max_deg_per_tick * v_factor, p.theta0_deg * theta_factor,
+                            p.lag_ticks, p.accel_ticks};
+  };
+  const auto v_up = IndependentPrediction(scaled(std::exp(h), 1.0), r, warmup, offset);
+  const auto v_down = IndependentPrediction(scaled(std::exp(-h), 1.0), r, warmup, offset);
+  const auto theta_up = IndependentPrediction(scaled(1.0, std::exp(h)), r, warmup, offset);
+  const auto theta_down = IndependentPrediction(scaled(1.0, std::exp(-h)), r, warmup, offset);
+  const auto start_up = IndependentPrediction(p, r, warmup, offset + h);
+  const auto start_down = IndependentPrediction(p, r, warmup, offset - h);
+  bool theta_matters = false;
+  for (size_t k = 0; k < nominal.size(); ++k) {
+    EXPECT_NEAR(s.angle_deg[k], nominal[k], 1e-12) << k;
+    EXPECT_NEAR(s.d_log_v_max[k], (v_up[k] - v_down[k]) / (2 * h), 1e-7) << k;
+    EXPECT_NEAR(s.d_log_theta0[k], (theta_up[k] - theta_down[k]) / (2 * h), 1e-7) << k;
+    EXPECT_NEAR(s.d_start_offset[k], (start_up[k] - start_down[k]) / (2 * h), 1e-7) << k;
+    theta_matters = theta_matters || std::abs(s.d_log_theta0[k]) > 0.1;
+  }
+  EXPECT_TRUE(theta_matters);
+}
+
+TEST(PredictionSensitivities, SaturatedRunIsLinearInTheTopSpeed) {
+  // Every term saturated: M(t) = M(W-1) + v_max (t - W + 1), so dM/d ln v_max = v_max (t - W +
+  // 1), dM/d ln theta_0 = 0 and dM/d start = 1.
+  const JointModelParams p{2.0, 1.0, 1, 2};
+  JointRecording r{std::vector<double>(20, 100.0), std::vector<double>(20, 0.0)};
+  const int warmup = 4;
+  const PredictionSensitivities s = PredictRecordingSensitivities(p, r, warmup);
+  ASSERT_EQ(s.angle_deg.size(), 16u);
+  for (size_t k = 0; k < s.angle_deg.size(); ++k) {
+    EXPECT_DOUBLE_EQ(s.angle_deg[k], 2.0 * static_cast<double>(k + 1));
+    EXPECT_DOUBLE_EQ(s.d_log_v_max[k], 2.0 * static_cast<double>(k + 1));
+    EXPECT_EQ(s.d_log_theta0[k], 0.0);
+    EXPECT_EQ(s.d_start_offset[k], 1.0);
+  }
+  EXPECT_THROW(PredictRecordingSensitivities(p, r, 2), std::invalid_argument);
+}
+
+// The squared error IdentifyJointModel minimises for fixed (l, a) and one recording, computed
+// independently: the model started from measured(W - 1) + offset.
+double IndependentSquaredError(const JointModelParams& p, const JointRecording& r, int warmup,
+                               double offset) {
+  const std::vector<double> predicted = IndependentPrediction(p, r, warmup, offset);
+  double sum = 0.0;
+  for (size_t k = 0; k < predicted.size(); ++k) {
+    const double e = r.measured_deg[warmup + k] - predicted[k];
+    sum += e * e;
+  }
+  return sum;
+}
+
+TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
+  // One step-test cycle (after one to settle) of the model {2.5, 7, 2, 3} with 0.2 deg noise;
+  // l and a fixed, so the fit is over v_max, theta_0 and the start offset only.
+  const JointModelParams truth{2.5, 7.0, 2, 3};
+  JointRecording r = ModelStepTests(truth, 0.2, 2, 3)[0];
+  r.request_deg.erase(r.request_deg.begin(), r.request_deg.begin() + 88);
+  r.measured_deg.erase(r.measured_deg.begin(), r.measured_deg.begin() + 88);
+  IdentificationOptions options;
+  options.lag_min_ticks = options.lag_max_ticks = 2;
+  options.accel_min_ticks = options.accel_max_ticks = 3;
+  const int warmup = 5;
+  const IdentificationResult fit = IdentifyJointModel(std::vector<JointRecording>{r}, options);
+  ASSERT_EQ(fit.params.lag_ticks, 2);
+  ASSERT_EQ(fit.params.accel_ticks, 3);
+
+  // Brute force: a 31^3 grid over ln v_max in [ln 1, ln 5], ln theta_0 in [ln 1, ln 20] and the
+  // offset in [-1, 1] deg, then 20 zooms, each 21^3 points spanning +-5 spacings of the
+  // previous grid around its best point (halving the spacing: a narrower zoom loses the
+  // minimum among the kinks of f), down to spacings of about 1e-7.
+  auto error_at = [&](const double* y) {
+    return IndependentSquaredError({std::exp(y[0]), std::exp(y[1]), 2, 3}, r, warmup, y[2]);
+  };
+  double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 0.0};
+  double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 1.0};
+  double best[3] = {center[0], center[1], center[2]};
+  double best_error = error_at(best);
+  const int kLevels = 20;
+  const int kPoints = 21;
+  const double kReach = 5.0;
+  for (int level = 0; level <= kLevels; ++level) {
+    const int points = level == 0 ? 31 : kPoints;
+    for (int i = 0; i < points; ++i) {
+      for (int j = 0; j < points; ++j) {
+        for (int k = 0; k < points; ++k) {
+          const int index[3] = {i, j, k};
+          double y[3];
+          for (int d = 0; d < 3; ++d) {
+            y[d] = center[d] - half[d] + 2.0 * half[d] * index[d] / (points - 1);
+          }
+          const double e = error_at(y);
+          if (e < best_error) best_error = e, std::copy(y, y + 3, best);
+        }
+      }
+    }
+    for (int d = 0; d < 3; ++d) {
+      half[d] = kReach * (2.0 * half[d] / (points - 1));
+      center[d] = best[d];
+    }
+  }
+  const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
+                           static_cast<double>(r.request_deg.size() - warmup);
+  // The fit is at least as low as the grid (they differ by about 1e-12 relative), at the same
+  // point (about 1e-7 apart in the logarithms).
+  EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
+  EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
+  EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);
+}
+
+TEST(Identification, FindsThePreviousFitsOptimum) {
+  // identification_benchmark's recordings: the step tests `identify` records (8 cycles after 5
+  // to settle), through the model {2.5, 5.65, 4, 6}, plus 0.1 deg of noise (seed 1). Pinned:
+  // what the previous fit (Nelder-Mead throughout, main at baec711) found on them, all digits.
+  const JointModelParams truth{2.5, 5.65, 4, 6};
+  std::mt19937 rng(1);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  std::vector<JointRecording> recordings;
+  for (double theta : {40.0, 110.0}) {
+    const std::vector<double> cycle = StepTestRequests(theta);
+    std::vector<double> requests;
+    for (int k = 0; k < 13; ++k) requests.insert(requests.end(), cycle.begin(), cycle.end());
+    const std::vector<double> angles = SimulateJointModel(truth, requests, RestState(truth, 0.0));
+    const long settled = 5L * 88;
+    JointRecording r;
+    r.request_deg.assign(requests.begin() + settled, requests.end());
+    r.measured_deg.assign(angles.begin() + settled, angles.end());
+    for (double& m : r.measured_deg) m += noise(rng);
+    recordings.push_back(std::move(r));
+  }
+  const IdentificationResult fit = IdentifyJointModel(recordings);
+  EXPECT_EQ(fit.params.lag_ticks, 4);
+  EXPECT_EQ(fit.params.accel_ticks, 6);
+  // The previous optimiser's own convergence on this kinked objective is about 1e-8.
+  EXPECT_NEAR(fit.params.v_max_deg_per_tick, 2.5000111449146871, 1e-5 * 2.5);
+  EXPECT_NEAR(fit.params.theta0_deg, 5.6489825444907336, 1e-5 * 5.65);
+  EXPECT_NEAR(fit.rms_residual_deg, 0.099899525687072679, 1e-9 * 0.1);
 }
 
 TEST(Identification, RejectsBadRecordings) {

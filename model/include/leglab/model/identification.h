@@ -35,13 +35,34 @@ struct IdentificationResult {
 std::vector<double> PredictRecording(const JointModelParams& params,
                                      const JointRecording& recording, int warmup_ticks);
 
+/// The open-loop prediction of PredictRecording, started from measured(W - 1) +
+/// `start_offset_deg` instead, for ticks t = W..N-1, with its exact derivatives (forward
+/// sensitivities along eq. 3) with respect to ln v_max, ln theta_0 and the start offset. Where
+/// a term of f sits exactly on a kink (|R - M| = theta_0) the derivative is the saturated
+/// side's. The angles agree with PredictRecording's (start offset 0) to rounding: terms of
+/// equal requests are summed as one.
+struct PredictionSensitivities {
+  std::vector<double> angle_deg;       ///< M(t), deg, size N - W
+  std::vector<double> d_log_v_max;     ///< dM(t) / d ln v_max, deg
+  std::vector<double> d_log_theta0;    ///< dM(t) / d ln theta_0, deg
+  std::vector<double> d_start_offset;  ///< dM(t) / d start offset, deg per deg
+};
+
+/// See PredictionSensitivities. Throws std::invalid_argument as PredictRecording does.
+PredictionSensitivities PredictRecordingSensitivities(const JointModelParams& params,
+                                                      const JointRecording& recording,
+                                                      int warmup_ticks,
+                                                      double start_offset_deg = 0.0);
+
 /// Fits {v_max, theta_0, l, a} to the recordings by minimising the model's open-loop
 /// prediction error over every tick after the first lag_max + accel_max: l and a
-/// exhaustively over their ranges, v_max and theta_0 by Nelder-Mead (on their logarithms, so
-/// they stay positive) from two starts each. The best four (l, a) are then refitted together
-/// with the angle each recording's prediction starts from (a nuisance parameter: started
-/// from one noisy sample, as PredictRecording does, a prediction at top speed never recovers
-/// from that sample's error).
+/// exhaustively over their ranges, v_max and theta_0 (on their logarithms, so they stay
+/// positive) by Levenberg-Marquardt on the exact Jacobian (PredictionSensitivities) from two
+/// starts each. The best four (l, a) are then refitted together with the angle each
+/// recording's prediction starts from (a nuisance parameter: started from one noisy sample, as
+/// PredictRecording does, a prediction at top speed never recovers from that sample's error),
+/// by Levenberg-Marquardt and then a short Nelder-Mead polish: the optimum usually sits on a
+/// kink of f, where no derivative-based step makes progress. Deterministic.
 /// Throws std::invalid_argument on empty or mismatched recordings, non-finite samples, bad
 /// ranges, or recordings too short to score.
 IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
