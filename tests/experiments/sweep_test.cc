@@ -138,7 +138,7 @@ TEST(Shard, ParsesIOfNAndRejectsTheRest) {
 }
 
 TEST(Shard, ComesFromSlurmOrKubernetesWhenNoFlagIsGiven) {
-  auto env = [](std::map<std::string, std::string> vars) {
+  auto env = [](const std::map<std::string, std::string>& vars) {
     return [vars](const char* name) -> const char* {
       const auto it = vars.find(name);
       return it == vars.end() ? nullptr : it->second.c_str();
