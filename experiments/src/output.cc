@@ -24,8 +24,8 @@ OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes
     staging_ = where / name;
     if (fs::create_directory(staging_, ec)) break;
     if (ec || attempt > 100) {
-      throw std::runtime_error("cannot create a staging folder in " + where.string() + ": " +
-                               (ec ? ec.message() : "too many attempts"));
+      throw OutputError("cannot create a staging folder in " + where.string() + ": " +
+                        (ec ? ec.message() : "too many attempts"));
     }
   }
 }
@@ -61,7 +61,7 @@ void WriteTextFile(const fs::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   out.close();
-  if (!out) throw std::runtime_error("cannot write " + path.string());
+  if (!out) throw OutputError("cannot write " + path.string());
 }
 
 std::string FormatDouble(double value) {
@@ -72,7 +72,7 @@ std::string FormatDouble(double value) {
 
 CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& columns)
     : path_(path), out_(path), columns_(columns.size()) {
-  if (!out_) throw std::runtime_error("cannot write " + path.string());
+  if (!out_) throw OutputError("cannot write " + path.string());
   for (const std::string& c : columns) Cell(c);
   EndRow();
 }
@@ -107,7 +107,7 @@ void CsvWriter::EndRow() {
 
 void CsvWriter::Close() {
   out_.close();
-  if (!out_) throw std::runtime_error("cannot write " + path_.string());
+  if (!out_) throw OutputError("cannot write " + path_.string());
 }
 
 }  // namespace leglab::experiments

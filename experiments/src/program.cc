@@ -1,12 +1,18 @@
 #include "leglab/experiments/program.h"
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <stdexcept>
+#include <system_error>
+
+#include "leglab/experiments/output.h"
 
 namespace leglab::experiments {
 
-int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
+int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
+               int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
   CLI::App app(description, program);
   ProgramArgs args;
@@ -26,7 +32,7 @@ int RunProgram(const std::string& program, const std::string& description, int a
     return 2;
   }
   try {
-    ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides);
+    ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides, scope);
     config.threads = args.threads;
     body(args, config);
     return 0;
@@ -36,11 +42,28 @@ int RunProgram(const std::string& program, const std::string& description, int a
     std::cerr << program << ": error: " << e.what() << '\n';
   } catch (const std::domain_error& e) {
     std::cerr << program << ": error: " << e.what() << '\n';
-  } catch (const std::exception& e) {
+  } catch (const OutputError& e) {
     std::cerr << program << ": failed: " << e.what() << '\n';
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << program << ": failed: " << e.what() << '\n';
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << program << ": internal error: out of memory (std::bad_alloc)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": internal error: " << e.what() << '\n';
+    return 1;
+  } catch (...) {
+    std::cerr << program << ": internal error: an unknown exception\n";
     return 1;
   }
   return 2;
+}
+
+int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
+  return RunProgram(program, description, ConfigScope{program, {}}, argc, argv, body);
 }
 
 }  // namespace leglab::experiments

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 namespace {
 
@@ -139,6 +141,83 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
 }
 
+// Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or
+// produced non-finite results is refused before anything runs, naming the key as written.
+TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
+  const std::string id = "--config experiments/configs/identify.yaml";
+  const std::string track = "--config experiments/configs/track.yaml";
+  const std::string mb =
+      "--config experiments/configs/controller_model_based.yaml"
+      " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}'";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      // row 1: SIGSEGV
+      {kIdentify, id + " --set 'identify.lag_range_ticks=[0, 2147483647]'",
+       "identify.lag_range_ticks must be in [0, 50] ticks"},
+      // row 2: signed overflow
+      {kIdentify, id + " --set identify.record_cycles=48806447",
+       "identify.record_cycles must be in [1, 1000]"},
+      {kIdentify, id + " --set identify.settle_cycles=2147483647",
+       "identify.settle_cycles must be in [1, 1000]"},
+      {kTrack, mb + " --set model.lag_ticks=2147483647", "model.lag_ticks must be in [0, 50]"},
+      // row 3: a file named after a step height out of range
+      {kIdentify, id + " --set 'identify.theta_test_deg=[1e300]'",
+       "identify.theta_test_deg must be in [-180, 180] deg"},
+      // row 4: nonsense tables
+      {kIdentify, id + " --set sim.physics_dt_ms=1e-300", "sim.physics_dt_ms must be in [0.1, 8]"},
+      {kIdentify, id + " --set sensor.noise_deg=1e300", "sensor.noise_deg must be in [0, 10]"},
+      {kIdentify, id + " --set servo.max_speed_deg_s=1e-300", "servo.max_speed_deg_s must be in"},
+      {kIdentify, id + " --set servo.max_torque_nm=1e-300", "servo.max_torque_nm must be in"},
+      {kIdentify, id + " --set servo.delay_ms=80000", "servo.delay_ms must be in [0, 400] ms"},
+      // row 5: exit 1 after a while; and the products that size a run
+      {kTrack, track + " --set steps=2147483647", "steps must be in [1, 1000000]"},
+      {kTrack, track + " --set track.t_step_ticks=2147483647", "track.t_step_ticks must be in"},
+      {kTrack, mb + " --set model.accel_ticks=2147483647", "model.accel_ticks must be in"},
+      {kTrack, track + " --set servo.damping=1e300", "servo.damping must be in [0, 10]"},
+      {kTrack, track + " --set steps=1000000 --set warmup_steps=1000000",
+       "(warmup_steps + steps) x track.t_step_ticks"},
+      {kTrack, track + " --set steps=300000", "would simulate"},
+      {kIdentify,
+       id + " --set 'identify.lag_range_ticks=[0, 50]' --set "
+            "'identify.accel_range_ticks=[1, 50]' --set identify.record_cycles=100",
+       "identify: 2550 (l, a) candidates"},
+      // row 6: messages that named an internal
+      {kIdentify, id + " --set servo.delay_ms=1e300", "servo.delay_ms must be in"},
+      {kIdentify, id + " --set sensor.noise_deg=1e6", "sensor.noise_deg must be in"},
+      {kTrack, mb + " --set model.v_max_deg_per_tick=.inf", "model.v_max_deg_per_tick must be in"},
+      {kIdentify, id + " --set 'identify.theta_test_deg=[.nan]'",
+       "identify.theta_test_deg must be in"},
+      // row 8: silent for over 60 s
+      {kIdentify, id + " --set sim.physics_dt_ms=0.001", "sim.physics_dt_ms must be in"},
+      {kTrack, track + " --set warmup_steps=2147483647", "warmup_steps must be in"},
+      {kTrack, track + " --set track.t_step_ticks=100000", "track.t_step_ticks must be in"},
+      {kIdentify, id + " --set 'identify.accel_range_ticks=[1,600]'",
+       "identify.accel_range_ticks must be in"},
+  };
+  // All are found while loading the config, so none of these runs anything.
+  for (const auto& [program, args, needle] : cases) ExpectBadInput(program, args, needle);
+}
+
+// Row 12: what was accepted with the last value winning, rows duplicated or files overwritten.
+TEST_F(ProgramsTest, DuplicatesAndKeysOfAnotherProgramAreRefused) {
+  const std::string id = "--config experiments/configs/identify.yaml";
+  ExpectBadInput(kIdentify,
+                 "--config " + Write("dup.yaml", "extends: " LEGLAB_SOURCE_DIR
+                                                 "/experiments/configs/identify.yaml\n"
+                                                 "identify:\n  settle_cycles: 2\n"
+                                                 "  settle_cycles: 3\n"),
+                 "key 'identify.settle_cycles' is given twice");
+  ExpectBadInput(kIdentify, id + " --set 'servo={gain_per_s: 3, gain_per_s: 4}'",
+                 "'servo.gain_per_s' is given twice");
+  ExpectBadInput(kIdentify, id + " --set 'identify.theta_test_deg=[40,40]'", "40 twice");
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set controller.modes=[direct,direct]",
+                 "'direct' twice");
+  ExpectBadInput(kIdentify, id + " --set steps=5", "steps is not used by identify");
+  ExpectBadInput(kIdentify, id + " --set controller.cm=closed",
+                 "controller.cm is not used by identify");
+  ExpectBadInput(kIdentify, id + " --set stepz=5", "unknown key 'stepz'");
+}
+
 TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   const Result r = RunCommand(
       kTrack + " --config experiments/configs/track.yaml --out '" + out_.string() +
@@ -190,11 +269,14 @@ std::map<std::string, std::string> FilesOf(const fs::path& dir) {
 }
 
 TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
-  const std::string short_run =
-      " --set steps=2 --set warmup_steps=1 --set identify.record_cycles=2"
-      " --set identify.settle_cycles=1";
+  const std::string short_identification =
+      " --set identify.record_cycles=2 --set identify.settle_cycles=1";
   for (const char* config : {"identify.yaml", "track.yaml"}) {
-    const std::string program = std::string(config) == "track.yaml" ? kTrack : kIdentify;
+    const bool track = std::string(config) == "track.yaml";
+    const std::string program = track ? kTrack : kIdentify;
+    // identify refuses track's keys.
+    const std::string short_run =
+        short_identification + (track ? " --set steps=2 --set warmup_steps=1" : "");
     std::map<std::string, std::string> first;
     for (const int threads : {1, 2}) {
       const fs::path out = dir_ / ("threads" + std::to_string(threads));

@@ -2,10 +2,18 @@
 
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace leglab::experiments {
+
+/// The results could not be written (a full disk, a folder that vanished): not bad input,
+/// not a bug. Programs print it and exit with status 1.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 /// The files a run writes, staged in a temporary folder and moved into `--out` only by
 /// Commit(): a run that fails leaves the file system as it was (not even `--out`'s parent
@@ -35,21 +43,21 @@ class OutputDir {
   bool committed_ = false;
 };
 
-/// Writes `text` to `path`; throws std::runtime_error naming the file if it cannot.
+/// Writes `text` to `path`; throws OutputError naming the file if it cannot.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text);
 
 /// A CSV file with a fixed header. Numbers are written in the shortest form that reads back
 /// to the same double. Close() reports a failed write.
 class CsvWriter {
  public:
-  /// Throws std::runtime_error if `path` cannot be opened.
+  /// Throws OutputError if `path` cannot be opened.
   CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns);
   /// One row: text cells (e.g. a joint name) are written as given.
   CsvWriter& Cell(double value);
   CsvWriter& Cell(long value);
   CsvWriter& Cell(const std::string& text);
   void EndRow();
-  /// Flushes and closes; throws std::runtime_error naming the file if any write failed.
+  /// Flushes and closes; throws OutputError naming the file if any write failed.
   void Close();
 
  private:

@@ -17,10 +17,17 @@ struct ProgramArgs {
   int threads = 0;  ///< 0: one per core
 };
 
-/// Parses the flags, loads the config and runs `body`. Bad input (flags, config, robot, URDF,
-/// CSV, an unreachable locus: InputError, std::invalid_argument, std::domain_error) prints
-/// "<program>: error: <message>" on one line and returns 2; any other failure prints
-/// "<program>: failed: <message>" and returns 1; success returns 0.
+/// Parses the flags, loads the config (keys outside `scope` rejected, see ConfigScope) and runs
+/// `body`. Bad input (flags, config, robot, URDF, CSV, an unreachable locus: InputError,
+/// std::invalid_argument, std::domain_error) prints "<program>: error: <message>" on one line
+/// and returns 2; a failure to write the results prints "<program>: failed: <message>" and
+/// returns 1; anything else that escapes is ours and prints "<program>: internal error:
+/// <message>" and returns 1; success returns 0.
+int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
+               int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
+
+/// RunProgram for a program that uses every config key.
 int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
 
