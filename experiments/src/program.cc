@@ -31,6 +31,8 @@ int RunProgram(const std::string& program, const std::string& description, const
     std::cerr << program << ": error: " << e.what() << " (see --help)\n";
     return 2;
   }
+  // Before any thread starts: an interruption removes the staging folder (OutputDir).
+  InstallInterruptCleanup(program);
   try {
     ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides, scope);
     config.threads = args.threads;

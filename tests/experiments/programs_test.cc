@@ -1,6 +1,12 @@
 // The experiment programs run as a user runs them: flags, config files, exit status, files.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <filesystem>
@@ -320,6 +326,123 @@ TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {
   EXPECT_EQ(j["paper"]["v_max_deg_per_tick"], 2.5);
   EXPECT_EQ(j["paper"]["lag_ticks"], 4);
   EXPECT_TRUE(fs::exists(out_ / "table1.md"));
+}
+
+// Row 7: --out problems are bad input, found before anything runs.
+TEST_F(ProgramsTest, OutProblemsAreFoundBeforeTheRun) {
+  const std::string id = kIdentify + " --config experiments/configs/identify.yaml";
+  auto expect = [&](const std::string& out, const std::string& needle) {
+    const Result r = RunCommand(id + " --out '" + out + "'");
+    EXPECT_EQ(r.status, 2) << out << "\n" << r.stderr_text;
+    EXPECT_EQ(std::count(r.stderr_text.begin(), r.stderr_text.end(), '\n'), 1) << r.stderr_text;
+    EXPECT_NE(r.stderr_text.find(needle), std::string::npos) << r.stderr_text;
+  };
+  const std::string file = Write("results.txt", "mine");
+  expect(file, "exists and is not a folder");
+  expect("", "--out must name a folder");
+  expect(file + "/sub", "a file");
+  // An unwritable parent: a folder without write permission, or (as root, who may write
+  // anywhere) one where no folder can be created at all.
+  if (::geteuid() == 0) {
+    expect("/proc/1/leglab_out", "cannot be written");
+  } else {
+    fs::create_directories(dir_ / "locked");
+    fs::permissions(dir_ / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+    expect((dir_ / "locked" / "out").string(), "cannot be written");
+    fs::permissions(dir_ / "locked", fs::perms::owner_all);
+  }
+  // A folder where identify writes a file: refused, not replaced halfway.
+  fs::create_directories(out_ / "table1.md");
+  expect(out_.string(), "'table1.md', which is not a file");
+  EXPECT_TRUE(fs::is_directory(out_ / "table1.md"));
+  std::ifstream in(file);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
+}
+
+// The entries of `dir` whose names start with `prefix`.
+std::vector<std::string> EntriesStartingWith(const fs::path& dir, const std::string& prefix) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) names.push_back(name);
+  }
+  return names;
+}
+
+// Every file under `dir`, by relative path, with its bytes.
+std::map<std::string, std::string> FilesUnder(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    files[fs::relative(entry.path(), dir).string()].assign(std::istreambuf_iterator<char>(in), {});
+  }
+  return files;
+}
+
+// Rows 10 and 11: a run killed while running or while writing leaves --out as it was and
+// nothing beside it, and exits with 128 + the signal.
+TEST_F(ProgramsTest, AnInterruptedRunLeavesNothingBehind) {
+  // The previous results, with a file and a folder of another program's.
+  fs::create_directories(out_ / "hind");
+  std::ofstream(out_ / "hind" / "table2.md") << "hind";
+  std::ofstream(out_ / "table1.json") << "identify's";
+  std::ofstream(out_ / "table2.md") << "old";
+  const std::map<std::string, std::string> before = FilesUnder(out_);
+  // Long enough to be caught at work: the ideal plant, one mode, 40000 steps to write.
+  const std::string command =
+      "cd '" LEGLAB_SOURCE_DIR "' && exec " + kTrack +
+      " --config experiments/configs/controller_direct.yaml --set plant=model --set "
+      "'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set "
+      "steps=40000 --out '" +
+      out_.string() + "' >/dev/null 2>/dev/null";
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    for (const bool while_writing : {false, true}) {
+      pid_t pid = 0;
+      const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+      ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ),
+                0);
+      // Wait (no time limit of ours: ctest's timeout stops a hang) for the staging folder, and
+      // when asked for a file in it.
+      bool caught = false;
+      while (!caught) {
+        for (const std::string& name : EntriesStartingWith(dir_, ".out.staging-")) {
+          caught = !while_writing || !EntriesStartingWith(dir_ / name, "").empty();
+        }
+        if (::waitpid(pid, nullptr, WNOHANG) == pid) FAIL() << "the run ended before the signal";
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      ::kill(pid, signal);
+      int status = 0;
+      ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+      EXPECT_TRUE(WIFEXITED(status)) << signal;
+      EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
+      EXPECT_EQ(FilesUnder(out_), before) << signal << (while_writing ? " while writing" : "");
+      std::vector<std::string> beside;
+      for (const auto& e : fs::directory_iterator(dir_)) {
+        beside.push_back(e.path().filename().string());
+      }
+      EXPECT_EQ(beside, std::vector<std::string>{"out"}) << signal;
+    }
+  }
+}
+
+// Row 11: a finished run replaces this program's files at once and keeps the rest.
+TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
+  fs::create_directories(out_ / "hind");
+  std::ofstream(out_ / "hind" / "x.csv") << "hind";
+  std::ofstream(out_ / "step_knee_77.csv") << "stale";
+  std::ofstream(out_ / "fig1.png") << "figure";
+  const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml --out '" +
+                              out_.string() + "' --set identify.record_cycles=2");
+  ASSERT_EQ(r.status, 0) << r.stderr_text;
+  EXPECT_FALSE(fs::exists(out_ / "step_knee_77.csv"));  // an earlier run's, not this one's
+  EXPECT_TRUE(fs::exists(out_ / "step_knee_110.csv"));
+  EXPECT_TRUE(fs::exists(out_ / "table1.json"));
+  EXPECT_TRUE(fs::exists(out_ / "fig1.png"));
+  EXPECT_TRUE(fs::exists(out_ / "hind" / "x.csv"));
+  EXPECT_EQ(EntriesStartingWith(dir_, ".out"), std::vector<std::string>{});
 }
 
 }  // namespace
