@@ -1,5 +1,6 @@
 #include "leglab/experiments/rig.h"
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -103,12 +104,24 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     std::array<double, kLegJoints + 1> values{};
     for (size_t c = 0; c < columns; ++c) {
       const std::string name = c == 0 ? "tick" : std::string(kLegJointNames[c - 1]) + "_deg";
-      try {
-        size_t used = 0;
-        values[c] = std::stod(cells[c], &used);
-        if (used != cells[c].size()) throw std::invalid_argument("trailing text");
-      } catch (const std::exception&) {
-        fail("row " + std::to_string(row) + ", " + name + ": '" + cells[c] + "' is not a number");
+      // Plain decimal only: the tick a whole number of digits, an angle as from_chars reads it
+      // (no hex such as 0x7, no sign '+', no spaces), the whole cell used.
+      const std::string& cell = cells[c];
+      const char* end = cell.data() + cell.size();
+      std::from_chars_result parsed{};
+      if (c == 0) {
+        long tick = -1;
+        parsed = std::from_chars(cell.data(), end, tick);
+        if (cell.empty() || cell.find_first_not_of("0123456789") != std::string::npos) {
+          parsed.ec = std::errc::invalid_argument;
+        }
+        values[c] = static_cast<double>(tick);
+      } else {
+        parsed = std::from_chars(cell.data(), end, values[c]);
+      }
+      if (parsed.ec != std::errc() || parsed.ptr != end) {
+        fail("row " + std::to_string(row) + ", " + name + ": '" + cell + "' is not a " +
+             (c == 0 ? "tick (digits only)" : "decimal number"));
       }
       if (!std::isfinite(values[c]))
         fail("row " + std::to_string(row) + ", " + name + " is not finite");

@@ -224,6 +224,28 @@ TEST_F(ProgramsTest, DuplicatesAndKeysOfAnotherProgramAreRefused) {
   ExpectBadInput(kIdentify, id + " --set stepz=5", "unknown key 'stepz'");
 }
 
+// Row 12: a desired.csv is read strictly: what stod would take (hex, a sign, spaces, 7.0 for
+// a tick) is refused, naming the row and column.
+TEST_F(ProgramsTest, DesiredCsvCellsAreStrictlyDecimal) {
+  const std::string good =
+      "--config experiments/configs/track.yaml --set 'model={v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
+  const std::string csv = DesiredCsv(88);
+  const size_t row8 = csv.find("\n7,") + 1;
+  const std::string rest = csv.substr(csv.find(',', row8));
+  for (const std::string tick : {"0x7", "+7", " 7", "7.0", "7e0", "07 "}) {
+    const std::string bad = csv.substr(0, row8) + tick + rest;
+    ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("tick.csv", bad),
+                   "row 8, tick: '" + tick + "' is not a tick");
+  }
+  for (const std::string angle : {"0x1p3", "+5", " 5", "5 ", "5deg"}) {
+    std::string bad = csv;
+    bad.replace(bad.find(",5,", row8), 3, "," + angle + ",");
+    ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("angle.csv", bad),
+                   "row 8, abductor_deg: '" + angle + "' is not a decimal number");
+  }
+}
+
 TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   const Result r = RunCommand(
       kTrack + " --config experiments/configs/track.yaml --out '" + out_.string() +
