@@ -616,6 +616,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
          std::to_string(kMaxTotalTicks) + "; run fewer steps, fewer modes or " +
          "track.search_shift=false");
   }
+  config.planned_ticks = total;
   return config;
 }
 

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "leglab/experiments/config.h"
+#include "leglab/experiments/progress.h"
 
 namespace leglab::experiments {
 
@@ -116,7 +117,10 @@ OutputDir::~OutputDir() {
   RemoveStaging(staging_);
 }
 
-fs::path OutputDir::Path(const std::string& name) const { return staging_ / name; }
+fs::path OutputDir::Path(const std::string& name) const {
+  SetProgressPhase("writing " + name);
+  return staging_ / name;
+}
 
 void OutputDir::Commit() {
   assert(!committed_);
@@ -147,6 +151,7 @@ void OutputDir::Commit() {
     fs::rename(staging_, final_dir_, ec);
     if (ec) fail(ec.message());
     committed_ = true;
+    FinishProgress();
     return;
   }
   // --out exists: the staging folder takes over what it holds that this program does not
@@ -181,6 +186,7 @@ void OutputDir::Commit() {
   }
   // staging_ now holds the previous results.
   committed_ = true;
+  FinishProgress();
   for (const fs::path& name : folders_to_move) {
     fs::rename(staging_ / name, final_dir_ / name, ec);
     if (ec) {

@@ -1,5 +1,7 @@
 #include "leglab/experiments/program.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
@@ -8,6 +10,7 @@
 #include <system_error>
 
 #include "leglab/experiments/output.h"
+#include "leglab/experiments/progress.h"
 
 namespace leglab::experiments {
 
@@ -21,6 +24,10 @@ int RunProgram(const std::string& program, const std::string& description, const
   app.add_option("--threads", args.threads,
                  "worker threads (default: one per core); results do not depend on it")
       ->check(CLI::PositiveNumber);
+  CLI::Option* progress = app.add_flag(
+      "--progress", args.progress,
+      "plain progress lines on stderr (for logs and CI); default: a bar on a terminal");
+  app.add_flag("--quiet", args.quiet, "no progress on stderr")->excludes(progress);
   app.add_option("--set", args.overrides,
                  "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
   try {
@@ -36,6 +43,11 @@ int RunProgram(const std::string& program, const std::string& description, const
   try {
     ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides, scope);
     config.threads = args.threads;
+    const ProgressStyle style = args.quiet                     ? ProgressStyle::kOff
+                                : args.progress                ? ProgressStyle::kLines
+                                : ::isatty(STDERR_FILENO) != 0 ? ProgressStyle::kBar
+                                                               : ProgressStyle::kOff;
+    const ProgressDisplay display(program, style, config.planned_ticks);
     body(args, config);
     return 0;
   } catch (const InputError& e) {

@@ -7,6 +7,7 @@
 
 #include "leglab/core/units.h"
 #include "leglab/experiments/parallel.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/model/joint_model_plant.h"
 #include "leglab/model/trajectories.h"
 #include "leglab/sim/leg_sim.h"
@@ -43,6 +44,7 @@ StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
       run.recording.request_deg.push_back(reading.applied_deg[joint]);
       run.recording.measured_deg.push_back(reading.measured_deg[joint]);
     }
+    if ((t + 1) % identify.t_step_ticks == 0) CountProgressTicks(identify.t_step_ticks);
   }
   return run;
 }
@@ -51,6 +53,7 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
                                                         const Robot& robot) {
   // Build one plant first so that bad robot input fails before any thread starts.
   MakePlant(config, robot);
+  SetProgressPhase("step tests and identification");
   // Each joint with its own plants: the result does not depend on the schedule.
   std::array<JointIdentification, kLegJoints> joints;
   ParallelFor(kLegJoints, config.threads, [&](int joint) {
@@ -174,6 +177,7 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
 
 TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
                         int warmup_steps, int steps) {
+  SetProgressPhase("walking");
   plant.Reset(desired[0]);
   controller.Reset();
   const long period = static_cast<long>(desired.size());
@@ -193,7 +197,10 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
     } else {
       run.warmup_measured_deg.push_back(measured);
     }
-    if ((t + 1) % period == 0) controller.EndOfStep(t / period);
+    if ((t + 1) % period == 0) {
+      controller.EndOfStep(t / period);
+      CountProgressTicks(period);
+    }
   }
   return run;
 }

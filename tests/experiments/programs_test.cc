@@ -28,15 +28,15 @@ struct Result {
   std::string stderr_text;
 };
 
-// Runs `command` from the source tree, capturing its standard error.
-Result RunCommand(const std::string& command) {
+// Runs `command` from the source tree, capturing its standard error (stdout into `stdout_path`).
+Result RunCommand(const std::string& command, const std::string& stdout_path = "/dev/null") {
   // One file per test: ctest runs the tests of this file as parallel processes.
   const fs::path err =
       fs::temp_directory_path() /
       (std::string("leglab_programs_") +
        ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr");
-  const std::string full =
-      "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >/dev/null 2>'" + err.string() + "'";
+  const std::string full = "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >'" + stdout_path +
+                           "' 2>'" + err.string() + "'";
   const int raw = std::system(full.c_str());
   Result r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -244,6 +244,33 @@ TEST_F(ProgramsTest, DesiredCsvCellsAreStrictlyDecimal) {
     ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("angle.csv", bad),
                    "row 8, abductor_deg: '" + angle + "' is not a decimal number");
   }
+}
+
+// Row 8 and 9: --progress shows progress on stderr as plain lines (the first at once, then
+// every 2 s), --quiet shows none, and stdout carries the table alone either way.
+TEST_F(ProgramsTest, ProgressGoesToStderrAndQuietSilencesIt) {
+  const std::string run = kIdentify + " --config experiments/configs/identify.yaml --out '" +
+                          out_.string() + "' --set identify.record_cycles=2";
+  auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const std::string flag : {"--progress", "--quiet"}) {
+    const fs::path stdout_file = dir_ / "stdout.txt";
+    const Result r = RunCommand(run + " " + flag, stdout_file.string());
+    ASSERT_EQ(r.status, 0) << r.stderr_text;
+    EXPECT_EQ(read(stdout_file).rfind("# Table 1", 0), 0u) << flag;
+    if (flag == "--quiet") {
+      EXPECT_EQ(r.stderr_text, "");
+    } else {
+      EXPECT_EQ(r.stderr_text.rfind("identify: 0% of ", 0), 0u) << r.stderr_text;
+      EXPECT_NE(r.stderr_text.find(" ticks after "), std::string::npos);
+      EXPECT_EQ(r.stderr_text.find('\r'), std::string::npos);  // lines, not a bar
+    }
+  }
+  fs::remove_all(out_);
+  ExpectBadInput(kIdentify, "--config experiments/configs/identify.yaml --progress --quiet",
+                 "--progress excludes --quiet");
 }
 
 TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {

@@ -104,6 +104,9 @@ struct ExperimentConfig {
   /// Worker threads (`--threads`, not a config key); 0 means one per core. Results do not
   /// depend on it.
   int threads = 0;
+  /// The ticks the run simulates at most (every step test, mode and searched candidate), as
+  /// checked against kMaxTotalTicks; the progress display's 100 %.
+  long long planned_ticks = 0;
 };
 
 /// Which top-level config sections a program uses. A key the loader knows but the program
