@@ -65,20 +65,25 @@ std::string KeyText(const YAML::Node& key) {
 }
 
 // Fails naming the first key given twice in one map of `node` (yaml-cpp keeps both, and a
-// lookup would silently take one). `budget` bounds the walk: aliases may repeat a subtree
-// exponentially often (an alias bomb), and no config of ours has 100000 nodes.
+// lookup would silently take one). `budget` and `depth` bound the walk: aliases may repeat a
+// subtree exponentially often (an alias bomb) or make it a cycle, and no config of ours has
+// 100000 nodes or 64 levels.
 void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
-                          const std::string& prefix, int& budget) {
+                          const std::string& prefix, int& budget, int depth = 0) {
   if (--budget < 0) Fail(where + " is too large (over 100000 nodes, or aliases nested too deep)");
+  // An alias inside its own anchor makes the tree a cycle (found by tests/.../fuzz_test.cc).
+  if (depth > 64) Fail(where + " nests deeper than 64 levels (an alias inside its own anchor?)");
   if (node.IsMap()) {
     std::set<std::string> seen;
     for (const auto& item : node) {
       const std::string key = prefix + KeyText(item.first);
       if (!seen.insert(key).second) Fail(where + ": key '" + key + "' is given twice");
-      CheckNoDuplicateKeys(item.second, where, key + ".", budget);
+      CheckNoDuplicateKeys(item.second, where, key + ".", budget, depth + 1);
     }
   } else if (node.IsSequence()) {
-    for (const auto& element : node) CheckNoDuplicateKeys(element, where, prefix, budget);
+    for (const auto& element : node) {
+      CheckNoDuplicateKeys(element, where, prefix, budget, depth + 1);
+    }
   }
 }
 

@@ -48,9 +48,7 @@ void ClearBar() {
 
 }  // namespace
 
-void CountProgressTicks(long ticks) {
-  State().ticks.fetch_add(ticks, std::memory_order_relaxed);
-}
+void CountProgressTicks(long ticks) { State().ticks.fetch_add(ticks, std::memory_order_relaxed); }
 
 void SetProgressPhase(const std::string& phase) {
   const std::lock_guard<std::mutex> lock(State().mutex);
@@ -91,9 +89,9 @@ void ProgressDisplay::Loop() {
       const long long done = std::min(State().ticks.load(), planned_ticks_);
       const double share = static_cast<double>(done) / static_cast<double>(planned_ticks_);
       const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-      const std::string left =
-          done > 0 && elapsed > 1.0 ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
-                                    : "estimating the time left";
+      const std::string left = done > 0 && elapsed > 1.0
+                                   ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
+                                   : "estimating the time left";
       char line[256];
       if (style_ == ProgressStyle::kBar) {
         constexpr int kWidth = 30;

@@ -222,6 +222,10 @@ TEST_F(ProgramsTest, DuplicatesAndKeysOfAnotherProgramAreRefused) {
   ExpectBadInput(kIdentify, id + " --set controller.cm=closed",
                  "controller.cm is not used by identify");
   ExpectBadInput(kIdentify, id + " --set stepz=5", "unknown key 'stepz'");
+  // Found by the fuzz harness: an alias inside its own anchor overflowed the stack.
+  ExpectBadInput(kIdentify,
+                 "--config " + Write("self.yaml", "robot: ers210a\na: &a [11ec\n *a, *a, *a]"),
+                 "nests deeper than 64 levels");
 }
 
 // Row 12: a desired.csv is read strictly: what stod would take (hex, a sign, spaces, 7.0 for
