@@ -9,6 +9,7 @@
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
 #include "leglab/model/joint_model_plant.h"
+#include "leglab/model/metrics.h"
 #include "leglab/model/trajectories.h"
 #include "leglab/sim/leg_sim.h"
 
@@ -175,34 +176,69 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
   return d;
 }
 
-TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
-                        int warmup_steps, int steps) {
+namespace {
+
+// The tracking loop of RunTracking: `on_tick(t, reading)` sees every tick's reading, t from 0
+// over warm-up and measured steps alike.
+template <typename OnTick>
+void TrackingLoop(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                  int warmup_steps, int steps, OnTick on_tick) {
   SetProgressPhase("walking");
   plant.Reset(desired[0]);
   controller.Reset();
   const long period = static_cast<long>(desired.size());
-  const long first_recorded = warmup_steps * period;
-  const long total = first_recorded + steps * period;
-  TrackingRun run;
-  run.request_deg.reserve(steps * period);
-  run.measured_deg.reserve(steps * period);
+  const long total = (warmup_steps + static_cast<long>(steps)) * period;
   LegAngles measured = plant.Read().measured_deg;
   for (long t = 0; t < total; ++t) {
     const PlantReading& reading = plant.Tick(controller.Update(t, measured));
     controller.Observe(t, reading.applied_deg, reading.measured_deg);
     measured = reading.measured_deg;
-    if (t >= first_recorded) {
-      run.request_deg.push_back(reading.applied_deg);
-      run.measured_deg.push_back(measured);
-    } else {
-      run.warmup_measured_deg.push_back(measured);
-    }
+    on_tick(t, reading);
     if ((t + 1) % period == 0) {
       controller.EndOfStep(t / period);
       CountProgressTicks(period);
     }
   }
+}
+
+}  // namespace
+
+TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                        int warmup_steps, int steps) {
+  const long period = static_cast<long>(desired.size());
+  const long first_recorded = warmup_steps * period;
+  TrackingRun run;
+  run.request_deg.reserve(steps * period);
+  run.measured_deg.reserve(steps * period);
+  TrackingLoop(plant, controller, desired, warmup_steps, steps,
+               [&](long t, const PlantReading& reading) {
+                 if (t >= first_recorded) {
+                   run.request_deg.push_back(reading.applied_deg);
+                   run.measured_deg.push_back(reading.measured_deg);
+                 } else {
+                   run.warmup_measured_deg.push_back(reading.measured_deg);
+                 }
+               });
   return run;
+}
+
+double TrackingFootL2Cm(Plant& plant, JointController& controller, const DesiredMotion& desired,
+                        const LegGeometry& geometry, int warmup_steps, int steps) {
+  const long period = static_cast<long>(desired.angles_deg.size());
+  const long first_recorded = warmup_steps * period;
+  // The same sums in the same order as FootErrorsCm and MeanFootL2Cm: the same bits.
+  std::vector<double> step_errors(period);
+  std::vector<double> per_step;
+  per_step.reserve(steps);
+  TrackingLoop(plant, controller, desired.angles_deg, warmup_steps, steps,
+               [&](long t, const PlantReading& reading) {
+                 if (t < first_recorded) return;
+                 const long tick = (t - first_recorded) % period;
+                 step_errors[tick] =
+                     (FootMm(geometry, reading.measured_deg) - desired.foot_mm[tick]).norm() / 10.0;
+                 if (tick == period - 1) per_step.push_back(Rms(step_errors));
+               });
+  return MeanAndStd(per_step).mean;
 }
 
 std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& desired,

@@ -20,6 +20,14 @@ ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const Cont
   return run;
 }
 
+// A candidate's score alone: RunMode's foot L2 without keeping the run (memory O(steps)).
+double ScoreMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
+  const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
+  const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
+  return TrackingFootL2Cm(*plant, *controller, r.desired, r.robot.geometry,
+                          config.track.warmup_steps, config.track.steps);
+}
+
 }  // namespace
 
 double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period) {
@@ -30,7 +38,7 @@ double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period) {
   return MeanAndStd(per_step).mean;
 }
 
-TrackResult RunTrackExperiment(const ExperimentConfig& config) {
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink) {
   TrackResult r;
   r.robot = LoadRobot(config.sim.urdf_path);
   r.desired = LoadDesiredMotion(config.track, r.robot.geometry);
@@ -60,8 +68,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
   }
 
   for (const ControllerSpec& spec : config.controllers) {
+    // Each run to the sink when there is one, so that only one is held at a time.
+    auto keep = [&](ModeRun run) {
+      sink ? sink(r, std::move(run)) : r.runs.push_back(std::move(run));
+    };
     if (!config.track.search_shift || !ModeOf(spec).searchable) {
-      r.runs.push_back(RunMode(config, r, spec));
+      keep(RunMode(config, r, spec));
       continue;
     }
     // Every candidate scored in parallel, keeping only its score; the best is run again
@@ -69,14 +81,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
     ModeSearch search;
     search.candidates = SearchCandidates(spec, r.context);
     search.foot_l2_cm.resize(search.candidates.size());
-    ParallelFor(static_cast<int>(search.candidates.size()), config.threads, [&](int k) {
-      search.foot_l2_cm[k] =
-          MeanFootL2Cm(RunMode(config, r, search.candidates[k]).foot_error_cm, r.period);
-    });
+    ParallelFor(static_cast<int>(search.candidates.size()), config.threads,
+                [&](int k) { search.foot_l2_cm[k] = ScoreMode(config, r, search.candidates[k]); });
     const auto best = std::min_element(search.foot_l2_cm.begin(), search.foot_l2_cm.end()) -
                       search.foot_l2_cm.begin();
     search.best = search.candidates[best];
-    r.runs.push_back(RunMode(config, r, search.best));
+    keep(RunMode(config, r, search.best));
     r.searches.push_back(std::move(search));
   }
   return r;

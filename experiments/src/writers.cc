@@ -203,15 +203,11 @@ std::vector<std::string> TrackOutputPrefixes() {
   return prefixes;
 }
 
-std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
-  WriteTextFile(out.Path("table2.json"), Table2Json(table));
-  std::string md = Table2Markdown(table);
-  WriteTextFile(out.Path("table2.md"), md);
-
+void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   const int period = r.period;
   std::array<std::vector<double>, kLegJoints> pwl;
   for (int j = 0; j < kLegJoints; ++j) pwl[j] = r.context.approximations[j].Sample();
-  for (const ModeRun& run : r.runs) {
+  {
     const std::string mode(ModeOf(run.spec).name);
     std::array<std::vector<double>, kLegJoints> model;
     for (int j = 0; j < kLegJoints; ++j) {
@@ -243,8 +239,7 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     foot.Close();
   }
   // Learning modes: every step's error, warm-up included (negative steps).
-  for (const ModeRun& run : r.runs) {
-    if (ModeOf(run.spec).feed_forward) continue;
+  if (!ModeOf(run.spec).feed_forward) {
     CsvWriter csv(out.Path(std::string(ModeOf(run.spec).name) + "_learning.csv"),
                   {"step", "joint", "l2_deg", "foot_l2_cm"});
     for (const LearningStep& step : LearningCurve(run, r)) {
@@ -256,6 +251,12 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     }
     csv.Close();
   }
+}
+
+std::string WriteTrackTables(const TrackResult& r, const Table2& table, const OutputDir& out) {
+  WriteTextFile(out.Path("table2.json"), Table2Json(table));
+  std::string md = Table2Markdown(table);
+  WriteTextFile(out.Path("table2.md"), md);
   for (const ModeSearch& search : r.searches) {
     const ControllerModeInfo& mode = ModeOf(search.best);
     const auto parameters = ModeParameters(search.best);
@@ -269,6 +270,11 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     csv.Close();
   }
   return md;
+}
+
+std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
+  for (const ModeRun& run : r.runs) WriteModeOutputs(run, r, out);
+  return WriteTrackTables(r, table, out);
 }
 
 }  // namespace leglab::experiments

@@ -56,13 +56,15 @@ class Mutator {
   std::string Mutate(std::string text) {
     const int mutations = Pick(1, 6);
     for (int m = 0; m < mutations; ++m) {
-      const size_t at = text.empty() ? 0 : static_cast<size_t>(Pick(0, static_cast<int>(text.size())));
+      const size_t at =
+          text.empty() ? 0 : static_cast<size_t>(Pick(0, static_cast<int>(text.size())));
       switch (Pick(0, 6)) {
         case 0:  // a token from the dictionary
           text.insert(at, dictionary_[Pick(0, static_cast<int>(dictionary_.size()) - 1)]);
           break;
         case 1:  // a token replacing a short run of bytes
-          text.replace(at, Pick(0, 8), dictionary_[Pick(0, static_cast<int>(dictionary_.size()) - 1)]);
+          text.replace(at, Pick(0, 8),
+                       dictionary_[Pick(0, static_cast<int>(dictionary_.size()) - 1)]);
           break;
         case 2:  // a random byte
           text.insert(at, 1, static_cast<char>(Pick(0, 255)));
@@ -86,7 +88,8 @@ class Mutator {
         default:  // a line dropped
           if (const size_t end = text.find('\n', at); end != std::string::npos) {
             const size_t start = text.rfind('\n', at);
-            text.erase(start == std::string::npos ? 0 : start, end - (start == std::string::npos ? 0 : start));
+            text.erase(start == std::string::npos ? 0 : start,
+                       end - (start == std::string::npos ? 0 : start));
           }
           break;
       }
@@ -103,10 +106,29 @@ class Mutator {
 };
 
 // Numbers a hostile user tries.
-const std::vector<std::string> kNumbers = {
-    "0", "-1", "1e300", "-1e300", "1e-300", ".nan", ".inf", "-.inf", "nan", "inf", "2147483647",
-    "2147483648", "-2147483648", "9223372036854775807", "99999999999999999999", "0x7", "1.5",
-    "4", "88", "1000000", "+5", "07", ""};
+const std::vector<std::string> kNumbers = {"0",
+                                           "-1",
+                                           "1e300",
+                                           "-1e300",
+                                           "1e-300",
+                                           ".nan",
+                                           ".inf",
+                                           "-.inf",
+                                           "nan",
+                                           "inf",
+                                           "2147483647",
+                                           "2147483648",
+                                           "-2147483648",
+                                           "9223372036854775807",
+                                           "99999999999999999999",
+                                           "0x7",
+                                           "1.5",
+                                           "4",
+                                           "88",
+                                           "1000000",
+                                           "+5",
+                                           "07",
+                                           ""};
 
 struct Runner {
   const char* reader;
@@ -122,12 +144,11 @@ struct Runner {
 void Fuzz(Runner& runner) {
   const fs::path findings_dir = fs::temp_directory_path() / "leglab_fuzz_findings";
   const long executions = EnvLong("LEGLAB_FUZZ_EXECUTIONS", 3000);
-  Mutator mutator(static_cast<std::uint64_t>(EnvLong("LEGLAB_FUZZ_SEED", 1)),
-                  [&] {
-                    std::vector<std::string> d = runner.dictionary;
-                    d.insert(d.end(), kNumbers.begin(), kNumbers.end());
-                    return d;
-                  }());
+  Mutator mutator(static_cast<std::uint64_t>(EnvLong("LEGLAB_FUZZ_SEED", 1)), [&] {
+    std::vector<std::string> d = runner.dictionary;
+    d.insert(d.end(), kNumbers.begin(), kNumbers.end());
+    return d;
+  }());
   std::vector<std::string> inputs;
   // The regressions first: every finding so far, replayed as is.
   const fs::path regressions = fs::path(LEGLAB_SOURCE_DIR) / "tests/experiments/fuzz_regressions";
@@ -142,7 +163,8 @@ void Fuzz(Runner& runner) {
     const std::string input =
         i < static_cast<long>(replayed)
             ? inputs[i]
-            : mutator.Mutate(runner.seeds[mutator.Pick(0, static_cast<int>(runner.seeds.size()) - 1)]);
+            : mutator.Mutate(
+                  runner.seeds[mutator.Pick(0, static_cast<int>(runner.seeds.size()) - 1)]);
     WriteFile(runner.file, input);
     std::string problem;
     try {
@@ -170,9 +192,10 @@ void Fuzz(Runner& runner) {
       if (found >= 5) break;
     }
   }
-  std::printf("fuzz %s: %ld executions (+%zu regressions replayed), %ld accepted, %ld refused, "
-              "%ld findings\n",
-              runner.reader, executions, replayed, accepted, refused, found);
+  std::printf(
+      "fuzz %s: %ld executions (+%zu regressions replayed), %ld accepted, %ld refused, "
+      "%ld findings\n",
+      runner.reader, executions, replayed, accepted, refused, found);
 }
 
 void ExpectFinite(double v, const char* what) {
@@ -183,9 +206,10 @@ class FuzzTest : public ::testing::Test {
  protected:
   void SetUp() override {
     // In memory where there is a tmpfs: every execution writes its input.
-    const fs::path base = fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
-    dir_ = base /
-           ("leglab_fuzz_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    const fs::path base =
+        fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
+    dir_ = base / ("leglab_fuzz_" +
+                   std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -198,31 +222,64 @@ const fs::path kSource = LEGLAB_SOURCE_DIR;
 TEST_F(FuzzTest, ConfigReader) {
   // The shipped files name the robot `ers210a`, found beside the test program (DataDir()).
   std::vector<std::string> seeds;
-  for (const char* name : {"identify.yaml", "track.yaml", "track_hind.yaml", "controller_ilc.yaml"}) {
+  for (const char* name :
+       {"identify.yaml", "track.yaml", "track_hind.yaml", "controller_ilc.yaml"}) {
     seeds.push_back(ReadFile(kSource / "experiments/configs" / name));
   }
   seeds.push_back(ReadFile(kSource / "robots/ers210a/robot.yaml"));
   seeds.push_back("a: &a [1, 1]\nb: &b [*a, *a, *a, *a]\nc: &c [*b, *b, *b, *b]\nidentify: *c\n");
   seeds.push_back("extends: exp.yaml\nsteps: 3\n");
-  seeds.push_back("servo: {delay_ms: 40, delay_ms: 48}\nmodel: {v_max_deg_per_tick: 2.5, "
-                  "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}\n");
-  Runner runner{"config", seeds,
-                {"\n", ": ", "- ", "[", "]", "{", "}", ",", "&a ", "*a", "<<: *a\n", "!!str ",
-                 "extends: ", "robot: ", "servo:\n  ", "identify:\n  ", "controller:\n  ",
-                 "model: ", "desired:\n  csv: ", "steps: ", "warmup_steps: ", "t_step_ticks: ",
-                 "theta_test_deg: ", "lag_range_ticks: ", "seed: ", "plant: model\n", "? ", "|\n",
-                 "'", "\"", "#", "\t", "ers210a_hind", "../../", "~"},
+  seeds.push_back(
+      "servo: {delay_ms: 40, delay_ms: 48}\nmodel: {v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}\n");
+  Runner runner{"config",
+                seeds,
+                {"\n",
+                 ": ",
+                 "- ",
+                 "[",
+                 "]",
+                 "{",
+                 "}",
+                 ",",
+                 "&a ",
+                 "*a",
+                 "<<: *a\n",
+                 "!!str ",
+                 "extends: ",
+                 "robot: ",
+                 "servo:\n  ",
+                 "identify:\n  ",
+                 "controller:\n  ",
+                 "model: ",
+                 "desired:\n  csv: ",
+                 "steps: ",
+                 "warmup_steps: ",
+                 "t_step_ticks: ",
+                 "theta_test_deg: ",
+                 "lag_range_ticks: ",
+                 "seed: ",
+                 "plant: model\n",
+                 "? ",
+                 "|\n",
+                 "'",
+                 "\"",
+                 "#",
+                 "\t",
+                 "ers210a_hind",
+                 "../../",
+                 "~"},
                 dir_ / "exp.yaml",
                 {}};
   runner.read = [&] {
     const ExperimentConfig c = LoadExperimentConfig(runner.file.string());
-    for (const double v : {c.sim.physics_dt_ms, c.sim.servo.delay_ms, c.sim.servo.max_speed_deg_s,
-                           c.sim.servo.gain_per_s, c.sim.servo.damping, c.sim.servo.smoothing_ms,
-                           c.sim.servo.max_torque_nm, c.sim.sensor.noise_deg,
-                           c.plant_model.v_max_deg_per_tick, c.plant_model.theta0_deg,
-                           c.track.locus.shape.length_mm, c.track.locus.shape.height_mm,
-                           c.track.locus.shape.ground_fraction, c.track.locus.forward_mm,
-                           c.track.locus.outward_mm, c.track.locus.ground_below_shoulder_mm}) {
+    for (const double v :
+         {c.sim.physics_dt_ms, c.sim.servo.delay_ms, c.sim.servo.max_speed_deg_s,
+          c.sim.servo.gain_per_s, c.sim.servo.damping, c.sim.servo.smoothing_ms,
+          c.sim.servo.max_torque_nm, c.sim.sensor.noise_deg, c.plant_model.v_max_deg_per_tick,
+          c.plant_model.theta0_deg, c.track.locus.shape.length_mm, c.track.locus.shape.height_mm,
+          c.track.locus.shape.ground_fraction, c.track.locus.forward_mm, c.track.locus.outward_mm,
+          c.track.locus.ground_below_shoulder_mm}) {
       ExpectFinite(v, "config value");
     }
     for (const double v : c.identify.theta_test_deg) ExpectFinite(v, "theta_test_deg");
@@ -270,10 +327,12 @@ TEST_F(FuzzTest, UrdfLoader) {
   Runner runner{"urdf",
                 {ReadFile(kSource / "robots/ers210a/leg.urdf"),
                  ReadFile(kSource / "robots/ers210a_hind/leg.urdf")},
-                {"<", ">", "/>", "</joint>", "<link name=\"x\"/>", "<joint", "xyz=\"", "rpy=\"",
-                 "axis", "limit", "lower=\"", "upper=\"", "effort=\"", "mass value=\"", "\"",
-                 " ", "nan", "inf", "1e308", "-0", "revolute", "fixed", "continuous", "foot",
-                 "<!--", "-->", "<![CDATA[", "&amp;", "&#0;"},
+                {"<",        ">",         "/>",         "</joint>",      "<link name=\"x\"/>",
+                 "<joint",   "xyz=\"",    "rpy=\"",     "axis",          "limit",
+                 "lower=\"", "upper=\"",  "effort=\"",  "mass value=\"", "\"",
+                 " ",        "nan",       "inf",        "1e308",         "-0",
+                 "revolute", "fixed",     "continuous", "foot",          "<!--",
+                 "-->",      "<![CDATA[", "&amp;",      "&#0;"},
                 dir_ / "leg.urdf",
                 {}};
   runner.read = [&] {
