@@ -170,7 +170,7 @@ TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
        "identify.theta_test_deg must be in [-180, 180] deg"},
       // row 4: nonsense tables
       {kIdentify, id + " --set sim.physics_dt_ms=1e-300", "sim.physics_dt_ms must be in [0.1, 8]"},
-      {kIdentify, id + " --set sensor.noise_deg=1e300", "sensor.noise_deg must be in [0, 10]"},
+      {kIdentify, id + " --set sensor.noise_deg=1e300", "sensor.noise_deg must be in [0, 2] deg"},
       {kIdentify, id + " --set servo.max_speed_deg_s=1e-300", "servo.max_speed_deg_s must be in"},
       {kIdentify, id + " --set servo.max_torque_nm=1e-300", "servo.max_torque_nm must be in"},
       {kIdentify, id + " --set servo.delay_ms=80000", "servo.delay_ms must be in [0, 400] ms"},
