@@ -32,9 +32,9 @@ struct Result {
 Result RunCommand(const std::string& command, const std::string& stdout_path = "/dev/null") {
   // One file per test: ctest runs the tests of this file as parallel processes.
   const fs::path err =
-      fs::temp_directory_path() /
-      (std::string("leglab_programs_") +
-       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr");
+      fs::temp_directory_path() / (std::string("leglab_programs_") +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                                   "_" + std::to_string(::getpid()) + ".stderr");
   const std::string full = "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >'" + stdout_path +
                            "' 2>'" + err.string() + "'";
   const int raw = std::system(full.c_str());
@@ -51,9 +51,11 @@ Result RunCommand(const std::string& command, const std::string& stdout_path = "
 class ProgramsTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id too: the release and asan suites may run at once.
     dir_ = fs::temp_directory_path() /
            (std::string("leglab_programs_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     out_ = dir_ / "out";
