@@ -10,8 +10,12 @@
 
 int main(int argc, char** argv) {
   using namespace leglab::experiments;
-  return RunProgram("identify", "Table 1: identify the joint model from step responses", argc, argv,
-                    [](const ProgramArgs& args, const ExperimentConfig& config) {
+  // identify reads the plant's keys and its own; a track key given to it is an error.
+  const ConfigScope scope{
+      "identify",
+      {"robot", "urdf", "plant", "plant_model", "sim", "servo", "sensor", "seed", "identify"}};
+  return RunProgram("identify", "Table 1: identify the joint model from step responses", scope,
+                    argc, argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, {"table1.", "step_"});
                       const Robot robot = LoadRobot(config.sim.urdf_path);
                       const auto joints = IdentifyLeg(config, robot);

@@ -4,7 +4,9 @@
 // trace_<mode>.csv, foot_<mode>.csv, shift_search.csv and a learning mode's
 // <mode>_learning.csv into --out.
 #include <iostream>
+#include <optional>
 
+#include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
@@ -15,9 +17,17 @@ int main(int argc, char** argv) {
   return RunProgram("track", "Table 2: track the half-ellipse walk with each controller", argc,
                     argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, TrackOutputPrefixes());
-                      const TrackResult result = RunTrackExperiment(config);
-                      const std::string tables =
-                          WriteTrackOutputs(result, ComputeTable2(result), out);
+                      // One mode's run at a time: written and reduced to its table rows, then
+                      // dropped, so memory holds one run however many modes there are.
+                      std::optional<Table2> table;
+                      const TrackResult result =
+                          RunTrackExperiment(config, [&](const TrackResult& r, ModeRun&& run) {
+                            if (!table) table = BeginTable2(r);
+                            AddModeToTable2(*table, run, r);
+                            WriteModeOutputs(run, r, out);
+                          });
+                      if (!table) table = BeginTable2(result);
+                      const std::string tables = WriteTrackTables(result, *table, out);
                       out.Commit();
                       std::cout << tables;
                     });

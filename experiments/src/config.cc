@@ -2,7 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -22,12 +24,88 @@ namespace fs = std::filesystem;
 
 [[noreturn]] void Fail(const std::string& what) { throw InputError("config: " + what); }
 
+// Shortest text that reads back as `value`.
+std::string Text(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  if (value == std::round(value) && std::abs(value) < 1e15) {
+    return std::to_string(static_cast<long long>(value));
+  }
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string RangeText(const NumericRange& r) {
+  std::string text = std::string(r.min_open ? "(" : "[") + Text(r.min) + ", " + Text(r.max) +
+                     (r.max_open ? ")" : "]");
+  if (!r.unit.empty()) text += " " + std::string(r.unit);
+  return text;
+}
+
+const NumericRange* FindRange(const std::string& key) {
+  for (const NumericRange& r : NumericKeyRanges()) {
+    if (r.key == key) return &r;
+  }
+  return nullptr;
+}
+
+// Checks `value` of `key` (as the user wrote it) against its documented range, the range of
+// `range_key` when given (a plant change's value has the range of the key it sets).
+void CheckRange(const std::string& key, double value, const std::string& range_key = "") {
+  const NumericRange* range = FindRange(range_key.empty() ? key : range_key);
+  // Every numeric key has a range: reading one without is a bug of ours, not bad input.
+  if (range == nullptr) throw std::logic_error("config key '" + key + "' has no documented range");
+  const bool above_min = range->min_open ? value > range->min : value >= range->min;
+  const bool below_max = range->max_open ? value < range->max : value <= range->max;
+  if (!(above_min && below_max)) {
+    Fail(key + " must be in " + RangeText(*range) + ", got " + Text(value));
+  }
+}
+
+std::string KeyText(const YAML::Node& key) {
+  if (key.IsScalar()) return key.Scalar();
+  YAML::Emitter out;
+  out << YAML::Flow << key;
+  return out.c_str();
+}
+
+// Fails naming the first key given twice in one map of `node` (yaml-cpp keeps both, and a
+// lookup would silently take one). `budget` and `depth` bound the walk: aliases may repeat a
+// subtree exponentially often (an alias bomb) or make it a cycle, and no config of ours has
+// 100000 nodes or 64 levels.
+void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
+                          const std::string& prefix, int& budget, int depth = 0) {
+  if (--budget < 0) Fail(where + " is too large (over 100000 nodes, or aliases nested too deep)");
+  // An alias inside its own anchor makes the tree a cycle (found by tests/.../fuzz_test.cc).
+  if (depth > 64) Fail(where + " nests deeper than 64 levels (an alias inside its own anchor?)");
+  if (node.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& item : node) {
+      const std::string key = prefix + KeyText(item.first);
+      if (!seen.insert(key).second) Fail(where + ": key '" + key + "' is given twice");
+      CheckNoDuplicateKeys(item.second, where, key + ".", budget, depth + 1);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& element : node) {
+      CheckNoDuplicateKeys(element, where, prefix, budget, depth + 1);
+    }
+  }
+}
+
+void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
+                          const std::string& prefix = "") {
+  int budget = 100000;
+  CheckNoDuplicateKeys(node, where, prefix, budget);
+}
+
 YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
   if (!fs::is_regular_file(path)) Fail(what + " '" + path.string() + "' does not exist");
   try {
     YAML::Node node = YAML::LoadFile(path.string());
     if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);
     if (!node.IsMap()) Fail(what + " '" + path.string() + "' is not a YAML map");
+    CheckNoDuplicateKeys(node, what + " '" + path.string() + "'");
     return node;
   } catch (const YAML::Exception& e) {
     Fail(what + " '" + path.string() + "' is malformed: " + e.what());
@@ -61,6 +139,7 @@ void ApplyOverride(YAML::Node root,  // NOLINT(performance-unnecessary-value-par
   } catch (const YAML::Exception& e) {
     Fail("--set " + path + ": the value is not valid YAML: " + e.what());
   }
+  CheckNoDuplicateKeys(value, "--set " + path, path + ".");
   std::vector<std::string> keys;
   for (size_t start = 0;;) {
     const size_t dot = path.find('.', start);
@@ -92,16 +171,53 @@ class MapReader {
     }
   }
 
+  // Reads `key` into `value` when given. A number (integer or floating point) is checked
+  // against its documented range (NumericKeyRanges) whether given or defaulted.
   template <typename T>
   void Read(const std::string& key, T& value) {
     used_.insert(key);
     const YAML::Node child = node_.IsMap() ? node_[key] : YAML::Node();
-    if (!child.IsDefined() || child.IsNull()) return;
-    try {
-      value = child.as<T>();
-    } catch (const YAML::Exception&) {
-      Fail(Name(key) + ": expected " + TypeName<T>() + ", got '" + Dump(child) + "'");
+    if (child.IsDefined() && !child.IsNull()) {
+      try {
+        if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+          // Read wide, so that a value beyond T's range is reported as out of range.
+          const auto wide = child.as<long long>();
+          CheckRange(Name(key), static_cast<double>(wide));
+          value = static_cast<T>(wide);
+        } else {
+          value = child.as<T>();
+        }
+      } catch (const YAML::Exception&) {
+        Fail(Name(key) + ": expected " + TypeName<T>() + ", got '" + Dump(child) + "'");
+      }
     }
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      CheckRange(Name(key), static_cast<double>(value));
+    }
+  }
+
+  // Reads a list of numbers, each checked against the range of `key`.
+  void ReadList(const std::string& key, std::vector<double>& values) {
+    Read(key, values);
+    for (const double v : values) CheckRange(Name(key), v);
+  }
+  void ReadList(const std::string& key, std::vector<int>& values) {
+    used_.insert(key);
+    const YAML::Node child = node_.IsMap() ? node_[key] : YAML::Node();
+    if (child.IsDefined() && !child.IsNull()) {
+      std::vector<long long> wide;
+      try {
+        wide = child.as<std::vector<long long>>();
+      } catch (const YAML::Exception&) {
+        Fail(Name(key) + ": expected a list of integers, got '" + Dump(child) + "'");
+      }
+      values.clear();
+      for (const long long v : wide) {
+        CheckRange(Name(key), static_cast<double>(v));
+        values.push_back(static_cast<int>(v));
+      }
+    }
+    for (const int v : values) CheckRange(Name(key), v);
   }
 
   // The node under `key` (undefined when absent), for values that are not a plain scalar, map
@@ -255,8 +371,45 @@ YAML::Node LoadWithBase(const fs::path& path, int depth, const std::string& what
   return merged;
 }
 
+// The top-level keys some program reads.
+bool IsKnownTopLevelKey(const std::string& key) {
+  static constexpr std::string_view kKeys[] = {
+      "robot",      "urdf",  "plant",    "plant_model", "sim",   "servo",        "sensor", "seed",
+      "controller", "model", "identify", "desired",     "track", "warmup_steps", "steps"};
+  for (std::string_view k : kKeys) {
+    if (k == key) return true;
+  }
+  for (const ControllerModeInfo& m : ControllerModes()) {
+    if (m.config_section == key) return true;
+  }
+  return false;
+}
+
+// The first key path under `node` (a.b.c), as the user would have written it.
+std::string FirstKeyPath(const std::string& prefix, const YAML::Node& node) {
+  if (!node.IsMap() || node.size() == 0) return prefix;
+  const auto first = node.begin();
+  return FirstKeyPath(prefix + "." + KeyText(first->first), first->second);
+}
+
+bool InScope(const ConfigScope& scope, const std::string& key) {
+  return scope.sections.empty() ||
+         std::find(scope.sections.begin(), scope.sections.end(), key) != scope.sections.end();
+}
+
+// A key some other program uses, given to this one: say so rather than ignore it.
+void CheckScope(const YAML::Node& merged, const ConfigScope& scope) {
+  for (const auto& item : merged) {
+    const std::string key = KeyText(item.first);
+    if (IsKnownTopLevelKey(key) && !InScope(scope, key)) {
+      Fail(FirstKeyPath(key, item.second) + " is not used by " + scope.program);
+    }
+  }
+}
+
 ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
-                                               const std::vector<std::string>& overrides) {
+                                               const std::vector<std::string>& overrides,
+                                               const ConfigScope& scope) {
   YAML::Node experiment = LoadWithBase(config_path, 0);
   for (const std::string& o : overrides) ApplyOverride(experiment, o);
 
@@ -274,6 +427,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   config.robot_yaml = robot_yaml.string();
   YAML::Node merged = LoadWithBase(robot_yaml, 0, "robot file");
   MergeInto(merged, experiment);
+  CheckScope(merged, scope);
 
   MapReader root(merged, "");
   root.Read("robot", robot);
@@ -336,7 +490,18 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       MapReader item(list[i], name);
       PlantChange change;
       change.at_step = -1;
-      item.Read("at_step", change.at_step);
+      // A measured step: its range is [0, steps), checked once steps is read.
+      if (const YAML::Node at = item.Raw("at_step"); at.IsDefined() && !at.IsNull()) {
+        long long step = -1;
+        try {
+          step = at.as<long long>();
+        } catch (const YAML::Exception&) {
+          Fail(name + ".at_step: expected an integer");
+        }
+        Require(step >= 0 && step <= 1'000'000, name + ".at_step",
+                "a measured step in [0, 1000000]");
+        change.at_step = static_cast<int>(step);
+      }
       Require(change.at_step >= 0, name + ".at_step", "given, a measured step >= 0");
       if (!config.plant_changes.empty()) {
         Require(change.at_step > config.plant_changes.back().at_step, name + ".at_step",
@@ -365,6 +530,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
         } catch (const YAML::Exception&) {
           Fail(name + ".set." + key + ": expected a number");
         }
+        if (FindRange(key) != nullptr) CheckRange(name + ".set." + key, setting.value, key);
         change.set.push_back(setting);
       }
       config.plant_changes.push_back(change);
@@ -394,9 +560,13 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     }
     c.Read("modes", modes);
     Require(!modes.empty(), "controller.modes", "a non-empty list");
-    for (const std::string& m : modes) {
-      Require(IsMode(m), "controller.modes",
-              "a list of " + ControllerModeNames() + ", got '" + m + "'");
+    for (size_t i = 0; i < modes.size(); ++i) {
+      Require(IsMode(modes[i]), "controller.modes",
+              "a list of " + ControllerModeNames() + ", got '" + modes[i] + "'");
+      // Each mode names its own output files.
+      Require(std::find(modes.begin(), modes.begin() + static_cast<long>(i), modes[i]) ==
+                  modes.begin() + static_cast<long>(i),
+              "controller.modes", "a list of distinct modes, got '" + modes[i] + "' twice");
     }
     c.Read("pwl_segments", config.pwl_segments);
     // Each mode reads its keys from its own section (`controller` unless it says otherwise).
@@ -436,12 +606,12 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   {
     MapReader id = root.Child("identify");
     IdentifyConfig& c = config.identify;
-    id.Read("theta_test_deg", c.theta_test_deg);
+    id.ReadList("theta_test_deg", c.theta_test_deg);
     id.Read("t_step_ticks", c.t_step_ticks);
     id.Read("settle_cycles", c.settle_cycles);
     id.Read("record_cycles", c.record_cycles);
     std::vector<double> hold(c.hold_deg.begin(), c.hold_deg.end());
-    id.Read("hold_deg", hold);
+    id.ReadList("hold_deg", hold);
     std::string joints;
     for (std::string_view name : kLegJointNames)
       joints += (joints.empty() ? "" : ", ") + std::string(name);
@@ -450,20 +620,40 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     std::copy(hold.begin(), hold.end(), c.hold_deg.begin());
     std::vector<int> lag{c.search.lag_min_ticks, c.search.lag_max_ticks};
     std::vector<int> accel{c.search.accel_min_ticks, c.search.accel_max_ticks};
-    id.Read("lag_range_ticks", lag);
-    id.Read("accel_range_ticks", accel);
+    id.ReadList("lag_range_ticks", lag);
+    id.ReadList("accel_range_ticks", accel);
     id.Finish();
-    Require(!c.theta_test_deg.empty(), "identify.theta_test_deg", "a non-empty list");
-    Require(c.t_step_ticks >= 4, "identify.t_step_ticks", "at least 4");
-    Require(c.settle_cycles >= 1, "identify.settle_cycles", "at least 1");
-    Require(c.record_cycles >= 1, "identify.record_cycles", "at least 1");
-    Require(lag.size() == 2 && lag[0] >= 0 && lag[1] >= lag[0], "identify.lag_range_ticks",
-            "[min, max] with 0 <= min <= max");
-    Require(accel.size() == 2 && accel[0] >= 1 && accel[1] >= accel[0],
-            "identify.accel_range_ticks", "[min, max] with 1 <= min <= max");
+    Require(!c.theta_test_deg.empty() && c.theta_test_deg.size() <= 8, "identify.theta_test_deg",
+            "a list of 1 to 8 step heights");
+    for (size_t i = 0; i < c.theta_test_deg.size(); ++i) {
+      const double theta = c.theta_test_deg[i];
+      Require(theta != 0.0, "identify.theta_test_deg", "a list of non-zero step heights");
+      for (size_t k = 0; k < i; ++k) {
+        // Each height names its own output file (step_<joint>_<theta>.csv).
+        Require(c.theta_test_deg[k] != theta, "identify.theta_test_deg",
+                "a list of distinct step heights, got " + Text(theta) + " twice");
+      }
+    }
+    Require(lag.size() == 2 && lag[1] >= lag[0], "identify.lag_range_ticks",
+            "[min, max] with 0 <= min <= max <= 50");
+    Require(accel.size() == 2 && accel[1] >= accel[0], "identify.accel_range_ticks",
+            "[min, max] with 1 <= min <= max <= 50");
     c.search = {lag[0], lag[1], accel[0], accel[1]};
     Require(c.record_cycles * c.t_step_ticks > lag[1] + accel[1], "identify.record_cycles",
             "long enough to cover the identification's warm-up of lag + accel ticks");
+    // The fit scores every (l, a) candidate over every recorded tick.
+    const long long candidates =
+        static_cast<long long>(lag[1] - lag[0] + 1) * (accel[1] - accel[0] + 1);
+    const long long work = candidates * c.record_cycles * c.t_step_ticks *
+                           static_cast<long long>(c.theta_test_deg.size());
+    if (work > kMaxIdentificationWork) {
+      Fail("identify: " + std::to_string(candidates) + " (l, a) candidates (lag_range_ticks x " +
+           "accel_range_ticks) times " + std::to_string(c.record_cycles * c.t_step_ticks) +
+           " recorded ticks (record_cycles x t_step_ticks) times " +
+           std::to_string(c.theta_test_deg.size()) + " step heights is " + std::to_string(work) +
+           ", more than the " + std::to_string(kMaxIdentificationWork) +
+           " a fit may take; narrow the ranges or record fewer cycles");
+    }
   }
 
   // What to track.
@@ -511,9 +701,17 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       t.search_shift = on ? ShiftSearch::kShiftedRun : ShiftSearch::kNone;
     }
     track.Finish();
-    Require(t.t_step_ticks >= 4, "track.t_step_ticks", "at least 4");
-    Require(t.warmup_steps >= 0, "warmup_steps", "non-negative");
-    Require(t.steps >= 1, "steps", "at least 1");
+    Require(config.pwl_segments <= t.t_step_ticks, "controller.pwl_segments",
+            "at most track.t_step_ticks = " + std::to_string(t.t_step_ticks) +
+                " (a segment spans at least one tick), got " + std::to_string(config.pwl_segments));
+    const long long per_run =
+        (static_cast<long long>(t.warmup_steps) + t.steps) * static_cast<long long>(t.t_step_ticks);
+    if (per_run > kMaxTicksPerRun) {
+      Fail("(warmup_steps + steps) x track.t_step_ticks = (" + std::to_string(t.warmup_steps) +
+           " + " + std::to_string(t.steps) + ") x " + std::to_string(t.t_step_ticks) + " = " +
+           std::to_string(per_run) + " ticks per run, more than " +
+           std::to_string(kMaxTicksPerRun));
+    }
     for (size_t i = 0; i < config.plant_changes.size(); ++i) {
       Require(config.plant_changes[i].at_step < t.steps,
               "plant_changes[" + std::to_string(i) + "].at_step",
@@ -522,6 +720,34 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     }
   }
   root.Finish();
+
+  // What the whole run simulates: the step tests (unless a model is given to track), then
+  // one run per mode, and per searched candidate plus the best one's rerun.
+  long long total = 0;
+  const bool tracks = InScope(scope, "steps");
+  if (!tracks || !config.model) {
+    const IdentifyConfig& id = config.identify;
+    total += static_cast<long long>(kLegJoints) * static_cast<long long>(id.theta_test_deg.size()) *
+             (id.settle_cycles + id.record_cycles) * id.t_step_ticks;
+  }
+  if (tracks) {
+    long long runs = 0;
+    for (const ControllerSpec& spec : config.controllers) {
+      // A searched mode tries at most one candidate per tick of the step (time_shift's k).
+      runs += ModeOf(spec).searchable && config.track.search_shift != ShiftSearch::kNone
+                  ? config.track.t_step_ticks + 1
+                  : 1;
+    }
+    total += runs * (static_cast<long long>(config.track.warmup_steps) + config.track.steps) *
+             config.track.t_step_ticks;
+  }
+  if (total > kMaxTotalTicks) {
+    Fail("the run would simulate " + std::to_string(total) + " ticks (every mode and searched " +
+         "candidate, (warmup_steps + steps) x track.t_step_ticks each), more than " +
+         std::to_string(kMaxTotalTicks) + "; run fewer steps, fewer modes or " +
+         "track.search_shift=false");
+  }
+  config.planned_ticks = total;
   return config;
 }
 
@@ -543,10 +769,68 @@ ExperimentConfig ConfigAfterChanges(const ExperimentConfig& config, size_t count
   return after;
 }
 
+namespace {
+
+// Each range says what is physically meaningful for the ERS-210A-sized leg and its 8 ms
+// servo frame, wide enough for every experiment in the README, narrow enough that no value
+// overflows a tick count or sizes a run beyond kMaxTicksPerRun. The README's config reference
+// lists the same ranges.
+constexpr NumericRange kRanges[] = {
+    {"seed", 0, 9.2e18, false, false, ""},
+    {"sim.physics_dt_ms", 0.1, 8, false, false, "ms"},
+    {"servo.delay_ms", 0, 400, false, false, "ms"},
+    {"servo.max_speed_deg_s", 30, 3600, false, false, "deg/s"},
+    {"servo.gain_per_s", 1, 1000, false, false, "1/s"},
+    {"servo.damping", 0, 10, false, false, ""},
+    {"servo.smoothing_ms", 0, 400, false, false, "ms"},
+    {"servo.max_torque_nm", 0.1, 100, false, false, "N m"},
+    {"sensor.noise_deg", 0, 2, false, false, "deg"},
+    {"plant_model.v_max_deg_per_tick", 0.01, 45, false, false, "deg/tick"},
+    {"plant_model.theta0_deg", 0.01, 180, false, false, "deg"},
+    {"plant_model.lag_ticks", 0, 50, false, false, "ticks"},
+    {"plant_model.accel_ticks", 1, 50, false, false, "ticks"},
+    {"model.v_max_deg_per_tick", 0.01, 45, false, false, "deg/tick"},
+    {"model.theta0_deg", 0.01, 180, false, false, "deg"},
+    {"model.lag_ticks", 0, 50, false, false, "ticks"},
+    {"model.accel_ticks", 1, 50, false, false, "ticks"},
+    {"controller.shift_ticks", 0, 999, false, false, "ticks"},
+    {"controller.pwl_segments", 1, 1000, false, false, ""},
+    {"ilc.gain", 0, 1, true, false, ""},
+    {"ilc.filter_ticks", 1, 999, false, false, "ticks"},
+    {"ilc.solver_iterations", 1, 1000, false, false, ""},
+    {"adaptive.initial_model.v_max_deg_per_tick", 0, 45, true, false, "deg/tick"},
+    {"adaptive.initial_model.theta0_deg", 0, 180, true, false, "deg"},
+    {"adaptive.initial_model.lag_ticks", 0, 12, false, false, "ticks"},
+    {"adaptive.initial_model.accel_ticks", 1, 12, false, false, "ticks"},
+    {"adaptive.window_steps", 1, 50, false, false, ""},
+    {"adaptive.probe_deg", 0, 45, false, false, "deg"},
+    {"identify.theta_test_deg", -180, 180, false, false, "deg"},
+    {"identify.t_step_ticks", 4, 1000, false, false, "ticks"},
+    {"identify.settle_cycles", 1, 1000, false, false, ""},
+    {"identify.record_cycles", 1, 1000, false, false, ""},
+    {"identify.hold_deg", -180, 180, false, false, "deg"},
+    {"identify.lag_range_ticks", 0, 50, false, false, "ticks"},
+    {"identify.accel_range_ticks", 1, 50, false, false, "ticks"},
+    {"desired.locus.length_mm", 0, 1000, false, false, "mm"},
+    {"desired.locus.height_mm", 0, 1000, false, false, "mm"},
+    {"desired.locus.ground_fraction", 0, 1, true, true, ""},
+    {"desired.locus.forward_mm", -1000, 1000, false, false, "mm"},
+    {"desired.locus.outward_mm", -1000, 1000, false, false, "mm"},
+    {"desired.locus.ground_below_shoulder_mm", -1000, 1000, false, false, "mm"},
+    {"track.t_step_ticks", 4, 1000, false, false, "ticks"},
+    {"warmup_steps", 0, 1'000'000, false, false, ""},
+    {"steps", 1, 1'000'000, false, false, ""},
+};
+
+}  // namespace
+
+std::span<const NumericRange> NumericKeyRanges() { return kRanges; }
+
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
-                                      const std::vector<std::string>& overrides) {
+                                      const std::vector<std::string>& overrides,
+                                      const ConfigScope& scope) {
   try {
-    return LoadExperimentConfigUnguarded(config_path, overrides);
+    return LoadExperimentConfigUnguarded(config_path, overrides, scope);
   } catch (const YAML::Exception& e) {
     // What the conversions above did not catch (e.g. a key that is not a scalar).
     Fail("'" + config_path + "' is malformed: " + e.what());

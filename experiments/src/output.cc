@@ -1,22 +1,101 @@
 #include "leglab/experiments/output.h"
 
+#include <fcntl.h>
+#include <pthread.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cassert>
 #include <charconv>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
+
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/progress.h"
 
 namespace leglab::experiments {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The staging folders that exist now, for the interrupt watcher; the mutex also makes a
+// commit and an interruption's clean-up exclude each other. Never destroyed: the watcher
+// thread may use it while the process exits.
+struct StagingRegistry {
+  std::mutex mutex;
+  std::vector<fs::path> folders;
+};
+
+StagingRegistry& Registry() {
+  static auto* registry = new StagingRegistry;
+  return *registry;
+}
+
+[[noreturn]] void BadOut(const fs::path& out, const std::string& what) {
+  throw InputError("--out '" + out.string() + "' " + what);
+}
+
+bool Owned(const std::vector<std::string>& prefixes, const std::string& name) {
+  for (const std::string& prefix : prefixes) {
+    if (name.rfind(prefix, 0) == 0) return true;
+  }
+  return false;
+}
+
+// Removes `folder` even while a worker thread may still be creating files in it (an
+// interruption mid-write): a few passes, each removing what the last one missed.
+void RemoveStaging(const fs::path& folder) {
+  std::error_code ec;
+  for (int pass = 0; pass < 100 && fs::exists(folder, ec); ++pass) fs::remove_all(folder, ec);
+}
+
+// Exchanges the two paths (both exist) in one step; false if the file system cannot.
+bool ExchangePaths(const fs::path& a, const fs::path& b) {
+  return ::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0;
+}
+
+}  // namespace
+
 OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes)
     : final_dir_(std::move(final_dir)), owned_prefixes_(std::move(owned_prefixes)) {
-  const fs::path parent = fs::absolute(final_dir_).parent_path();
+  const fs::path given = final_dir_;
+  if (final_dir_.empty()) throw InputError("--out must name a folder, got an empty path");
   std::error_code ec;
+  // A link to a folder: the folder is what gets replaced, the link stays.
+  if (fs::is_symlink(final_dir_, ec)) final_dir_ = fs::weakly_canonical(final_dir_, ec);
+  final_dir_ = fs::absolute(final_dir_).lexically_normal();
+  if (!final_dir_.has_filename()) final_dir_ = final_dir_.parent_path();
+  if (final_dir_ == final_dir_.root_path()) BadOut(given, "is the root folder");
+  if (fs::exists(final_dir_, ec)) {
+    if (!fs::is_directory(final_dir_, ec)) BadOut(given, "exists and is not a folder");
+    for (const auto& entry : fs::directory_iterator(final_dir_, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (Owned(owned_prefixes_, name) && !entry.is_regular_file()) {
+        BadOut(given, "holds '" + name + "', which is not a file, where this program writes one");
+      }
+    }
+    if (ec) BadOut(given, "cannot be read: " + ec.message());
+  }
+  // The nearest folder that exists is where the first new folder will be created.
+  fs::path existing = final_dir_.parent_path();
+  while (!fs::exists(existing, ec) && existing != existing.root_path()) {
+    existing = existing.parent_path();
+  }
+  if (!fs::is_directory(existing, ec))
+    BadOut(given, "lies under '" + existing.string() + "', a file");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0) {
+    BadOut(given, "cannot be written: no write permission in '" + existing.string() + "'");
+  }
   // Beside --out a commit is a rename; with no parent yet, stage where creating leaves no trace.
+  const fs::path parent = final_dir_.parent_path();
   const fs::path where = fs::is_directory(parent, ec) ? parent : fs::temp_directory_path();
+  const std::lock_guard<std::mutex> lock(Registry().mutex);
   for (int attempt = 0;; ++attempt) {
     std::string name = final_dir_.filename().string();
     name.insert(0, 1, '.');
@@ -24,44 +103,129 @@ OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes
     staging_ = where / name;
     if (fs::create_directory(staging_, ec)) break;
     if (ec || attempt > 100) {
-      throw std::runtime_error("cannot create a staging folder in " + where.string() + ": " +
-                               (ec ? ec.message() : "too many attempts"));
+      BadOut(given, "cannot be written: no staging folder in '" + where.string() +
+                        "': " + (ec ? ec.message() : "too many attempts"));
     }
   }
+  Registry().folders.push_back(staging_);
 }
 
 OutputDir::~OutputDir() {
-  std::error_code ec;
-  fs::remove_all(staging_, ec);
+  const std::lock_guard<std::mutex> lock(Registry().mutex);
+  std::vector<fs::path>& folders = Registry().folders;
+  folders.erase(std::remove(folders.begin(), folders.end(), staging_), folders.end());
+  RemoveStaging(staging_);
 }
 
-fs::path OutputDir::Path(const std::string& name) const { return staging_ / name; }
+fs::path OutputDir::Path(const std::string& name) const {
+  SetProgressPhase("writing " + name);
+  return staging_ / name;
+}
 
 void OutputDir::Commit() {
   assert(!committed_);
-  fs::create_directories(final_dir_);
+  // An interruption waits for the commit, and a commit for an interruption's clean-up.
+  const std::lock_guard<std::mutex> lock(Registry().mutex);
+  std::error_code ec;
+  auto fail = [&](const std::string& what) {
+    throw OutputError("cannot commit into " + final_dir_.string() + ": " + what);
+  };
+  const fs::path parent = final_dir_.parent_path();
+  if (staging_.parent_path() != parent) {
+    // Staged in the temporary folder: create the parents, then stage again beside --out (a
+    // copy, invisible until the rename), so that the commit is still one rename.
+    fs::create_directories(parent, ec);
+    if (ec) fail("cannot create " + parent.string() + ": " + ec.message());
+    const fs::path beside = parent / staging_.filename();
+    fs::rename(staging_, beside, ec);
+    if (ec) {
+      fs::copy(staging_, beside, fs::copy_options::recursive, ec);
+      if (ec) fail("cannot stage in " + parent.string() + ": " + ec.message());
+      RemoveStaging(staging_);
+    }
+    std::vector<fs::path>& folders = Registry().folders;
+    std::replace(folders.begin(), folders.end(), staging_, beside);
+    staging_ = beside;
+  }
+  if (!fs::exists(final_dir_, ec)) {
+    fs::rename(staging_, final_dir_, ec);
+    if (ec) fail(ec.message());
+    committed_ = true;
+    FinishProgress();
+    return;
+  }
+  // --out exists: the staging folder takes over what it holds that this program does not
+  // write (files as hard links, links as links; folders are moved once the swap is done).
+  std::vector<fs::path> folders_to_move;
   for (const auto& entry : fs::directory_iterator(final_dir_)) {
-    const std::string name = entry.path().filename().string();
-    for (const std::string& prefix : owned_prefixes_) {
-      if (entry.is_regular_file() && name.rfind(prefix, 0) == 0) fs::remove(entry.path());
+    const fs::path name = entry.path().filename();
+    if (Owned(owned_prefixes_, name.string())) continue;
+    const fs::path target = staging_ / name;
+    if (entry.is_symlink()) {
+      fs::copy_symlink(entry.path(), target, ec);
+    } else if (entry.is_directory()) {
+      folders_to_move.push_back(name);
+      continue;
+    } else {
+      fs::create_hard_link(entry.path(), target, ec);
+      if (ec) fs::copy_file(entry.path(), target, ec);
     }
+    if (ec) fail("cannot keep " + entry.path().string() + ": " + ec.message());
   }
-  for (const auto& entry : fs::directory_iterator(staging_)) {
-    const fs::path target = final_dir_ / entry.path().filename();
-    std::error_code ec;
-    fs::rename(entry.path(), target, ec);
-    if (ec) {  // staged on another file system: copy instead
-      fs::copy_file(entry.path(), target, fs::copy_options::overwrite_existing);
+  if (!ExchangePaths(staging_, final_dir_)) {
+    // No RENAME_EXCHANGE here: the old folder aside, the new one in, a moment without either.
+    fs::rename(final_dir_, staging_.string() + "-old", ec);
+    if (ec) fail(ec.message());
+    fs::rename(staging_, final_dir_, ec);
+    if (ec) {
+      fs::rename(staging_.string() + "-old", final_dir_);
+      fail(ec.message());
     }
+    RemoveStaging(staging_);
+    fs::rename(staging_.string() + "-old", staging_, ec);
   }
+  // staging_ now holds the previous results.
   committed_ = true;
+  FinishProgress();
+  for (const fs::path& name : folders_to_move) {
+    fs::rename(staging_ / name, final_dir_ / name, ec);
+    if (ec) {
+      // Keep the previous results rather than lose a folder of them.
+      std::vector<fs::path>& folders = Registry().folders;
+      folders.erase(std::remove(folders.begin(), folders.end(), staging_), folders.end());
+      const fs::path kept = staging_;
+      staging_.clear();  // not removed by the destructor
+      throw OutputError("committed into " + final_dir_.string() + ", but could not move " +
+                        name.string() + " back into it (" + ec.message() + "): it is in " +
+                        kept.string());
+    }
+  }
+}
+
+void InstallInterruptCleanup(const std::string& program) {
+  sigset_t signals;
+  sigemptyset(&signals);
+  for (const int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&signals, s);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([signals, program] {
+    int signal = 0;
+    while (sigwait(&signals, &signal) != 0) {
+    }
+    // Waits for a commit in progress; holds the lock until the process is gone, so that no
+    // commit starts after the clean-up.
+    Registry().mutex.lock();
+    for (const fs::path& folder : Registry().folders) RemoveStaging(folder);
+    std::fprintf(stderr, "%s: interrupted by signal %d\n", program.c_str(), signal);
+    std::fflush(stderr);
+    std::_Exit(128 + signal);
+  }).detach();
 }
 
 void WriteTextFile(const fs::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   out.close();
-  if (!out) throw std::runtime_error("cannot write " + path.string());
+  if (!out) throw OutputError("cannot write " + path.string());
 }
 
 std::string FormatDouble(double value) {
@@ -70,9 +234,13 @@ std::string FormatDouble(double value) {
   return std::string(buffer, result.ptr);
 }
 
-CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& columns)
-    : path_(path), out_(path), columns_(columns.size()) {
-  if (!out_) throw std::runtime_error("cannot write " + path.string());
+CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& columns, bool append)
+    : path_(path), columns_(columns.size()) {
+  std::error_code ec;
+  const bool header = !append || !fs::exists(path, ec);
+  out_.open(path, append ? std::ios::app : std::ios::trunc);
+  if (!out_) throw OutputError("cannot write " + path.string());
+  if (!header) return;
   for (const std::string& c : columns) Cell(c);
   EndRow();
 }
@@ -107,7 +275,7 @@ void CsvWriter::EndRow() {
 
 void CsvWriter::Close() {
   out_.close();
-  if (!out_) throw std::runtime_error("cannot write " + path_.string());
+  if (!out_) throw OutputError("cannot write " + path_.string());
 }
 
 }  // namespace leglab::experiments

@@ -1,5 +1,6 @@
 #include "leglab/experiments/rig.h"
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <optional>
@@ -7,7 +8,9 @@
 
 #include "leglab/core/units.h"
 #include "leglab/experiments/parallel.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/model/joint_model_plant.h"
+#include "leglab/model/metrics.h"
 #include "leglab/model/trajectories.h"
 #include "leglab/sim/leg_sim.h"
 
@@ -47,6 +50,7 @@ StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
       run.recording.request_deg.push_back(reading.applied_deg[joint]);
       run.recording.measured_deg.push_back(reading.measured_deg[joint]);
     }
+    if ((t + 1) % identify.t_step_ticks == 0) CountProgressTicks(identify.t_step_ticks);
   }
   return run;
 }
@@ -55,6 +59,7 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
                                                         const Robot& robot) {
   // Build one plant first so that bad robot input fails before any thread starts.
   MakePlant(config, robot);
+  SetProgressPhase("step tests and identification");
   // Each joint with its own plants: the result does not depend on the schedule.
   std::array<JointIdentification, kLegJoints> joints;
   ParallelFor(kLegJoints, config.threads, [&](int joint) {
@@ -108,12 +113,24 @@ DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeome
     std::array<double, kLegJoints + 1> values{};
     for (size_t c = 0; c < columns; ++c) {
       const std::string name = c == 0 ? "tick" : std::string(kLegJointNames[c - 1]) + "_deg";
-      try {
-        size_t used = 0;
-        values[c] = std::stod(cells[c], &used);
-        if (used != cells[c].size()) throw std::invalid_argument("trailing text");
-      } catch (const std::exception&) {
-        fail("row " + std::to_string(row) + ", " + name + ": '" + cells[c] + "' is not a number");
+      // Plain decimal only: the tick a whole number of digits, an angle as from_chars reads it
+      // (no hex such as 0x7, no sign '+', no spaces), the whole cell used.
+      const std::string& cell = cells[c];
+      const char* end = cell.data() + cell.size();
+      std::from_chars_result parsed{};
+      if (c == 0) {
+        long tick = -1;
+        parsed = std::from_chars(cell.data(), end, tick);
+        if (cell.empty() || cell.find_first_not_of("0123456789") != std::string::npos) {
+          parsed.ec = std::errc::invalid_argument;
+        }
+        values[c] = static_cast<double>(tick);
+      } else {
+        parsed = std::from_chars(cell.data(), end, values[c]);
+      }
+      if (parsed.ec != std::errc() || parsed.ptr != end) {
+        fail("row " + std::to_string(row) + ", " + name + ": '" + cell + "' is not a " +
+             (c == 0 ? "tick (digits only)" : "decimal number"));
       }
       if (!std::isfinite(values[c]))
         fail("row " + std::to_string(row) + ", " + name + " is not finite");
@@ -164,16 +181,21 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
   return d;
 }
 
-TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
-                        int warmup_steps, int steps, std::span<const PlantChange> changes) {
+namespace {
+
+// The tracking loop of RunTracking: `on_tick(t, reading)` sees every tick's reading, t from 0
+// over warm-up and measured steps alike; `on_step_end(step)` follows each step's EndOfStep
+// (steps from 0 over warm-up and measured steps). Each of `changes` is applied right before
+// the first tick of its measured step.
+template <typename OnTick, typename OnStepEnd>
+void TrackingLoop(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                  int warmup_steps, int steps, std::span<const PlantChange> changes, OnTick on_tick,
+                  OnStepEnd on_step_end) {
+  SetProgressPhase("walking");
   plant.Reset(desired[0]);
   controller.Reset();
   const long period = static_cast<long>(desired.size());
-  const long first_recorded = warmup_steps * period;
-  const long total = first_recorded + steps * period;
-  TrackingRun run;
-  run.request_deg.reserve(steps * period);
-  run.measured_deg.reserve(steps * period);
+  const long total = (warmup_steps + static_cast<long>(steps)) * period;
   LegAngles measured = plant.Read().measured_deg;
   size_t next_change = 0;
   for (long t = 0; t < total; ++t) {
@@ -184,20 +206,62 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
     const PlantReading& reading = plant.Tick(controller.Update(t, measured));
     controller.Observe(t, reading.applied_deg, reading.measured_deg);
     measured = reading.measured_deg;
-    if (t >= first_recorded) {
-      run.request_deg.push_back(reading.applied_deg);
-      run.measured_deg.push_back(measured);
-    } else {
-      run.warmup_measured_deg.push_back(measured);
-    }
+    on_tick(t, reading);
     if ((t + 1) % period == 0) {
       controller.EndOfStep(t / period);
-      if (const std::optional<JointModelEstimates> estimates = controller.ModelEstimates()) {
-        run.model_estimates.push_back({t / period - warmup_steps, *estimates});
-      }
+      on_step_end(t / period);
+      CountProgressTicks(period);
     }
   }
+}
+
+}  // namespace
+
+TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
+                        int warmup_steps, int steps, std::span<const PlantChange> changes) {
+  const long period = static_cast<long>(desired.size());
+  const long first_recorded = warmup_steps * period;
+  TrackingRun run;
+  run.request_deg.reserve(steps * period);
+  run.measured_deg.reserve(steps * period);
+  TrackingLoop(
+      plant, controller, desired, warmup_steps, steps, changes,
+      [&](long t, const PlantReading& reading) {
+        if (t >= first_recorded) {
+          run.request_deg.push_back(reading.applied_deg);
+          run.measured_deg.push_back(reading.measured_deg);
+        } else {
+          run.warmup_measured_deg.push_back(reading.measured_deg);
+        }
+      },
+      [&](long step) {
+        if (const std::optional<JointModelEstimates> estimates = controller.ModelEstimates()) {
+          run.model_estimates.push_back({step - warmup_steps, *estimates});
+        }
+      });
   return run;
+}
+
+double TrackingFootL2Cm(Plant& plant, JointController& controller, const DesiredMotion& desired,
+                        const LegGeometry& geometry, int warmup_steps, int steps,
+                        std::span<const PlantChange> changes) {
+  const long period = static_cast<long>(desired.angles_deg.size());
+  const long first_recorded = warmup_steps * period;
+  // The same sums in the same order as FootErrorsCm and MeanFootL2Cm: the same bits.
+  std::vector<double> step_errors(period);
+  std::vector<double> per_step;
+  per_step.reserve(steps);
+  TrackingLoop(
+      plant, controller, desired.angles_deg, warmup_steps, steps, changes,
+      [&](long t, const PlantReading& reading) {
+        if (t < first_recorded) return;
+        const long tick = (t - first_recorded) % period;
+        step_errors[tick] =
+            (FootMm(geometry, reading.measured_deg) - desired.foot_mm[tick]).norm() / 10.0;
+        if (tick == period - 1) per_step.push_back(Rms(step_errors));
+      },
+      [](long /*step*/) {});
+  return MeanAndStd(per_step).mean;
 }
 
 std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& desired,

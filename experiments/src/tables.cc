@@ -52,20 +52,41 @@ const FootRow* Table2::FindFoot(std::string_view mode) const {
   return nullptr;
 }
 
-Table2 ComputeTable2(const TrackResult& r) {
+Table2 BeginTable2(const TrackResult& r) {
   Table2 table;
   table.steps = r.steps;
   table.period = r.period;
   table.models = r.context.models;
   table.models_identified = r.models_identified;
+  std::array<std::vector<double>, kLegJoints> desired;
+  for (int j = 0; j < kLegJoints; ++j) {
+    for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
+    table.pwl_segments[j] = r.context.approximations[j].num_segments();
+  }
+  // The floor: the same trajectory every step, so one value and no spread.
+  std::array<Table2Row, 2> floor_rows{Table2Row{"L2(Des,Floor)", {}},
+                                      Table2Row{"Linf(Des,Floor)", {}}};
+  std::vector<double> foot_errors(r.period);
+  for (int t = 0; t < r.period; ++t) {
+    const LegAngles q{r.floor_deg[0][t], r.floor_deg[1][t], r.floor_deg[2][t]};
+    foot_errors[t] = (FootMm(r.robot.geometry, q) - r.desired.foot_mm[t]).norm() / 10.0;
+  }
+  for (int j = 0; j < kLegJoints; ++j) {
+    floor_rows[0].joints[j] = {RmsDistance(desired[j], r.floor_deg[j]), 0.0};
+    floor_rows[1].joints[j] = {MaxAbsDistance(desired[j], r.floor_deg[j]), 0.0};
+  }
+  table.rows.assign(floor_rows.begin(), floor_rows.end());
+  table.foot.push_back({"floor", {}, {Rms(foot_errors), 0.0}, {MaxAbs(foot_errors), 0.0}});
+  return table;
+}
+
+void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   std::array<std::vector<double>, kLegJoints> desired, pwl;
   for (int j = 0; j < kLegJoints; ++j) {
     pwl[j] = r.context.approximations[j].Sample();
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
-    table.pwl_segments[j] = r.context.approximations[j].num_segments();
   }
-  auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle,
-                      const ModeRun& run) {
+  auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle) {
     const std::string label(ModeOf(run.spec).label);
     for (const bool linf : {false, true}) {
       Table2Row row{std::string(linf ? "Linf(" : "L2(") + target + "," + label + ")", {}};
@@ -75,31 +96,18 @@ Table2 ComputeTable2(const TrackResult& r) {
       table.rows.push_back(std::move(row));
     }
   };
-  // The floor: the same trajectory every step, so one value and no spread.
-  {
-    std::array<Table2Row, 2> floor_rows{Table2Row{"L2(Des,Floor)", {}},
-                                        Table2Row{"Linf(Des,Floor)", {}}};
-    std::vector<double> foot_errors(r.period);
-    for (int t = 0; t < r.period; ++t) {
-      const LegAngles q{r.floor_deg[0][t], r.floor_deg[1][t], r.floor_deg[2][t]};
-      foot_errors[t] = (FootMm(r.robot.geometry, q) - r.desired.foot_mm[t]).norm() / 10.0;
-    }
-    for (int j = 0; j < kLegJoints; ++j) {
-      floor_rows[0].joints[j] = {RmsDistance(desired[j], r.floor_deg[j]), 0.0};
-      floor_rows[1].joints[j] = {MaxAbsDistance(desired[j], r.floor_deg[j]), 0.0};
-    }
-    table.rows.assign(floor_rows.begin(), floor_rows.end());
-    table.foot.push_back({"floor", {}, {Rms(foot_errors), 0.0}, {MaxAbs(foot_errors), 0.0}});
-  }
-  for (const ModeRun& run : r.runs) {
-    add_rows("Des", desired, run);
-    if (ModeOf(run.spec).follows_approximation) add_rows("Pwl", pwl, run);
-    auto rms = [](std::span<const double> v) { return Rms(v); };
-    auto max_abs = [](std::span<const double> v) { return MaxAbs(v); };
-    table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),
-                          MeanAndStd(PerStep(run.foot_error_cm, r.period, rms)),
-                          MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
-  }
+  add_rows("Des", desired);
+  if (ModeOf(run.spec).follows_approximation) add_rows("Pwl", pwl);
+  auto rms = [](std::span<const double> v) { return Rms(v); };
+  auto max_abs = [](std::span<const double> v) { return MaxAbs(v); };
+  table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),
+                        MeanAndStd(PerStep(run.foot_error_cm, r.period, rms)),
+                        MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
+}
+
+Table2 ComputeTable2(const TrackResult& r) {
+  Table2 table = BeginTable2(r);
+  for (const ModeRun& run : r.runs) AddModeToTable2(table, run, r);
   return table;
 }
 

@@ -24,17 +24,22 @@ ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const Cont
   return run;
 }
 
+// A candidate's score alone: RunMode's foot L2 without keeping the run (memory O(steps)).
+double ScoreMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
+  const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
+  const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
+  return TrackingFootL2Cm(*plant, *controller, r.desired, r.robot.geometry,
+                          config.track.warmup_steps, config.track.steps, config.plant_changes);
+}
+
 // The paper's procedure: every candidate on its own plant, in parallel, keeping only its score.
 std::vector<double> ScoreEveryCandidate(const ExperimentConfig& config, TrackResult& r,
                                         const ModeSearch& search) {
   std::vector<double> scores(search.candidates.size());
-  std::vector<long> ticks(search.candidates.size());
-  ParallelFor(static_cast<int>(search.candidates.size()), config.threads, [&](int k) {
-    const ModeRun run = RunMode(config, r, search.candidates[k]);
-    scores[k] = MeanFootL2Cm(run.foot_error_cm, r.period);
-    ticks[k] = run.ticks;
-  });
-  for (const long t : ticks) r.plant_ticks += t;
+  ParallelFor(static_cast<int>(search.candidates.size()), config.threads,
+              [&](int k) { scores[k] = ScoreMode(config, r, search.candidates[k]); });
+  r.plant_ticks += static_cast<long>(search.candidates.size()) *
+                   (config.track.warmup_steps + config.track.steps) * r.period;
   return scores;
 }
 
@@ -76,7 +81,7 @@ double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period) {
   return MeanAndStd(per_step).mean;
 }
 
-TrackResult RunTrackExperiment(const ExperimentConfig& config) {
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink) {
   TrackResult r;
   r.robot = LoadRobot(config.sim.urdf_path);
   r.desired = LoadDesiredMotion(config.track, r.robot.geometry);
@@ -128,9 +133,13 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
   }
 
   for (const ControllerSpec& spec : config.controllers) {
+    // Each run to the sink when there is one, so that only one is held at a time.
+    auto keep = [&](ModeRun run) {
+      r.plant_ticks += run.ticks;
+      sink ? sink(r, std::move(run)) : r.runs.push_back(std::move(run));
+    };
     if (config.track.search_shift == ShiftSearch::kNone || !ModeOf(spec).searchable) {
-      r.runs.push_back(RunMode(config, r, spec));
-      r.plant_ticks += r.runs.back().ticks;
+      keep(RunMode(config, r, spec));
       continue;
     }
     ModeSearch search;
@@ -145,8 +154,7 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config) {
     search.best = search.candidates[best];
     // The best candidate is run on its own (same bits: a run depends only on its spec and the
     // seed), so its row in Table 2 is a real run whichever way it was found.
-    r.runs.push_back(RunMode(config, r, search.best));
-    r.plant_ticks += r.runs.back().ticks;
+    keep(RunMode(config, r, search.best));
     r.searches.push_back(std::move(search));
   }
   return r;

@@ -204,15 +204,25 @@ std::vector<std::string> TrackOutputPrefixes() {
   return prefixes;
 }
 
-std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
-  WriteTextFile(out.Path("table2.json"), Table2Json(table));
-  std::string md = Table2Markdown(table);
-  WriteTextFile(out.Path("table2.md"), md);
+namespace {
 
+// The columns and cells of one joint's model in model_estimates.csv and plant_models.csv.
+const std::vector<std::string> kModelColumns = {"joint",     "v_max_deg_per_tick", "theta0_deg",
+                                                "lag_ticks", "accel_ticks",        "fit_rms_deg"};
+void ModelCells(CsvWriter& csv, int joint, const IdentificationResult& fit) {
+  csv.Cell(std::string(kLegJointNames[joint])).Cell(fit.params.v_max_deg_per_tick);
+  csv.Cell(fit.params.theta0_deg).Cell(static_cast<long>(fit.params.lag_ticks));
+  csv.Cell(static_cast<long>(fit.params.accel_ticks)).Cell(fit.rms_residual_deg);
+  csv.EndRow();
+}
+
+}  // namespace
+
+void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   const int period = r.period;
   std::array<std::vector<double>, kLegJoints> pwl;
   for (int j = 0; j < kLegJoints; ++j) pwl[j] = r.context.approximations[j].Sample();
-  for (const ModeRun& run : r.runs) {
+  {
     const std::string mode(ModeOf(run.spec).name);
     std::array<std::vector<double>, kLegJoints> model;
     for (int j = 0; j < kLegJoints; ++j) {
@@ -244,8 +254,7 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     foot.Close();
   }
   // Learning modes: every step's error, warm-up included (negative steps).
-  for (const ModeRun& run : r.runs) {
-    if (ModeOf(run.spec).feed_forward) continue;
+  if (!ModeOf(run.spec).feed_forward) {
     CsvWriter csv(out.Path(std::string(ModeOf(run.spec).name) + "_learning.csv"),
                   {"step", "joint", "l2_deg", "foot_l2_cm"});
     for (const LearningStep& step : LearningCurve(run, r)) {
@@ -257,57 +266,54 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     }
     csv.Close();
   }
-  // Every mode's error every step, warm-up included (negative steps).
+  // Every mode's error every step, warm-up included (negative steps): one table, a mode's
+  // rows appended as its run finishes.
   {
-    CsvWriter csv(out.Path("per_step.csv"), {"mode", "step", "rotator_l2_deg", "abductor_l2_deg",
-                                             "knee_l2_deg", "foot_l2_cm"});
-    for (const ModeRun& run : r.runs) {
-      for (const LearningStep& step : LearningCurve(run, r)) {
-        csv.Cell(std::string(ModeOf(run.spec).name)).Cell(step.step);
-        for (int j = 0; j < kLegJoints; ++j) csv.Cell(step.l2_deg[j]);
-        csv.Cell(step.foot_l2_cm);
-        csv.EndRow();
-      }
+    CsvWriter csv(
+        out.Path("per_step.csv"),
+        {"mode", "step", "rotator_l2_deg", "abductor_l2_deg", "knee_l2_deg", "foot_l2_cm"},
+        /*append=*/true);
+    for (const LearningStep& step : LearningCurve(run, r)) {
+      csv.Cell(std::string(ModeOf(run.spec).name)).Cell(step.step);
+      for (int j = 0; j < kLegJoints; ++j) csv.Cell(step.l2_deg[j]);
+      csv.Cell(step.foot_l2_cm);
+      csv.EndRow();
     }
     csv.Close();
   }
   // The models a mode estimated after every step (the first such mode's in
-  // model_estimates.csv, any other's in model_estimates_<mode>.csv), and the plant's as
-  // identify finds it before and after each change.
-  const std::vector<std::string> model_columns = {"joint",     "v_max_deg_per_tick", "theta0_deg",
-                                                  "lag_ticks", "accel_ticks",        "fit_rms_deg"};
-  auto model_cells = [](CsvWriter& csv, int joint, const IdentificationResult& fit) {
-    csv.Cell(std::string(kLegJointNames[joint])).Cell(fit.params.v_max_deg_per_tick);
-    csv.Cell(fit.params.theta0_deg).Cell(static_cast<long>(fit.params.lag_ticks));
-    csv.Cell(static_cast<long>(fit.params.accel_ticks)).Cell(fit.rms_residual_deg);
-    csv.EndRow();
-  };
-  bool first_estimates = true;
-  for (const ModeRun& run : r.runs) {
-    if (run.run.model_estimates.empty()) continue;
+  // model_estimates.csv, any other's in model_estimates_<mode>.csv).
+  if (!run.run.model_estimates.empty()) {
     std::vector<std::string> columns = {"step"};
-    columns.insert(columns.end(), model_columns.begin(), model_columns.end());
-    CsvWriter csv(out.Path(first_estimates
-                               ? std::string("model_estimates.csv")
-                               : "model_estimates_" + std::string(ModeOf(run.spec).name) + ".csv"),
-                  columns);
-    first_estimates = false;
+    columns.insert(columns.end(), kModelColumns.begin(), kModelColumns.end());
+    const bool first = !std::filesystem::exists(out.Path("model_estimates.csv"));
+    CsvWriter csv(
+        out.Path(first ? std::string("model_estimates.csv")
+                       : "model_estimates_" + std::string(ModeOf(run.spec).name) + ".csv"),
+        columns);
     for (const StepModelEstimates& step : run.run.model_estimates) {
       for (int j = 0; j < kLegJoints; ++j) {
         csv.Cell(step.step);
-        model_cells(csv, j, step.joints[j]);
+        ModelCells(csv, j, step.joints[j]);
       }
     }
     csv.Close();
   }
+}
+
+std::string WriteTrackTables(const TrackResult& r, const Table2& table, const OutputDir& out) {
+  WriteTextFile(out.Path("table2.json"), Table2Json(table));
+  std::string md = Table2Markdown(table);
+  WriteTextFile(out.Path("table2.md"), md);
+  // The plant's model as identify finds it before and after each change.
   if (!r.plant_models.empty()) {
     std::vector<std::string> columns = {"from_step"};
-    columns.insert(columns.end(), model_columns.begin(), model_columns.end());
+    columns.insert(columns.end(), kModelColumns.begin(), kModelColumns.end());
     CsvWriter csv(out.Path("plant_models.csv"), columns);
     for (const PlantIdentification& plant : r.plant_models) {
       for (int j = 0; j < kLegJoints; ++j) {
         csv.Cell(static_cast<long>(plant.from_step));
-        model_cells(csv, j, plant.joints[j]);
+        ModelCells(csv, j, plant.joints[j]);
       }
     }
     csv.Close();
@@ -325,6 +331,11 @@ std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const O
     csv.Close();
   }
   return md;
+}
+
+std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
+  for (const ModeRun& run : r.runs) WriteModeOutputs(run, r, out);
+  return WriteTrackTables(r, table, out);
 }
 
 }  // namespace leglab::experiments

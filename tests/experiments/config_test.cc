@@ -2,8 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <string>
 
 namespace leglab::experiments {
@@ -225,6 +230,106 @@ TEST_F(ConfigTest, ExtendsMergesTheBaseFileBeneath) {
   EXPECT_EQ(Modes(c), std::vector<std::string>{"direct"});
   Write("extends: loop.yaml\n", "loop.yaml");
   EXPECT_NE(ErrorOf("extends: loop.yaml\n").find("cycle"), std::string::npos);
+}
+
+// One row of the README's range table: `key` | [min, max] unit.
+struct ReadmeRange {
+  std::string key;
+  std::string text;  // "[0, 400] ms", as the README writes it
+  double min, max;
+  bool min_open, max_open;
+};
+
+std::vector<ReadmeRange> ReadmeRanges() {
+  std::ifstream in(std::string(LEGLAB_SOURCE_DIR) + "/README.md");
+  const std::regex row(
+      R"(^\| `([a-z0-9_.]+)` \| (([\[(])([-0-9.e+]+), ([-0-9.e+]+)([\])])( [^|]*[^ |])?) \|)");
+  std::vector<ReadmeRange> ranges;
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_search(line, m, row)) continue;
+    ranges.push_back({m[1], m[2], std::stod(m[4]), std::stod(m[5]), m[3] == "(", m[6] == ")"});
+  }
+  return ranges;
+}
+
+// YAML text of `v`: an integer as digits (so integer keys read it), else 17 digits.
+std::string YamlNumber(double v) {
+  if (v == std::round(v) && std::abs(v) < 9.22e18) {
+    return std::to_string(static_cast<long long>(v));
+  }
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+// `key=value`, a list value for the list keys.
+std::string Assign(const std::string& key, const std::string& x) {
+  if (key == "identify.theta_test_deg") return key + "=[" + x + "]";
+  if (key == "identify.hold_deg") return key + "=[" + x + ", 0, 0]";
+  if (key == "identify.lag_range_ticks" || key == "identify.accel_range_ticks") {
+    return key + "=[" + x + ", " + x + "]";
+  }
+  return key + "=" + x;
+}
+
+TEST(ConfigRanges, ReadmeRangesAreTheLoaders) {
+  const std::vector<ReadmeRange> readme = ReadmeRanges();
+  // Every numeric key the loader checks is in the README, and nothing else is.
+  std::set<std::string> documented, checked;
+  for (const ReadmeRange& r : readme) documented.insert(r.key);
+  for (const NumericRange& r : NumericKeyRanges()) checked.emplace(r.key);
+  EXPECT_EQ(documented, checked);
+
+  const std::string track = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/track.yaml";
+  // One mode, so that the largest steps stay inside the run's size limits; what some keys need
+  // beside them to be in range at all.
+  const std::vector<std::string> base = {"controller.modes=[direct]"};
+  for (const ReadmeRange& r : readme) {
+    std::vector<std::string> overrides = base;
+    if (r.key == "controller.pwl_segments") overrides.emplace_back("track.t_step_ticks=1000");
+    if (r.key == "track.t_step_ticks") overrides.emplace_back("controller.pwl_segments=1");
+    if (r.key == "identify.t_step_ticks" || r.key == "identify.record_cycles") {
+      // One (l, a) candidate and one step height: the fit's work stays within its own limit.
+      for (const char* o : {"identify.lag_range_ticks=[4, 4]", "identify.accel_range_ticks=[6, 6]",
+                            "identify.theta_test_deg=[40]"}) {
+        overrides.emplace_back(o);
+      }
+    }
+    if (r.key.rfind("model.", 0) == 0) {  // model.* needs all four keys
+      overrides.emplace_back(
+          "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}");
+    }
+    auto error_of = [&](const std::string& v) {
+      std::vector<std::string> o = overrides;
+      o.push_back(Assign(r.key, v));
+      try {
+        LoadExperimentConfig(track, o);
+      } catch (const InputError& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    const double below_delta = std::max(1.0, 1e-3 * std::abs(r.min));
+    const double above_delta = std::max(1.0, 1e-3 * std::abs(r.max));
+    const double inside = 1e-3 * std::max(1.0, r.max - r.min);
+    const std::string expected = r.key + " must be in " + r.text;
+    // Just outside each end: rejected, naming the key and its documented range.
+    for (const double out :
+         {r.min_open ? r.min : r.min - below_delta, r.max_open ? r.max : r.max + above_delta}) {
+      const std::string error = error_of(YamlNumber(out));
+      EXPECT_NE(error.find(expected), std::string::npos)
+          << r.key << "=" << YamlNumber(out) << ": " << error;
+    }
+    for (const char* non_finite : {".nan", ".inf", "-.inf"}) {
+      EXPECT_NE(error_of(non_finite).find(r.key), std::string::npos) << r.key << non_finite;
+    }
+    // At (or just inside an open) end: accepted.
+    for (const double in :
+         {r.min_open ? r.min + inside : r.min, r.max_open ? r.max - inside : r.max}) {
+      EXPECT_EQ(error_of(YamlNumber(in)), "") << r.key << "=" << YamlNumber(in);
+    }
+  }
 }
 
 TEST_F(ConfigTest, ShippedConfigsLoad) {

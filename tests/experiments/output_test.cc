@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "leglab/experiments/config.h"
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -70,6 +72,43 @@ TEST(OutputDir, AFailedRunCreatesNoParentFolders) {
     dir.Commit();  // staged in the temporary folder, copied or renamed into place
   }
   EXPECT_EQ(Read(root / "a" / "b" / "out" / "x.txt"), "x");
+  fs::remove_all(root);
+}
+
+TEST(OutputDir, ACommitSwapsInTheNewFilesAndKeepsTheRest) {
+  const fs::path out = fs::temp_directory_path() / "leglab_output_swap";
+  fs::remove_all(out);
+  fs::create_directories(out / "hind");
+  std::ofstream(out / "hind" / "table2.md") << "hind";
+  std::ofstream(out / "table1.json") << "identify's";
+  std::ofstream(out / "table2.md") << "old";
+  fs::create_symlink("table1.json", out / "latest.json");
+  {
+    OutputDir dir(out, {"table2."});
+    std::ofstream(dir.Path("table2.md")) << "new";
+    EXPECT_EQ(Read(out / "table2.md"), "old");  // nothing changes before the commit
+    dir.Commit();
+  }
+  EXPECT_EQ(Read(out / "table2.md"), "new");
+  EXPECT_EQ(Read(out / "table1.json"), "identify's");
+  EXPECT_EQ(Read(out / "hind" / "table2.md"), "hind");
+  EXPECT_EQ(fs::read_symlink(out / "latest.json"), "table1.json");
+  for (const auto& e : fs::directory_iterator(out.parent_path())) {
+    EXPECT_EQ(e.path().filename().string().find(".leglab_output_swap.staging"), std::string::npos);
+  }
+  fs::remove_all(out);
+}
+
+TEST(OutputDir, OutProblemsAreBadInput) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_bad";
+  fs::remove_all(root);
+  fs::create_directories(root / "out" / "table2.md");
+  std::ofstream(root / "file") << "x";
+  EXPECT_THROW(OutputDir("", {}), InputError);
+  EXPECT_THROW(OutputDir(root / "file", {}), InputError);
+  EXPECT_THROW(OutputDir(root / "file" / "out", {}), InputError);
+  EXPECT_THROW(OutputDir(root / "out", {"table2."}), InputError);
+  EXPECT_NO_THROW(OutputDir(root / "out", {"trace_"}));
   fs::remove_all(root);
 }
 

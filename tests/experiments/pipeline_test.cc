@@ -2,6 +2,7 @@
 // programs_test.cc compares the output bytes of --threads 1 and 2.)
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
+#include "leglab/experiments/writers.h"
 #include "leglab/model/joint_model.h"
 
 namespace leglab::experiments {
@@ -186,6 +188,52 @@ TEST(Pipeline, PlantChangesMakeTheShiftSearchExhaustive) {
   EXPECT_FALSE(r.searches[0].scored_from_one_run);
   const long run_ticks = 3L * r.period;
   EXPECT_EQ(r.plant_ticks, r.period * run_ticks + run_ticks);
+}
+
+// A searched candidate's score kept without its run is the score of the kept run, bit for bit,
+// on the noisy sim plant, for a feed-forward, a model-based and a learning mode.
+TEST(Pipeline, AScoreWithoutTheRunIsTheRunsScore) {
+  const ExperimentConfig config = LoadExperimentConfig(
+      kConfigs + "track.yaml",
+      {"warmup_steps=1", "steps=2", "controller.modes=[direct, model_based, ilc]",
+       "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}"});
+  const Robot robot = LoadRobot(config.sim.urdf_path);
+  const DesiredMotion desired = LoadDesiredMotion(config.track, robot.geometry);
+  std::array<JointModelParams, kLegJoints> models;
+  models.fill(*config.model);
+  const ControllerContext context =
+      MakeControllerContext(desired.angles_deg, models, robot.geometry.limits, 8);
+  for (const ControllerSpec& spec : config.controllers) {
+    const auto kept_controller = MakeController(spec, context);
+    const auto kept_plant = MakePlant(config, robot);
+    const TrackingRun run = RunTracking(*kept_plant, *kept_controller, desired.angles_deg, 1, 2);
+    const double kept = MeanFootL2Cm(FootErrorsCm(run, desired, robot.geometry),
+                                     static_cast<int>(desired.angles_deg.size()));
+    const auto controller = MakeController(spec, context);
+    const auto plant = MakePlant(config, robot);
+    EXPECT_EQ(TrackingFootL2Cm(*plant, *controller, desired, robot.geometry, 1, 2), kept)
+        << ModeOf(spec).name;
+  }
+}
+
+// track's main takes the runs one at a time (a sink): the tables are those of the kept runs.
+TEST(Pipeline, RunsTakenOneAtATimeGiveTheSameTable) {
+  const ExperimentConfig config = LoadExperimentConfig(
+      kConfigs + "track.yaml",
+      {"plant=model", "controller.modes=[direct, time_shift, ilc]", "warmup_steps=1", "steps=2",
+       "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}"});
+  const Table2 whole = ComputeTable2(RunTrackExperiment(config));
+  std::optional<Table2> streamed;
+  int runs = 0;
+  const TrackResult r = RunTrackExperiment(config, [&](const TrackResult& result, ModeRun&& run) {
+    if (!streamed) streamed = BeginTable2(result);
+    AddModeToTable2(*streamed, run, result);
+    ++runs;
+  });
+  EXPECT_TRUE(r.runs.empty());
+  EXPECT_EQ(runs, 3);
+  ASSERT_TRUE(streamed);
+  EXPECT_EQ(Table2Json(*streamed), Table2Json(whole));
 }
 
 }  // namespace

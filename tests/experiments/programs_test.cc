@@ -1,6 +1,12 @@
 // The experiment programs run as a user runs them: flags, config files, exit status, files.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <filesystem>
@@ -10,6 +16,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 namespace {
 
@@ -20,15 +28,15 @@ struct Result {
   std::string stderr_text;
 };
 
-// Runs `command` from the source tree, capturing its standard error.
-Result RunCommand(const std::string& command) {
+// Runs `command` from the source tree, capturing its standard error (stdout into `stdout_path`).
+Result RunCommand(const std::string& command, const std::string& stdout_path = "/dev/null") {
   // One file per test: ctest runs the tests of this file as parallel processes.
   const fs::path err =
-      fs::temp_directory_path() /
-      (std::string("leglab_programs_") +
-       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr");
-  const std::string full =
-      "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >/dev/null 2>'" + err.string() + "'";
+      fs::temp_directory_path() / (std::string("leglab_programs_") +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                                   "_" + std::to_string(::getpid()) + ".stderr");
+  const std::string full = "cd '" LEGLAB_SOURCE_DIR "' && " + command + " >'" + stdout_path +
+                           "' 2>'" + err.string() + "'";
   const int raw = std::system(full.c_str());
   Result r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -43,9 +51,11 @@ Result RunCommand(const std::string& command) {
 class ProgramsTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id too: the release and asan suites may run at once.
     dir_ = fs::temp_directory_path() /
            (std::string("leglab_programs_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     out_ = dir_ / "out";
@@ -142,6 +152,136 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
 }
 
+// Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or
+// produced non-finite results is refused before anything runs, naming the key as written.
+TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
+  const std::string id = "--config experiments/configs/identify.yaml";
+  const std::string track = "--config experiments/configs/track.yaml";
+  const std::string mb =
+      "--config experiments/configs/controller_model_based.yaml"
+      " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}'";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      // row 1: SIGSEGV
+      {kIdentify, id + " --set 'identify.lag_range_ticks=[0, 2147483647]'",
+       "identify.lag_range_ticks must be in [0, 50] ticks"},
+      // row 2: signed overflow
+      {kIdentify, id + " --set identify.record_cycles=48806447",
+       "identify.record_cycles must be in [1, 1000]"},
+      {kIdentify, id + " --set identify.settle_cycles=2147483647",
+       "identify.settle_cycles must be in [1, 1000]"},
+      {kTrack, mb + " --set model.lag_ticks=2147483647", "model.lag_ticks must be in [0, 50]"},
+      // row 3: a file named after a step height out of range
+      {kIdentify, id + " --set 'identify.theta_test_deg=[1e300]'",
+       "identify.theta_test_deg must be in [-180, 180] deg"},
+      // row 4: nonsense tables
+      {kIdentify, id + " --set sim.physics_dt_ms=1e-300", "sim.physics_dt_ms must be in [0.1, 8]"},
+      {kIdentify, id + " --set sensor.noise_deg=1e300", "sensor.noise_deg must be in [0, 2] deg"},
+      {kIdentify, id + " --set servo.max_speed_deg_s=1e-300", "servo.max_speed_deg_s must be in"},
+      {kIdentify, id + " --set servo.max_torque_nm=1e-300", "servo.max_torque_nm must be in"},
+      {kIdentify, id + " --set servo.delay_ms=80000", "servo.delay_ms must be in [0, 400] ms"},
+      // row 5: exit 1 after a while; and the products that size a run
+      {kTrack, track + " --set steps=2147483647", "steps must be in [1, 1000000]"},
+      {kTrack, track + " --set track.t_step_ticks=2147483647", "track.t_step_ticks must be in"},
+      {kTrack, mb + " --set model.accel_ticks=2147483647", "model.accel_ticks must be in"},
+      {kTrack, track + " --set servo.damping=1e300", "servo.damping must be in [0, 10]"},
+      {kTrack, track + " --set steps=1000000 --set warmup_steps=1000000",
+       "(warmup_steps + steps) x track.t_step_ticks"},
+      {kTrack, track + " --set steps=300000", "would simulate"},
+      {kIdentify,
+       id + " --set 'identify.lag_range_ticks=[0, 50]' --set "
+            "'identify.accel_range_ticks=[1, 50]' --set identify.record_cycles=100",
+       "identify: 2550 (l, a) candidates"},
+      // row 6: messages that named an internal
+      {kIdentify, id + " --set servo.delay_ms=1e300", "servo.delay_ms must be in"},
+      {kIdentify, id + " --set sensor.noise_deg=1e6", "sensor.noise_deg must be in"},
+      {kTrack, mb + " --set model.v_max_deg_per_tick=.inf", "model.v_max_deg_per_tick must be in"},
+      {kIdentify, id + " --set 'identify.theta_test_deg=[.nan]'",
+       "identify.theta_test_deg must be in"},
+      // row 8: silent for over 60 s
+      {kIdentify, id + " --set sim.physics_dt_ms=0.001", "sim.physics_dt_ms must be in"},
+      {kTrack, track + " --set warmup_steps=2147483647", "warmup_steps must be in"},
+      {kTrack, track + " --set track.t_step_ticks=100000", "track.t_step_ticks must be in"},
+      {kIdentify, id + " --set 'identify.accel_range_ticks=[1,600]'",
+       "identify.accel_range_ticks must be in"},
+  };
+  // All are found while loading the config, so none of these runs anything.
+  for (const auto& [program, args, needle] : cases) ExpectBadInput(program, args, needle);
+}
+
+// Row 12: what was accepted with the last value winning, rows duplicated or files overwritten.
+TEST_F(ProgramsTest, DuplicatesAndKeysOfAnotherProgramAreRefused) {
+  const std::string id = "--config experiments/configs/identify.yaml";
+  ExpectBadInput(kIdentify,
+                 "--config " + Write("dup.yaml", "extends: " LEGLAB_SOURCE_DIR
+                                                 "/experiments/configs/identify.yaml\n"
+                                                 "identify:\n  settle_cycles: 2\n"
+                                                 "  settle_cycles: 3\n"),
+                 "key 'identify.settle_cycles' is given twice");
+  ExpectBadInput(kIdentify, id + " --set 'servo={gain_per_s: 3, gain_per_s: 4}'",
+                 "'servo.gain_per_s' is given twice");
+  ExpectBadInput(kIdentify, id + " --set 'identify.theta_test_deg=[40,40]'", "40 twice");
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set controller.modes=[direct,direct]",
+                 "'direct' twice");
+  ExpectBadInput(kIdentify, id + " --set steps=5", "steps is not used by identify");
+  ExpectBadInput(kIdentify, id + " --set controller.cm=closed",
+                 "controller.cm is not used by identify");
+  ExpectBadInput(kIdentify, id + " --set stepz=5", "unknown key 'stepz'");
+  // Found by the fuzz harness: an alias inside its own anchor overflowed the stack.
+  ExpectBadInput(kIdentify,
+                 "--config " + Write("self.yaml", "robot: ers210a\na: &a [11ec\n *a, *a, *a]"),
+                 "nests deeper than 64 levels");
+}
+
+// Row 12: a desired.csv is read strictly: what stod would take (hex, a sign, spaces, 7.0 for
+// a tick) is refused, naming the row and column.
+TEST_F(ProgramsTest, DesiredCsvCellsAreStrictlyDecimal) {
+  const std::string good =
+      "--config experiments/configs/track.yaml --set 'model={v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
+  const std::string csv = DesiredCsv(88);
+  const size_t row8 = csv.find("\n7,") + 1;
+  const std::string rest = csv.substr(csv.find(',', row8));
+  for (const std::string tick : {"0x7", "+7", " 7", "7.0", "7e0", "07 "}) {
+    const std::string bad = csv.substr(0, row8) + tick + rest;
+    ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("tick.csv", bad),
+                   "row 8, tick: '" + tick + "' is not a tick");
+  }
+  for (const std::string angle : {"0x1p3", "+5", " 5", "5 ", "5deg"}) {
+    std::string bad = csv;
+    bad.replace(bad.find(",5,", row8), 3, "," + angle + ",");
+    ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("angle.csv", bad),
+                   "row 8, abductor_deg: '" + angle + "' is not a decimal number");
+  }
+}
+
+// Row 8 and 9: --progress shows progress on stderr as plain lines (the first at once, then
+// every 2 s), --quiet shows none, and stdout carries the table alone either way.
+TEST_F(ProgramsTest, ProgressGoesToStderrAndQuietSilencesIt) {
+  const std::string run = kIdentify + " --config experiments/configs/identify.yaml --out '" +
+                          out_.string() + "' --set identify.record_cycles=2";
+  auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const std::string flag : {"--progress", "--quiet"}) {
+    const fs::path stdout_file = dir_ / "stdout.txt";
+    const Result r = RunCommand(run + " " + flag, stdout_file.string());
+    ASSERT_EQ(r.status, 0) << r.stderr_text;
+    EXPECT_EQ(read(stdout_file).rfind("# Table 1", 0), 0u) << flag;
+    if (flag == "--quiet") {
+      EXPECT_EQ(r.stderr_text, "");
+    } else {
+      EXPECT_EQ(r.stderr_text.rfind("identify: 0% of ", 0), 0u) << r.stderr_text;
+      EXPECT_NE(r.stderr_text.find(" ticks after "), std::string::npos);
+      EXPECT_EQ(r.stderr_text.find('\r'), std::string::npos);  // lines, not a bar
+    }
+  }
+  fs::remove_all(out_);
+  ExpectBadInput(kIdentify, "--config experiments/configs/identify.yaml --progress --quiet",
+                 "--progress excludes --quiet");
+}
+
 TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   const Result r = RunCommand(
       kTrack + " --config experiments/configs/track.yaml --out '" + out_.string() +
@@ -193,11 +333,14 @@ std::map<std::string, std::string> FilesOf(const fs::path& dir) {
 }
 
 TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
-  const std::string short_run =
-      " --set steps=2 --set warmup_steps=1 --set identify.record_cycles=2"
-      " --set identify.settle_cycles=1";
+  const std::string short_identification =
+      " --set identify.record_cycles=2 --set identify.settle_cycles=1";
   for (const char* config : {"identify.yaml", "track.yaml"}) {
-    const std::string program = std::string(config) == "track.yaml" ? kTrack : kIdentify;
+    const bool track = std::string(config) == "track.yaml";
+    const std::string program = track ? kTrack : kIdentify;
+    // identify refuses track's keys.
+    const std::string short_run =
+        short_identification + (track ? " --set steps=2 --set warmup_steps=1" : "");
     std::map<std::string, std::string> first;
     for (const int threads : {1, 2}) {
       const fs::path out = dir_ / ("threads" + std::to_string(threads));
@@ -241,6 +384,129 @@ TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {
   EXPECT_EQ(j["paper"]["v_max_deg_per_tick"], 2.5);
   EXPECT_EQ(j["paper"]["lag_ticks"], 4);
   EXPECT_TRUE(fs::exists(out_ / "table1.md"));
+}
+
+// Row 7: --out problems are bad input, found before anything runs.
+TEST_F(ProgramsTest, OutProblemsAreFoundBeforeTheRun) {
+  const std::string id = kIdentify + " --config experiments/configs/identify.yaml";
+  auto expect = [&](const std::string& out, const std::string& needle) {
+    const Result r = RunCommand(id + " --out '" + out + "'");
+    EXPECT_EQ(r.status, 2) << out << "\n" << r.stderr_text;
+    EXPECT_EQ(std::count(r.stderr_text.begin(), r.stderr_text.end(), '\n'), 1) << r.stderr_text;
+    EXPECT_NE(r.stderr_text.find(needle), std::string::npos) << r.stderr_text;
+  };
+  const std::string file = Write("results.txt", "mine");
+  expect(file, "exists and is not a folder");
+  expect("", "--out must name a folder");
+  expect(file + "/sub", "a file");
+  // An unwritable parent: a folder without write permission, or (as root, who may write
+  // anywhere) one where no folder can be created at all.
+  if (::geteuid() == 0) {
+    expect("/proc/1/leglab_out", "cannot be written");
+  } else {
+    fs::create_directories(dir_ / "locked");
+    fs::permissions(dir_ / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+    expect((dir_ / "locked" / "out").string(), "cannot be written");
+    fs::permissions(dir_ / "locked", fs::perms::owner_all);
+  }
+  // A folder where identify writes a file: refused, not replaced halfway.
+  fs::create_directories(out_ / "table1.md");
+  expect(out_.string(), "'table1.md', which is not a file");
+  EXPECT_TRUE(fs::is_directory(out_ / "table1.md"));
+  std::ifstream in(file);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "mine");
+}
+
+// The entries of `dir` whose names start with `prefix`.
+std::vector<std::string> EntriesStartingWith(const fs::path& dir, const std::string& prefix) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) names.push_back(name);
+  }
+  return names;
+}
+
+// Every file under `dir`, by relative path, with its bytes.
+std::map<std::string, std::string> FilesUnder(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    files[fs::relative(entry.path(), dir).string()].assign(std::istreambuf_iterator<char>(in), {});
+  }
+  return files;
+}
+
+// Rows 10 and 11: a run killed while running or while writing leaves --out as it was and
+// nothing beside it, and exits with 128 + the signal.
+TEST_F(ProgramsTest, AnInterruptedRunLeavesNothingBehind) {
+  // The previous results, with a file and a folder of another program's.
+  fs::create_directories(out_ / "hind");
+  std::ofstream(out_ / "hind" / "table2.md") << "hind";
+  std::ofstream(out_ / "table1.json") << "identify's";
+  std::ofstream(out_ / "table2.md") << "old";
+  const std::map<std::string, std::string> before = FilesUnder(out_);
+  // Long enough to be caught at work: the ideal plant, one mode, 40000 steps to write (4000
+  // in the sanitizer build, which runs about ten times slower).
+#ifdef __SANITIZE_ADDRESS__
+  const std::string steps = "4000";
+#else
+  const std::string steps = "40000";
+#endif
+  const std::string command =
+      "cd '" LEGLAB_SOURCE_DIR "' && exec " + kTrack +
+      " --config experiments/configs/controller_direct.yaml --set plant=model --set "
+      "'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set "
+      "steps=" +
+      steps + " --out '" + out_.string() + "' >/dev/null 2>/dev/null";
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    for (const bool while_writing : {false, true}) {
+      pid_t pid = 0;
+      const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+      ASSERT_EQ(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ),
+                0);
+      // Wait (no time limit of ours: ctest's timeout stops a hang) for the staging folder, and
+      // when asked for a file in it.
+      bool caught = false;
+      while (!caught) {
+        for (const std::string& name : EntriesStartingWith(dir_, ".out.staging-")) {
+          caught = !while_writing || !EntriesStartingWith(dir_ / name, "").empty();
+        }
+        if (::waitpid(pid, nullptr, WNOHANG) == pid) FAIL() << "the run ended before the signal";
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      ::kill(pid, signal);
+      int status = 0;
+      ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+      EXPECT_TRUE(WIFEXITED(status)) << signal;
+      EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
+      EXPECT_EQ(FilesUnder(out_), before) << signal << (while_writing ? " while writing" : "");
+      std::vector<std::string> beside;
+      for (const auto& e : fs::directory_iterator(dir_)) {
+        beside.push_back(e.path().filename().string());
+      }
+      EXPECT_EQ(beside, std::vector<std::string>{"out"}) << signal;
+    }
+  }
+}
+
+// Row 11: a finished run replaces this program's files at once and keeps the rest.
+TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
+  fs::create_directories(out_ / "hind");
+  std::ofstream(out_ / "hind" / "x.csv") << "hind";
+  std::ofstream(out_ / "step_knee_77.csv") << "stale";
+  std::ofstream(out_ / "fig1.png") << "figure";
+  const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml --out '" +
+                              out_.string() + "' --set identify.record_cycles=2");
+  ASSERT_EQ(r.status, 0) << r.stderr_text;
+  EXPECT_FALSE(fs::exists(out_ / "step_knee_77.csv"));  // an earlier run's, not this one's
+  EXPECT_TRUE(fs::exists(out_ / "step_knee_110.csv"));
+  EXPECT_TRUE(fs::exists(out_ / "table1.json"));
+  EXPECT_TRUE(fs::exists(out_ / "fig1.png"));
+  EXPECT_TRUE(fs::exists(out_ / "hind" / "x.csv"));
+  EXPECT_EQ(EntriesStartingWith(dir_, ".out"), std::vector<std::string>{});
 }
 
 }  // namespace

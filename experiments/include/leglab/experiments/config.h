@@ -1,8 +1,10 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "leglab/controller/registry.h"
@@ -28,6 +30,32 @@ class UnknownKeyError : public InputError {
  public:
   using InputError::InputError;
 };
+
+/// The documented range of a numeric config key (the README's config reference lists the same):
+/// a value must lie in [min, max], an end excluded when `min_open` / `max_open`. A list key's range
+/// holds for each element. Keys are named as the user writes them ("servo.delay_ms", "steps").
+struct NumericRange {
+  std::string_view key;
+  double min;
+  double max;
+  bool min_open;
+  bool max_open;
+  std::string_view unit;  ///< "ms", "deg", "" for a count
+};
+
+/// Every numeric key's range. LoadExperimentConfig checks each value read against it, before
+/// anything runs; a numeric key read without a range here is a bug (std::logic_error).
+std::span<const NumericRange> NumericKeyRanges();
+
+/// The most ticks one tracking run (warmup_steps + steps, times track.t_step_ticks) may
+/// simulate: its recorded trace is what track writes, so this also bounds memory and output.
+inline constexpr long long kMaxTicksPerRun = 100'000'000;
+/// The most ticks a whole program run may simulate (every run of every mode and candidate,
+/// and the identification): 2e9 ticks of 8 ms are 185 days of walking.
+inline constexpr long long kMaxTotalTicks = 2'000'000'000;
+/// The most work one joint's identification may do: recorded ticks times the (l, a)
+/// candidates searched, summed over the step tests.
+inline constexpr long long kMaxIdentificationWork = 1'000'000;
 
 /// `identify.*`: the step test of eq. 1 on each joint in turn.
 struct IdentifyConfig {
@@ -107,6 +135,17 @@ struct ExperimentConfig {
   /// Worker threads (`--threads`, not a config key); 0 means one per core. Results do not
   /// depend on it.
   int threads = 0;
+  /// The ticks the run simulates at most (every step test, mode and searched candidate), as
+  /// checked against kMaxTotalTicks; the progress display's 100 %.
+  long long planned_ticks = 0;
+};
+
+/// Which top-level config sections a program uses. A key the loader knows but the program
+/// does not use is bad input ("steps is not used by identify"), so that nobody believes a key
+/// took effect that did not. Empty `sections` means every key.
+struct ConfigScope {
+  std::string program;                ///< for messages, e.g. "identify"
+  std::vector<std::string> sections;  ///< top-level keys, e.g. "servo", "identify", "seed"
 };
 
 /// Loads `config_path` (with the file its `extends:` key names, relative to it, merged beneath
@@ -114,9 +153,12 @@ struct ExperimentConfig {
 /// a robot.yaml, default ers210a; a robot file may `extends:` another) beneath it, applies
 /// `overrides` ("key.path=value", value in YAML syntax) last and in order, and converts the result
 /// into structs with defaults. Throws InputError naming the file or key for a missing or malformed
-/// file, an unknown key, a value of the wrong type or out of range, or a missing URDF.
+/// file, a duplicate key, an unknown key, a key outside `scope`, a value of the wrong type or
+/// out of its range (NumericKeyRanges), a run larger than kMaxTicksPerRun, kMaxTotalTicks or
+/// kMaxIdentificationWork, or a missing URDF.
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
-                                      const std::vector<std::string>& overrides = {});
+                                      const std::vector<std::string>& overrides = {},
+                                      const ConfigScope& scope = {});
 
 /// `config` with the first `count` of its plant_changes applied to its plant settings (sim or
 /// plant_model) and none left to apply: the plant as it is after those changes, e.g. to

@@ -2,20 +2,33 @@
 
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace leglab::experiments {
 
-/// The files a run writes, staged in a temporary folder and moved into `--out` only by
-/// Commit(): a run that fails leaves the file system as it was (not even `--out`'s parent
-/// folders are created). Destroying an uncommitted OutputDir removes the staging folder.
+/// The results could not be written (a full disk, a folder that vanished): not bad input,
+/// not a bug. Programs print it and exit with status 1.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The files a run writes, staged in a folder beside `--out` and moved into it only by
+/// Commit(), all at once: `--out` holds either the previous results or the new ones, never a
+/// mix. A run that fails leaves the file system as it was (not even `--out`'s parent folders
+/// are created), and so does one interrupted by SIGINT, SIGTERM or SIGHUP once
+/// InstallInterruptCleanup() has run. Destroying an uncommitted OutputDir removes the staging
+/// folder.
 class OutputDir {
  public:
-  /// Stages next to `final_dir` when its parent exists (so Commit() renames), else in the
-  /// system's temporary folder. `owned_prefixes` name the files this program writes (e.g.
-  /// "table2.", "trace_"): Commit() removes earlier ones from `final_dir`, so no stale output
-  /// of a previous run sits beside the new one. Throws std::runtime_error if it cannot stage.
+  /// Checks `final_dir` before anything runs and stages beside it (in its parent, or when that
+  /// does not exist yet in the system's temporary folder). `owned_prefixes` name the files
+  /// this program writes (e.g. "table2.", "trace_"): the commit replaces every earlier one,
+  /// and keeps the other files and folders of `final_dir` (another program's results).
+  /// Throws InputError naming `--out` when it is empty, exists and is not a folder, holds a
+  /// folder where this program writes a file, or lies where nothing can be created.
   OutputDir(std::filesystem::path final_dir, std::vector<std::string> owned_prefixes);
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
@@ -24,8 +37,11 @@ class OutputDir {
   /// Where to write `name` (a plain file name) while staging.
   std::filesystem::path Path(const std::string& name) const;
 
-  /// Creates `final_dir` (and its parents) if needed, removes its files that start with an
-  /// owned prefix, and moves every staged file into it. Other files there are left alone.
+  /// Makes the staged files `final_dir`'s: the files and folders of `final_dir` that no owned
+  /// prefix names are linked (or moved, for folders) into the staging folder, which then
+  /// replaces `final_dir` in one rename (renameat2 RENAME_EXCHANGE; where the file system
+  /// lacks it, two renames with a moment in between where `final_dir` is missing). Creates
+  /// `final_dir`'s parents if needed. Throws OutputError if it cannot.
   void Commit();
 
  private:
@@ -35,21 +51,31 @@ class OutputDir {
   bool committed_ = false;
 };
 
-/// Writes `text` to `path`; throws std::runtime_error naming the file if it cannot.
+/// From now on SIGINT, SIGTERM and SIGHUP remove every staging folder of this process and exit
+/// with status 128 + the signal, after printing "<program>: interrupted by signal N" on
+/// stderr. The signals are blocked in the calling thread and waited for by a watcher thread
+/// (sigwait), so the clean-up runs as ordinary code, never inside a signal handler, and a
+/// commit in progress finishes first. Call it once, from main's thread before any other
+/// thread starts (threads inherit the blocked signals).
+void InstallInterruptCleanup(const std::string& program);
+
+/// Writes `text` to `path`; throws OutputError naming the file if it cannot.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text);
 
 /// A CSV file with a fixed header. Numbers are written in the shortest form that reads back
 /// to the same double. Close() reports a failed write.
 class CsvWriter {
  public:
-  /// Throws std::runtime_error if `path` cannot be opened.
-  CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns);
+  /// Throws OutputError if `path` cannot be opened. With `append`, rows go after those already
+  /// in `path` and the header is written only when the file is new (several runs, one table).
+  CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns,
+            bool append = false);
   /// One row: text cells (e.g. a joint name) are written as given.
   CsvWriter& Cell(double value);
   CsvWriter& Cell(long value);
   CsvWriter& Cell(const std::string& text);
   void EndRow();
-  /// Flushes and closes; throws std::runtime_error naming the file if any write failed.
+  /// Flushes and closes; throws OutputError naming the file if any write failed.
   void Close();
 
  private:

@@ -8,19 +8,29 @@
 
 namespace leglab::experiments {
 
-/// What every experiment program takes: `--config FILE`, `--out DIR`, `--threads N` and any
-/// number of `--set key=value` applied last.
+/// What every experiment program takes: `--config FILE`, `--out DIR`, `--threads N`,
+/// `--progress` or `--quiet`, and any number of `--set key=value` applied last.
 struct ProgramArgs {
   std::string config_path;
   std::string out_dir;
   std::vector<std::string> overrides;
-  int threads = 0;  ///< 0: one per core
+  int threads = 0;        ///< 0: one per core
+  bool progress = false;  ///< --progress: plain progress lines on stderr, even when not a terminal
+  bool quiet = false;     ///< --quiet: no progress at all
 };
 
-/// Parses the flags, loads the config and runs `body`. Bad input (flags, config, robot, URDF,
-/// CSV, an unreachable locus: InputError, std::invalid_argument, std::domain_error) prints
-/// "<program>: error: <message>" on one line and returns 2; any other failure prints
-/// "<program>: failed: <message>" and returns 1; success returns 0.
+/// Parses the flags, loads the config (keys outside `scope` rejected, see ConfigScope) and runs
+/// `body` while a ProgressDisplay shows its progress on stderr (a bar on a terminal, plain lines
+/// with --progress, nothing with --quiet). Bad input (flags, config, robot, URDF, CSV, an
+/// unreachable locus: InputError, std::invalid_argument, std::domain_error) prints "<program>:
+/// error: <message>" on one line and returns 2; a failure to write the results prints "<program>:
+/// failed: <message>" and returns 1; anything else that escapes is ours and prints "<program>:
+/// internal error: <message>" and returns 1; success returns 0.
+int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
+               int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
+
+/// RunProgram for a program that uses every config key.
 int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
 

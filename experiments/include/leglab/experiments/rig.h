@@ -84,6 +84,13 @@ struct TrackingRun {
 TrackingRun RunTracking(Plant& plant, JointController& controller, const DesiredCycle& desired,
                         int warmup_steps, int steps, std::span<const PlantChange> changes = {});
 
+/// What RunTracking then MeanFootL2Cm of FootErrorsCm would give, bit for bit (the mean over
+/// the measured steps of each step's RMS foot error, cm), without keeping the run: memory
+/// O(period + steps) instead of O(steps x period). For scoring search candidates.
+double TrackingFootL2Cm(Plant& plant, JointController& controller, const DesiredMotion& desired,
+                        const LegGeometry& geometry, int warmup_steps, int steps,
+                        std::span<const PlantChange> changes = {});
+
 /// Foot position (body frame, mm) for joint angles in degrees.
 Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg);
 

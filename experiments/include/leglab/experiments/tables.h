@@ -65,8 +65,14 @@ struct Table2 {
   const FootRow* FindFoot(std::string_view mode) const;
 };
 
-/// Table 2 of a track run.
+/// Table 2 of a track run: BeginTable2, then AddModeToTable2 for each of its runs.
 Table2 ComputeTable2(const TrackResult& result);
+
+/// Table 2 before any mode: its header fields and the floor rows.
+Table2 BeginTable2(const TrackResult& result);
+
+/// Appends `run`'s rows (L2 and Linf to D, and to P if its mode follows P) and its foot row.
+void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& result);
 
 /// The learning curve of `run` (every step, warm-up included) against the desired motion.
 std::vector<LearningStep> LearningCurve(const ModeRun& run, const TrackResult& result);

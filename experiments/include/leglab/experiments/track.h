@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,12 +58,17 @@ struct TrackResult {
   long plant_ticks = 0;
 };
 
+/// Takes each mode's run as it is done (`runs` of the TrackResult stays empty): a long run
+/// writes and reduces one mode at a time instead of holding them all.
+using ModeRunSink = std::function<void(const TrackResult&, ModeRun&&)>;
+
 /// Runs Table 2's experiment: the robot, the desired cycle, the models (given or identified
 /// as `identify` does), every configured mode (a searchable mode, e.g. time_shift, scores
 /// every candidate as track.search_shift says and runs the best by foot L2), warmup_steps
 /// then steps measured steps. Parallel on config.threads threads; the result does not depend on
-/// the count.
-TrackResult RunTrackExperiment(const ExperimentConfig& config);
+/// the count. With a `sink`, each mode's run goes to it, in order, instead of into `runs`; a
+/// searched mode's candidates are scored without keeping their runs either way.
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink = {});
 
 /// Mean over steps of the per-step RMS of `foot_error_cm` (steps of `period` ticks), cm.
 double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period);

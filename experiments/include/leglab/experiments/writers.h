@@ -40,4 +40,12 @@ std::vector<std::string> TrackOutputPrefixes();
 /// Returns the Markdown tables.
 std::string WriteTrackOutputs(const TrackResult& result, const Table2& table, const OutputDir& out);
 
+/// One mode's part of WriteTrackOutputs: trace_<mode>.csv, foot_<mode>.csv and, unless it is
+/// feed-forward, <mode>_learning.csv.
+void WriteModeOutputs(const ModeRun& run, const TrackResult& result, const OutputDir& out);
+
+/// The rest of WriteTrackOutputs: table2.json, table2.md and each search's CSV. Returns the
+/// Markdown tables.
+std::string WriteTrackTables(const TrackResult& result, const Table2& table, const OutputDir& out);
+
 }  // namespace leglab::experiments

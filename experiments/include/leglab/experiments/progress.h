@@ -1,0 +1,52 @@
+#pragma once
+
+#include <condition_variable>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace leglab::experiments {
+
+/// How a program shows its progress on stderr (stdout carries only the tables).
+enum class ProgressStyle {
+  kOff,    ///< nothing (--quiet, or stderr is not a terminal and --progress was not given)
+  kBar,    ///< a bar with the share done and an estimate of the time left, redrawn in place
+  kLines,  ///< a plain line every 2 s (--progress: for logs and CI)
+};
+
+/// Adds `ticks` simulated ticks to this process's progress count. Thread-safe and cheap; the
+/// run loops call it once per step or cycle. The count is a side channel for the display
+/// only: no result depends on it (which is why it may be process-wide).
+void CountProgressTicks(long ticks);
+
+/// Names what the program does now, e.g. "writing trace_direct.csv"; shown beside the share.
+void SetProgressPhase(const std::string& phase);
+
+/// Marks the work done: the display stops drawing and clears its bar, so that the tables
+/// printed next stand alone on a terminal.
+void FinishProgress();
+
+/// Shows progress on stderr while it lives, from a thread of its own: the ticks counted by
+/// CountProgressTicks against `planned_ticks` (an upper bound), the time left extrapolated from
+/// the rate so far, and the phase. With kLines a line appears at the start and then at least
+/// every 2 s, so a run is never silent for long, whatever it does.
+class ProgressDisplay {
+ public:
+  ProgressDisplay(std::string program, ProgressStyle style, long long planned_ticks);
+  ~ProgressDisplay();
+  ProgressDisplay(const ProgressDisplay&) = delete;
+  ProgressDisplay& operator=(const ProgressDisplay&) = delete;
+
+ private:
+  void Loop();
+
+  std::string program_;
+  ProgressStyle style_;
+  long long planned_ticks_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace leglab::experiments

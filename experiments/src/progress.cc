@@ -1,0 +1,116 @@
+#include "leglab/experiments/progress.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace leglab::experiments {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The side channel between the run loops and the display (see CountProgressTicks). Never
+// destroyed: the display thread may read it while the process exits.
+struct ProgressState {
+  std::atomic<long long> ticks{0};
+  std::atomic<bool> finished{false};
+  std::mutex mutex;  // guards phase, and stderr against the display's redraws
+  std::string phase = "starting";
+  bool bar_drawn = false;
+};
+
+ProgressState& State() {
+  static auto* state = new ProgressState;
+  return *state;
+}
+
+std::string Duration(double seconds) {
+  const long s = std::lround(seconds);
+  char buffer[48];
+  if (s >= 3600) {
+    std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, s / 60 % 60);
+  } else if (s >= 60) {
+    std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%lds", s);
+  }
+  return buffer;
+}
+
+// Clears a drawn bar; the caller holds State().mutex.
+void ClearBar() {
+  if (!State().bar_drawn) return;
+  std::fputs("\r\033[K", stderr);
+  std::fflush(stderr);
+  State().bar_drawn = false;
+}
+
+}  // namespace
+
+void CountProgressTicks(long ticks) { State().ticks.fetch_add(ticks, std::memory_order_relaxed); }
+
+void SetProgressPhase(const std::string& phase) {
+  const std::lock_guard<std::mutex> lock(State().mutex);
+  State().phase = phase;
+}
+
+void FinishProgress() {
+  const std::lock_guard<std::mutex> lock(State().mutex);
+  State().finished = true;
+  ClearBar();
+}
+
+ProgressDisplay::ProgressDisplay(std::string program, ProgressStyle style, long long planned_ticks)
+    : program_(std::move(program)), style_(style), planned_ticks_(std::max(1LL, planned_ticks)) {
+  if (style_ != ProgressStyle::kOff) thread_ = std::thread([this] { Loop(); });
+}
+
+ProgressDisplay::~ProgressDisplay() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  const std::lock_guard<std::mutex> lock(State().mutex);
+  ClearBar();
+}
+
+void ProgressDisplay::Loop() {
+  const Clock::time_point start = Clock::now();
+  const auto period = style_ == ProgressStyle::kBar ? std::chrono::milliseconds(250)
+                                                    : std::chrono::milliseconds(2000);
+  std::unique_lock<std::mutex> wait_lock(mutex_);
+  for (;;) {
+    {
+      const std::lock_guard<std::mutex> lock(State().mutex);
+      if (State().finished) return;
+      const long long done = std::min(State().ticks.load(), planned_ticks_);
+      const double share = static_cast<double>(done) / static_cast<double>(planned_ticks_);
+      const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+      const std::string left = done > 0 && elapsed > 1.0
+                                   ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
+                                   : "estimating the time left";
+      char line[256];
+      if (style_ == ProgressStyle::kBar) {
+        constexpr int kWidth = 30;
+        const int filled = static_cast<int>(share * kWidth);
+        const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, '.');
+        std::snprintf(line, sizeof line, "\r\033[K%s [%s] %3.0f%% %s, %s", program_.c_str(),
+                      bar.c_str(), 100.0 * share, left.c_str(), State().phase.c_str());
+        State().bar_drawn = true;
+      } else {
+        std::snprintf(line, sizeof line, "%s: %.0f%% of %lld ticks after %s, %s (%s)\n",
+                      program_.c_str(), 100.0 * share, planned_ticks_, Duration(elapsed).c_str(),
+                      left.c_str(), State().phase.c_str());
+      }
+      std::fputs(line, stderr);
+      std::fflush(stderr);
+    }
+    if (wake_.wait_for(wait_lock, period, [this] { return stop_; })) return;
+  }
+}
+
+}  // namespace leglab::experiments
