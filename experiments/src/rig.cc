@@ -264,6 +264,22 @@ double TrackingFootL2Cm(Plant& plant, JointController& controller, const Desired
   return MeanAndStd(per_step).mean;
 }
 
+std::vector<Eigen::Vector3d> TrackingFootPathMm(Plant& plant, JointController& controller,
+                                                const DesiredCycle& desired,
+                                                const LegGeometry& geometry, int warmup_steps,
+                                                int steps) {
+  const long first_recorded = warmup_steps * static_cast<long>(desired.size());
+  std::vector<Eigen::Vector3d> path;
+  path.reserve(static_cast<size_t>(steps) * desired.size());
+  TrackingLoop(
+      plant, controller, desired, warmup_steps, steps, {},
+      [&](long t, const PlantReading& reading) {
+        if (t >= first_recorded) path.push_back(FootMm(geometry, reading.measured_deg));
+      },
+      [](long /*step*/) {});
+  return path;
+}
+
 std::vector<double> FootErrorsCm(const TrackingRun& run, const DesiredMotion& desired,
                                  const LegGeometry& geometry) {
   const size_t period = desired.foot_mm.size();

@@ -11,16 +11,14 @@
 namespace leglab::experiments {
 namespace {
 
-ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec,
-                int extra_steps = 0) {
+ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
   const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   ModeRun run{spec, {}, {}, 0};
   run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
-                        config.track.steps + extra_steps, config.plant_changes);
+                        config.track.steps, config.plant_changes);
   run.foot_error_cm = FootErrorsCm(run.run, r.desired, r.robot.geometry);
-  run.ticks =
-      static_cast<long>(config.track.warmup_steps + config.track.steps + extra_steps) * r.period;
+  run.ticks = static_cast<long>(config.track.warmup_steps + config.track.steps) * r.period;
   return run;
 }
 
@@ -51,22 +49,28 @@ std::vector<double> ScoreFromLeadZeroRun(const ExperimentConfig& config, TrackRe
   const auto base = std::find_if(search.candidates.begin(), search.candidates.end(),
                                  [](const ControllerSpec& c) { return RequestLeadTicks(c) == 0; });
   assert(base != search.candidates.end() && "a lead-searched mode has a lead-0 candidate");
-  const ModeRun run = RunMode(config, r, *base, 1);
-  r.plant_ticks += run.ticks;
-  std::vector<Eigen::Vector3d> foot_mm(run.run.measured_deg.size());
-  for (size_t t = 0; t < foot_mm.size(); ++t) {
-    foot_mm[t] = FootMm(r.robot.geometry, run.run.measured_deg[t]);
-  }
-  const auto recorded = static_cast<size_t>(r.steps) * r.period;
+  const std::unique_ptr<JointController> controller = MakeController(*base, r.context);
+  const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
+  const std::vector<Eigen::Vector3d> foot_mm =
+      TrackingFootPathMm(*plant, *controller, r.context.desired, r.robot.geometry,
+                         config.track.warmup_steps, config.track.steps + 1);
+  r.plant_ticks += static_cast<long>(config.track.warmup_steps + config.track.steps + 1) * r.period;
+  // Each candidate's mean over steps of the per-step RMS foot error, summed in the order
+  // FootErrorsCm then MeanFootL2Cm would (the same bits as scoring a kept run's shifted copy).
   std::vector<double> scores;
-  std::vector<double> errors(recorded);
+  std::vector<double> step_errors(r.period);
+  std::vector<double> per_step(r.steps);
   for (const ControllerSpec& candidate : search.candidates) {
     const int lead = *RequestLeadTicks(candidate);
     assert(lead >= 0 && lead <= r.period && "a lead fits in the extra step");
-    for (size_t t = 0; t < recorded; ++t) {
-      errors[t] = (foot_mm[t + lead] - r.desired.foot_mm[t % r.period]).norm() / 10.0;
+    for (int s = 0; s < r.steps; ++s) {
+      for (int tick = 0; tick < r.period; ++tick) {
+        const size_t t = static_cast<size_t>(s) * r.period + tick;
+        step_errors[tick] = (foot_mm[t + lead] - r.desired.foot_mm[tick]).norm() / 10.0;
+      }
+      per_step[s] = Rms(step_errors);
     }
-    scores.push_back(MeanFootL2Cm(errors, r.period));
+    scores.push_back(MeanAndStd(per_step).mean);
   }
   return scores;
 }

@@ -91,6 +91,13 @@ double TrackingFootL2Cm(Plant& plant, JointController& controller, const Desired
                         const LegGeometry& geometry, int warmup_steps, int steps,
                         std::span<const PlantChange> changes = {});
 
+/// The measured foot path (body frame, mm, by forward kinematics) over the measured steps of
+/// what RunTracking would run, without keeping the run: steps x period points.
+std::vector<Eigen::Vector3d> TrackingFootPathMm(Plant& plant, JointController& controller,
+                                                const DesiredCycle& desired,
+                                                const LegGeometry& geometry, int warmup_steps,
+                                                int steps);
+
 /// Foot position (body frame, mm) for joint angles in degrees.
 Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg);
 
