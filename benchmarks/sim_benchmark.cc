@@ -13,6 +13,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "rounds_flag.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -151,17 +153,7 @@ void ReportSideBySideRatio(int rounds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int rounds = 41;
-  // Take --rounds=N out before Google Benchmark sees the arguments.
-  int kept = 1;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--rounds=", 9) == 0) {
-      rounds = std::max(1, std::atoi(argv[i] + 9));
-    } else {
-      argv[kept++] = argv[i];
-    }
-  }
-  argc = kept;
+  const int rounds = leglab::benchmarks::TakeRoundsFlag(argc, argv, 41);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
     return 1;

@@ -14,6 +14,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "rounds_flag.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -146,16 +148,7 @@ void ReportSideBySide(int rounds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int rounds = 5;
-  int kept = 1;  // take --rounds=N out before Google Benchmark sees the arguments
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--rounds=", 9) == 0) {
-      rounds = std::max(1, std::atoi(argv[i] + 9));
-    } else {
-      argv[kept++] = argv[i];
-    }
-  }
-  argc = kept;
+  const int rounds = leglab::benchmarks::TakeRoundsFlag(argc, argv, 5);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
