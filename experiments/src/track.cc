@@ -11,14 +11,18 @@
 namespace leglab::experiments {
 namespace {
 
+// Plant ticks of one run: warm-up and measured steps.
+long RunTicks(const ExperimentConfig& config, int period) {
+  return static_cast<long>(config.track.warmup_steps + config.track.steps) * period;
+}
+
 ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
   const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
-  ModeRun run{spec, {}, {}, 0};
+  ModeRun run{spec, {}, {}};
   run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
                         config.track.steps, config.plant_changes);
   run.foot_error_cm = FootErrorsCm(run.run, r.desired, r.robot.geometry);
-  run.ticks = static_cast<long>(config.track.warmup_steps + config.track.steps) * r.period;
   return run;
 }
 
@@ -36,8 +40,7 @@ std::vector<double> ScoreEveryCandidate(const ExperimentConfig& config, TrackRes
   std::vector<double> scores(search.candidates.size());
   ParallelFor(static_cast<int>(search.candidates.size()), config.threads,
               [&](int k) { scores[k] = ScoreMode(config, r, search.candidates[k]); });
-  r.plant_ticks += static_cast<long>(search.candidates.size()) *
-                   (config.track.warmup_steps + config.track.steps) * r.period;
+  r.plant_ticks += static_cast<long>(search.candidates.size()) * RunTicks(config, r.period);
   return scores;
 }
 
@@ -54,23 +57,17 @@ std::vector<double> ScoreFromLeadZeroRun(const ExperimentConfig& config, TrackRe
   const std::vector<Eigen::Vector3d> foot_mm =
       TrackingFootPathMm(*plant, *controller, r.context.desired, r.robot.geometry,
                          config.track.warmup_steps, config.track.steps + 1);
-  r.plant_ticks += static_cast<long>(config.track.warmup_steps + config.track.steps + 1) * r.period;
-  // Each candidate's mean over steps of the per-step RMS foot error, summed in the order
-  // FootErrorsCm then MeanFootL2Cm would (the same bits as scoring a kept run's shifted copy).
+  r.plant_ticks += RunTicks(config, r.period) + r.period;
+  const auto recorded = static_cast<size_t>(r.steps) * r.period;
   std::vector<double> scores;
-  std::vector<double> step_errors(r.period);
-  std::vector<double> per_step(r.steps);
+  std::vector<double> errors(recorded);
   for (const ControllerSpec& candidate : search.candidates) {
     const int lead = *RequestLeadTicks(candidate);
     assert(lead >= 0 && lead <= r.period && "a lead fits in the extra step");
-    for (int s = 0; s < r.steps; ++s) {
-      for (int tick = 0; tick < r.period; ++tick) {
-        const size_t t = static_cast<size_t>(s) * r.period + tick;
-        step_errors[tick] = (foot_mm[t + lead] - r.desired.foot_mm[tick]).norm() / 10.0;
-      }
-      per_step[s] = Rms(step_errors);
+    for (size_t t = 0; t < recorded; ++t) {
+      errors[t] = (foot_mm[t + lead] - r.desired.foot_mm[t % r.period]).norm() / 10.0;
     }
-    scores.push_back(MeanAndStd(per_step).mean);
+    scores.push_back(MeanFootL2Cm(errors, r.period));
   }
   return scores;
 }
@@ -139,7 +136,7 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   for (const ControllerSpec& spec : config.controllers) {
     // Each run to the sink when there is one, so that only one is held at a time.
     auto keep = [&](ModeRun run) {
-      r.plant_ticks += run.ticks;
+      r.plant_ticks += RunTicks(config, r.period);
       sink ? sink(r, std::move(run)) : r.runs.push_back(std::move(run));
     };
     if (config.track.search_shift == ShiftSearch::kNone || !ModeOf(spec).searchable) {

@@ -16,7 +16,6 @@ struct ModeRun {
   ControllerSpec spec;  ///< the options used (a searched mode's best candidate)
   TrackingRun run;
   std::vector<double> foot_error_cm;  ///< per recorded tick
-  long ticks = 0;                     ///< plant ticks the run took (warm-up included)
 };
 
 /// A searched mode's candidates (SearchCandidates, e.g. time_shift's k = 0..T-1), each with its
