@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "leglab/experiments/config.h"
+#include "leglab/experiments/output.h"
 #include "leglab/experiments/sweep.h"
 
 namespace {
@@ -17,14 +18,8 @@ namespace {
 using namespace leglab::experiments;
 namespace fs = std::filesystem;
 
-// --out must be a folder or a path where one can be made; checked before any point runs.
-void CheckOutDir(const std::string& out) {
-  if (out.empty()) throw InputError("--out: empty path");
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
-    throw InputError("--out '" + out + "' exists and is not a folder");
-  }
-}
+// --out checked as every program checks it, before any point runs.
+void CheckOutDir(const std::string& out) { CheckOutFolder(out, {"sweep."}); }
 
 int Run(int argc, char** argv) {
   CLI::App app(

@@ -62,36 +62,43 @@ bool ExchangePaths(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
-OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes)
-    : final_dir_(std::move(final_dir)), owned_prefixes_(std::move(owned_prefixes)) {
-  const fs::path given = final_dir_;
-  if (final_dir_.empty()) throw InputError("--out must name a folder, got an empty path");
+fs::path CheckOutFolder(const fs::path& out, const std::vector<std::string>& owned_prefixes) {
+  if (out.empty()) throw InputError("--out must name a folder, got an empty path");
   std::error_code ec;
+  fs::path folder = out;
   // A link to a folder: the folder is what gets replaced, the link stays.
-  if (fs::is_symlink(final_dir_, ec)) final_dir_ = fs::weakly_canonical(final_dir_, ec);
-  final_dir_ = fs::absolute(final_dir_).lexically_normal();
-  if (!final_dir_.has_filename()) final_dir_ = final_dir_.parent_path();
-  if (final_dir_ == final_dir_.root_path()) BadOut(given, "is the root folder");
-  if (fs::exists(final_dir_, ec)) {
-    if (!fs::is_directory(final_dir_, ec)) BadOut(given, "exists and is not a folder");
-    for (const auto& entry : fs::directory_iterator(final_dir_, ec)) {
+  if (fs::is_symlink(folder, ec)) folder = fs::weakly_canonical(folder, ec);
+  folder = fs::absolute(folder).lexically_normal();
+  if (!folder.has_filename()) folder = folder.parent_path();
+  if (folder == folder.root_path()) BadOut(out, "is the root folder");
+  if (fs::exists(folder, ec)) {
+    if (!fs::is_directory(folder, ec)) BadOut(out, "exists and is not a folder");
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
       const std::string name = entry.path().filename().string();
-      if (Owned(owned_prefixes_, name) && !entry.is_regular_file()) {
-        BadOut(given, "holds '" + name + "', which is not a file, where this program writes one");
+      if (Owned(owned_prefixes, name) && !entry.is_regular_file()) {
+        BadOut(out, "holds '" + name + "', which is not a file, where this program writes one");
       }
     }
-    if (ec) BadOut(given, "cannot be read: " + ec.message());
+    if (ec) BadOut(out, "cannot be read: " + ec.message());
   }
   // The nearest folder that exists is where the first new folder will be created.
-  fs::path existing = final_dir_.parent_path();
+  fs::path existing = folder.parent_path();
   while (!fs::exists(existing, ec) && existing != existing.root_path()) {
     existing = existing.parent_path();
   }
   if (!fs::is_directory(existing, ec))
-    BadOut(given, "lies under '" + existing.string() + "', a file");
+    BadOut(out, "lies under '" + existing.string() + "', a file");
   if (::access(existing.c_str(), W_OK | X_OK) != 0) {
-    BadOut(given, "cannot be written: no write permission in '" + existing.string() + "'");
+    BadOut(out, "cannot be written: no write permission in '" + existing.string() + "'");
   }
+  return folder;
+}
+
+OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes)
+    : final_dir_(std::move(final_dir)), owned_prefixes_(std::move(owned_prefixes)) {
+  const fs::path given = final_dir_;
+  final_dir_ = CheckOutFolder(given, owned_prefixes_);
+  std::error_code ec;
   // Beside --out a commit is a rename; with no parent yet, stage where creating leaves no trace.
   const fs::path parent = final_dir_.parent_path();
   const fs::path where = fs::is_directory(parent, ec) ? parent : fs::temp_directory_path();

@@ -59,6 +59,12 @@ class OutputDir {
 /// thread starts (threads inherit the blocked signals).
 void InstallInterruptCleanup(const std::string& program);
 
+/// Checks `out` (--out) before a run: a folder, or a path where one can be made, that is not
+/// the root, holds no non-file named like an `owned_prefixes` output, and can be written.
+/// Returns it absolute and normalised. Throws InputError "--out '<out>' ..." otherwise.
+std::filesystem::path CheckOutFolder(const std::filesystem::path& out,
+                                     const std::vector<std::string>& owned_prefixes);
+
 /// Writes `text` to `path`; throws OutputError naming the file if it cannot.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text);
 
