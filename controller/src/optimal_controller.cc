@@ -9,7 +9,9 @@
 
 namespace leglab {
 
-DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
+namespace {
+
+DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context) {
   const auto period = static_cast<int>(context.desired.size());
   const DesiredCycle start = ModelBasedRequestCycle(context, CmMethod::kExact);
   DesiredCycle requests(period);
@@ -26,6 +28,14 @@ DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
     for (int t = 0; t < period; ++t) requests[t][j] = best.requests_deg[t];
   }
   return requests;
+}
+
+}  // namespace
+
+DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
+  if (context.offline_cycles == nullptr) return ComputeOptimalRequestCycle(context);
+  return context.offline_cycles->GetOrCompute(
+      "optimal", context, [&context] { return ComputeOptimalRequestCycle(context); });
 }
 
 OptimalController::OptimalController(const Spec& /*spec*/, const ControllerContext& context) {

@@ -149,32 +149,46 @@ class PeriodicModel {
   }
 
   // d M_ss / d R at the steady state `angles`. With S(t) = d M(t) / d R (a row), eq. 3 gives
-  //   S(t) = alpha_t S(t-1) + (1/a) sum_i f'(x_ti) e_{t-i},  alpha_t = 1 - (1/a) sum_i f'(x_ti),
+  //   S(t) = alpha_t S(t-1) + u_t,  alpha_t = 1 - (1/a) sum_i f'(x_ti),  u_t = (1/a) sum_i
+  //   f'(x_ti) e_{t-i},
   // x_ti = R(t-i) - M(t-1). Run from S(-1) = 0 it gives S0; the periodic solution is
   // S(t) = S0(t) + (alpha_0 ... alpha_t) X, X = S(T-1) = S0(T-1) / (1 - alpha_0 ... alpha_{T-1}).
   // Written to `s` (resized to T x T). Terms (t, i) with saturated[t * a + i - l - 1] set take
   // f' = 0 (the side of a kink a step moves them to).
+  //
+  // With `normal`, also the Gauss-Newton matrix S^T S (T x T), in O(T^2 a) instead of the
+  // O(T^3) of the product. Write S = S0 + d p^T (d = decay, p = X). Then
+  //   S0^T S0 = sum_t S0(t)^T S0(t) = sum_t w_t B_t,
+  //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
+  //   w_t = 1 + alpha_{t+1}^2 w_{t+1}, w_{T-1} = 1,
+  // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
+  // the a columns and rows of u_t; and S^T S = S0^T S0 + v p^T + p v^T + (d.d) p p^T with
+  // v = S0^T d.
   void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
-                   const std::vector<char>* saturated = nullptr) const {
+                   const std::vector<char>* saturated = nullptr,
+                   Eigen::MatrixXd* normal = nullptr) const {
     const int l = params_.lag_ticks;
     const int a = params_.accel_ticks;
     const int n = period();
     s.resize(n, n);
     Eigen::VectorXd decay(n);  // alpha_0 ... alpha_t
+    Eigen::VectorXd alphas(n);
     Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n);
-    std::vector<double> slopes(a);  // f'(x_ti) / a
+    // f'(x_ti) / a, row t, column i - l - 1.
+    Eigen::MatrixXd slopes(n, a);
     double product = 1.0;
     for (int t = 0; t < n; ++t) {
       const double previous = angles[(t - 1 + n) % n];
       double slope_sum = 0.0;
       for (int i = l + 1; i <= l + a; ++i) {
         const bool forced = saturated != nullptr && (*saturated)[t * a + i - l - 1] != 0;
-        slopes[i - l - 1] = forced ? 0.0 : ResponseSlope(RequestBefore(t, i) - previous) / a;
-        slope_sum += slopes[i - l - 1];
+        slopes(t, i - l - 1) = forced ? 0.0 : ResponseSlope(RequestBefore(t, i) - previous) / a;
+        slope_sum += slopes(t, i - l - 1);
       }
       const double alpha = 1.0 - slope_sum;
+      alphas[t] = alpha;
       row *= alpha;
-      for (int i = l + 1; i <= l + a; ++i) row[IndexBefore(t, i)] += slopes[i - l - 1];
+      for (int i = l + 1; i <= l + a; ++i) row[IndexBefore(t, i)] += slopes(t, i - l - 1);
       product *= alpha;
       decay[t] = product;
       s.row(t) = row;
@@ -187,6 +201,32 @@ class PeriodicModel {
       // SteadyState takes the one through M(-1) = mean R. Each request moves it through the
       // mean, by 1/T.
       periodic_start = Eigen::RowVectorXd::Constant(n, 1.0 / n);
+    }
+    if (normal != nullptr) {
+      // s holds S0 here.
+      Eigen::MatrixXd& g = *normal;
+      g.setZero(n, n);
+      double weight = 1.0;  // w_t, from t = T-1 down
+      for (int t = n - 1; t >= 0; --t) {
+        if (t < n - 1) weight = 1.0 + alphas[t + 1] * alphas[t + 1] * weight;
+        for (int i = 0; i < a; ++i) {
+          const double ui = slopes(t, i);
+          if (ui == 0.0) continue;
+          const int ci = IndexBefore(t, i + l + 1);
+          // One half of the cross term (the other is its transpose, added below).
+          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * s.row(t - 1).transpose();
+          for (int k = 0; k < a; ++k) {
+            g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
+          }
+        }
+      }
+      const Eigen::MatrixXd half = g;
+      g += half.transpose();
+      const Eigen::VectorXd v = s.transpose() * decay;
+      const Eigen::VectorXd p = periodic_start.transpose();
+      g.noalias() += v * p.transpose();
+      g.noalias() += p * v.transpose();
+      g.noalias() += decay.squaredNorm() * (p * p.transpose());
     }
     s.noalias() += decay * periodic_start;
   }
@@ -313,8 +353,8 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   int used = 0;
   // Work space, allocated once a stage.
   Eigen::MatrixXd jacobian(n, n);
-  Eigen::MatrixXd j_free(n, n);
-  Eigen::MatrixXd normal(n, n);
+  Eigen::MatrixXd gauss_newton(n, n);  // jacobian^T jacobian
+  Eigen::MatrixXd normal(n, n);        // its rows and columns of the free requests
   Eigen::MatrixXd damped(n, n);
   Eigen::LDLT<Eigen::MatrixXd> factor(n);
   Eigen::VectorXd residual(n);
@@ -350,7 +390,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       angle_step.noalias() = jacobian * full_step;
     };
     for (int pass = 0; pass < 2; ++pass) {
-      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr);
+      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton);
       for (int t = 0; t < n; ++t) residual[t] = it.angles[t] - desired[t];
       gradient.noalias() = jacobian.transpose() * residual;
 
@@ -369,14 +409,12 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       }
       m = static_cast<int>(free.size());
       if (m == 0) break;
-      j_free.resize(n, m);
       g_free.resize(m);
-      for (int k = 0; k < m; ++k) {
-        j_free.col(k) = jacobian.col(free[k]);
-        g_free[k] = gradient[free[k]];
-      }
       normal.resize(m, m);
-      normal.noalias() = j_free.transpose() * j_free;
+      for (int k = 0; k < m; ++k) {
+        g_free[k] = gradient[free[k]];
+        for (int q = 0; q < m; ++q) normal(q, k) = gauss_newton(free[q], free[k]);
+      }
       scale = std::max(normal.diagonal().maxCoeff(), 1e-12);
       solve();
       if (!exact) break;
@@ -550,6 +588,18 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
   Eigen::MatrixXd sensitivity;
   model.Sensitivity(model.SteadyState(), sensitivity);
   return sensitivity;
+}
+
+Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
+                                        std::span<const double> requests_deg) {
+  ValidateJointModelParams(params);
+  if (requests_deg.empty()) throw std::invalid_argument("optimal requests: the cycle is empty");
+  RequireFinite(requests_deg, "requests_deg");
+  const PeriodicModel model(params, requests_deg, 0.0, false);
+  Eigen::MatrixXd sensitivity;
+  Eigen::MatrixXd normal;
+  model.Sensitivity(model.SteadyState(), sensitivity, nullptr, &normal);
+  return normal;
 }
 
 }  // namespace leglab

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "leglab/controller/optimal_controller.h"
 #include "leglab/controller/registry.h"
 #include "leglab/model/joint_model_plant.h"
 #include "test_context.h"
@@ -204,6 +205,36 @@ TEST(Controllers, ContextRejectsTooManySegments) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("controller.pwl_segments"), std::string::npos);
   }
+}
+
+TEST(Controllers, OfflineCyclesAreComputedOncePerContextAndInputs) {
+  // The optimal cycle that optimal and ilc both start from: the second request for the same
+  // inputs is served from the context's memo (also to a copy of the context), a copy with
+  // another model computes its own.
+  const ControllerContext context = PaperContext(Walkish());
+  int computed = 0;
+  auto compute = [&computed] {
+    ++computed;
+    return DesiredCycle(3, LegAngles{1.0, 2.0, 3.0});
+  };
+  const DesiredCycle first = context.offline_cycles->GetOrCompute("optimal", context, compute);
+  const ControllerContext copy = context;
+  const DesiredCycle again = copy.offline_cycles->GetOrCompute("optimal", copy, compute);
+  EXPECT_EQ(computed, 1);
+  EXPECT_EQ(again, first);
+  ControllerContext other = context;
+  other.models[1].lag_ticks += 1;
+  other.offline_cycles->GetOrCompute("optimal", other, compute);
+  EXPECT_EQ(computed, 2);
+  context.offline_cycles->GetOrCompute("another", context, compute);
+  EXPECT_EQ(computed, 3);
+  // And the real one: the same bits as computed afresh.
+  const ControllerContext walk = PaperContext(Walkish());
+  const DesiredCycle memoised = OptimalRequestCycle(walk);
+  ControllerContext fresh = walk;
+  fresh.offline_cycles = std::make_shared<OfflineCycleMemo>();
+  EXPECT_EQ(OptimalRequestCycle(fresh), memoised);
+  EXPECT_EQ(OptimalRequestCycle(walk), memoised);
 }
 
 }  // namespace

@@ -148,6 +148,26 @@ TEST(SteadyStateSensitivity, RowsSumToOneAndCausalityHolds) {
   }
 }
 
+TEST(SteadyStateNormalMatrix, IsTheProductOfTheSensitivityWithItself) {
+  // The O(T^2 a) recursion against S^T S multiplied out, on the sensitivity cases and on the
+  // corners of the recursion: a cycle shorter than l + a (a request enters a tick's sum more
+  // than once), a cycle saturated throughout (the 1/T rows), and v_max > theta_0 (negative
+  // alpha).
+  std::vector<SensitivityCase> cases = SensitivityCases();
+  cases.push_back({kPaper, {3.0, -4.0, 8.0, 1.0}});
+  cases.push_back({kPaper, {60.0, 60.0, -60.0, -60.0, 60.0, -60.0}});
+  cases.push_back({{9.0, 5.0, 1, 2}, {0.0, 3.0, 4.0, 2.0, -1.0, -2.5, -1.0, 0.5}});
+  for (const SensitivityCase& c : cases) {
+    const Eigen::MatrixXd s = SteadyStateSensitivity(c.params, c.requests);
+    const Eigen::MatrixXd product = s.transpose() * s;
+    const Eigen::MatrixXd normal = SteadyStateNormalMatrix(c.params, c.requests);
+    ASSERT_EQ(normal.rows(), product.rows());
+    ASSERT_EQ(normal.cols(), product.cols());
+    EXPECT_LT((normal - product).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + product.norm()))
+        << "T = " << c.requests.size();
+  }
+}
+
 // --- Brute force on small cycles -----------------------------------------------------------
 
 // The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
@@ -364,6 +384,7 @@ TEST(OptimizeRequests, RejectsBadInput) {
   EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
   EXPECT_THROW(SteadyStateSensitivity(kPaper, {}), std::invalid_argument);
   EXPECT_THROW(SteadyStateSensitivity({0.0, 7.0, 4, 6}, r), std::invalid_argument);
+  EXPECT_THROW(SteadyStateNormalMatrix(kPaper, {}), std::invalid_argument);
 }
 
 // --- The paper's walking cycles --------------------------------------------------------------

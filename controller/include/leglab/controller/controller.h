@@ -1,6 +1,9 @@
 #pragma once
 
 #include <array>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,6 +24,26 @@ using DesiredCycle = std::vector<LegAngles>;
 /// What every controller is built from besides its own options: what to follow, each joint's
 /// model and limits, and each joint's slope-limited piecewise-linear approximation of the
 /// desired cycle (fitted once per run, by MakeControllerContext).
+struct ControllerContext;
+
+/// Request cycles computed offline from a context, kept so that the modes that start from the
+/// same one (optimal, and ilc started from it) compute it once a run. Shared by the copies of
+/// a context and thread-safe (modes run in parallel); an entry is reused only for the very
+/// inputs it was computed from (desired cycle, models and limits, compared exactly), so a copy
+/// of the context with another model computes its own.
+class OfflineCycleMemo {
+ public:
+  /// The cycle named `name` for `context`: the one computed earlier for the same inputs, else
+  /// `compute()` (run once, under the memo's lock).
+  DesiredCycle GetOrCompute(const char* name, const ControllerContext& context,
+                            const std::function<DesiredCycle()>& compute);
+
+ private:
+  struct Entry;
+  std::mutex mutex_;
+  std::vector<std::shared_ptr<const Entry>> entries_;
+};
+
 struct ControllerContext {
   DesiredCycle desired;                                    ///< deg, one step
   std::array<JointModelParams, kLegJoints> models;         ///< identified or given
@@ -28,6 +51,8 @@ struct ControllerContext {
   std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
   /// Steps the experiment runs before it measures (learning modes may treat them apart).
   int warmup_steps = 0;
+  /// Offline request cycles already computed for this run (see OfflineCycleMemo).
+  std::shared_ptr<OfflineCycleMemo> offline_cycles = std::make_shared<OfflineCycleMemo>();
 };
 
 /// Builds the context: fits each joint's approximation with `pwl_segments` segments and its

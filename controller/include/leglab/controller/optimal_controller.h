@@ -35,7 +35,8 @@ class OptimalController final : public JointController {
 };
 
 /// The optimal request cycle of every joint for `context` (what OptimalController requests),
-/// requests[t][j]. Shared with the learning modes that start from it.
+/// requests[t][j]. Shared with the learning modes that start from it: computed once per
+/// context (its offline_cycles memo) for the same desired cycle, models and limits.
 DesiredCycle OptimalRequestCycle(const ControllerContext& context);
 
 }  // namespace leglab

@@ -11,6 +11,8 @@ namespace leglab {
 struct JointLimits {
   double lower_rad = 0.0;
   double upper_rad = 0.0;
+
+  friend bool operator==(const JointLimits&, const JointLimits&) = default;
 };
 
 /// Geometry of one three-joint leg (rotator, abductor, knee), all vectors in the body frame at

@@ -95,4 +95,12 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
 Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
                                        std::span<const double> requests_deg);
 
+/// S^T S for S = SteadyStateSensitivity(params, requests_deg): the Gauss-Newton matrix
+/// OptimizeRequests factors at every linearisation, computed from the recursion that defines S
+/// in O(T^2 a) operations instead of the product's O(T^3) (see the derivation at
+/// PeriodicModel::Sensitivity in optimal_requests.cc). Equal to the product up to rounding.
+/// Throws as SteadyStateSensitivity.
+Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
+                                        std::span<const double> requests_deg);
+
 }  // namespace leglab
