@@ -39,6 +39,7 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
   reader.Read("freeze_after_warmup", spec.freeze_after_warmup);
   reader.Read("filter_ticks", spec.filter_ticks);
   reader.Read("solver_iterations", spec.solver_iterations);
+  reader.Read("solver_tolerance_deg", spec.solver_tolerance_deg);
   if (!(spec.gain > 0.0 && spec.gain <= 1.0)) reader.Fail("gain", "in (0, 1]");
   if (spec.start != "optimal" && spec.start != "model_based") {
     reader.Fail("start", "optimal or model_based, got '" + spec.start + "'");
@@ -47,6 +48,9 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
     reader.Fail("filter_ticks", "an odd number >= 1");
   }
   if (spec.solver_iterations < 1) reader.Fail("solver_iterations", "at least 1");
+  if (!(spec.solver_tolerance_deg >= 0.0 && spec.solver_tolerance_deg <= 1.0)) {
+    reader.Fail("solver_tolerance_deg", "in [0, 1] deg");
+  }
   return spec;
 }
 
@@ -57,6 +61,7 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
   }
   if (!(spec_.gain > 0.0 && spec_.gain <= 1.0) || spec_.filter_ticks < 1 ||
       spec_.filter_ticks % 2 == 0 || spec_.solver_iterations < 1 ||
+      !(spec_.solver_tolerance_deg >= 0.0 && spec_.solver_tolerance_deg <= 1.0) ||
       (spec_.start != "optimal" && spec_.start != "model_based")) {
     throw std::invalid_argument("ilc: invalid options");
   }
@@ -113,6 +118,7 @@ void IlcController::EndOfStep(long step) {
     options.lower_deg = RadToDeg(context_.limits[j].lower_rad);
     options.upper_deg = RadToDeg(context_.limits[j].upper_rad);
     options.max_iterations = spec_.solver_iterations;
+    options.tolerance_deg = spec_.solver_tolerance_deg;
     options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
     OptimalRequests next;
     try {

@@ -29,7 +29,15 @@ namespace leglab {
 ///  - Robustness filter (`ilc.filter_ticks`, odd, 1 = off): a zero-phase cyclic moving average
 ///    of the mismatch before it enters d, the standard Q-filter that keeps noise and unmodelled
 ///    high-frequency dynamics from being learned (Bristow, Tharayil and Alleyne 2006, sec. 4).
-///  - Effort (`ilc.solver_iterations`): the solver's sensitivity evaluations per update.
+///  - Effort (`ilc.solver_iterations`, `ilc.solver_tolerance_deg`): each update's solve stops
+///    after that many sensitivity evaluations, or once a step lowers the model's RMS error by
+///    less than the tolerance. Solving each step's problem to the last digit buys nothing: the
+///    next step's measurement moves the target by the sensor noise (0.1 deg) anyway. At 1e-4 deg
+///    (the default) the learned error over seeds 1-5 on the shipped walk is that of 1e-9 (joint
+///    L2 0.747 / 0.158 / 3.098 deg against 0.759 / 0.169 / 3.086, spreads 0.01; foot L2
+///    0.294 +- 0.005 against 0.293 +- 0.003 cm) for 0.35x the solver's work. (At 1e-3 an
+///    exact model's ILC ends 0.012 deg above the offline optimum on the knee of the tests'
+///    fast cycle, which IlcController.ReachesTheFloorOnTheModelPlant does not allow.)
 /// It learns during the warm-up steps and keeps learning while measured unless
 /// `ilc.freeze_after_warmup`. Requests are always finite and within the limits; a non-finite
 /// measurement or a failed solve leaves the cycle as it was.
@@ -37,11 +45,12 @@ class IlcController final : public JointController {
  public:
   /// The `ilc.*` keys.
   struct Spec {
-    double gain = 0.5;                 ///< ilc.gain, in (0, 1]
-    std::string start = "optimal";     ///< ilc.start: optimal or model_based
-    bool freeze_after_warmup = false;  ///< ilc.freeze_after_warmup
-    int filter_ticks = 7;              ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
-    int solver_iterations = 30;        ///< ilc.solver_iterations: >= 1
+    double gain = 0.5;                   ///< ilc.gain, in (0, 1]
+    std::string start = "optimal";       ///< ilc.start: optimal or model_based
+    bool freeze_after_warmup = false;    ///< ilc.freeze_after_warmup
+    int filter_ticks = 7;                ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
+    int solver_iterations = 30;          ///< ilc.solver_iterations: >= 1
+    double solver_tolerance_deg = 1e-4;  ///< ilc.solver_tolerance_deg: in [0, 1]
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "ilc";
