@@ -162,7 +162,9 @@ Evaluation Evaluate(const ExperimentConfig& base, const Walk& walk,
 }
 
 // The fit's box, scaled to [0, 1] per unknown.
-double ToUnit(int i, double v) { return (v - kUnknowns[i].min) / (kUnknowns[i].max - kUnknowns[i].min); }
+double ToUnit(int i, double v) {
+  return (v - kUnknowns[i].min) / (kUnknowns[i].max - kUnknowns[i].min);
+}
 double FromUnit(int i, double u) {
   return kUnknowns[i].min + std::clamp(u, 0.0, 1.0) * (kUnknowns[i].max - kUnknowns[i].min);
 }
@@ -269,8 +271,8 @@ FitResult Fit(const ExperimentConfig& base, const std::array<Target, kTargets>& 
               [&](int i) { scores[i] = Evaluate(base, grid[i], targets); });
   FitResult fit;
   fit.evaluations = static_cast<long>(grid.size());
-  fit.feasible_evaluations = std::count_if(scores.begin(), scores.end(),
-                                           [](const Evaluation& e) { return e.feasible; });
+  fit.feasible_evaluations =
+      std::count_if(scores.begin(), scores.end(), [](const Evaluation& e) { return e.feasible; });
   // Polish the best grid point of each offset reading (in parallel), keep the better.
   std::vector<Walk> starts;
   for (int o = 0; o < static_cast<int>(kOffsetReadings.size()); ++o) {
@@ -315,12 +317,12 @@ std::string Fixed(double v, int digits) {
 
 int main(int argc, char** argv) {
   return RunProgram(
-      "fit_walk",
-      "Fit the walk's unknowns (issue 12) to the paper's direct-method row of Table 2", argc,
-      argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
+      "fit_walk", "Fit the walk's unknowns (issue 12) to the paper's direct-method row of Table 2",
+      argc, argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
         if (!config.track.desired_csv.empty()) {
-          throw InputError("desired.csv: fit_walk fits the half-elliptical locus; remove "
-                           "desired.csv from the config");
+          throw InputError(
+              "desired.csv: fit_walk fits the half-elliptical locus; remove "
+              "desired.csv from the config");
         }
         OutputDir out(args.out_dir, {"walk_fit."});
         // The direct mode alone, its model fixed (direct never uses it: no identification).
@@ -376,8 +378,8 @@ int main(int argc, char** argv) {
                     {"evaluations", fit.evaluations},
                     {"grid_feasible", fit.feasible_evaluations},
                     {"cost_at_fit_steps", fit.fit_evaluation.cost},
-                    {"checked_with", {{"warmup_steps", full.track.warmup_steps},
-                                      {"steps", full.track.steps}}}};
+                    {"checked_with",
+                     {{"warmup_steps", full.track.warmup_steps}, {"steps", full.track.steps}}}};
 
         std::ostringstream md;
         md << "# The walk fitted to the paper's direct-method row (fit_walk)\n\n"
@@ -385,8 +387,8 @@ int main(int argc, char** argv) {
               "and L-infinity, nothing else. Residuals from a run of "
            << full.track.warmup_steps << " + " << full.track.steps << " steps.\n\n"
            << "| unknown | range | fitted | why this range |\n|---|---|---|---|\n"
-           << "| forward / outward (mm) | 49 / 28 or 28 / 49 | " << Fixed(o.forward_mm, 0)
-           << " / " << Fixed(o.outward_mm, 0) << " | " << kOffsetWhy << " |\n";
+           << "| forward / outward (mm) | 49 / 28 or 28 / 49 | " << Fixed(o.forward_mm, 0) << " / "
+           << Fixed(o.outward_mm, 0) << " | " << kOffsetWhy << " |\n";
         for (size_t i = 0; i < kUnknowns.size(); ++i) {
           md << "| `" << kUnknowns[i].key << "` | [" << FormatDouble(kUnknowns[i].min) << ", "
              << FormatDouble(kUnknowns[i].max) << "] | " << Fixed(fit.walk.x[i], 3) << " | "
