@@ -324,6 +324,18 @@ int main(int argc, char** argv) {
               "desired.csv: fit_walk fits the half-elliptical locus; remove "
               "desired.csv from the config");
         }
+        // A --set of a fitted key would be silently replaced by the fit: refuse it.
+        for (const std::string& o : args.overrides) {
+          const std::string key = o.substr(0, o.find('='));
+          bool fitted = key == "desired" || key == "desired.locus" ||
+                        key == "desired.locus.forward_mm" || key == "desired.locus.outward_mm";
+          for (const Unknown& u : kUnknowns) fitted = fitted || key == u.key;
+          if (fitted) {
+            throw InputError("--set " + key +
+                             ": fit_walk fits this key; set it in the config of a "
+                             "track run instead");
+          }
+        }
         OutputDir out(args.out_dir, {"walk_fit."});
         // The direct mode alone, its model fixed (direct never uses it: no identification).
         std::vector<std::string> overrides = args.overrides;

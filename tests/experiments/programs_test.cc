@@ -161,6 +161,9 @@ TEST_F(ProgramsTest, FitWalkRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kFitWalk, good + " --set desired.locus.body_pitch_deg=.nan",
                  "desired.locus.body_pitch_deg");
   ExpectBadInput(kFitWalk, good + " --set desired.locus.lenght_mm=40", "desired.locus.lenght_mm");
+  // A key the fit sets would be silently replaced: refused, naming it.
+  ExpectBadInput(kFitWalk, good + " --set desired.locus.ground_fraction=0.6",
+                 "--set desired.locus.ground_fraction: fit_walk fits this key");
   ExpectBadInput(kFitWalk, good + " --set desired.csv=" + Write("cycle.csv", DesiredCsv(88)),
                  "desired.csv");
   ExpectBadInput(kFitWalk, good + " --bogus-flag", "bogus");
