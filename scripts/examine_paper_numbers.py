@@ -9,9 +9,11 @@ URDF's axis signs (independent of leglab's C++), checked against the desired foo
 foot_direct.csv; per tick the lever of each joint (mm of foot motion per rad, the Jacobian's
 column norms) and the smallest singular value; and the foot error per unit of joint error
 (foot L2 over the joint errors' combined RMS) of the direct run, against the paper's
-(3.23 cm for 31.0 / 29.0 / 20.1 deg).
+(3.23 cm for 31.0 / 29.0 / 20.1 deg); and on every tick how many IK solutions lie inside the
+joint limits (Newton from a grid of starts: whether the IK's branch is a choice at all).
 """
 import csv
+import itertools
 import math
 import sys
 
@@ -47,6 +49,33 @@ def jacobian(q_rad, h=1e-6):
     return np.array(cols).T
 
 
+LIMITS_DEG = np.array([[-117, 117], [-11, 89], [-27, 147]])
+
+
+def ik_solutions(target, inside_limits):
+    """Every joint solution for `target` (mm), by Newton from a fixed grid of starts."""
+    found = []
+    for start in itertools.product(np.radians([-150, -90, -30, 30, 90, 150]),
+                                   np.radians([-60, 0, 45, 85, 130]),
+                                   np.radians([-60, -20, 40, 100, 140])):
+        q = np.array(start, dtype=float)
+        for _ in range(60):
+            miss = fk(q) - target
+            if np.linalg.norm(miss) < 1e-10:
+                break
+            q = q - np.linalg.lstsq(jacobian(q), miss, rcond=None)[0]
+        if np.linalg.norm(fk(q) - target) > 1e-6:
+            continue
+        q = (q + math.pi) % (2 * math.pi) - math.pi
+        if inside_limits and not all(
+                math.radians(lo) - 1e-9 <= q[j] <= math.radians(hi) + 1e-9
+                for j, (lo, hi) in enumerate(LIMITS_DEG)):
+            continue
+        if not any(np.linalg.norm(q - f) < 1e-4 for f in found):
+            found.append(q)
+    return found
+
+
 def examine(run):
     trace = list(csv.DictReader(open(f"{run}/trace_direct.csv")))
     foot = list(csv.DictReader(open(f"{run}/foot_direct.csv")))
@@ -66,6 +95,12 @@ def examine(run):
         levers.append(np.linalg.norm(jac, axis=0))
         smallest.append(np.linalg.svd(jac, compute_uv=False)[-1])
     levers = np.array(levers)
+    # The IK's branches: how many of the (up to four) solutions lie inside the joint limits.
+    branches = {}
+    for t in range(period):
+        want = 10 * np.array([float(foot[t][f"desired_{a}_cm"]) for a in "xyz"])
+        key = (len(ik_solutions(want, True)), len(ik_solutions(want, False)))
+        branches[key] = branches.get(key, 0) + 1
     # Joint errors of the direct run, every measured tick.
     err = {}
     for r in trace:
@@ -82,6 +117,8 @@ def examine(run):
               f"{np.round(desired[t_min], 1)}), mean {levers[:, j].mean():.1f}, "
               f"max {levers[:, j].max():.1f}; desired range {desired[:, j].min():.1f}.."
               f"{desired[:, j].max():.1f} deg")
+    for (inside, every), ticks in sorted(branches.items()):
+        print(f"  IK: {inside} solution(s) inside the limits, of {every}, on {ticks} ticks")
     print(f"  smallest singular value mm/rad: min {min(smallest):.1f} (tick "
           f"{int(np.argmin(smallest))}), mean {np.mean(smallest):.1f}")
     print(f"  direct: joint RMS {np.round(joint_rms, 2)} deg, combined {combined_deg:.1f} deg; "
