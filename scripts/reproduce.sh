@@ -23,6 +23,15 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
     --out "$out/hind"
   build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
 fi
+# Table 2 in the paper's regime (issue 12): the walk fitted to the paper's direct-method row
+# (walk_fit.json, walk_fit.md), then every mode on it (track_paper_regime.yaml: that walk).
+if [ -x build/bin/fit_walk ]; then
+  build/bin/fit_walk --config experiments/configs/track.yaml --out "$out/walk_fit"
+fi
+if [ -x build/bin/track ]; then
+  build/bin/track --config experiments/configs/track_paper_regime.yaml \
+    --out "$out/track_paper_regime"
+fi
 # Learning the model while walking (adaptive): from a wrong model, and through a change of
 # the plant at step 20. worn_model/: model_based with the model identified on the changed plant
 # (the change of adapt_wear.yaml made from the start), its yardstick.
@@ -36,6 +45,7 @@ fi
 if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out"
   /usr/bin/python3 scripts/plot_figures.py "$out/hind"
+  /usr/bin/python3 scripts/plot_figures.py "$out/track_paper_regime"
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_cold_start"
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_wear"
 fi

@@ -169,8 +169,11 @@ DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geo
       geometry.shoulder_mm + Eigen::Vector3d(track.locus.forward_mm,
                                              geometry.OutwardSign() * track.locus.outward_mm,
                                              -track.locus.ground_below_shoulder_mm);
+  // Outward is +y on a left leg, -y on a right one.
+  locus.skew = geometry.OutwardSign() * track.locus.shape.skew;
   DesiredMotion d;
-  d.foot_mm = HalfEllipseFootPath(locus);
+  d.foot_mm =
+      PitchFootPath(HalfEllipseFootPath(locus), geometry.shoulder_mm, track.locus.body_pitch_deg);
   try {
     for (const Eigen::Vector3d& q : JointTrajectoryDeg(geometry, d.foot_mm)) {
       d.angles_deg.push_back({q[0], q[1], q[2]});

@@ -1,5 +1,6 @@
 #include "leglab/model/trajectories.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -30,6 +31,7 @@ std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
     return "ground_fraction must be in (0, 1)";
   }
   if (!locus.centre_mm.allFinite()) return "centre_mm must be finite";
+  if (!std::isfinite(locus.skew)) return "skew must be finite";
   return {};
 }
 
@@ -51,9 +53,28 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
       offset.x() = -half * std::cos(angle);
       offset.z() = locus.height_mm * std::sin(angle);
     }
+    // A skew of 0 leaves y at +-0, so the plain locus keeps its bits.
+    offset.y() = locus.skew * offset.x();
     path[t] = locus.centre_mm + offset;
   }
   return path;
+}
+
+std::vector<Eigen::Vector3d> PitchFootPath(const std::vector<Eigen::Vector3d>& foot_path_mm,
+                                           const Eigen::Vector3d& pivot_mm, double pitch_deg) {
+  if (!(std::isfinite(pitch_deg) && std::abs(pitch_deg) <= 90.0)) {
+    throw std::invalid_argument("body pitch must be in [-90, 90] deg, got " +
+                                std::to_string(pitch_deg));
+  }
+  if (pitch_deg == 0.0) return foot_path_mm;
+  // Level-frame vectors seen from the pitched body: Ry(pitch)^T = Ry(-pitch).
+  const Eigen::Matrix3d to_body =
+      Eigen::AngleAxisd(-DegToRad(pitch_deg), Eigen::Vector3d::UnitY()).toRotationMatrix();
+  std::vector<Eigen::Vector3d> pitched;
+  pitched.reserve(foot_path_mm.size());
+  for (const Eigen::Vector3d& p : foot_path_mm)
+    pitched.push_back(pivot_mm + to_body * (p - pivot_mm));
+  return pitched;
 }
 
 std::vector<Eigen::Vector3d> JointTrajectoryDeg(const LegGeometry& geometry,

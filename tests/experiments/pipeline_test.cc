@@ -2,6 +2,7 @@
 // programs_test.cc compares the output bytes of --threads 1 and 2.)
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <optional>
 #include <span>
 #include <string>
@@ -192,6 +193,33 @@ TEST(Pipeline, PlantChangesMakeTheShiftSearchExhaustive) {
 
 // A searched candidate's score kept without its run is the score of the kept run, bit for bit,
 // on the noisy sim plant, for a feed-forward, a model-based and a learning mode.
+// desired.locus.skew and body_pitch_deg (issue 12) place the locus as worked out by hand: the
+// touch-down point (t = 0, the front end of the flat bottom, 24.465 mm ahead of the centre) in
+// the level frame at the left front shoulder (59.5, 59.2, 0) is (49 + 24.465, 28 + 0.5 *
+// 24.465, -90) mm; a body pitched 10 deg nose down sees a level (x, z) at (x cos 10 - z sin
+// 10, x sin 10 + z cos 10) (level ground below the shoulder appears ahead of it).
+TEST(Pipeline, SkewAndPitchPlaceTheLocusAsWorkedByHand) {
+  const ExperimentConfig config = LoadExperimentConfig(
+      kConfigs + "track.yaml", {"desired.locus.ground_below_shoulder_mm=90",
+                                "desired.locus.skew=0.5", "desired.locus.body_pitch_deg=10"});
+  const Robot robot = LoadRobot(config.sim.urdf_path);
+  const DesiredMotion d = LoadDesiredMotion(config.track, robot.geometry);
+  const double x = 49.0 + 24.465, y = 28.0 + 0.5 * 24.465, z = -90.0;
+  const double c = std::cos(10.0 * M_PI / 180.0), s = std::sin(10.0 * M_PI / 180.0);
+  const Eigen::Vector3d expected(59.5 + x * c - z * s, 59.2 + y, x * s + z * c);
+  EXPECT_NEAR((d.foot_mm[0] - expected).norm(), 0.0, 1e-9) << d.foot_mm[0].transpose();
+  // The same numbers: (147.477, 99.433, -75.876) mm.
+  EXPECT_NEAR(d.foot_mm[0].x(), 147.4772, 1e-3);
+  EXPECT_NEAR(d.foot_mm[0].y(), 99.4325, 1e-3);
+  EXPECT_NEAR(d.foot_mm[0].z(), -75.8756, 1e-3);
+  // Without the two keys the locus is track.yaml's, bit for bit, whatever else is set.
+  const ExperimentConfig plain = LoadExperimentConfig(kConfigs + "track.yaml");
+  const ExperimentConfig zero = LoadExperimentConfig(
+      kConfigs + "track.yaml", {"desired.locus.skew=0", "desired.locus.body_pitch_deg=0"});
+  EXPECT_EQ(LoadDesiredMotion(plain.track, robot.geometry).foot_mm,
+            LoadDesiredMotion(zero.track, robot.geometry).foot_mm);
+}
+
 TEST(Pipeline, AScoreWithoutTheRunIsTheRunsScore) {
   const ExperimentConfig config = LoadExperimentConfig(
       kConfigs + "track.yaml",

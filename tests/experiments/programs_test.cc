@@ -83,6 +83,7 @@ class ProgramsTest : public ::testing::Test {
 
 const std::string kIdentify = LEGLAB_IDENTIFY_BIN;
 const std::string kTrack = LEGLAB_TRACK_BIN;
+const std::string kFitWalk = LEGLAB_FIT_WALK_BIN;
 
 // A desired.csv of `rows` ticks (a gentle wave inside every joint limit).
 std::string DesiredCsv(int rows) {
@@ -150,6 +151,32 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   std::string limit = csv;
   limit.replace(limit.find(",5,"), 3, ",95,");  // abductor limit 89
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
+}
+
+// fit_walk (issue 12) refuses bad input like every program, before its fit starts.
+TEST_F(ProgramsTest, FitWalkRejectsBadInputWithOneLineAndStatus2) {
+  const std::string good = "--config experiments/configs/track.yaml";
+  ExpectBadInput(kFitWalk, "--config " + (dir_ / "absent.yaml").string(), "absent.yaml");
+  ExpectBadInput(kFitWalk, good + " --set desired.locus.skew=5", "desired.locus.skew");
+  ExpectBadInput(kFitWalk, good + " --set desired.locus.body_pitch_deg=.nan",
+                 "desired.locus.body_pitch_deg");
+  ExpectBadInput(kFitWalk, good + " --set desired.locus.lenght_mm=40", "desired.locus.lenght_mm");
+  // A key the fit sets would be silently replaced: refused, naming it.
+  ExpectBadInput(kFitWalk, good + " --set desired.locus.ground_fraction=0.6",
+                 "--set desired.locus.ground_fraction: fit_walk fits this key");
+  ExpectBadInput(kFitWalk, good + " --set desired.csv=" + Write("cycle.csv", DesiredCsv(88)),
+                 "desired.csv");
+  ExpectBadInput(kFitWalk, good + " --bogus-flag", "bogus");
+  ExpectBadInput(kFitWalk, "", "--config");
+  // An --out that is a file is found before the fit runs; the file is left as it was.
+  const std::string file = Write("a_file", "keep");
+  const Result r = RunCommand(kFitWalk + " " + good + " --out " + file);
+  EXPECT_EQ(r.status, 2) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find("--out"), std::string::npos) << r.stderr_text;
+  std::ifstream in(file);
+  std::string kept;
+  in >> kept;
+  EXPECT_EQ(kept, "keep");
 }
 
 // Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or

@@ -208,5 +208,63 @@ TEST_F(TrackRegression, ModelBasedHalvesTheDirectErrors) {
   EXPECT_LE(Foot("time_shift", "L2"), Foot("direct", "L2"));
 }
 
+// Table 2 in the paper's regime (issue 12): track_paper_regime.yaml, the walk fit_walk fitted
+// to the paper's direct row, with the three modes of the paper's tables, 2 warm-up and 4
+// measured steps. Pins are seed 1's; tolerances three times the spread over seeds 1-5, at least
+// 0.02 deg, 0.005 cm (foot L2) and 0.01 cm (foot L-infinity).
+class PaperRegimeRegression : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    table_.emplace(ComputeTable2(RunTrackExperiment(LoadExperimentConfig(
+        kConfigs + "track_paper_regime.yaml",
+        {"steps=4", "warmup_steps=2", "controller.modes=[direct, time_shift, model_based]"}))));
+  }
+  static void TearDownTestSuite() { table_.reset(); }
+  static std::optional<Table2> table_;
+};
+std::optional<Table2> PaperRegimeRegression::table_;
+
+TEST_F(PaperRegimeRegression, EveryMeanMatchesItsPin) {
+  const struct {
+    int joint;
+    const char* row;
+    double pin, tolerance;
+  } pins[] = {
+      {kRotator, "L2(Des,Dir)", 21.657, 0.028},   {kRotator, "Linf(Des,Dir)", 70.451, 0.218},
+      {kRotator, "L2(Des,TS)", 10.273, 0.041},    {kRotator, "L2(Des,MB)", 8.507, 0.029},
+      {kRotator, "Linf(Des,MB)", 29.133, 0.223},  {kRotator, "L2(Pwl,MB)", 1.038, 0.037},
+      {kAbductor, "L2(Des,Dir)", 16.280, 0.029},  {kAbductor, "Linf(Des,Dir)", 46.994, 0.350},
+      {kAbductor, "L2(Des,TS)", 5.733, 0.025},    {kAbductor, "L2(Des,MB)", 5.409, 0.025},
+      {kAbductor, "Linf(Des,MB)", 23.642, 0.369}, {kAbductor, "L2(Pwl,MB)", 0.940, 0.020},
+      {kKnee, "L2(Des,Dir)", 15.045, 0.040},      {kKnee, "Linf(Des,Dir)", 38.382, 0.755},
+      {kKnee, "L2(Des,TS)", 3.994, 0.045},        {kKnee, "L2(Des,MB)", 3.531, 0.050},
+      {kKnee, "Linf(Des,MB)", 11.128, 0.751},     {kKnee, "L2(Pwl,MB)", 0.883, 0.060},
+  };
+  for (const auto& p : pins) {
+    const Table2Row* row = table_->Find(p.row);
+    ASSERT_NE(row, nullptr) << p.row;
+    EXPECT_NEAR(row->joints[p.joint].mean, p.pin, p.tolerance)
+        << kLegJointNames[p.joint] << " " << p.row;
+  }
+  const struct {
+    const char* mode;
+    double l2, l2_tolerance, linf, linf_tolerance;
+  } foot[] = {
+      {"direct", 2.313, 0.005, 4.937, 0.038},
+      {"time_shift", 0.832, 0.005, 1.827, 0.033},
+      {"model_based", 0.777, 0.005, 2.237, 0.046},
+  };
+  for (const auto& f : foot) {
+    const FootRow* row = table_->FindFoot(f.mode);
+    ASSERT_NE(row, nullptr) << f.mode;
+    EXPECT_NEAR(row->l2_cm.mean, f.l2, f.l2_tolerance) << f.mode;
+    EXPECT_NEAR(row->linf_cm.mean, f.linf, f.linf_tolerance) << f.mode;
+  }
+  const FootRow* shift = table_->FindFoot("time_shift");
+  ASSERT_NE(shift, nullptr);
+  EXPECT_EQ(shift->parameters, (std::vector<std::pair<std::string_view, long>>{{"k", 12}}))
+      << "12 for every seed";
+}
+
 }  // namespace
 }  // namespace leglab::experiments

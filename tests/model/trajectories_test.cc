@@ -48,6 +48,56 @@ TEST(HalfEllipse, ShapeByHand) {
   }
 }
 
+TEST(HalfEllipse, SkewShearsTheLocusInTheGroundPlane) {
+  HalfEllipseLocus plain;
+  plain.length_mm = 40.0;
+  plain.height_mm = 30.0;
+  plain.centre_mm = {10.0, 70.0, -110.0};
+  HalfEllipseLocus skewed = plain;
+  skewed.skew = 0.5;
+  const auto a = HalfEllipseFootPath(plain);
+  const auto b = HalfEllipseFootPath(skewed);
+  ASSERT_EQ(b.size(), 88u);
+  // By hand: the front end (x offset +20) moves 0.5 * 20 = 10 mm to +y, the back end 10 mm
+  // to -y, the top of the arc (x offset 0) not at all; x and z are the plain locus's.
+  EXPECT_NEAR((b[0] - Eigen::Vector3d(30.0, 80.0, -110.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((b[44] - Eigen::Vector3d(-10.0, 60.0, -110.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((b[66] - Eigen::Vector3d(10.0, 70.0, -80.0)).norm(), 0.0, 1e-12);
+  for (size_t t = 0; t < b.size(); ++t) {
+    EXPECT_EQ(b[t].x(), a[t].x()) << t;
+    EXPECT_EQ(b[t].z(), a[t].z()) << t;
+    EXPECT_NEAR(b[t].y() - 70.0, 0.5 * (a[t].x() - 10.0), 1e-12) << t;
+  }
+  skewed.skew = std::nan("");
+  EXPECT_THROW(HalfEllipseFootPath(skewed), std::invalid_argument);
+}
+
+TEST(PitchFootPath, TurnsLevelPointsIntoThePitchedBody) {
+  const Eigen::Vector3d pivot(59.5, 59.2, 0.0);
+  const std::vector<Eigen::Vector3d> level = {pivot + Eigen::Vector3d(0.0, 0.0, -100.0),
+                                              pivot + Eigen::Vector3d(100.0, 5.0, 0.0)};
+  // Nose down 30 deg, by hand (sin 30 = 1/2, cos 30 = sqrt(3)/2): straight below the
+  // shoulder in the level frame is ahead of it and less deep in the body frame; level ground
+  // ahead rises toward the body's top; y is untouched.
+  const auto body = PitchFootPath(level, pivot, 30.0);
+  const double c = std::sqrt(3.0) / 2.0;
+  EXPECT_NEAR((body[0] - (pivot + Eigen::Vector3d(50.0, 0.0, -100.0 * c))).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((body[1] - (pivot + Eigen::Vector3d(100.0 * c, 5.0, 50.0))).norm(), 0.0, 1e-12);
+  // The cited walk: front shoulder 77 mm and rear shoulder 112 mm above level ground, 119 mm
+  // apart. The rear shoulder, 119 mm behind the front one in the body,
+  // is then 35 mm above it in the level frame (pitch asin(35 / 119), 17.1 deg); turning that
+  // level point gives it back.
+  const double pitch_deg = std::asin(35.0 / 119.0) * 180.0 / std::numbers::pi;
+  const double run = std::sqrt(119.0 * 119.0 - 35.0 * 35.0);
+  const auto rear = PitchFootPath({pivot + Eigen::Vector3d(-run, 0.0, 35.0)}, pivot, pitch_deg);
+  EXPECT_NEAR((rear[0] - (pivot + Eigen::Vector3d(-119.0, 0.0, 0.0))).norm(), 0.0, 1e-12);
+  // No pitch: the same bits.
+  const auto same = PitchFootPath(level, pivot, 0.0);
+  EXPECT_EQ(same, level);
+  EXPECT_THROW(PitchFootPath(level, pivot, 91.0), std::invalid_argument);
+  EXPECT_THROW(PitchFootPath(level, pivot, std::nan("")), std::invalid_argument);
+}
+
 TEST(HalfEllipse, RejectsBadParameters) {
   HalfEllipseLocus locus;
   locus.ground_fraction = 1.0;

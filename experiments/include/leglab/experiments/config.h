@@ -71,10 +71,19 @@ struct IdentifyConfig {
 /// with the cited walk's defaults) and where it sits relative to the leg's shoulder. These
 /// are the only defaults of the locus, equal to the shipped track.yaml.
 struct LocusConfig {
-  HalfEllipseLocus shape;    ///< length_mm, height_mm, ground_fraction (centre and period unused)
-  double forward_mm = 49.0;  ///< centre of the flat bottom ahead of the shoulder
-  double outward_mm = 28.0;  ///< ... outward of the shoulder (away from the body)
+  /// length_mm, height_mm, ground_fraction, skew (outward mm per mm forward of the locus's
+  /// centre; centre and period unused)
+  HalfEllipseLocus shape;
+  double forward_mm = 49.0;                 ///< centre of the flat bottom ahead of the shoulder
+  double outward_mm = 28.0;                 ///< ... outward of the shoulder (away from the body)
   double ground_below_shoulder_mm = 100.0;  ///< ... below the shoulder
+  /// `body_pitch_deg`: the body's pitch, positive nose down (the cited walk's front and rear
+  /// body heights, 77 and 112 mm at shoulders 119 mm apart: asin(35 / 119) = 17.1 deg). The
+  /// three offsets above are then
+  /// measured in the level ground frame at the shoulder (forward along the ground, below
+  /// perpendicular to it) and the placed locus is turned into the body frame about the
+  /// shoulder (PitchFootPath). 0 (the default): the body is level.
+  double body_pitch_deg = 0.0;
 };
 
 /// `track.search_shift`: how a searched mode (time_shift) finds its best candidate.

@@ -24,6 +24,10 @@ struct HalfEllipseLocus {
   double ground_fraction = 0.5;              ///< fraction of the step on the ground, in (0, 1)
   Eigen::Vector3d centre_mm{0.0, 0.0, 0.0};  ///< middle of the flat bottom, body frame
   int t_step_ticks = kStepTicks;             ///< ticks per step
+  /// Skew of the locus in the ground plane: every point's y offset from the centre is `skew`
+  /// times its x offset (mm per mm; 0 = the plain half-ellipse; the cited walk's "locus skew
+  /// multiplier", 0.035). A shear: lengths along x stay the same.
+  double skew = 0.0;
 };
 
 /// Empty when the locus is valid; otherwise what is wrong, naming the field
@@ -33,6 +37,17 @@ std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus);
 /// One step of foot positions (body frame, mm), t = 0..t_step-1; t = 0 is the front end of the
 /// flat bottom (touch-down). Throws std::invalid_argument naming a bad locus parameter.
 std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus);
+
+/// `foot_path_mm` turned into the frame of a body pitched by `pitch_deg` (positive: nose down,
+/// the front lower than the rear) about the body's y axis through `pivot_mm`: each point p,
+/// placed in a level frame whose origin is `pivot_mm`, becomes pivot + Ry(-pitch) (p - pivot)
+/// in the body frame (Ry: the right-handed turn about +y). E.g. with pitch 30 deg a point 100
+/// mm straight below the pivot in the level frame lies at (+50, 0, -86.6) mm from it in the
+/// body frame: what is below a nose-down body is ahead of its shoulder. Pitch 0 returns the
+/// path unchanged (bit for bit). Throws std::invalid_argument unless pitch is finite and in
+/// [-90, 90] deg.
+std::vector<Eigen::Vector3d> PitchFootPath(const std::vector<Eigen::Vector3d>& foot_path_mm,
+                                           const Eigen::Vector3d& pivot_mm, double pitch_deg);
 
 /// Joint angles (rows: ticks; columns: rotator, abductor, knee), degrees, that put the foot on
 /// `foot_path_mm` by closed-form inverse kinematics. Throws std::domain_error naming the tick
