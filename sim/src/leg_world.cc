@@ -258,6 +258,15 @@ void LegWorld::Impl::CollideAndJoin(double dt_s) {
     }
     contact.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
     contact.surface.mu = s.config.friction;
+    if (s.config.belt_speed_mm_per_s != 0.0) {
+      // The treadmill: friction drives the foot's contact point towards the belt's velocity
+      // (ODE's surface motion along friction direction 1, x).
+      contact.surface.mode |= dContactFDir1 | dContactMotion1;
+      contact.fdir1[0] = 1.0;
+      contact.fdir1[1] = 0.0;
+      contact.fdir1[2] = 0.0;
+      contact.surface.motion1 = -s.config.belt_speed_mm_per_s / 1000.0;
+    }
     contact.surface.soft_erp = erp;
     contact.surface.soft_cfm = cfm;
     s.geoms[i] = contact.geom;
@@ -281,7 +290,9 @@ void LegWorld::Impl::MeasureContacts(double dt_s) {
       const dContactGeom& g = s.geoms[i];
       dVector3 velocity;
       dBodyGetPointVel(foot_body, g.pos[0], g.pos[1], g.pos[2], velocity);
-      const Eigen::Vector3d v = FromOde(velocity);
+      // Relative to the belt's surface, which moves backward at the belt speed.
+      const Eigen::Vector3d v =
+          FromOde(velocity) + Eigen::Vector3d(s.config.belt_speed_mm_per_s / 1000.0, 0.0, 0.0);
       s.state.slip_mm += 1000.0 * (v - v.dot(normal) * normal).norm() * dt_s;
     }
   }

@@ -80,6 +80,9 @@ void ValidateSimConfig(const SimConfig& config) {
            stand.contact_damping_n_s_per_m);
   }
   RequirePositive("stand.foot_radius_mm", stand.foot_radius_mm);
+  if (!std::isfinite(stand.belt_speed_mm_per_s)) {
+    Reject("stand.belt_speed_mm_per_s", "finite", stand.belt_speed_mm_per_s);
+  }
   if (!std::isfinite(stand.ground_below_shoulder_mm) ||
       stand.ground_below_shoulder_mm <= stand.foot_radius_mm) {
     Reject("stand ground (desired.locus.ground_below_shoulder_mm)",

@@ -152,6 +152,24 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
 }
 
+// The test stand's values (issue 11): a negative load, negative friction or a stop above the
+// shoulder's walking height is bad input, for identify and track alike.
+TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
+  const std::string id = "--config experiments/configs/identify_stand.yaml";
+  const std::string track =
+      "--config experiments/configs/track_stand.yaml --set 'model={v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
+  for (const std::string& program : {kIdentify, kTrack}) {
+    const std::string& good = program == kIdentify ? id : track;
+    ExpectBadInput(program, good + " --set stand.load_kg=-0.1", "stand.load_kg must be in (0, 10]");
+    ExpectBadInput(program, good + " --set stand.friction=-0.5",
+                   "stand.friction must be in [0, 5]");
+    ExpectBadInput(program, good + " --set stand.stop_below_shoulder_mm=-3",
+                   "stand.stop_below_shoulder_mm must be in [0, 50] mm");
+    ExpectBadInput(program, good + " --set stand.frction=1", "stand.frction");
+  }
+}
+
 // Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or
 // produced non-finite results is refused before anything runs, naming the key as written.
 TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {

@@ -138,8 +138,8 @@ TEST(StandTest, SameConfigSameBits) {
       sim.SetRequestsDeg({10.0 * std::sin(t * 0.1), 5.0, 30.0 + 20.0 * std::sin(t * 0.07)});
       sim.Tick();
       const PlantTelemetry& m = sim.Telemetry();
-      out.insert(out.end(), {m.contact_force_n[0], m.contact_force_n[2], m.carriage_z_mm,
-                             m.slip_mm, sim.TrueDeg()[2]});
+      out.insert(out.end(), {m.contact_force_n[0], m.contact_force_n[2], m.carriage_z_mm, m.slip_mm,
+                             sim.TrueDeg()[2]});
     }
     return out;
   };
@@ -174,8 +174,9 @@ TEST(StandTest, BadStandValuesNameTheKey) {
             std::string::npos);
   EXPECT_NE(error_of([](StandConfig& s) { s.friction = -0.5; }).find("stand.friction"),
             std::string::npos);
-  EXPECT_NE(error_of([](StandConfig& s) { s.stop_below_shoulder_mm = -2.0; })
-                .find("stand.stop_below_shoulder_mm"),
+  EXPECT_NE(error_of([](StandConfig& s) {
+              s.stop_below_shoulder_mm = -2.0;
+            }).find("stand.stop_below_shoulder_mm"),
             std::string::npos);
   EXPECT_EQ(error_of([](StandConfig& s) { s.friction = 0.0; }), "");
   // Off, the stand's values are not looked at.

@@ -23,7 +23,8 @@ struct StandState {
   /// The carriage's height above the shoulder's walking height, mm (StandConfig).
   double carriage_z_mm = 0.0;
   /// Distance the foot has slid along the floor while loaded since the world was built, mm:
-  /// the tangential speed of the foot's material point at the contact, integrated over every
+  /// the tangential speed of the foot's material point at the contact relative to the floor's
+  /// surface (the treadmill belt's, StandConfig::belt_speed_mm_per_s), integrated over every
   /// physics step whose normal force exceeds kLoadedContactN. Rolling of the ball is not slip.
   double slip_mm = 0.0;
 };

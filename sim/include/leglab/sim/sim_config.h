@@ -69,6 +69,12 @@ struct StandConfig {
   double contact_stiffness_n_per_m = 20000.0;
   /// Contact damping of foot on floor, N s/m (>= 0).
   double contact_damping_n_s_per_m = 100.0;
+  /// Speed of the floor's surface backward (along -x), mm/s: the floor is a treadmill belt, as
+  /// on the single-leg rigs of legged-robot labs, since the rail lets the body move only
+  /// vertically; a walk's stance sweeps the foot backward, and a still floor would make it
+  /// slide its whole stroke. 0 is a still floor. The experiments default it to the walk's
+  /// stance speed (desired.locus: length / (ground_fraction x t_step)).
+  double belt_speed_mm_per_s = 0.0;
   /// Radius of the contact sphere at the foot (the ball of the foot), mm (> 0).
   double foot_radius_mm = 13.96;
   /// Where the walk's ground is: the foot centre's depth below the shoulder on the ground, mm
