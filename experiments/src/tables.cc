@@ -132,7 +132,8 @@ StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period
     slip_before = slip_after;
     double fz = 0.0;
     for (const int t : stand.stance_ticks) fz += m[first + t].contact_force_n[2];
-    ground_phase_fz.push_back(stand.stance_ticks.empty() ? 0.0 : fz / stand.stance_ticks.size());
+    ground_phase_fz.push_back(
+        stand.stance_ticks.empty() ? 0.0 : fz / static_cast<double>(stand.stance_ticks.size()));
     // The plant's own stance: the ticks its foot was loaded.
     double loaded_fz = 0.0;
     int loaded_here = 0;

@@ -322,8 +322,16 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   EXPECT_EQ(header, "step,tick,joint,desired_deg,pwl_deg,request_deg,actual_deg,model_deg");
   std::ifstream foot(out_ / "foot_direct.csv");
   std::getline(foot, header);
+  // The first eight columns as before; the test stand's four appended (issue 11), zeros in the
+  // air.
   EXPECT_EQ(header,
-            "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm");
+            "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm,"
+            "contact_fz_n,contact_fx_n,contact_fy_n,carriage_z_mm");
+  int rows = 0;
+  for (std::string line; std::getline(foot, line); ++rows) {
+    EXPECT_TRUE(line.ends_with(",0,0,0,0")) << line;
+  }
+  EXPECT_EQ(rows, 2 * 88);
 }
 
 TEST_F(ProgramsTest, ADirectRunDoesNotNeedWhatModelBasedNeeds) {

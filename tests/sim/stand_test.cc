@@ -108,6 +108,30 @@ TEST_P(StandStaticLoadTest, FloorCarriesTheSupportedWeight) {
 
 INSTANTIATE_TEST_SUITE_P(Loads, StandStaticLoadTest, ::testing::Values(0.375, 0.1, 0.8));
 
+TEST(StandTest, AStillFootOnTheRunningBeltSlidesAtTheBeltSpeedAgainstCoulombFriction) {
+  SimConfig config = StandConfigFor();
+  config.stand.friction = 0.5;
+  config.stand.belt_speed_mm_per_s = 100.0;  // backward, along -x
+  LegSim sim(config);
+  sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
+  for (int t = 0; t < 125; ++t) sim.Tick();  // 1 s to settle
+  const double slip_before = sim.Telemetry().slip_mm;
+  double fx = 0.0;
+  double fz = 0.0;
+  constexpr int kTicks = 125;
+  for (int t = 0; t < kTicks; ++t) {
+    sim.Tick();
+    fx += sim.Telemetry().contact_force_n[0] / kTicks;
+    fz += sim.Telemetry().contact_force_n[2] / kTicks;
+  }
+  // The servos hold the foot still, so the belt slides under it: Coulomb friction mu N drags
+  // it backward, and the slip grows by the belt's speed times the time, 100 mm in 1 s.
+  const double weight_n = (config.stand.load_kg + kLegMassKg) * kG;
+  EXPECT_NEAR(fz, weight_n, 0.02 * weight_n);
+  EXPECT_NEAR(fx, -config.stand.friction * fz, 0.02 * config.stand.friction * fz);
+  EXPECT_NEAR(sim.Telemetry().slip_mm - slip_before, 100.0, 2.0);
+}
+
 TEST(StandTest, PassiveDropGainsNoEnergy) {
   LegSim sim(StandConfigFor());
   // Knee flexed, foot in the air, carriage on its stop; then the motors go limp: the leg
