@@ -132,26 +132,49 @@ TEST(StandTest, AStillFootOnTheRunningBeltSlidesAtTheBeltSpeedAgainstCoulombFric
   EXPECT_NEAR(sim.Telemetry().slip_mm - slip_before, 100.0, 2.0);
 }
 
-TEST(StandTest, PassiveDropGainsNoEnergy) {
+struct DropCase {
+  const char* name;
+  LegAngles pose_deg;
+};
+
+class StandDropTest : public ::testing::TestWithParam<DropCase> {};
+
+TEST_P(StandDropTest, PassiveDropGainsNoEnergy) {
   LegSim sim(StandConfigFor());
-  // Knee flexed, foot in the air, carriage on its stop; then the motors go limp: the leg
-  // straightens under gravity and the foot strikes the floor, the carriage bounces off its stop.
-  sim.SetJointAnglesDeg({20.0, 0.0, 100.0});
+  // The motors go limp: the leg folds or straightens under gravity, the foot strikes the
+  // floor, the carriage falls onto its stop.
+  sim.SetJointAnglesDeg(GetParam().pose_deg);
   sim.SetMotorsEnabled(false);
   const double initial = sim.MechanicalEnergyJ();
   double peak_kinetic = 0.0;
   double peak_force = 0.0;
+  double lowest_carriage_mm = sim.Telemetry().carriage_z_mm;
   for (int t = 0; t < 250; ++t) {  // 2 s
     sim.Tick();
     peak_kinetic = std::max(peak_kinetic, sim.world().KineticEnergyJ());
     peak_force = std::max(peak_force, sim.Telemetry().contact_force_n[2]);
+    lowest_carriage_mm = std::min(lowest_carriage_mm, sim.Telemetry().carriage_z_mm);
     // The spring of the contact stores energy the sum leaves out; it only ever lowers it.
     ASSERT_LE(sim.MechanicalEnergyJ() - initial, 0.01 * peak_kinetic) << "tick " << t;
   }
-  EXPECT_GT(peak_force, 0.1);  // the foot did hit the floor
+  EXPECT_GT(peak_force, 0.1);  // the foot did hit (or stood on) the floor
   EXPECT_GT(peak_kinetic, 1e-3);
   EXPECT_LT(sim.MechanicalEnergyJ(), initial);
+  // The stop holds the carriage (its softness lets it sink a little under impact).
+  EXPECT_GT(lowest_carriage_mm, -sim.config().stand.stop_below_shoulder_mm - 1.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(Drops, StandDropTest,
+                         ::testing::Values(
+                             // Knee flexed, foot in the air, carriage on its stop: the leg swings
+                             // down onto the floor.
+                             DropCase{"LegOntoTheFloor", {20.0, 0.0, 100.0}},
+                             // Standing, the carriage 11.4 mm up: the leg folds and the carriage
+                             // drops 16 mm onto its stop.
+                             DropCase{"CarriageOntoTheStop", {0.0, 0.0, 30.0}}),
+                         [](const ::testing::TestParamInfo<DropCase>& drop) {
+                           return std::string(drop.param.name);
+                         });
 
 TEST(StandTest, SameConfigSameBits) {
   auto run = [] {
