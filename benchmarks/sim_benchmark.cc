@@ -9,7 +9,16 @@
 // interleaved rounds and the final line gives the median ratio
 //   sim/ode step cost ratio = (time per physics step inside LegSim) / (time per bare step),
 // which must stay at or below kMaxRatio: firmware, sensing and checks may add at most a fifth
-// to what ODE itself costs. Usage: sim_benchmark [--benchmark_* flags] [--rounds=N]
+// to what ODE itself costs.
+//
+//   BM_StandTick  one LegSim::Tick of the leg on the single-leg test stand (issue 11: carriage
+//                 on a slider, floor contact through an ODE space), the same requests, which
+//                 put the foot on the floor for part of each cycle;
+//
+// and, side by side in the same way, the stand's cost per physics step over the air leg's
+//   stand/air step cost ratio = (time per physics step of LegSim on the stand) / (in the air),
+// which must stay at or below kMaxStandRatio (2). Usage: sim_benchmark [--benchmark_* flags]
+// [--rounds=N]
 
 #include <benchmark/benchmark.h>
 
@@ -36,11 +45,26 @@ using leglab::sim::LegWorld;
 using leglab::sim::SimConfig;
 
 constexpr double kMaxRatio = 1.2;
+constexpr double kMaxStandRatio = 2.0;
 const std::string kUrdf = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
 
 SimConfig Config() {
   SimConfig config;
   config.urdf_path = kUrdf;
+  return config;
+}
+
+// The leg on the test stand, robots/ers210a_stand/robot.yaml's values.
+SimConfig StandConfig() {
+  SimConfig config = Config();
+  config.stand.enabled = true;
+  config.stand.load_kg = 0.375;
+  config.stand.stop_below_shoulder_mm = 5.0;
+  config.stand.friction = 1.0;
+  config.stand.contact_stiffness_n_per_m = 20000.0;
+  config.stand.contact_damping_n_s_per_m = 100.0;
+  config.stand.foot_radius_mm = 13.96;
+  config.stand.ground_below_shoulder_mm = 100.0;
   return config;
 }
 
@@ -84,6 +108,18 @@ void BM_SimTick(benchmark::State& state) {
                           leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
 }
 BENCHMARK(BM_SimTick);
+
+void BM_StandTick(benchmark::State& state) {
+  LegSim sim(StandConfig());
+  for (auto _ : state) {
+    sim.SetRequestsDeg(Request(sim.tick()));
+    sim.Tick();
+    benchmark::DoNotOptimize(sim.MeasuredDeg());
+  }
+  state.SetItemsProcessed(state.iterations() *
+                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
+}
+BENCHMARK(BM_StandTick);
 
 // Seconds per physics step over `steps` bare ODE steps.
 double TimeBare(LegWorld& world, int steps, double dt_s) {
@@ -150,6 +186,41 @@ void ReportSideBySideRatio(int rounds) {
               ratio <= kMaxRatio ? "ok" : "EXCEEDED");
 }
 
+// The stand against the air leg, both as LegSims walking the same requests, in interleaved
+// rounds as above.
+void ReportStandRatio(int rounds) {
+  LegSim air(Config());
+  LegSim stand(StandConfig());
+  const int steps_per_tick = leglab::sim::PhysicsStepsPerTick(air.config().physics_dt_ms);
+  constexpr int kTicksPerRound = 250;
+  TimeSim(air, kTicksPerRound, steps_per_tick);  // warm up
+  TimeSim(stand, kTicksPerRound, steps_per_tick);
+  std::vector<double> ratios;
+  std::vector<double> air_ns;
+  std::vector<double> stand_ns;
+  for (int round = 0; round < rounds; ++round) {
+    double in_air = 0.0;
+    double on_stand = 0.0;
+    if (round % 2 == 0) {
+      in_air = TimeSim(air, kTicksPerRound, steps_per_tick);
+      on_stand = TimeSim(stand, kTicksPerRound, steps_per_tick);
+    } else {
+      on_stand = TimeSim(stand, kTicksPerRound, steps_per_tick);
+      in_air = TimeSim(air, kTicksPerRound, steps_per_tick);
+    }
+    ratios.push_back(on_stand / in_air);
+    air_ns.push_back(in_air * 1e9);
+    stand_ns.push_back(on_stand * 1e9);
+  }
+  const double ratio = Median(ratios);
+  std::printf(
+      "air sim per physics step: %.0f ns (median), stand sim per physics step: %.0f ns "
+      "(median), %d interleaved rounds of %d ticks\n",
+      Median(air_ns), Median(stand_ns), rounds, kTicksPerRound);
+  std::printf("stand/air step cost ratio: %.3f (limit %.2f: %s)\n", ratio, kMaxStandRatio,
+              ratio <= kMaxStandRatio ? "ok" : "EXCEEDED");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -161,5 +232,6 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   ReportSideBySideRatio(rounds);
+  ReportStandRatio(rounds);
   return 0;
 }

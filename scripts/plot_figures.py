@@ -234,6 +234,52 @@ def main(out):
         ax.legend(fontsize=8)
         save(fig, out, "fig13_foot_per_step.png")
 
+    # Figures 14-16 (the single-leg test stand, issue 11): drawn when the foot CSVs carry the
+    # stand's instruments (a run on robots/ers210a_stand; zeros in the air).
+    stand_modes = [(m, label, st) for m, label, st in
+                   (("direct", "direct", "r--"), ("model_based", "model_based", "b-"))
+                   if have(f"foot_{m}.csv")]
+    on_stand = False
+    for mode, _, _ in stand_modes:
+        rows = read_csv(os.path.join(out, f"foot_{mode}.csv"))
+        on_stand = on_stand or any(float(r.get("contact_fz_n", 0) or 0) != 0 for r in rows)
+    if on_stand:
+        weight = None
+        if have("table2.json"):
+            with open(os.path.join(out, "table2.json")) as f:
+                weight = json.load(f).get("stand", {}).get("carried_weight_n")
+        # Figure 14: the floor's force on the foot over one step (step 0), each mode.
+        fig, axes = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+        for mode, label, style in stand_modes:
+            rows = [r for r in read_csv(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
+            ticks = [int(r["tick"]) for r in rows]
+            axes[0].plot(ticks, [float(r["contact_fz_n"]) for r in rows], style, label=label)
+            axes[1].plot(ticks, [float(r["contact_fx_n"]) for r in rows], style,
+                         label=f"{label}, x")
+            axes[1].plot(ticks, [float(r["contact_fy_n"]) for r in rows], style, lw=0.8,
+                         alpha=0.5, label=f"{label}, y")
+        if weight:
+            axes[0].axhline(weight, color="0.4", ls=":", label="carried weight")
+        axes[0].set(ylabel="normal Fz (N)",
+                    title="Ground reaction force over a step (stand, step 0)")
+        axes[1].set(xlabel="tick (8 ms)", ylabel="tangential (N)")
+        axes[0].legend(fontsize=8)
+        axes[1].legend(fontsize=7, ncol=2)
+        save(fig, out, "fig14_stand_ground_force.png")
+        # Figure 15: the carriage height over the same step.
+        fig, ax = plt.subplots(figsize=(7, 3.5))
+        for mode, label, style in stand_modes:
+            rows = [r for r in read_csv(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
+            ax.plot([int(r["tick"]) for r in rows], [float(r["carriage_z_mm"]) for r in rows],
+                    style, label=label)
+        ax.set(xlabel="tick (8 ms)", ylabel="carriage height (mm)",
+               title="Carriage height above the walking height (stand, step 0)")
+        ax.legend(fontsize=8)
+        save(fig, out, "fig15_stand_carriage.png")
+        # Figure 16: the foot path on the stand against the desired one.
+        foot_figure(out, "fig16_stand_foot.png", "Foot trajectory on the stand",
+                    [(m, f"actual ({label})", st) for m, label, st in stand_modes])
+
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

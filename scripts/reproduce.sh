@@ -32,6 +32,15 @@ if [ -x build/bin/track ]; then
   build/bin/track --config experiments/configs/track_paper_regime.yaml \
     --out "$out/track_paper_regime"
 fi
+# The front leg on the single-leg test stand (issue 11): Table 1 with the foot free of the floor
+# (and the same tests in the air, air70/), the loaded step test (loaded/), Table 2 on the stand.
+if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
+  build/bin/identify --config experiments/configs/identify_stand.yaml --out "$out/stand"
+  build/bin/identify --config experiments/configs/identify_stand.yaml --set robot=ers210a \
+    --out "$out/stand/air70"
+  build/bin/identify --config experiments/configs/identify_stand_loaded.yaml --out "$out/stand/loaded"
+  build/bin/track --config experiments/configs/track_stand.yaml --out "$out/stand"
+fi
 # Learning the model while walking (adaptive): from a wrong model, and through a change of
 # the plant at step 20. worn_model/: model_based with the model identified on the changed plant
 # (the change of adapt_wear.yaml made from the start), its yardstick.
@@ -46,12 +55,13 @@ if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out"
   /usr/bin/python3 scripts/plot_figures.py "$out/hind"
   /usr/bin/python3 scripts/plot_figures.py "$out/track_paper_regime"
+  /usr/bin/python3 scripts/plot_figures.py "$out/stand"
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_cold_start"
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_wear"
 fi
 # The shipped sweeps, each with its figure, into results/sweeps/<name>/.
 if [ -x build/bin/sweep ]; then
-  for sweep in model_mismatch walk_speed; do
+  for sweep in model_mismatch walk_speed stand_load; do
     build/bin/sweep --config "experiments/sweeps/$sweep.yaml" --out "$out/sweeps/$sweep"
     /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
   done

@@ -375,7 +375,7 @@ YAML::Node LoadWithBase(const fs::path& path, int depth, const std::string& what
 bool IsKnownTopLevelKey(const std::string& key) {
   static constexpr std::string_view kKeys[] = {
       "robot",      "urdf",  "plant",    "plant_model", "sim",   "servo",        "sensor", "seed",
-      "controller", "model", "identify", "desired",     "track", "warmup_steps", "steps"};
+      "controller", "model", "identify", "desired",     "track", "warmup_steps", "steps",  "stand"};
   for (std::string_view k : kKeys) {
     if (k == key) return true;
   }
@@ -433,6 +433,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   root.Read("robot", robot);
 
   // The plant (robot.yaml).
+  bool belt_given = false;  // stand.belt_speed_mm_per_s, else the walk's stance speed
   std::string urdf;
   root.Read("urdf", urdf);
   if (urdf.empty()) Fail("urdf: no URDF given (robot file " + robot_yaml.string() + ")");
@@ -455,6 +456,19 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     MapReader sensor = root.Child("sensor");
     sensor.Read("noise_deg", config.sim.sensor.noise_deg);
     sensor.Finish();
+    // The single-leg test stand: built when a `stand:` section is given (robots/ers210a_stand).
+    sim::StandConfig& stand_config = config.sim.stand;
+    stand_config.enabled = root.Has("stand");
+    MapReader stand = root.Child("stand");
+    stand.Read("load_kg", stand_config.load_kg);
+    stand.Read("stop_below_shoulder_mm", stand_config.stop_below_shoulder_mm);
+    stand.Read("friction", stand_config.friction);
+    stand.Read("contact_stiffness_n_per_m", stand_config.contact_stiffness_n_per_m);
+    stand.Read("contact_damping_n_s_per_m", stand_config.contact_damping_n_s_per_m);
+    stand.Read("foot_radius_mm", stand_config.foot_radius_mm);
+    belt_given = stand.Has("belt_speed_mm_per_s");
+    stand.Read("belt_speed_mm_per_s", stand_config.belt_speed_mm_per_s);
+    stand.Finish();
     long long seed = static_cast<long long>(config.sim.seed);
     root.Read("seed", seed);
     Require(seed >= 0, "seed", "a non-negative integer");
@@ -684,6 +698,13 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
          {t.locus.forward_mm, t.locus.outward_mm, t.locus.ground_below_shoulder_mm}) {
       Require(std::isfinite(v), "desired.locus", "finite in every placement key");
     }
+    // The stand's floor lies at the walk's ground.
+    config.sim.stand.ground_below_shoulder_mm = t.locus.ground_below_shoulder_mm;
+    if (config.sim.stand.enabled) {
+      Require(t.locus.ground_below_shoulder_mm > config.sim.stand.foot_radius_mm,
+              "desired.locus.ground_below_shoulder_mm",
+              "more than stand.foot_radius_mm on the stand (the floor lies below the shoulder)");
+    }
 
     MapReader track = root.Child("track");
     track.Read("t_step_ticks", t.t_step_ticks);
@@ -703,6 +724,13 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       t.search_shift = on ? ShiftSearch::kShiftedRun : ShiftSearch::kNone;
     }
     track.Finish();
+    // The stand's treadmill moves with the walk's stance unless told otherwise: the locus's
+    // flat bottom, length_mm, swept in ground_fraction of the step.
+    if (config.sim.stand.enabled && !belt_given) {
+      config.sim.stand.belt_speed_mm_per_s =
+          t.locus.shape.length_mm /
+          (t.locus.shape.ground_fraction * t.t_step_ticks * kTickMs / 1000.0);
+    }
     Require(config.pwl_segments <= t.t_step_ticks, "controller.pwl_segments",
             "at most track.t_step_ticks = " + std::to_string(t.t_step_ticks) +
                 " (a segment spans at least one tick), got " + std::to_string(config.pwl_segments));
@@ -787,6 +815,13 @@ constexpr NumericRange kRanges[] = {
     {"servo.smoothing_ms", 0, 400, false, false, "ms"},
     {"servo.max_torque_nm", 0.1, 100, false, false, "N m"},
     {"sensor.noise_deg", 0, 2, false, false, "deg"},
+    {"stand.load_kg", 0, 10, true, false, "kg"},
+    {"stand.stop_below_shoulder_mm", 0, 50, false, false, "mm"},
+    {"stand.friction", 0, 5, false, false, ""},
+    {"stand.contact_stiffness_n_per_m", 100, 1e6, false, false, "N/m"},
+    {"stand.contact_damping_n_s_per_m", 0, 1000, false, false, "N s/m"},
+    {"stand.foot_radius_mm", 0, 50, true, false, "mm"},
+    {"stand.belt_speed_mm_per_s", -2000, 2000, false, false, "mm/s"},
     {"plant_model.v_max_deg_per_tick", 0.01, 45, false, false, "deg/tick"},
     {"plant_model.theta0_deg", 0.01, 180, false, false, "deg"},
     {"plant_model.lag_ticks", 0, 50, false, false, "ticks"},

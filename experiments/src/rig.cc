@@ -227,14 +227,17 @@ TrackingRun RunTracking(Plant& plant, JointController& controller, const Desired
   TrackingRun run;
   run.request_deg.reserve(steps * period);
   run.measured_deg.reserve(steps * period);
+  run.telemetry.reserve(steps * period);
   TrackingLoop(
       plant, controller, desired, warmup_steps, steps, changes,
       [&](long t, const PlantReading& reading) {
         if (t >= first_recorded) {
           run.request_deg.push_back(reading.applied_deg);
           run.measured_deg.push_back(reading.measured_deg);
+          run.telemetry.push_back(reading.telemetry);
         } else {
           run.warmup_measured_deg.push_back(reading.measured_deg);
+          if (t + 1 == first_recorded) run.telemetry_before = reading.telemetry;
         }
       },
       [&](long step) {

@@ -31,6 +31,7 @@ Robot LoadRobot(const std::string& urdf_path) {
     throw InputError(std::string("robot: ") + e.what());
   }
   Robot robot{leg.robot_name, urdf_path, {}};
+  for (const sim::BodyDescription& body : leg.bodies) robot.leg_mass_kg += body.mass_kg;
   LegGeometry& g = robot.geometry;
   const Eigen::Vector3d rotator = Mm(leg.joints[kRotator].position_m);
   const Eigen::Vector3d abductor = Mm(leg.joints[kAbductor].position_m);

@@ -1,5 +1,6 @@
 #include "leglab/experiments/tables.h"
 
+#include <algorithm>
 #include <span>
 
 namespace leglab::experiments {
@@ -76,6 +77,16 @@ Table2 BeginTable2(const TrackResult& r) {
     floor_rows[1].joints[j] = {MaxAbsDistance(desired[j], r.floor_deg[j]), 0.0};
   }
   table.rows.assign(floor_rows.begin(), floor_rows.end());
+  if (r.stand_weight_n > 0.0) {
+    StandTable stand;
+    stand.carried_weight_n = r.stand_weight_n;
+    double ground_z = r.desired.foot_mm[0].z();
+    for (const Eigen::Vector3d& p : r.desired.foot_mm) ground_z = std::min(ground_z, p.z());
+    for (int t = 0; t < r.period; ++t) {
+      if (r.desired.foot_mm[t].z() <= ground_z + 0.01) stand.stance_ticks.push_back(t);
+    }
+    table.stand = std::move(stand);
+  }
   table.foot.push_back({"floor", {}, {Rms(foot_errors), 0.0}, {MaxAbs(foot_errors), 0.0}});
   return table;
 }
@@ -103,6 +114,46 @@ void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),
                         MeanAndStd(PerStep(run.foot_error_cm, r.period, rms)),
                         MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
+  if (table.stand) table.stand->modes.push_back(ComputeStandRow(run, *table.stand, r.period));
+}
+
+StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period) {
+  StandRow row;
+  row.mode = std::string(ModeOf(run.spec).name);
+  const std::vector<PlantTelemetry>& m = run.run.telemetry;
+  std::vector<double> stance_fz;
+  std::vector<double> ground_phase_fz;
+  double loaded = 0.0;
+  double slip_before = run.run.telemetry_before.slip_mm;
+  for (size_t s = 0; (s + 1) * period <= m.size(); ++s) {
+    const size_t first = s * period;
+    const double slip_after = m[first + period - 1].slip_mm;
+    row.slip_mm.push_back(slip_after - slip_before);
+    slip_before = slip_after;
+    double fz = 0.0;
+    for (const int t : stand.stance_ticks) fz += m[first + t].contact_force_n[2];
+    ground_phase_fz.push_back(
+        stand.stance_ticks.empty() ? 0.0 : fz / static_cast<double>(stand.stance_ticks.size()));
+    // The plant's own stance: the ticks its foot was loaded.
+    double loaded_fz = 0.0;
+    int loaded_here = 0;
+    for (int t = 0; t < period; ++t) {
+      const double f = m[first + t].contact_force_n[2];
+      row.peak_fz_n = std::max(row.peak_fz_n, f);
+      if (f > kLoadedFzN) {
+        loaded_fz += f;
+        ++loaded_here;
+      }
+    }
+    loaded += loaded_here;
+    stance_fz.push_back(loaded_here > 0 ? loaded_fz / loaded_here : 0.0);
+  }
+  row.slip_stat_mm = MeanAndStd(row.slip_mm);
+  for (const double s : row.slip_mm) row.max_slip_mm = std::max(row.max_slip_mm, s);
+  row.stance_fz_n = MeanAndStd(stance_fz);
+  row.ground_phase_fz_n = MeanAndStd(ground_phase_fz);
+  row.loaded_ticks = row.slip_mm.empty() ? 0.0 : loaded / static_cast<double>(row.slip_mm.size());
+  return row;
 }
 
 Table2 ComputeTable2(const TrackResult& r) {

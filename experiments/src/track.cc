@@ -88,6 +88,9 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   r.desired = LoadDesiredMotion(config.track, r.robot.geometry);
   r.period = static_cast<int>(r.desired.angles_deg.size());
   r.steps = config.track.steps;
+  if (config.sim.stand.enabled && config.plant == PlantKind::kSim) {
+    r.stand_weight_n = (config.sim.stand.load_kg + r.robot.leg_mass_kg) * 9.81;
+  }
   MakePlant(config, r.robot);  // bad plant input fails here, before any run
   // A mode that estimates the model is compared with what identify finds on the plant before
   // and after each change.

@@ -87,6 +87,16 @@ std::string Table1Json(const Table1& table, const ExperimentConfig& config) {
                    {"max_torque_nm", config.sim.servo.max_torque_nm},
                    {"noise_deg", config.sim.sensor.noise_deg},
                    {"seed", config.sim.seed}};
+  if (config.sim.stand.enabled && config.plant == PlantKind::kSim) {
+    const sim::StandConfig& stand = config.sim.stand;
+    json["plant"]["stand"] = {{"load_kg", stand.load_kg},
+                              {"stop_below_shoulder_mm", stand.stop_below_shoulder_mm},
+                              {"friction", stand.friction},
+                              {"contact_stiffness_n_per_m", stand.contact_stiffness_n_per_m},
+                              {"contact_damping_n_s_per_m", stand.contact_damping_n_s_per_m},
+                              {"foot_radius_mm", stand.foot_radius_mm},
+                              {"ground_below_shoulder_mm", stand.ground_below_shoulder_mm}};
+  }
   if (config.plant == PlantKind::kModel) {
     json["plant"]["kind"] = "model";
     json["plant"]["model"] = ModelJson(config.plant_model);
@@ -157,6 +167,26 @@ std::string Table2Markdown(const Table2& table) {
     }
     md << " |\n";
   }
+  if (table.stand) {
+    const StandTable& stand = *table.stand;
+    md << "\n# The stand: the floor under the foot\n\n"
+       << "Carried weight " << Fixed(stand.carried_weight_n, 2)
+       << " N (load and leg). Stance: the ticks the foot carries more than 0.1 N; ground phase: "
+          "the "
+       << stand.stance_ticks.size()
+       << " ticks the desired foot is on the ground. Slip: how far the ball of the foot slid "
+          "along the belt while loaded, per step (rolling excluded).\n\n"
+       << "| Method | stance Fz (N) | stance Fz / weight | ground-phase Fz (N) | peak Fz (N) | "
+          "stance ticks | slip per step (mm) | max slip (mm) |\n"
+          "|---|---|---|---|---|---|---|---|\n";
+    for (const StandRow& row : stand.modes) {
+      md << "| " << row.mode << " | " << Cell(row.stance_fz_n) << " | "
+         << Fixed(row.stance_fz_n.mean / stand.carried_weight_n, 3) << " | "
+         << Cell(row.ground_phase_fz_n) << " | " << Fixed(row.peak_fz_n, 2) << " | "
+         << Fixed(row.loaded_ticks, 1) << " | " << Cell(row.slip_stat_mm) << " | "
+         << Fixed(row.max_slip_mm, 3) << " |\n";
+    }
+  }
   md << "\nModel " << (table.models_identified ? "identified on the plant" : "from model.* keys")
      << ": ";
   for (int j = 0; j < kLegJoints; ++j) {
@@ -190,6 +220,22 @@ std::string Table2Json(const Table2& table) {
     model["identified"] = table.models_identified;
     model["pwl_segments"] = table.pwl_segments[j];
     json["model"][std::string(kLegJointNames[j])] = model;
+  }
+  if (table.stand) {
+    const StandTable& stand = *table.stand;
+    Json entry;
+    entry["carried_weight_n"] = stand.carried_weight_n;
+    entry["ground_phase_ticks"] = stand.stance_ticks.size();
+    for (const StandRow& row : stand.modes) {
+      entry["modes"][row.mode] = {{"slip_mm_per_step", row.slip_mm},
+                                  {"slip_mm", StatJson(row.slip_stat_mm)},
+                                  {"max_slip_mm", row.max_slip_mm},
+                                  {"stance_fz_n", StatJson(row.stance_fz_n)},
+                                  {"ground_phase_fz_n", StatJson(row.ground_phase_fz_n)},
+                                  {"peak_fz_n", row.peak_fz_n},
+                                  {"loaded_ticks", row.loaded_ticks}};
+    }
+    json["stand"] = entry;
   }
   return json.dump(2) + '\n';
 }
@@ -235,7 +281,8 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir&
                      "model_deg"});
     CsvWriter foot(out.Path("foot_" + mode + ".csv"),
                    {"step", "tick", "desired_x_cm", "desired_y_cm", "desired_z_cm", "actual_x_cm",
-                    "actual_y_cm", "actual_z_cm"});
+                    "actual_y_cm", "actual_z_cm", "contact_fz_n", "contact_fx_n", "contact_fy_n",
+                    "carriage_z_mm"});
     for (size_t i = 0; i < run.run.measured_deg.size(); ++i) {
       const long step = static_cast<long>(i / period), tick = static_cast<long>(i % period);
       for (int j = 0; j < kLegJoints; ++j) {
@@ -248,6 +295,12 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir&
       const Eigen::Vector3d want = r.desired.foot_mm[tick] / 10.0;
       foot.Cell(step).Cell(tick).Cell(want.x()).Cell(want.y()).Cell(want.z());
       foot.Cell(actual.x()).Cell(actual.y()).Cell(actual.z());
+      // The stand's instruments (zeros in the air), appended so that readers of the first
+      // eight columns keep working.
+      const PlantTelemetry m =
+          i < run.run.telemetry.size() ? run.run.telemetry[i] : PlantTelemetry{};
+      foot.Cell(m.contact_force_n[2]).Cell(m.contact_force_n[0]).Cell(m.contact_force_n[1]);
+      foot.Cell(m.carriage_z_mm);
       foot.EndRow();
     }
     trace.Close();

@@ -25,7 +25,7 @@ JointServo MakeServo(const SimConfig& config, const LegWorld& world, int joint) 
 
 LegSim::LegSim(const SimConfig& config)
     : config_(Validated(config)),
-      world_(config_.urdf_path),
+      world_(config_.urdf_path, config_.stand),
       servos_{MakeServo(config_, world_, 0), MakeServo(config_, world_, 1),
               MakeServo(config_, world_, 2)},
       sensor_(config_.sensor.noise_deg, config_.seed),
@@ -72,7 +72,17 @@ void LegSim::Tick() {
     world_.SetMotor(j, servos_[j].FrameSpeedRadPerS(angles[j], rates[j]),
                     motors_enabled_ ? max_torque_nm_[j] : 0.0);
   }
-  for (int step = 0; step < steps_per_tick_; ++step) world_.Step(physics_dt_s_);
+  if (!world_.has_stand()) {
+    for (int step = 0; step < steps_per_tick_; ++step) world_.Step(physics_dt_s_);
+  } else {
+    // The floor's force reported for the tick is its mean over the tick's physics steps.
+    std::array<double, 3> force_sum{};
+    for (int step = 0; step < steps_per_tick_; ++step) {
+      world_.Step(physics_dt_s_);
+      for (int i = 0; i < 3; ++i) force_sum[i] += world_.stand_state().contact_force_n[i];
+    }
+    for (int i = 0; i < 3; ++i) tick_force_n_[i] = force_sum[i] / steps_per_tick_;
+  }
   if (std::string problem = world_.StateProblem(); !problem.empty()) {
     throw SimError(
         "leglab::sim: the simulation broke down during control tick " + std::to_string(tick_) +
@@ -109,6 +119,10 @@ void LegSim::SampleReading() {
   reading_.measured_deg = ToDeg(sensor_.Measure(angles_rad));
   reading_.true_deg = ToDeg(angles_rad);
   reading_.applied_deg = ToDeg(commanded_rad);
+  if (world_.has_stand()) {
+    const StandState& stand = world_.stand_state();
+    reading_.telemetry = {tick_force_n_, stand.carriage_z_mm, stand.slip_mm - slip_at_reset_mm_};
+  }
 }
 
 void LegSim::SetJointAnglesDeg(const LegAngles& q_deg) {
@@ -129,6 +143,8 @@ void LegSim::SetJointAnglesDeg(const LegAngles& q_deg) {
   for (int j = 0; j < kLegJoints; ++j) {
     servos_[j].Hold(q_rad[j]);
   }
+  tick_force_n_ = {};
+  slip_at_reset_mm_ = world_.stand_state().slip_mm;
   request_rad_ = q_rad;
   SampleReading();
 }

@@ -3,11 +3,14 @@
 #include <ode/ode.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "link_poses.h"
@@ -79,6 +82,36 @@ void CheckStructure(const LegDescription& leg) {
 
 }  // namespace
 
+// The test stand's ODE objects: the carriage on its rail, the floor and the foot sphere in a
+// collision space, and the joint group that holds one step's contacts.
+struct Stand {
+  static constexpr int kMaxContacts = 4;  // a sphere on a plane gives one
+
+  StandConfig config;
+  dBodyID carriage = nullptr;
+  dJointID rail = nullptr;
+  dSpaceID space = nullptr;
+  dGeomID floor = nullptr;
+  dGeomID foot = nullptr;
+  dJointGroupID contacts = nullptr;
+  std::array<dJointFeedback, kMaxContacts> feedback{};
+  std::array<dContactGeom, kMaxContacts> geoms{};
+  int contact_count = 0;
+  double floor_z_m = 0.0;  // the floor plane's height in the world frame
+  StandState state;
+
+  Stand() = default;
+  Stand(const Stand&) = delete;
+  Stand& operator=(const Stand&) = delete;
+  ~Stand() {
+    // The bodies and joints go with the world; the space (with its geoms) and the group here.
+    if (contacts != nullptr) dJointGroupDestroy(contacts);
+    if (space != nullptr) dSpaceDestroy(space);
+  }
+
+  double CarriageZM() const { return dBodyGetPosition(carriage)[2]; }
+};
+
 struct LegWorld::Impl {
   // One ODE body: the description's body, with its mass in Eigen form for the energy sums.
   struct Body {
@@ -93,6 +126,11 @@ struct LegWorld::Impl {
   std::optional<OdeWorld> world;  // created once ODE is ready
   std::vector<Body> bodies;
   std::array<dJointID, kLegJoints> hinges{};
+  // The stand, when there is one; destroyed before the world (declared after it).
+  std::unique_ptr<Stand> stand;
+
+  // The body a root-attached hinge hangs on: the world in the air, the carriage on the stand.
+  dBodyID RootBody() const { return stand ? stand->carriage : nullptr; }
 
   // Pose of a body's link frame in the world, from ODE's state.
   Eigen::Isometry3d BodyLinkPose(const Body& body) const {
@@ -104,6 +142,9 @@ struct LegWorld::Impl {
 
   void BuildBodies();
   void BuildHinges();
+  void BuildStand(const StandConfig& config);
+  void CollideAndJoin(double dt_s);
+  void MeasureContacts(double dt_s);
 };
 
 void LegWorld::Impl::BuildBodies() {
@@ -142,7 +183,8 @@ void LegWorld::Impl::BuildHinges() {
     const JointDescription& joint = leg.joints[link.joint];
     const int parent_body = leg.links[link.parent].body;
     const dJointID hinge = dJointCreateHinge(world->get(), nullptr);
-    dJointAttach(hinge, bodies[link.body].id, parent_body >= 0 ? bodies[parent_body].id : nullptr);
+    dJointAttach(hinge, bodies[link.body].id,
+                 parent_body >= 0 ? bodies[parent_body].id : RootBody());
     dJointSetHingeAnchor(hinge, joint.position_m[0], joint.position_m[1], joint.position_m[2]);
     dJointSetHingeAxis(hinge, joint.axis[0], joint.axis[1], joint.axis[2]);
     dJointSetHingeParam(hinge, dParamLoStop, joint.lower_rad - kStopMarginRad);
@@ -153,17 +195,127 @@ void LegWorld::Impl::BuildHinges() {
   }
 }
 
-LegWorld::LegWorld(const LegDescription& leg) : impl_(std::make_unique<Impl>()) {
+void LegWorld::Impl::BuildStand(const StandConfig& config) {
+  const int foot_link = leg.FindLink(kFootLinkName);
+  assert(foot_link > 0 && leg.links[foot_link].body >= 0 && "the description has a moving foot");
+  stand = std::make_unique<Stand>();
+  Stand& s = *stand;
+  s.config = config;
+  // The carriage: the root link's frame, carrying the load. The slider keeps it upright, so its
+  // inertia only has to be valid: a solid sphere of 5 cm radius.
+  s.carriage = dBodyCreate(world->get());
+  dMass mass;
+  dMassSetSphereTotal(&mass, config.load_kg, 0.05);
+  dBodySetMass(s.carriage, &mass);
+  dBodySetPosition(s.carriage, 0.0, 0.0, 0.0);
+  // The rail: a vertical slider to the static world. Its position is the carriage's height
+  // (zero where it was attached, at the walking height).
+  s.rail = dJointCreateSlider(world->get(), nullptr);
+  dJointAttach(s.rail, s.carriage, nullptr);
+  dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
+  dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
+  dJointSetSliderParam(s.rail, dParamBounce, 0.0);
+  // The floor and the ball of the foot, in one collision space.
+  const double shoulder_z_m = leg.joints[kRotator].position_m[2];
+  s.floor_z_m = shoulder_z_m - (config.ground_below_shoulder_mm + config.foot_radius_mm) / 1000.0;
+  s.space = dSimpleSpaceCreate(nullptr);
+  s.floor = dCreatePlane(s.space, 0.0, 0.0, 1.0, s.floor_z_m);
+  s.foot = dCreateSphere(s.space, config.foot_radius_mm / 1000.0);
+  const Body& foot_body = bodies[leg.links[foot_link].body];
+  dGeomSetBody(s.foot, foot_body.id);
+  // The foot's centre relative to the body's centre of mass, in the body's (link) axes.
+  const Eigen::Vector3d offset =
+      ToEigen(leg.links[foot_link].in_body.translation_m) - foot_body.com_in_link;
+  dGeomSetOffsetPosition(s.foot, offset.x(), offset.y(), offset.z());
+  s.contacts = dJointGroupCreate(0);
+}
+
+void LegWorld::Impl::CollideAndJoin(double dt_s) {
+  Stand& s = *stand;
+  s.contact_count = 0;
+  // The space's only pair is the foot and the floor; the callback generates their contacts.
+  dSpaceCollide(s.space, &s, [](void* data, dGeomID a, dGeomID b) {
+    auto* stand_data = static_cast<Stand*>(data);
+    const int room = Stand::kMaxContacts - stand_data->contact_count;
+    if (room <= 0) return;
+    const int found =
+        dCollide(a, b, room, &stand_data->geoms[stand_data->contact_count], sizeof(dContactGeom));
+    stand_data->contact_count += found;
+  });
+  // Spring-damper k, c as ERP and CFM for this step (ODE manual, "How to use ERP and CFM").
+  const double k = s.config.contact_stiffness_n_per_m;
+  const double c = s.config.contact_damping_n_s_per_m;
+  const double erp = dt_s * k / (dt_s * k + c);
+  const double cfm = 1.0 / (dt_s * k + c);
+  const dBodyID foot_body = dGeomGetBody(s.foot);
+  for (int i = 0; i < s.contact_count; ++i) {
+    dContact contact{};
+    contact.geom = s.geoms[i];
+    // dCollide's normal points into the first geom; the joint wants it pointing at body 1.
+    if (contact.geom.g1 != s.foot) {
+      for (int axis = 0; axis < 3; ++axis) contact.geom.normal[axis] *= -1.0;
+      std::swap(contact.geom.g1, contact.geom.g2);
+    }
+    contact.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+    contact.surface.mu = s.config.friction;
+    if (s.config.belt_speed_mm_per_s != 0.0) {
+      // The treadmill: friction drives the foot's contact point towards the belt's velocity
+      // (ODE's surface motion along friction direction 1, x).
+      contact.surface.mode |= dContactFDir1 | dContactMotion1;
+      contact.fdir1[0] = 1.0;
+      contact.fdir1[1] = 0.0;
+      contact.fdir1[2] = 0.0;
+      contact.surface.motion1 = -s.config.belt_speed_mm_per_s / 1000.0;
+    }
+    contact.surface.soft_erp = erp;
+    contact.surface.soft_cfm = cfm;
+    s.geoms[i] = contact.geom;
+    const dJointID joint = dJointCreateContact(world->get(), s.contacts, &contact);
+    dJointAttach(joint, foot_body, nullptr);
+    s.feedback[i] = dJointFeedback{};
+    dJointSetFeedback(joint, &s.feedback[i]);
+  }
+}
+
+void LegWorld::Impl::MeasureContacts(double dt_s) {
+  Stand& s = *stand;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  const dBodyID foot_body = dGeomGetBody(s.foot);
+  for (int i = 0; i < s.contact_count; ++i) {
+    // f1: the contact's force on body 1, the foot.
+    const Eigen::Vector3d f = FromOde(s.feedback[i].f1);
+    force += f;
+    const Eigen::Vector3d normal(0.0, 0.0, 1.0);  // the floor's
+    if (f.dot(normal) > kLoadedContactN) {
+      const dContactGeom& g = s.geoms[i];
+      dVector3 velocity;
+      dBodyGetPointVel(foot_body, g.pos[0], g.pos[1], g.pos[2], velocity);
+      // Relative to the belt's surface, which moves backward at the belt speed.
+      const Eigen::Vector3d v =
+          FromOde(velocity) + Eigen::Vector3d(s.config.belt_speed_mm_per_s / 1000.0, 0.0, 0.0);
+      s.state.slip_mm += 1000.0 * (v - v.dot(normal) * normal).norm() * dt_s;
+    }
+  }
+  dJointGroupEmpty(s.contacts);
+  s.contact_count = 0;
+  s.state.contact_force_n = {force.x(), force.y(), force.z()};
+  s.state.carriage_z_mm = 1000.0 * s.CarriageZM();
+}
+
+LegWorld::LegWorld(const LegDescription& leg, const StandConfig& stand)
+    : impl_(std::make_unique<Impl>()) {
   CheckStructure(leg);
   impl_->leg = leg;
   EnsureOdeReady();
   impl_->world.emplace();
   dWorldSetGravity(impl_->world->get(), 0.0, 0.0, -kGravityMPerS2);
   impl_->BuildBodies();
+  if (stand.enabled) impl_->BuildStand(stand);
   impl_->BuildHinges();
 }
 
-LegWorld::LegWorld(const std::string& urdf_path) : LegWorld(LoadLegDescription(urdf_path)) {}
+LegWorld::LegWorld(const std::string& urdf_path, const StandConfig& stand)
+    : LegWorld(LoadLegDescription(urdf_path), stand) {}
 
 LegWorld::~LegWorld() = default;
 LegWorld::LegWorld(LegWorld&&) noexcept = default;
@@ -199,14 +351,40 @@ void LegWorld::Step(double dt_s) {
   // A world built on one thread may be stepped on another (a moved plant): ODE needs its
   // per-thread data there too. After the first call on a thread this is one flag test.
   EnsureOdeReady();
+  if (!impl_->stand) {
+    dWorldStep(impl_->world->get(), dt_s);
+    return;
+  }
+  impl_->CollideAndJoin(dt_s);
   dWorldStep(impl_->world->get(), dt_s);
+  impl_->MeasureContacts(dt_s);
 }
+
+const StandState& LegWorld::stand_state() const {
+  static const StandState kNone{};
+  return impl_->stand ? impl_->stand->state : kNone;
+}
+
+bool LegWorld::has_stand() const { return impl_->stand != nullptr; }
 
 void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
   const std::vector<Eigen::Isometry3d> poses = LinkPoses(impl_->leg.links, q_rad);
+  // On the stand: the carriage on its stop, or as high as keeps the foot out of the floor.
+  Eigen::Vector3d lift = Eigen::Vector3d::Zero();
+  if (Stand* s = impl_->stand.get()) {
+    const int foot = impl_->leg.FindLink(kFootLinkName);
+    const double foot_z_m = poses[foot].translation().z();
+    const double touching_z_m = s->floor_z_m + s->config.foot_radius_mm / 1000.0 - foot_z_m;
+    lift.z() = std::max(-s->config.stop_below_shoulder_mm / 1000.0, touching_z_m);
+    dBodySetPosition(s->carriage, 0.0, 0.0, lift.z());
+    dBodySetLinearVel(s->carriage, 0.0, 0.0, 0.0);
+    dBodySetAngularVel(s->carriage, 0.0, 0.0, 0.0);
+    s->state.contact_force_n = {0.0, 0.0, 0.0};
+    s->state.carriage_z_mm = 1000.0 * lift.z();
+  }
   for (const Impl::Body& body : impl_->bodies) {
     const Eigen::Isometry3d& pose = poses[body.link];
-    const Eigen::Vector3d com_world = pose * body.com_in_link;
+    const Eigen::Vector3d com_world = pose * body.com_in_link + lift;
     dBodySetPosition(body.id, com_world.x(), com_world.y(), com_world.z());
     SetRotation(body.id, pose.linear());
     dBodySetLinearVel(body.id, 0.0, 0.0, 0.0);
@@ -223,7 +401,12 @@ std::array<double, 3> LegWorld::LinkOriginMm(std::string_view link_name) const {
   const Eigen::Isometry3d body_link_pose = link.body >= 0
                                                ? impl_->BodyLinkPose(impl_->bodies[link.body])
                                                : Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
+  Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
+  // On the stand the body frame is the carriage's: the world frame raised by its height.
+  if (impl_->stand) {
+    origin_mm.z() -= 1000.0 * impl_->stand->CarriageZM();
+    if (link.body < 0) origin_mm = 1000.0 * ToEigen(link.in_body.translation_m);
+  }
   return {origin_mm.x(), origin_mm.y(), origin_mm.z()};
 }
 
@@ -237,6 +420,11 @@ double LegWorld::KineticEnergyJ() const {
     energy +=
         0.5 * body.mass_kg * velocity.squaredNorm() + 0.5 * omega.dot(body.inertia_kg_m2 * omega);
   }
+  if (impl_->stand) {
+    // The carriage only slides: translation alone.
+    energy += 0.5 * impl_->stand->config.load_kg *
+              FromOde(dBodyGetLinearVel(impl_->stand->carriage)).squaredNorm();
+  }
   return energy;
 }
 
@@ -245,10 +433,20 @@ double LegWorld::MechanicalEnergyJ() const {
   for (const Impl::Body& body : impl_->bodies) {
     potential += body.mass_kg * kGravityMPerS2 * dBodyGetPosition(body.id)[2];
   }
+  if (impl_->stand) {
+    potential += impl_->stand->config.load_kg * kGravityMPerS2 * impl_->stand->CarriageZM();
+  }
   return KineticEnergyJ() + potential;
 }
 
 std::string LegWorld::StateProblem() const {
+  if (impl_->stand) {
+    const dReal* p = dBodyGetPosition(impl_->stand->carriage);
+    const dReal* v = dBodyGetLinearVel(impl_->stand->carriage);
+    if (!std::isfinite(p[2]) || !std::isfinite(v[2])) {
+      return "the stand's carriage has a non-finite height or speed";
+    }
+  }
   for (const Impl::Body& body : impl_->bodies) {
     const dReal* values[] = {dBodyGetPosition(body.id), dBodyGetQuaternion(body.id),
                              dBodyGetLinearVel(body.id), dBodyGetAngularVel(body.id)};

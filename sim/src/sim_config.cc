@@ -63,6 +63,32 @@ void ValidateSimConfig(const SimConfig& config) {
   if (!std::isfinite(config.sensor.noise_deg) || config.sensor.noise_deg < 0.0) {
     Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
   }
+  const StandConfig& stand = config.stand;
+  if (!stand.enabled) return;
+  RequirePositive("stand.load_kg", stand.load_kg);
+  if (!std::isfinite(stand.stop_below_shoulder_mm) || stand.stop_below_shoulder_mm < 0.0) {
+    Reject("stand.stop_below_shoulder_mm",
+           "a finite number >= 0 (a stop at or below the shoulder's walking height)",
+           stand.stop_below_shoulder_mm);
+  }
+  if (!std::isfinite(stand.friction) || stand.friction < 0.0) {
+    Reject("stand.friction", "a finite number >= 0", stand.friction);
+  }
+  RequirePositive("stand.contact_stiffness_n_per_m", stand.contact_stiffness_n_per_m);
+  if (!std::isfinite(stand.contact_damping_n_s_per_m) || stand.contact_damping_n_s_per_m < 0.0) {
+    Reject("stand.contact_damping_n_s_per_m", "a finite number >= 0",
+           stand.contact_damping_n_s_per_m);
+  }
+  RequirePositive("stand.foot_radius_mm", stand.foot_radius_mm);
+  if (!std::isfinite(stand.belt_speed_mm_per_s)) {
+    Reject("stand.belt_speed_mm_per_s", "finite", stand.belt_speed_mm_per_s);
+  }
+  if (!std::isfinite(stand.ground_below_shoulder_mm) ||
+      stand.ground_below_shoulder_mm <= stand.foot_radius_mm) {
+    Reject("stand ground (desired.locus.ground_below_shoulder_mm)",
+           "finite and more than the foot radius below the shoulder",
+           stand.ground_below_shoulder_mm);
+  }
 }
 
 void SetSimSetting(SimConfig& config, std::string_view key, double value) {

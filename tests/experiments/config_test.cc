@@ -342,5 +342,34 @@ TEST_F(ConfigTest, ShippedConfigsLoad) {
             std::vector<std::string>{"model_based"});
 }
 
+TEST_F(ConfigTest, TheStandIsBuiltOnlyFromAStandSection) {
+  const std::string dir = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
+  // The air leg: no stand, whatever its defaults say.
+  EXPECT_FALSE(LoadExperimentConfig(dir + "track.yaml").sim.stand.enabled);
+  for (const char* name :
+       {"track_stand.yaml", "identify_stand.yaml", "identify_stand_loaded.yaml"}) {
+    const ExperimentConfig config = LoadExperimentConfig(dir + name);
+    EXPECT_TRUE(config.sim.stand.enabled) << name;
+    // A quarter of the ERS-210A's 1.5 kg; the floor at the walk's ground.
+    EXPECT_EQ(config.sim.stand.load_kg, 0.375) << name;
+    EXPECT_EQ(config.sim.stand.ground_below_shoulder_mm, 100.0) << name;
+    // The front leg's URDF, not a copy.
+    EXPECT_EQ(
+        std::filesystem::canonical(config.sim.urdf_path),
+        std::filesystem::canonical(std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf"))
+        << name;
+  }
+  // The belt runs at the walk's stance speed: 48.93 mm in 44 ticks of 8 ms, unless told.
+  EXPECT_NEAR(LoadExperimentConfig(dir + "track_stand.yaml").sim.stand.belt_speed_mm_per_s,
+              48.93 / (44 * 0.008), 1e-9);
+  EXPECT_EQ(LoadExperimentConfig(dir + "identify_stand_loaded.yaml").sim.stand.belt_speed_mm_per_s,
+            0.0);
+  // The floor follows the walk's ground.
+  EXPECT_EQ(
+      LoadExperimentConfig(dir + "track_stand.yaml", {"desired.locus.ground_below_shoulder_mm=105"})
+          .sim.stand.ground_below_shoulder_mm,
+      105.0);
+}
+
 }  // namespace
 }  // namespace leglab::experiments

@@ -179,6 +179,24 @@ TEST_F(ProgramsTest, FitWalkRejectsBadInputWithOneLineAndStatus2) {
   EXPECT_EQ(kept, "keep");
 }
 
+// The test stand's values (issue 11): a negative load, negative friction or a stop above the
+// shoulder's walking height is bad input, for identify and track alike.
+TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
+  const std::string id = "--config experiments/configs/identify_stand.yaml";
+  const std::string track =
+      "--config experiments/configs/track_stand.yaml --set 'model={v_max_deg_per_tick: 2.5, "
+      "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
+  for (const std::string& program : {kIdentify, kTrack}) {
+    const std::string& good = program == kIdentify ? id : track;
+    ExpectBadInput(program, good + " --set stand.load_kg=-0.1", "stand.load_kg must be in (0, 10]");
+    ExpectBadInput(program, good + " --set stand.friction=-0.5",
+                   "stand.friction must be in [0, 5]");
+    ExpectBadInput(program, good + " --set stand.stop_below_shoulder_mm=-3",
+                   "stand.stop_below_shoulder_mm must be in [0, 50] mm");
+    ExpectBadInput(program, good + " --set stand.frction=1", "stand.frction");
+  }
+}
+
 // Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or
 // produced non-finite results is refused before anything runs, naming the key as written.
 TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
@@ -331,8 +349,16 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   EXPECT_EQ(header, "step,tick,joint,desired_deg,pwl_deg,request_deg,actual_deg,model_deg");
   std::ifstream foot(out_ / "foot_direct.csv");
   std::getline(foot, header);
+  // The first eight columns as before; the test stand's four appended (issue 11), zeros in the
+  // air.
   EXPECT_EQ(header,
-            "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm");
+            "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm,"
+            "contact_fz_n,contact_fx_n,contact_fy_n,carriage_z_mm");
+  int rows = 0;
+  for (std::string line; std::getline(foot, line); ++rows) {
+    EXPECT_TRUE(line.ends_with(",0,0,0,0")) << line;
+  }
+  EXPECT_EQ(rows, 2 * 88);
 }
 
 TEST_F(ProgramsTest, ADirectRunDoesNotNeedWhatModelBasedNeeds) {
@@ -362,12 +388,16 @@ std::map<std::string, std::string> FilesOf(const fs::path& dir) {
 TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
   const std::string short_identification =
       " --set identify.record_cycles=2 --set identify.settle_cycles=1";
-  for (const char* config : {"identify.yaml", "track.yaml"}) {
-    const bool track = std::string(config) == "track.yaml";
+  // The stand's (issue 11) too: ODE's contacts are made the same way on any thread.
+  for (const char* config :
+       {"identify.yaml", "track.yaml", "identify_stand_loaded.yaml", "track_stand.yaml"}) {
+    const bool track = std::string(config).starts_with("track");
     const std::string program = track ? kTrack : kIdentify;
     // identify refuses track's keys.
+    // On the stand one mode is enough: the parallel part is the identification.
     const std::string short_run =
-        short_identification + (track ? " --set steps=2 --set warmup_steps=1" : "");
+        short_identification + (track ? " --set steps=2 --set warmup_steps=1" : "") +
+        (std::string(config) == "track_stand.yaml" ? " --set controller.modes=[model_based]" : "");
     std::map<std::string, std::string> first;
     for (const int threads : {1, 2}) {
       const fs::path out = dir_ / ("threads" + std::to_string(threads));

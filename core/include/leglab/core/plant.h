@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -9,11 +10,25 @@
 
 namespace leglab {
 
+/// What a plant measures besides the joint angles: the test stand's instruments (issue 11).
+/// For reporting only: the experiments record it, no controller is given it. All zero for a
+/// plant without a stand (the leg in the air, the model plant).
+struct PlantTelemetry {
+  /// The floor's force on the foot, mean over the tick, N, body axes (x forward, y left, z up).
+  std::array<double, 3> contact_force_n{};
+  /// The stand's carriage height above the shoulder's walking height at the end of the tick, mm.
+  double carriage_z_mm = 0.0;
+  /// How far the foot has slid along the floor while loaded since the plant was built or
+  /// reset, mm (cumulative; a step's slip is the difference across it).
+  double slip_mm = 0.0;
+};
+
 /// What a plant reports at the end of a control tick, degrees.
 struct PlantReading {
-  LegAngles measured_deg{};  ///< the sensors' reading (what a controller may see)
-  LegAngles true_deg{};      ///< the exact joint angles (for scoring and plotting only)
-  LegAngles applied_deg{};   ///< the latest request as the servos took it (clamped to the limits)
+  LegAngles measured_deg{};    ///< the sensors' reading (what a controller may see)
+  LegAngles true_deg{};        ///< the exact joint angles (for scoring and plotting only)
+  LegAngles applied_deg{};     ///< the latest request as the servos took it (clamped to the limits)
+  PlantTelemetry telemetry{};  ///< the stand's instruments (for reporting only)
 };
 
 /// One setting of a running plant to change: its name as the config writes it (e.g.

@@ -71,6 +71,12 @@ struct TrackingRun {
   std::vector<LegAngles> request_deg;          ///< steps * T ticks, as the servos applied them
   std::vector<LegAngles> measured_deg;         ///< the angles measured right after each request
   std::vector<LegAngles> warmup_measured_deg;  ///< warmup_steps * T ticks before those
+  /// The plant's telemetry (the stand's instruments) at each measured tick, steps * T; the
+  /// controller never sees it. Zeros for a plant without a stand.
+  std::vector<PlantTelemetry> telemetry;
+  /// The telemetry at the end of the warm-up (or of the reset, without one): the slip count
+  /// the first measured step starts from.
+  PlantTelemetry telemetry_before{};
   /// After every step (warm-up included), for a controller that estimates the model; else
   /// empty.
   std::vector<StepModelEstimates> model_estimates;

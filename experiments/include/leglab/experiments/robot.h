@@ -12,6 +12,8 @@ struct Robot {
   std::string name;       ///< the URDF's <robot name>
   std::string urdf_path;  ///< the URDF it was read from
   LegGeometry geometry;   ///< segment vectors, joint axes and limits at q = 0
+  double leg_mass_kg =
+      0.0;  ///< the moving links' masses (what a stand's floor carries besides its load)
 };
 
 /// Reads the leg at `urdf_path` (through sim::LoadLegDescription) and derives its geometry:

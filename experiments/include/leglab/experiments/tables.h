@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -47,6 +48,35 @@ struct LearningStep {
   double foot_l2_cm = 0.0;
 };
 
+/// A tick whose floor force is above this, N, is a stance tick (the foot loaded).
+inline constexpr double kLoadedFzN = 0.1;
+
+/// One mode's run on the test stand: what the floor did, per measured step.
+struct StandRow {
+  std::string mode;
+  /// How far the foot slid along the floor while loaded (PlantTelemetry::slip_mm), each step, mm.
+  std::vector<double> slip_mm;
+  MeanStd slip_stat_mm;      ///< mean and std of slip_mm
+  double max_slip_mm = 0.0;  ///< the largest of slip_mm
+  /// The floor's mean vertical force over the stance, the ticks the foot carried more than
+  /// kLoadedFzN, mean (and std) over the steps, N.
+  MeanStd stance_fz_n;
+  /// The same over the desired ground phase (StandTable::stance_ticks), N.
+  MeanStd ground_phase_fz_n;
+  double peak_fz_n = 0.0;  ///< the largest vertical force of any tick, N
+  /// Ticks of a step the foot carried more than kLoadedFzN, mean over the steps.
+  double loaded_ticks = 0.0;
+};
+
+/// The stand's part of Table 2 (table2.json `stand`).
+struct StandTable {
+  double carried_weight_n = 0.0;  ///< (stand.load_kg + the leg's mass) x g
+  /// The desired ground phase: the ticks where the desired foot is on the walk's ground (its
+  /// lowest height, within 0.01 mm), indices within a step.
+  std::vector<int> stance_ticks;
+  std::vector<StandRow> modes;
+};
+
 /// Table 2 and the foot table.
 struct Table2 {
   int steps = 0;
@@ -58,6 +88,8 @@ struct Table2 {
   std::array<JointModelParams, kLegJoints> models;
   bool models_identified = false;
   std::array<int, kLegJoints> pwl_segments{};
+  /// On the test stand: slip and floor force per mode; empty in the air.
+  std::optional<StandTable> stand;
 
   /// The row with `key`, or nullptr.
   const Table2Row* Find(std::string_view key) const;
@@ -73,6 +105,9 @@ Table2 BeginTable2(const TrackResult& result);
 
 /// Appends `run`'s rows (L2 and Linf to D, and to P if its mode follows P) and its foot row.
 void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& result);
+
+/// The stand's row of `run` (steps of `period` ticks) for `stand`'s stance ticks.
+StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period);
 
 /// The learning curve of `run` (every step, warm-up included) against the desired motion.
 std::vector<LearningStep> LearningCurve(const ModeRun& run, const TrackResult& result);

@@ -52,6 +52,9 @@ struct TrackResult {
   std::vector<PlantIdentification> plant_models;
   int steps = 0;
   int period = 0;
+  /// On the test stand (stand.enabled): the weight the floor carries standing, (stand.load_kg +
+  /// the leg's mass) x 9.81, N; 0 in the air.
+  double stand_weight_n = 0.0;
   /// Plant ticks run in all (identification's step tests, searches and every mode's run): the
   /// physics the experiment cost, sim.physics_dt_ms steps each on the simulated leg.
   long plant_ticks = 0;

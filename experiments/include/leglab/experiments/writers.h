@@ -27,14 +27,18 @@ std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoint
 std::string Table2Markdown(const Table2& table);
 
 /// Table 2 as JSON: steps, joints.<joint>.<row key>.{mean, std},
-/// foot_cm.<mode>.{[k,] L2, Linf}, model.<joint>.
+/// foot_cm.<mode>.{[k,] L2, Linf}, model.<joint>, and on the test stand
+/// stand.{carried_weight_n, stance_ticks, modes.<mode>.{slip_mm_per_step, slip_mm, max_slip_mm,
+/// stance_fz_n, peak_fz_n, loaded_ticks}}.
 std::string Table2Json(const Table2& table);
 
 /// The file-name prefixes `track` writes (and so replaces in --out): table2., trace_, foot_,
 /// each searched mode's search file, each learning mode's <mode>_learning.
 std::vector<std::string> TrackOutputPrefixes();
 
-/// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv and
+/// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv
+/// (step,tick,desired_{x,y,z}_cm,actual_{x,y,z}_cm,contact_fz_n,contact_fx_n,contact_fy_n,
+/// carriage_z_mm: the stand's instruments last, zeros in the air) and
 /// each search's CSV (time_shift's shift_search.csv), and for every mode that is not
 /// feed-forward <mode>_learning.csv (step,joint,l2_deg,foot_l2_cm; warm-up steps negative).
 /// Returns the Markdown tables.

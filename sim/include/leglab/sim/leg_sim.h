@@ -22,7 +22,11 @@ class SimError : public std::runtime_error {
 /// firmware (JointServo, one per joint) and read by noisy angle sensors (AngleSensor). It is
 /// hardware to the controller: write requests, tick, read measured angles. As a leglab::Plant,
 /// Reset() is SetJointAnglesDeg(), Tick(request) is SetRequestsDeg(request) then Tick(), and
-/// the reading is {MeasuredDeg(), TrueDeg(), CommandedDeg()}.
+/// the reading is {MeasuredDeg(), TrueDeg(), CommandedDeg(), Telemetry()}.
+///
+/// With config.stand.enabled the leg is on the single-leg test stand (StandConfig: a carriage
+/// on a vertical rail carrying a load, a floor under the foot); the stand's instruments are
+/// the reading's telemetry, which the controller never sees.
 ///
 /// Timing: at control tick t the caller calls SetRequestsDeg(R(t)) and then Tick(); after
 /// Tick() returns, MeasuredDeg() is the angle recorded immediately after request t, sampled at
@@ -83,14 +87,18 @@ class LegSim final : public leglab::Plant {
   /// quantised to 1 microradian; sampled once at the end of each Tick().
   LegAngles MeasuredDeg() const { return reading_.measured_deg; }
 
+  /// The stand's instruments at the end of the latest tick (zeros without a stand): the
+  /// floor's mean force on the foot over the tick, the carriage height, the slip since reset.
+  const PlantTelemetry& Telemetry() const { return reading_.telemetry; }
+
   /// The exact hinge angles now, deg.
   LegAngles TrueDeg() const { return reading_.true_deg; }
 
   /// The latest request as the servo took it (clamped to the joint limits), deg.
   LegAngles CommandedDeg() const { return reading_.applied_deg; }
 
-  /// Centre of the ball of the foot (the `foot` link origin) in the body frame, mm, from the
-  /// ODE body poses.
+  /// Centre of the ball of the foot (the `foot` link origin) in the body frame (on the stand
+  /// the carriage's), mm, from the ODE body poses.
   std::array<double, 3> FootPositionMm() const { return world_.LinkOriginMm(kFootLinkName); }
 
   /// Teleports the leg to `q_deg` at rest, and resets the servos (requests, delay line,
@@ -131,6 +139,8 @@ class LegSim final : public leglab::Plant {
   double physics_dt_s_;
   LegAngles request_rad_{};
   PlantReading reading_{};
+  std::array<double, 3> tick_force_n_{};  // on the stand: the floor's mean force this tick
+  double slip_at_reset_mm_ = 0.0;         // the world's slip count at the latest reset
   bool motors_enabled_ = true;
   long tick_ = 0;
 };

@@ -15,6 +15,20 @@ namespace leglab::sim {
 /// One simulated joint as described by the URDF (the older name of JointDescription).
 using JointInfo = JointDescription;
 
+/// What the test stand measures after a physics step (all zero without a stand).
+struct StandState {
+  /// The floor's force on the foot over the latest physics step, N, world (= body) axes:
+  /// x forward, y left, z up (so a loaded foot has z > 0).
+  std::array<double, 3> contact_force_n{};
+  /// The carriage's height above the shoulder's walking height, mm (StandConfig).
+  double carriage_z_mm = 0.0;
+  /// Distance the foot has slid along the floor while loaded since the world was built, mm:
+  /// the tangential speed of the foot's material point at the contact relative to the floor's
+  /// surface (the treadmill belt's, StandConfig::belt_speed_mm_per_s), integrated over every
+  /// physics step whose normal force exceeds kLoadedContactN. Rolling of the ball is not slip.
+  double slip_mm = 0.0;
+};
+
 /// The rigid-body physics of the leg: a LegDescription (the URDF, checked) turned into an ODE
 /// world, nothing else (no servo firmware, no sensor; LegSim adds those). The root link is fixed to
 /// the world at the world origin, so world coordinates are body-frame coordinates. Each link moved
@@ -36,17 +50,24 @@ class LegWorld {
   /// A hinge turning faster than this, rad/s, means the integration has blown up.
   static constexpr double kExplodedRateRadPerS = 1000.0;
 
+  /// A contact carrying more than this normal force, N, counts as loaded (StandState::slip_mm).
+  static constexpr double kLoadedContactN = 0.1;
+
   /// Builds the ODE world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
-  /// off). `leg` is normally LoadLegDescription's result; throws std::invalid_argument when its
-  /// indices do not form a tree with each LegJoint moving one link and each body carried by
-  /// its link, or naming the link when ODE rejects a body's mass.
-  explicit LegWorld(const LegDescription& leg);
+  /// off). With `stand.enabled` the root link rides on a carriage of mass stand.load_kg on a
+  /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
+  /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
+  /// through an ODE space; `stand` is expected valid (ValidateSimConfig). `leg` is normally
+  /// LoadLegDescription's result; throws std::invalid_argument when its indices do not form a tree
+  /// with each LegJoint moving one link and each body carried by its link, or naming the link when
+  /// ODE rejects a body's mass.
+  explicit LegWorld(const LegDescription& leg, const StandConfig& stand = {});
 
   /// LegWorld(LoadLegDescription(urdf_path)): parses the URDF at `urdf_path` (absolute or
   /// relative to the working directory) and builds its world. Throws what LoadLegDescription
   /// throws (std::runtime_error naming a missing or malformed file, std::invalid_argument
   /// naming an invalid joint or link).
-  explicit LegWorld(const std::string& urdf_path);
+  explicit LegWorld(const std::string& urdf_path, const StandConfig& stand = {});
   ~LegWorld();
   LegWorld(LegWorld&&) noexcept;             ///< A moved-from LegWorld may only be destroyed.
   LegWorld& operator=(LegWorld&&) noexcept;  ///< A moved-from LegWorld may only be destroyed.
@@ -69,19 +90,30 @@ class LegWorld {
   /// `max_torque_nm` (>= 0; 0 switches the motor off).
   void SetMotor(int joint, double speed_rad_per_s, double max_torque_nm);
 
-  /// One ODE step (dWorldStep) of `dt_s` seconds.
+  /// One ODE step (dWorldStep) of `dt_s` seconds. On the stand, the foot's contacts with the
+  /// floor are found first (dSpaceCollide, dCollide) and joined for this step only (a contact
+  /// joint group, emptied after it), with the stand's stiffness and damping as ERP and CFM
+  /// for `dt_s` (StandConfig).
   void Step(double dt_s);
 
   /// Teleports the leg to the joint angles `q_rad` (rad), every body at rest. Does not check
-  /// limits.
+  /// limits. On the stand the carriage is put at rest on its stop, or, when the foot would
+  /// then be in the floor, as high as makes the foot just touch it.
   void SetConfigurationRad(const LegAngles& q_rad);
 
-  /// Origin of link `link`'s frame in the body (= world) frame, mm, from the ODE body poses.
+  /// The stand's measurements after the latest Step (zeros without a stand).
+  const StandState& stand_state() const;
+
+  /// Whether the world has a stand.
+  bool has_stand() const;
+
+  /// Origin of link `link`'s frame in the body frame (= the world frame in the air, the
+  /// world frame lowered by the carriage height on the stand), mm, from the ODE body poses.
   /// Throws std::invalid_argument when the URDF has no such link.
   std::array<double, 3> LinkOriginMm(std::string_view link) const;
 
-  /// Kinetic plus gravitational potential energy of the moving bodies, J (zero potential at
-  /// z = 0).
+  /// Kinetic plus gravitational potential energy of the moving bodies (and the carriage on the
+  /// stand), J (zero potential at world z = 0).
   double MechanicalEnergyJ() const;
 
   /// Kinetic energy (translation and rotation) of the moving bodies, J.

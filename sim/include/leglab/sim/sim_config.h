@@ -38,6 +38,50 @@ struct SensorConfig {
   double noise_deg = 0.1;
 };
 
+/// The single-leg test stand (robot.yaml `stand.*`, issue 11): the leg's root link mounted on
+/// a carriage that slides on a vertical rail (an ODE slider joint), carrying its share of the
+/// body, with a lower stop on the rail and a floor under the foot. Off (`enabled` false, no
+/// `stand:` section) the leg hangs in the air, fixed to the world, exactly as without it.
+///
+/// Heights: the carriage height is the shoulder's height above its *walking height*, the
+/// height at which the centre of the ball of the foot, `ground_below_shoulder_mm` below the
+/// shoulder, has the foot sphere just touching the floor. So the floor plane lies
+/// ground_below_shoulder_mm + foot_radius_mm below the shoulder at carriage height 0, and the
+/// stop holds the carriage at -stop_below_shoulder_mm.
+///
+/// Contact softness is given in physical units and turned into ODE's ERP and CFM for the
+/// physics step h (ODE manual, "How to use ERP and CFM"): ERP = h k / (h k + c),
+/// CFM = 1 / (h k + c), with k the stiffness (N/m) and c the damping (N s/m): the contact then
+/// acts as a spring-damper k, c integrated implicitly.
+struct StandConfig {
+  /// The stand is built (a `stand:` section was given).
+  bool enabled = false;
+  /// Mass the carriage carries besides the leg, kg (> 0): default a quarter of an ERS-210A,
+  /// which weighs about 1.5 kg with battery and memory stick (Sony's ERS-210A specifications).
+  double load_kg = 0.375;
+  /// How far below its walking height the rail's lower stop holds the shoulder, mm (>= 0; a
+  /// negative value would put the stop above the shoulder's walking height, so that the foot
+  /// could never carry the load on the walk's ground).
+  double stop_below_shoulder_mm = 5.0;
+  /// Coulomb friction coefficient of foot on floor (>= 0; ODE's friction pyramid).
+  double friction = 1.0;
+  /// Contact stiffness of foot on floor, N/m (> 0).
+  double contact_stiffness_n_per_m = 20000.0;
+  /// Contact damping of foot on floor, N s/m (>= 0).
+  double contact_damping_n_s_per_m = 100.0;
+  /// Speed of the floor's surface backward (along -x), mm/s: the floor is a treadmill belt, as
+  /// on the single-leg rigs of legged-robot labs, since the rail lets the body move only
+  /// vertically; a walk's stance sweeps the foot backward, and a still floor would make it
+  /// slide its whole stroke. 0 is a still floor. The experiments default it to the walk's
+  /// stance speed (desired.locus: length / (ground_fraction x t_step)).
+  double belt_speed_mm_per_s = 0.0;
+  /// Radius of the contact sphere at the foot (the ball of the foot), mm (> 0).
+  double foot_radius_mm = 13.96;
+  /// Where the walk's ground is: the foot centre's depth below the shoulder on the ground, mm
+  /// (the experiments set it from desired.locus.ground_below_shoulder_mm).
+  double ground_below_shoulder_mm = 100.0;
+};
+
 /// Everything the simulated plant needs (robot.yaml, with `urdf` resolved to a path).
 struct SimConfig {
   /// URDF of the leg, absolute or relative to the working directory.
@@ -50,6 +94,8 @@ struct SimConfig {
   SensorConfig sensor{};
   /// Seed of the sensor noise generator; the same seed gives bit-identical runs.
   std::uint64_t seed = 1;
+  /// The test stand; off by default (the leg in the air).
+  StandConfig stand{};
 };
 
 /// Checks every value of `config` against its documented range.
