@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "leglab/model/joint_model.h"
 #include "leglab/model/paper.h"
@@ -13,6 +15,18 @@ namespace leglab::experiments {
 namespace {
 
 using Json = nlohmann::ordered_json;
+
+// The model_deg column: the model's cyclic steady state under a request cycle, or NaN ("nan"
+// in the CSV) on every tick when the model has none (with v_max > theta_0 eq. 3 can
+// oscillate for ever, as a model fitted to a sagging loaded leg does): a diagnostic column
+// that cannot be computed is marked, not an error that loses the run.
+std::vector<double> ModelColumn(const JointModelParams& params, const std::vector<double>& cycle) {
+  try {
+    return CyclicSteadyState(params, cycle);
+  } catch (const std::runtime_error&) {
+    return std::vector<double>(cycle.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+}
 
 std::string Fixed(double value, int decimals) {
   char buffer[64];
@@ -115,9 +129,9 @@ std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoint
     for (const StepTestRun& run : joint.runs) {
       const JointRecording& r = run.recording;
       // The model column: the identified model's cyclic steady state under the request cycle.
-      const std::vector<double> model = CyclicSteadyState(
-          joint.fit.params,
-          std::vector<double>(r.request_deg.begin(), r.request_deg.begin() + period));
+      const std::vector<double> model =
+          ModelColumn(joint.fit.params,
+                      std::vector<double>(r.request_deg.begin(), r.request_deg.begin() + period));
       CsvWriter csv(out.Path("step_" + std::string(kLegJointNames[run.joint]) + "_" +
                              ThetaLabel(run.theta_test_deg) + ".csv"),
                     {"tick", "request_deg", "actual_deg", "model_deg"});
@@ -274,7 +288,7 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir&
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> cycle(period);
       for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
-      model[j] = CyclicSteadyState(r.context.models[j], cycle);
+      model[j] = ModelColumn(r.context.models[j], cycle);
     }
     CsvWriter trace(out.Path("trace_" + mode + ".csv"),
                     {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",

@@ -416,6 +416,25 @@ TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
   ExpectBadInput(kTrack, "--config experiments/configs/track.yaml --threads 0", "threads");
 }
 
+// A model the data make degenerate (5 kg on the stand's loaded step test: the leg sags, the
+// fit's theta_0 runs off to 1e9 deg and more) may have no cyclic steady state to draw: the
+// model_deg column says "nan" and the run still writes its table (it once ended in an
+// "internal error", exit 1, writing nothing).
+TEST_F(ProgramsTest, IdentifyMarksAModelColumnItCannotComputeInsteadOfFailing) {
+  const Result r =
+      RunCommand(kIdentify + " --config experiments/configs/identify_stand_loaded.yaml --out '" +
+                 out_.string() + "' --set stand.load_kg=5");
+  ASSERT_EQ(r.status, 0) << r.stderr_text;
+  EXPECT_TRUE(fs::exists(out_ / "table1.json"));
+  int nan_rows = 0;
+  for (const char* joint : {"rotator", "abductor", "knee"}) {
+    std::ifstream in(out_ / (std::string("step_") + joint + "_20.csv"));
+    std::string line;
+    while (std::getline(in, line)) nan_rows += line.ends_with(",nan") ? 1 : 0;
+  }
+  EXPECT_GT(nan_rows, 0);
+}
+
 TEST_F(ProgramsTest, IdentifyWritesItsOutputs) {
   const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml --out '" +
                               out_.string() + "' --set identify.record_cycles=2");
