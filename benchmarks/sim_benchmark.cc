@@ -149,6 +149,33 @@ double Median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// Times `first` and `second` (each returns seconds) in `rounds` interleaved rounds, the
+// order alternating: the per-round ratios second / first and both times, ns.
+struct Interleaved {
+  std::vector<double> ratios;
+  std::vector<double> first_ns;
+  std::vector<double> second_ns;
+};
+template <typename First, typename Second>
+Interleaved TimeInterleaved(int rounds, First first, Second second) {
+  Interleaved out;
+  for (int round = 0; round < rounds; ++round) {
+    double a = 0.0;
+    double b = 0.0;
+    if (round % 2 == 0) {
+      a = first();
+      b = second();
+    } else {
+      b = second();
+      a = first();
+    }
+    out.ratios.push_back(b / a);
+    out.first_ns.push_back(a * 1e9);
+    out.second_ns.push_back(b * 1e9);
+  }
+  return out;
+}
+
 // Interleaved rounds, alternating which of the two goes first, each round's ratio taken from
 // timings a few milliseconds apart so that load changes on the machine hit both.
 void ReportSideBySideRatio(int rounds) {
@@ -160,28 +187,14 @@ void ReportSideBySideRatio(int rounds) {
   const int steps_per_round = kTicksPerRound * steps_per_tick;
   TimeBare(world, steps_per_round, dt_s);  // warm up
   TimeSim(sim, kTicksPerRound, steps_per_tick);
-  std::vector<double> ratios;
-  std::vector<double> bare_ns;
-  std::vector<double> sim_ns;
-  for (int round = 0; round < rounds; ++round) {
-    double bare = 0.0;
-    double simulated = 0.0;
-    if (round % 2 == 0) {
-      bare = TimeBare(world, steps_per_round, dt_s);
-      simulated = TimeSim(sim, kTicksPerRound, steps_per_tick);
-    } else {
-      simulated = TimeSim(sim, kTicksPerRound, steps_per_tick);
-      bare = TimeBare(world, steps_per_round, dt_s);
-    }
-    ratios.push_back(simulated / bare);
-    bare_ns.push_back(bare * 1e9);
-    sim_ns.push_back(simulated * 1e9);
-  }
-  const double ratio = Median(ratios);
+  const Interleaved t = TimeInterleaved(
+      rounds, [&] { return TimeBare(world, steps_per_round, dt_s); },
+      [&] { return TimeSim(sim, kTicksPerRound, steps_per_tick); });
+  const double ratio = Median(t.ratios);
   std::printf(
       "bare ODE step: %.0f ns (median), sim per physics step: %.0f ns (median), "
       "%d interleaved rounds of %d steps\n",
-      Median(bare_ns), Median(sim_ns), rounds, steps_per_round);
+      Median(t.first_ns), Median(t.second_ns), rounds, steps_per_round);
   std::printf("sim/ode step cost ratio: %.3f (limit %.2f: %s)\n", ratio, kMaxRatio,
               ratio <= kMaxRatio ? "ok" : "EXCEEDED");
 }
@@ -195,28 +208,14 @@ void ReportStandRatio(int rounds) {
   constexpr int kTicksPerRound = 250;
   TimeSim(air, kTicksPerRound, steps_per_tick);  // warm up
   TimeSim(stand, kTicksPerRound, steps_per_tick);
-  std::vector<double> ratios;
-  std::vector<double> air_ns;
-  std::vector<double> stand_ns;
-  for (int round = 0; round < rounds; ++round) {
-    double in_air = 0.0;
-    double on_stand = 0.0;
-    if (round % 2 == 0) {
-      in_air = TimeSim(air, kTicksPerRound, steps_per_tick);
-      on_stand = TimeSim(stand, kTicksPerRound, steps_per_tick);
-    } else {
-      on_stand = TimeSim(stand, kTicksPerRound, steps_per_tick);
-      in_air = TimeSim(air, kTicksPerRound, steps_per_tick);
-    }
-    ratios.push_back(on_stand / in_air);
-    air_ns.push_back(in_air * 1e9);
-    stand_ns.push_back(on_stand * 1e9);
-  }
-  const double ratio = Median(ratios);
+  const Interleaved t = TimeInterleaved(
+      rounds, [&] { return TimeSim(air, kTicksPerRound, steps_per_tick); },
+      [&] { return TimeSim(stand, kTicksPerRound, steps_per_tick); });
+  const double ratio = Median(t.ratios);
   std::printf(
       "air sim per physics step: %.0f ns (median), stand sim per physics step: %.0f ns "
       "(median), %d interleaved rounds of %d ticks\n",
-      Median(air_ns), Median(stand_ns), rounds, kTicksPerRound);
+      Median(t.first_ns), Median(t.second_ns), rounds, kTicksPerRound);
   std::printf("stand/air step cost ratio: %.3f (limit %.2f: %s)\n", ratio, kMaxStandRatio,
               ratio <= kMaxStandRatio ? "ok" : "EXCEEDED");
 }

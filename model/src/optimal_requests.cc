@@ -579,26 +579,32 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   return result;
 }
 
-Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
-                                       std::span<const double> requests_deg) {
+namespace {
+
+// S = d M_ss / d R at the model's steady state under `requests_deg`, and S^T S when `normal`.
+Eigen::MatrixXd SensitivityAtSteadyState(const JointModelParams& params,
+                                         std::span<const double> requests_deg,
+                                         Eigen::MatrixXd* normal) {
   ValidateJointModelParams(params);
   if (requests_deg.empty()) throw std::invalid_argument("optimal requests: the cycle is empty");
   RequireFinite(requests_deg, "requests_deg");
   const PeriodicModel model(params, requests_deg, 0.0, false);
   Eigen::MatrixXd sensitivity;
-  model.Sensitivity(model.SteadyState(), sensitivity);
+  model.Sensitivity(model.SteadyState(), sensitivity, nullptr, normal);
   return sensitivity;
+}
+
+}  // namespace
+
+Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
+                                       std::span<const double> requests_deg) {
+  return SensitivityAtSteadyState(params, requests_deg, nullptr);
 }
 
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
                                         std::span<const double> requests_deg) {
-  ValidateJointModelParams(params);
-  if (requests_deg.empty()) throw std::invalid_argument("optimal requests: the cycle is empty");
-  RequireFinite(requests_deg, "requests_deg");
-  const PeriodicModel model(params, requests_deg, 0.0, false);
-  Eigen::MatrixXd sensitivity;
   Eigen::MatrixXd normal;
-  model.Sensitivity(model.SteadyState(), sensitivity, nullptr, &normal);
+  SensitivityAtSteadyState(params, requests_deg, &normal);
   return normal;
 }
 
