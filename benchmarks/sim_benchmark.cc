@@ -54,17 +54,10 @@ SimConfig Config() {
   return config;
 }
 
-// The leg on the test stand, robots/ers210a_stand/robot.yaml's values.
+// The leg on the test stand: StandConfig's defaults are robots/ers210a_stand/robot.yaml's values.
 SimConfig StandConfig() {
   SimConfig config = Config();
   config.stand.enabled = true;
-  config.stand.load_kg = 0.375;
-  config.stand.stop_below_shoulder_mm = 5.0;
-  config.stand.friction = 1.0;
-  config.stand.contact_stiffness_n_per_m = 20000.0;
-  config.stand.contact_damping_n_s_per_m = 100.0;
-  config.stand.foot_radius_mm = 13.96;
-  config.stand.ground_below_shoulder_mm = 100.0;
   return config;
 }
 

@@ -9,27 +9,17 @@
 
 namespace leglab {
 
-struct OfflineCycleMemo::Entry {
-  std::string name;
-  DesiredCycle desired;
-  std::array<JointModelParams, kLegJoints> models;
-  std::array<JointLimits, kLegJoints> limits;
-  DesiredCycle cycle;
-};
-
 DesiredCycle OfflineCycleMemo::GetOrCompute(const char* name, const ControllerContext& context,
                                             const std::function<DesiredCycle()>& compute) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& e : entries_) {
-    if (e->name == name && e->models == context.models && e->limits == context.limits &&
-        e->desired == context.desired) {
-      return e->cycle;
+  for (const Entry& e : entries_) {
+    if (e.name == name && e.models == context.models && e.limits == context.limits &&
+        e.desired == context.desired) {
+      return e.cycle;
     }
   }
-  auto entry = std::make_shared<Entry>(
-      Entry{name, context.desired, context.models, context.limits, compute()});
-  entries_.push_back(entry);
-  return entry->cycle;
+  entries_.push_back({name, context.desired, context.models, context.limits, compute()});
+  return entries_.back().cycle;
 }
 
 ControllerContext MakeControllerContext(DesiredCycle desired,

@@ -39,9 +39,15 @@ class OfflineCycleMemo {
                             const std::function<DesiredCycle()>& compute);
 
  private:
-  struct Entry;
+  struct Entry {
+    std::string name;
+    DesiredCycle desired;
+    std::array<JointModelParams, kLegJoints> models;
+    std::array<JointLimits, kLegJoints> limits;
+    DesiredCycle cycle;
+  };
   std::mutex mutex_;
-  std::vector<std::shared_ptr<const Entry>> entries_;
+  std::vector<Entry> entries_;
 };
 
 struct ControllerContext {
