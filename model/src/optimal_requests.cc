@@ -156,17 +156,18 @@ class PeriodicModel {
   // Written to `s` (resized to T x T). Terms (t, i) with saturated[t * a + i - l - 1] set take
   // f' = 0 (the side of a kink a step moves them to).
   //
-  // With `normal`, also the Gauss-Newton matrix S^T S (T x T), in O(T^2 a) instead of the
-  // O(T^3) of the product. Write S = S0 + d p^T (d = decay, p = X). Then
-  //   S0^T S0 = sum_t S0(t)^T S0(t) = sum_t w_t B_t,
+  // With `normal`, also the Gauss-Newton matrix S^T W S (T x T, W = diag(omega), the rows'
+  // weights; empty `row_weights`: all 1), in O(T^2 a) instead of the O(T^3) of the product.
+  // Write S = S0 + d p^T (d = decay, p = X). Then
+  //   S0^T W S0 = sum_t omega_t S0(t)^T S0(t) = sum_t w_t B_t,
   //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
-  //   w_t = 1 + alpha_{t+1}^2 w_{t+1}, w_{T-1} = 1,
+  //   w_t = omega_t + alpha_{t+1}^2 w_{t+1}, w_{T-1} = omega_{T-1},
   // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
-  // the a columns and rows of u_t; and S^T S = S0^T S0 + v p^T + p v^T + (d.d) p p^T with
-  // v = S0^T d.
+  // the a columns and rows of u_t; and S^T W S = S0^T W S0 + v p^T + p v^T + (d.W d) p p^T
+  // with v = S0^T W d.
   void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
-                   const std::vector<char>* saturated = nullptr,
-                   Eigen::MatrixXd* normal = nullptr) const {
+                   const std::vector<char>* saturated = nullptr, Eigen::MatrixXd* normal = nullptr,
+                   std::span<const double> row_weights = {}) const {
     const int l = params_.lag_ticks;
     const int a = params_.accel_ticks;
     const int n = period();
@@ -206,9 +207,10 @@ class PeriodicModel {
       // s holds S0 here.
       Eigen::MatrixXd& g = *normal;
       g.setZero(n, n);
-      double weight = 1.0;  // w_t, from t = T-1 down
+      auto omega = [&](int t) { return row_weights.empty() ? 1.0 : row_weights[t]; };
+      double weight = omega(n - 1);  // w_t, from t = T-1 down
       for (int t = n - 1; t >= 0; --t) {
-        if (t < n - 1) weight = 1.0 + alphas[t + 1] * alphas[t + 1] * weight;
+        if (t < n - 1) weight = omega(t) + alphas[t + 1] * alphas[t + 1] * weight;
         for (int i = 0; i < a; ++i) {
           const double ui = slopes(t, i);
           if (ui == 0.0) continue;
@@ -222,11 +224,13 @@ class PeriodicModel {
       }
       const Eigen::MatrixXd half = g;
       g += half.transpose();
-      const Eigen::VectorXd v = s.transpose() * decay;
+      Eigen::VectorXd weighted_decay = decay;
+      for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
+      const Eigen::VectorXd v = s.transpose() * weighted_decay;
       const Eigen::VectorXd p = periodic_start.transpose();
       g.noalias() += v * p.transpose();
       g.noalias() += p * v.transpose();
-      g.noalias() += decay.squaredNorm() * (p * p.transpose());
+      g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
     }
     s.noalias() += decay * periodic_start;
   }
@@ -249,11 +253,13 @@ void RequireFinite(std::span<const double> values, const char* what) {
   }
 }
 
-double SumOfSquares(std::span<const double> angles, std::span<const double> desired) {
+// sum_t w_t (angles_t - desired_t)^2, w_t = 1 when `weights` is empty.
+double SumOfSquares(std::span<const double> angles, std::span<const double> desired,
+                    std::span<const double> weights) {
   double sum = 0.0;
   for (std::size_t t = 0; t < angles.size(); ++t) {
     const double e = angles[t] - desired[t];
-    sum += e * e;
+    sum += weights.empty() ? e * e : weights[t] * e * e;
   }
   return sum;
 }
@@ -261,14 +267,14 @@ double SumOfSquares(std::span<const double> angles, std::span<const double> desi
 struct Iterate {
   std::vector<double> requests;
   std::vector<double> angles;
-  double cost = 0.0;  // sum of squared errors
+  double cost = 0.0;  // sum of (weighted) squared errors
 };
 
 Iterate Evaluate(const JointModelParams& params, std::vector<double> requests, double smoothing,
-                 std::span<const double> desired) {
+                 std::span<const double> desired, std::span<const double> weights) {
   Iterate it;
   it.angles = PeriodicModel(params, requests, smoothing, false).SteadyState();
-  it.cost = SumOfSquares(it.angles, desired);
+  it.cost = SumOfSquares(it.angles, desired, weights);
   it.requests = std::move(requests);
   return it;
 }
@@ -342,6 +348,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   const int n = static_cast<int>(desired.size());
   const int l = params.lag_ticks;
   const int a = params.accel_ticks;
+  const std::span<const double> weights = options.weights;
   const double rms_scale = std::sqrt(static_cast<double>(n));
   const double th = params.theta0_deg;
   const bool exact = stage.smoothing == 0.0;
@@ -390,8 +397,12 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       angle_step.noalias() = jacobian * full_step;
     };
     for (int pass = 0; pass < 2; ++pass) {
-      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton);
-      for (int t = 0; t < n; ++t) residual[t] = it.angles[t] - desired[t];
+      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
+                        weights);
+      // The weighted residual W (M - D): the gradient of the cost's half is S^T W (M - D).
+      for (int t = 0; t < n; ++t) {
+        residual[t] = (weights.empty() ? 1.0 : weights[t]) * (it.angles[t] - desired[t]);
+      }
       gradient.noalias() = jacobian.transpose() * residual;
 
       // Each request's box: the joint limits, and the range where it acts at the current
@@ -473,7 +484,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       for (int s = 0; s < n; ++s) {
         trial[s] = std::clamp(trial[s] + full_step[s], box_lo[s], box_hi[s]);
       }
-      Iterate candidate = Evaluate(params, std::move(trial), stage.smoothing, desired);
+      Iterate candidate = Evaluate(params, std::move(trial), stage.smoothing, desired, weights);
       if (candidate.cost < it.cost) {
         improved = rms_gain(it.cost, candidate.cost) >= stage.tolerance_deg;
         it = std::move(candidate);
@@ -487,7 +498,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
           for (int s = 0; s < n; ++s) {
             pivot[s] = std::clamp(pivot[s] + fraction * full_step[s], box_lo[s], box_hi[s]);
           }
-          Iterate at_kink = Evaluate(params, std::move(pivot), stage.smoothing, desired);
+          Iterate at_kink = Evaluate(params, std::move(pivot), stage.smoothing, desired, weights);
           if (at_kink.cost < it.cost) {
             it = std::move(at_kink);
             improved = true;  // a pivot: the next piece may still go much further
@@ -527,6 +538,20 @@ void Validate(std::span<const double> desired, const JointModelParams& params,
     throw std::invalid_argument("optimal requests: tolerance_deg must be >= 0, got " +
                                 std::to_string(options.tolerance_deg));
   }
+  if (!options.weights.empty()) {
+    if (options.weights.size() != desired.size()) {
+      throw std::invalid_argument("optimal requests: " + std::to_string(desired.size()) +
+                                  " desired angles but " + std::to_string(options.weights.size()) +
+                                  " weights");
+    }
+    for (std::size_t t = 0; t < options.weights.size(); ++t) {
+      if (!(options.weights[t] >= 0.0 && std::isfinite(options.weights[t]))) {
+        throw std::invalid_argument("optimal requests: weights[" + std::to_string(t) +
+                                    "] must be finite and >= 0, got " +
+                                    std::to_string(options.weights[t]));
+      }
+    }
+  }
   if (!(options.smoothing_theta0 >= 0.0 && std::isfinite(options.smoothing_theta0))) {
     throw std::invalid_argument("optimal requests: smoothing_theta0 must be >= 0, got " +
                                 std::to_string(options.smoothing_theta0));
@@ -542,7 +567,7 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   Validate(desired_deg, params, initial_requests_deg, options);
   std::vector<double> start(initial_requests_deg.begin(), initial_requests_deg.end());
   for (double& r : start) r = std::clamp(r, options.lower_deg, options.upper_deg);
-  const Iterate initial = Evaluate(params, start, 0.0, desired_deg);
+  const Iterate initial = Evaluate(params, start, 0.0, desired_deg, options.weights);
 
   // Smoothed stages, each a quarter of the last, then eq. 2 exactly. (With v_max > theta_0
   // the steady state is CyclicSteadyState's iteration, for f exact only: no smoothing.)
@@ -562,13 +587,14 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
     const int stages_left = static_cast<int>(stages.size() - k);
     // Dead requests are moved to the edge of f's linear range (exactly neutral for f exact).
     if (k == 0) PullBackDeadRequests(params, it.angles, options, it.requests);
-    it = Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg);
+    it =
+        Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg, options.weights);
     used += MinimiseStage(params, desired_deg, options, stages[k],
                           std::max(1, remaining / stages_left), it);
   }
   // Scored with f exact (the last stage's model, unless the budget ran out before it), and
   // never worse than the start.
-  it = Evaluate(params, std::move(it.requests), 0.0, desired_deg);
+  it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
   if (!(it.cost <= initial.cost)) it = initial;
 
   OptimalRequests result;
@@ -584,13 +610,20 @@ namespace {
 // S = d M_ss / d R at the model's steady state under `requests_deg`, and S^T S when `normal`.
 Eigen::MatrixXd SensitivityAtSteadyState(const JointModelParams& params,
                                          std::span<const double> requests_deg,
-                                         Eigen::MatrixXd* normal) {
+                                         Eigen::MatrixXd* normal,
+                                         std::span<const double> row_weights = {}) {
   ValidateJointModelParams(params);
   if (requests_deg.empty()) throw std::invalid_argument("optimal requests: the cycle is empty");
   RequireFinite(requests_deg, "requests_deg");
+  if (!row_weights.empty() && row_weights.size() != requests_deg.size()) {
+    throw std::invalid_argument("optimal requests: " + std::to_string(requests_deg.size()) +
+                                " requests but " + std::to_string(row_weights.size()) +
+                                " row weights");
+  }
+  RequireFinite(row_weights, "row_weights");
   const PeriodicModel model(params, requests_deg, 0.0, false);
   Eigen::MatrixXd sensitivity;
-  model.Sensitivity(model.SteadyState(), sensitivity, nullptr, normal);
+  model.Sensitivity(model.SteadyState(), sensitivity, nullptr, normal, row_weights);
   return sensitivity;
 }
 
@@ -602,9 +635,10 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
 }
 
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
-                                        std::span<const double> requests_deg) {
+                                        std::span<const double> requests_deg,
+                                        std::span<const double> row_weights) {
   Eigen::MatrixXd normal;
-  SensitivityAtSteadyState(params, requests_deg, &normal);
+  SensitivityAtSteadyState(params, requests_deg, &normal, row_weights);
   return normal;
 }
 

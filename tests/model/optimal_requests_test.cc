@@ -31,6 +31,16 @@ double RmsError(const JointModelParams& p, std::span<const double> requests,
   return RmsDistance(SteadyState(p, requests), desired);
 }
 
+// sqrt(sum_t w_t (M_ss(t) - D(t))^2 / T): the weighted objective, written out.
+double WeightedRmsError(const JointModelParams& p, std::span<const double> requests,
+                        std::span<const double> desired, std::span<const double> weights) {
+  const std::vector<double> m = SteadyState(p, requests);
+  double sum = 0.0;
+  for (std::size_t t = 0; t < m.size(); ++t)
+    sum += weights[t] * (m[t] - desired[t]) * (m[t] - desired[t]);
+  return std::sqrt(sum / static_cast<double>(m.size()));
+}
+
 // The walking-like cycle of the brief: D(t) = amplitude sin(2 pi t / 88) + 15 sin(4 pi t / 88 + 1).
 std::vector<double> WalkingCycle(double amplitude_deg) {
   std::vector<double> d(88);
@@ -168,12 +178,33 @@ TEST(SteadyStateNormalMatrix, IsTheProductOfTheSensitivityWithItself) {
   }
 }
 
+TEST(SteadyStateNormalMatrix, WeightedIsTheProductWithTheWeightsBetween) {
+  // S^T W S multiplied out, with weights that differ by tick, a zero among them.
+  std::vector<SensitivityCase> cases = SensitivityCases();
+  cases.push_back({kPaper, {3.0, -4.0, 8.0, 1.0}});
+  cases.push_back({{9.0, 5.0, 1, 2}, {0.0, 3.0, 4.0, 2.0, -1.0, -2.5, -1.0, 0.5}});
+  for (const SensitivityCase& c : cases) {
+    const auto n = static_cast<int>(c.requests.size());
+    std::vector<double> w(n);
+    for (int t = 0; t < n; ++t) w[t] = t % 5 == 3 ? 0.0 : 0.3 + 0.17 * (t % 7);
+    const Eigen::MatrixXd s = SteadyStateSensitivity(c.params, c.requests);
+    const Eigen::VectorXd wv = Eigen::Map<const Eigen::VectorXd>(w.data(), n);
+    const Eigen::MatrixXd product = s.transpose() * wv.asDiagonal() * s;
+    const Eigen::MatrixXd normal = SteadyStateNormalMatrix(c.params, c.requests, w);
+    EXPECT_LT((normal - product).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + product.norm()))
+        << "T = " << c.requests.size();
+  }
+  const std::vector<double> two_weights = {1.0, 2.0};  // not one per tick
+  EXPECT_THROW(SteadyStateNormalMatrix(kPaper, SensitivityCases()[0].requests, two_weights),
+               std::invalid_argument);
+}
+
 // --- Brute force on small cycles -----------------------------------------------------------
 
 // The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
 // of the 40 best grid points refined by compass search (halving the step down to 1e-8 deg).
 double BruteForceBest(const JointModelParams& p, std::span<const double> d,
-                      std::vector<double>* best_requests) {
+                      std::vector<double>* best_requests, std::span<const double> weights = {}) {
   const int n = static_cast<int>(d.size());
   const auto [dmin, dmax] = std::minmax_element(d.begin(), d.end());
   // Past theta_0 + (l + a) v_max beyond D a request is saturated for any nearby angle.
@@ -184,7 +215,7 @@ double BruteForceBest(const JointModelParams& p, std::span<const double> d,
   const double spacing = (hi - lo) / (points - 1);
   auto score = [&](const std::vector<double>& r) {
     try {
-      return RmsError(p, r, d);
+      return weights.empty() ? RmsError(p, r, d) : WeightedRmsError(p, r, d, weights);
     } catch (const std::runtime_error&) {  // no settled steady state: not a candidate
       return std::numeric_limits<double>::infinity();
     }
@@ -263,6 +294,35 @@ TEST(OptimizeRequests, ReachesTheBruteForceOptimumOnSmallCycles) {
 }
 
 // --- Contract ------------------------------------------------------------------------------
+
+TEST(OptimizeRequests, ReachesTheWeightedBruteForceOptimum) {
+  // The same kind of small cycles with unequal weights, one of them zero (that tick's error
+  // does not count): the optimum moves, and the weighted brute force finds where.
+  struct WeightedCase {
+    JointModelParams params;
+    std::vector<double> desired;
+    std::vector<double> weights;
+  };
+  const std::vector<WeightedCase> cases = {
+      {{2.5, 7.0, 0, 1}, {0, 0, 6, 6}, {1.0, 0.2, 3.0, 1.0}},
+      {{2.5, 7.0, 1, 1}, {0, 0, 6, 6}, {0.0, 1.0, 1.0, 4.0}},
+      {{2.5, 7.0, 0, 1}, {0, 0, 8, 0, 0}, {1.0, 1.0, 5.0, 0.5, 1.0}},
+      {{1.0, 2.0, 1, 2}, {0, 0, 3, 3, 0}, {2.0, 0.0, 1.0, 1.0, 0.3}},
+      {{1.0, 2.0, 0, 1}, {0, 4, 4, 0}, {0.1, 1.0, 2.0, 1.0}},
+  };
+  for (const WeightedCase& c : cases) {
+    std::vector<double> grid_requests;
+    const double grid_best = BruteForceBest(c.params, c.desired, &grid_requests, c.weights);
+    OptimalRequestsOptions options;
+    options.weights = c.weights;
+    const OptimalRequests opt = OptimizeRequests(c.desired, c.params, c.desired, options);
+    EXPECT_LT(opt.rms_error_deg, grid_best + 2e-6)
+        << "T " << c.desired.size() << " l " << c.params.lag_ticks << " a " << c.params.accel_ticks
+        << ": grid " << grid_best;
+    EXPECT_NEAR(opt.rms_error_deg,
+                WeightedRmsError(c.params, opt.requests_deg, c.desired, c.weights), 1e-9);
+  }
+}
 
 TEST(OptimizeRequests, FollowsAReachableCycleExactly) {
   // D is the steady state of known requests R0, so some R has zero error; from R = D.
@@ -381,6 +441,14 @@ TEST(OptimizeRequests, RejectsBadInput) {
   EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
   bad = {};
   bad.smoothing_theta0 = -0.5;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad = {};
+  bad.weights = {1.0, 1.0};  // not one per tick
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad.weights.assign(d.size(), 1.0);
+  bad.weights[1] = -0.5;
+  EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
+  bad.weights[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(OptimizeRequests(d, kPaper, r, bad), std::invalid_argument);
   EXPECT_THROW(SteadyStateSensitivity(kPaper, {}), std::invalid_argument);
   EXPECT_THROW(SteadyStateSensitivity({0.0, 7.0, 4, 6}, r), std::invalid_argument);

@@ -24,13 +24,18 @@ struct OptimalRequestsOptions {
   /// How far f's kinks are rounded in the first stage, as a fraction of theta_0; 0 optimises
   /// eq. 2 exactly from the start. See OptimizeRequests.
   double smoothing_theta0 = 0.25;
+  /// Per-tick weights w_t >= 0 of the objective, size T; empty (the default): every tick 1.
+  /// The objective is then sum_t w_t (M_ss(t) - D(t))^2 and every "RMS" (the tolerance's and
+  /// OptimalRequests::rms_error_deg) is sqrt of that over T. Used by ILC's foot-space
+  /// objective, where w_t is how much the joint moves the foot at tick t.
+  std::vector<double> weights;
 };
 
 /// The optimised request cycle and what the model does under it.
 struct OptimalRequests {
   std::vector<double> requests_deg;      ///< R(0..T-1)
   std::vector<double> steady_state_deg;  ///< the model's cyclic steady state under R
-  double rms_error_deg = 0.0;            ///< RMS of steady_state - D over the cycle
+  double rms_error_deg = 0.0;            ///< RMS of steady_state - D over the cycle (weighted)
   int iterations = 0;                    ///< sensitivity evaluations used
 };
 
@@ -95,12 +100,15 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
 Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
                                        std::span<const double> requests_deg);
 
-/// S^T S for S = SteadyStateSensitivity(params, requests_deg): the Gauss-Newton matrix
-/// OptimizeRequests factors at every linearisation, computed from the recursion that defines S
-/// in O(T^2 a) operations instead of the product's O(T^3) (see the derivation at
-/// PeriodicModel::Sensitivity in optimal_requests.cc). Equal to the product up to rounding.
-/// Throws as SteadyStateSensitivity.
+/// S^T W S for S = SteadyStateSensitivity(params, requests_deg) and W = diag(row_weights)
+/// (empty: the identity): the Gauss-Newton matrix OptimizeRequests factors at every
+/// linearisation, computed from the recursion that defines S in O(T^2 a) operations instead of
+/// the product's O(T^3) (see the derivation at PeriodicModel::Sensitivity in
+/// optimal_requests.cc). Equal to the product up to rounding.
+/// Throws as SteadyStateSensitivity, and std::invalid_argument when row_weights is neither
+/// empty nor of the cycle's size, or not finite.
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
-                                        std::span<const double> requests_deg);
+                                        std::span<const double> requests_deg,
+                                        std::span<const double> row_weights = {});
 
 }  // namespace leglab
