@@ -11,6 +11,7 @@
 #include "leglab/controller/optimal_controller.h"
 #include "leglab/core/units.h"
 #include "leglab/model/joint_model.h"
+#include "leglab/model/kinematics.h"
 #include "leglab/model/optimal_requests.h"
 
 namespace leglab {
@@ -40,6 +41,8 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
   reader.Read("filter_ticks", spec.filter_ticks);
   reader.Read("solver_iterations", spec.solver_iterations);
   reader.Read("solver_tolerance_deg", spec.solver_tolerance_deg);
+  reader.Read("objective", spec.objective);
+  reader.Read("joint_weight", spec.joint_weight);
   if (!(spec.gain > 0.0 && spec.gain <= 1.0)) reader.Fail("gain", "in (0, 1]");
   if (spec.start != "optimal" && spec.start != "model_based") {
     reader.Fail("start", "optimal or model_based, got '" + spec.start + "'");
@@ -50,6 +53,12 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
   if (spec.solver_iterations < 1) reader.Fail("solver_iterations", "at least 1");
   if (!(spec.solver_tolerance_deg >= 0.0 && spec.solver_tolerance_deg <= 1.0)) {
     reader.Fail("solver_tolerance_deg", "in [0, 1] deg");
+  }
+  if (spec.objective != "joint" && spec.objective != "foot") {
+    reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
+  }
+  if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
+    reader.Fail("joint_weight", "in [0, 100]");
   }
   return spec;
 }
@@ -62,8 +71,19 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
   if (!(spec_.gain > 0.0 && spec_.gain <= 1.0) || spec_.filter_ticks < 1 ||
       spec_.filter_ticks % 2 == 0 || spec_.solver_iterations < 1 ||
       !(spec_.solver_tolerance_deg >= 0.0 && spec_.solver_tolerance_deg <= 1.0) ||
-      (spec_.start != "optimal" && spec_.start != "model_based")) {
+      (spec_.start != "optimal" && spec_.start != "model_based") ||
+      (spec_.objective != "joint" && spec_.objective != "foot") ||
+      !(spec_.joint_weight >= 0.0 && spec_.joint_weight <= 100.0)) {
     throw std::invalid_argument("ilc: invalid options");
+  }
+  if (spec_.objective == "foot") {
+    if (!context_.geometry) {
+      throw std::invalid_argument("ilc: the foot objective needs the leg's geometry");
+    }
+    for (const LegAngles& d : context_.desired) {
+      desired_foot_mm_.push_back(ForwardKinematics(
+          *context_.geometry, Eigen::Vector3d(DegToRad(d[0]), DegToRad(d[1]), DegToRad(d[2]))));
+    }
   }
   start_ = spec_.start == "model_based" ? ModelBasedRequestCycle(context_, CmMethod::kExact)
                                         : OptimalRequestCycle(context_);
@@ -97,39 +117,93 @@ void IlcController::Observe(long tick, const LegAngles& /*applied_deg*/,
   seen_[t] = true;
 }
 
+bool IlcController::Solve(int joint, const std::vector<double>& target, std::vector<double> weights,
+                          std::vector<double>& requests, std::vector<double>& steady_state) const {
+  OptimalRequestsOptions options;
+  options.lower_deg = RadToDeg(context_.limits[joint].lower_rad);
+  options.upper_deg = RadToDeg(context_.limits[joint].upper_rad);
+  options.max_iterations = spec_.solver_iterations;
+  options.tolerance_deg = spec_.solver_tolerance_deg;
+  options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
+  options.weights = std::move(weights);
+  try {
+    OptimalRequests next = OptimizeRequests(target, context_.models[joint], requests, options);
+    requests = std::move(next.requests_deg);
+    steady_state = std::move(next.steady_state_deg);
+  } catch (const std::exception&) {
+    return false;  // the 8 ms loop does not throw: keep the cycle it had
+  }
+  return true;
+}
+
 void IlcController::EndOfStep(long step) {
   const bool complete = std::all_of(seen_.begin(), seen_.end(), [](bool s) { return s; });
   std::fill(seen_.begin(), seen_.end(), false);
   if (!complete) return;  // a step it did not watch whole teaches nothing
   if (spec_.freeze_after_warmup && step >= context_.warmup_steps) return;
   const auto period = static_cast<int>(requests_.size());
+  // The learned mismatch, per joint; a joint whose measurement was not finite keeps its own.
+  DesiredCycle disturbance = disturbance_;
   for (int j = 0; j < kLegJoints; ++j) {
     Eigen::VectorXd mismatch(period);
     for (int t = 0; t < period; ++t) mismatch[t] = measured_[t][j] - predicted_[t][j];
     if (!mismatch.allFinite()) continue;
     mismatch = CyclicMovingAverage(mismatch, spec_.filter_ticks);
-    std::vector<double> target(period), current(period), disturbance(period);
     for (int t = 0; t < period; ++t) {
-      disturbance[t] = disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
-      target[t] = context_.desired[t][j] - disturbance[t];
-      current[t] = requests_[t][j];
+      disturbance[t][j] = disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
     }
-    OptimalRequestsOptions options;
-    options.lower_deg = RadToDeg(context_.limits[j].lower_rad);
-    options.upper_deg = RadToDeg(context_.limits[j].upper_rad);
-    options.max_iterations = spec_.solver_iterations;
-    options.tolerance_deg = spec_.solver_tolerance_deg;
-    options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
-    OptimalRequests next;
-    try {
-      next = OptimizeRequests(target, context_.models[j], current, options);
-    } catch (const std::exception&) {
-      continue;  // the 8 ms loop does not throw: keep the cycle it had
-    }
+  }
+  const bool foot = spec_.objective == "foot";
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> target(period), requests(period), steady_state(period), weights;
     for (int t = 0; t < period; ++t) {
-      disturbance_[t][j] = disturbance[t];
-      requests_[t][j] = next.requests_deg[t];
-      predicted_[t][j] = next.steady_state_deg[t];
+      target[t] = context_.desired[t][j] - disturbance[t][j];
+      requests[t] = requests_[t][j];
+    }
+    if (foot) {
+      // Joint j's share of the foot's error, linearised at the angles the model and the
+      // learned mismatch predict (the other joints' as updated so far this sweep).
+      std::vector<double> foot_weight(period);
+      std::vector<double> pulls(period);  // K_j . r, mm^2/deg
+      for (int t = 0; t < period; ++t) {
+        Eigen::Vector3d q_rad;
+        for (int k = 0; k < kLegJoints; ++k) {
+          q_rad[k] = DegToRad(predicted_[t][k] + disturbance[t][k]);
+        }
+        const Eigen::Vector3d column =
+            FootJacobian(*context_.geometry, q_rad).col(j) * DegToRad(1.0);  // mm/deg
+        const Eigen::Vector3d error =
+            ForwardKinematics(*context_.geometry, q_rad) - desired_foot_mm_[t];
+        foot_weight[t] = column.squaredNorm();
+        pulls[t] = column.dot(error);
+      }
+      double mean_weight = 0.0;
+      for (double w : foot_weight) mean_weight += w;
+      mean_weight /= period;
+      const double lambda = spec_.joint_weight * mean_weight;
+      weights.resize(period);
+      for (int t = 0; t < period; ++t) {
+        const double w = foot_weight[t] + lambda;
+        const double predicted_angle = predicted_[t][j] + disturbance[t][j];
+        const double angle_target =
+            w > 0.0
+                ? (foot_weight[t] * predicted_angle - pulls[t] + lambda * context_.desired[t][j]) /
+                      w
+                : context_.desired[t][j];
+        target[t] = angle_target - disturbance[t][j];
+        weights[t] = w;
+      }
+      if (!(mean_weight + lambda > 0.0) ||
+          !std::all_of(target.begin(), target.end(), [](double x) { return std::isfinite(x); })) {
+        continue;
+      }
+      for (double& w : weights) w /= mean_weight + lambda;
+    }
+    if (!Solve(j, target, std::move(weights), requests, steady_state)) continue;
+    for (int t = 0; t < period; ++t) {
+      disturbance_[t][j] = disturbance[t][j];
+      requests_[t][j] = requests[t];
+      predicted_[t][j] = steady_state[t];
     }
   }
 }

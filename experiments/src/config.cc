@@ -836,6 +836,7 @@ constexpr NumericRange kRanges[] = {
     {"ilc.filter_ticks", 1, 999, false, false, "ticks"},
     {"ilc.solver_iterations", 1, 1000, false, false, ""},
     {"ilc.solver_tolerance_deg", 0, 1, false, false, "deg"},
+    {"ilc.joint_weight", 0, 100, false, false, ""},
     {"adaptive.initial_model.v_max_deg_per_tick", 0, 45, true, false, "deg/tick"},
     {"adaptive.initial_model.theta0_deg", 0, 180, true, false, "deg"},
     {"adaptive.initial_model.lag_ticks", 0, 12, false, false, "ticks"},

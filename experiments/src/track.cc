@@ -130,6 +130,7 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
     throw InputError(e.what());
   }
   r.context.warmup_steps = config.track.warmup_steps;
+  r.context.geometry = r.robot.geometry;
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);
     for (int t = 0; t < r.period; ++t) desired[t] = r.context.desired[t][j];

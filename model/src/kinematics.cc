@@ -100,6 +100,22 @@ Eigen::Vector3d ForwardKinematics(const LegGeometry& geometry, const Eigen::Vect
                                     (geometry.upper_leg_mm + knee_to_foot);
 }
 
+Eigen::Matrix3d FootJacobian(const LegGeometry& geometry, const Eigen::Vector3d& q_rad) {
+  // d/dc R(e, c) v = e x R(e, c) v, and joint j turns by c = s_j q_j about its coordinate axis.
+  const double s1 = Sign(geometry.axes[kRotator], 1);
+  const double s2 = Sign(geometry.axes[kAbductor], 0);
+  const double s3 = Sign(geometry.axes[kKnee], 1);
+  const Eigen::Matrix3d r1 = RotY(s1 * q_rad[kRotator]);
+  const Eigen::Matrix3d r2 = RotX(s2 * q_rad[kAbductor]);
+  const Eigen::Vector3d knee_to_foot = RotY(s3 * q_rad[kKnee]) * geometry.lower_leg_mm;
+  const Eigen::Vector3d below_abductor = r2 * (geometry.upper_leg_mm + knee_to_foot);
+  Eigen::Matrix3d jacobian;
+  jacobian.col(kRotator) = s1 * Eigen::Vector3d::UnitY().cross(r1 * below_abductor);
+  jacobian.col(kAbductor) = s2 * (r1 * Eigen::Vector3d::UnitX().cross(below_abductor));
+  jacobian.col(kKnee) = s3 * (r1 * r2 * Eigen::Vector3d::UnitY().cross(knee_to_foot));
+  return jacobian;
+}
+
 Eigen::Vector3d InverseKinematics(const LegGeometry& geometry, const Eigen::Vector3d& foot_mm) {
   if (!foot_mm.allFinite()) Unreachable(foot_mm, "the target is not finite");
   const Eigen::Vector3d& u = geometry.upper_leg_mm;

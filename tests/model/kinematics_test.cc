@@ -82,6 +82,34 @@ TEST(Kinematics, HindLegRoundTripOverAGrid) {
   EXPECT_GT(exact, checked * 9 / 10);
 }
 
+// The Jacobian against central differences of ForwardKinematics, on both legs over a grid, and
+// by hand at q = 0 for the front leg, from the quarter turns of ForwardByHand (u + w = (-6.08,
+// 0.5, -130), w = (-18.88, 0, -66)): the rotator turns the whole leg's (x, z) towards (-z, x),
+// the abductor its (y, z) towards (-z, y), the knee only the lower leg's (x, z) towards (z, -x).
+TEST(Kinematics, FootJacobianByHandAndByCentralDifferences) {
+  const Eigen::Matrix3d at_zero = FootJacobian(testing::FrontLeftLeg(), Eigen::Vector3d::Zero());
+  ExpectNear(at_zero.col(kRotator), {130.0, 0.0, -6.08}, 1e-12);
+  ExpectNear(at_zero.col(kAbductor), {0.0, 130.0, 0.5}, 1e-12);
+  ExpectNear(at_zero.col(kKnee), {-66.0, 0.0, 18.88}, 1e-12);
+  for (const LegGeometry& g : {testing::FrontLeftLeg(), testing::HindLeftLeg()}) {
+    for (double q1 = -100.0; q1 <= 100.0; q1 += 40.0) {
+      for (double q2 = -10.0; q2 <= 85.0; q2 += 19.0) {
+        for (double q3 = -20.0; q3 <= 140.0; q3 += 32.0) {
+          const Eigen::Vector3d q = Eigen::Vector3d(q1, q2, q3) * kDeg;
+          const Eigen::Matrix3d jacobian = FootJacobian(g, q);
+          constexpr double kH = 1e-6;
+          for (int j = 0; j < 3; ++j) {
+            const Eigen::Vector3d dq = Eigen::Vector3d::Unit(j) * kH;
+            const Eigen::Vector3d central =
+                (ForwardKinematics(g, q + dq) - ForwardKinematics(g, q - dq)) / (2.0 * kH);
+            ExpectNear(jacobian.col(j), central, 1e-5);
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(Kinematics, ValidateLegGeometryNamesTheItem) {
   EXPECT_NO_THROW(ValidateLegGeometry(testing::FrontLeftLeg()));
   EXPECT_NO_THROW(ValidateLegGeometry(testing::HindLeftLeg()));

@@ -57,6 +57,9 @@ struct ControllerContext {
   std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
   /// Steps the experiment runs before it measures (learning modes may treat them apart).
   int warmup_steps = 0;
+  /// The leg's geometry, for modes that weigh their errors at the foot (ILC's foot objective);
+  /// the experiments set it from the robot. Absent, such a mode cannot be made.
+  std::optional<LegGeometry> geometry;
   /// Offline request cycles already computed for this run (see OfflineCycleMemo).
   std::shared_ptr<OfflineCycleMemo> offline_cycles = std::make_shared<OfflineCycleMemo>();
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,21 @@ namespace leglab {
 ///    0.294 +- 0.005 against 0.293 +- 0.003 cm) for 0.35x the solver's work. (At 1e-3 an
 ///    exact model's ILC ends 0.012 deg above the offline optimum on the knee of the tests'
 ///    fast cycle, which IlcController.ReachesTheFloorOnTheModelPlant does not allow.)
+///  - Objective (`ilc.objective`): `joint` minimises each joint's RMS error on its own, as
+///    above. `foot` minimises what the experiment scores, the foot's distance from its desired
+///    path, sum_t |FK(M_ss(t) + d(t)) - FK(D(t))|^2, plus `ilc.joint_weight` times each joint's
+///    own squared error (which keeps a joint that hardly moves the foot, near a singularity,
+///    from drifting). The joints are coupled through the kinematics, so each update is one
+///    Gauss-Seidel sweep over the joints of Gauss-Newton on that sum: with the other joints at
+///    their predicted angles, the foot error is linearised in joint j at the predicted angles,
+///    r(t) + K_j(t) (theta_j(t) - theta^_j(t)), K_j = column j of FootJacobian (mm/deg), which
+///    makes joint j's problem the weighted one OptimizeRequests solves: per tick the weight
+///    w_t = |K_j|^2 + lambda and the target (|K_j|^2 theta^_j - K_j.r + lambda D_j) / w_t
+///    (lambda = joint_weight times the mean |K_j|^2 over the cycle; the weights scaled to mean
+///    1, so the solver's tolerance stays in degrees). The steps re-linearise: a step's
+///    measurement is the next sweep's starting point. Trading a joint's error for the foot's
+///    is the point: at fast walks the joints cannot all reach their floors, and where the foot
+///    is insensitive to a joint the error is cheaper there.
 /// It learns during the warm-up steps and keeps learning while measured unless
 /// `ilc.freeze_after_warmup`. Requests are always finite and within the limits; a non-finite
 /// measurement or a failed solve leaves the cycle as it was.
@@ -51,6 +67,8 @@ class IlcController final : public JointController {
     int filter_ticks = 7;                ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
     int solver_iterations = 30;          ///< ilc.solver_iterations: >= 1
     double solver_tolerance_deg = 1e-4;  ///< ilc.solver_tolerance_deg: in [0, 1]
+    std::string objective = "joint";     ///< ilc.objective: joint or foot
+    double joint_weight = 2.0;           ///< ilc.joint_weight: in [0, 100], foot objective
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "ilc";
@@ -59,7 +77,8 @@ class IlcController final : public JointController {
   /// Throws the reader's error naming the key for a value out of its range.
   static Spec ReadSpec(OptionReader& reader);
 
-  /// Throws std::invalid_argument on an empty cycle or a bad spec.
+  /// Throws std::invalid_argument on an empty cycle, a bad spec, or the foot objective without
+  /// the context's geometry.
   IlcController(const Spec& spec, const ControllerContext& context);
 
   void Reset() override;
@@ -80,6 +99,12 @@ class IlcController final : public JointController {
   std::vector<bool> seen_;    // which ticks of this step were observed
   DesiredCycle disturbance_;  // d: the learned model-plant mismatch, by tick
   DesiredCycle predicted_;    // M_ss(R) of the current cycle, by tick
+  std::vector<Eigen::Vector3d> desired_foot_mm_;  // FK(D), by tick (foot objective)
+
+  // One joint's new request cycle for `target` (deg, by tick) under `weights` (empty: all 1),
+  // warm-started at the current one; false when the solve failed (the cycle is kept).
+  bool Solve(int joint, const std::vector<double>& target, std::vector<double> weights,
+             std::vector<double>& requests, std::vector<double>& steady_state) const;
 };
 
 }  // namespace leglab

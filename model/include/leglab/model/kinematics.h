@@ -46,6 +46,10 @@ void ValidateLegGeometry(const LegGeometry& geometry);
 /// `q_rad` = (rotator, abductor, knee) in radians. Limits are not checked.
 Eigen::Vector3d ForwardKinematics(const LegGeometry& geometry, const Eigen::Vector3d& q_rad);
 
+/// d ForwardKinematics / d q at `q_rad`, mm/rad: column j is how the foot moves per radian of
+/// joint j (rotator, abductor, knee). `geometry` must be valid (ValidateLegGeometry).
+Eigen::Matrix3d FootJacobian(const LegGeometry& geometry, const Eigen::Vector3d& q_rad);
+
 /// Joint angles (rotator, abductor, knee), radians, that put the foot at `foot_mm` (body frame).
 /// Closed form: the knee from the shoulder-foot distance, the abductor from the lateral
 /// component, the rotator from the remaining sagittal angle. The knee and the abductor have two
