@@ -24,6 +24,16 @@ DesiredCycle OfflineCycleMemo::GetOrCompute(const char* name, const ControllerCo
 
 ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointModelParams, kLegJoints>& models,
+                                        const LegGeometry& geometry, int pwl_segments) {
+  ValidateLegGeometry(geometry);
+  ControllerContext context =
+      MakeControllerContext(std::move(desired), models, geometry.limits, pwl_segments);
+  context.geometry = geometry;
+  return context;
+}
+
+ControllerContext MakeControllerContext(DesiredCycle desired,
+                                        const std::array<JointModelParams, kLegJoints>& models,
                                         const std::array<JointLimits, kLegJoints>& limits,
                                         int pwl_segments) {
   if (desired.empty()) throw std::invalid_argument("controller: the desired cycle is empty");

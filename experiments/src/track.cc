@@ -124,13 +124,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (!compare_estimates) r.plant_models.clear();
   // The approximations P, fitted once: model_based follows them, every trace shows them.
   try {
-    r.context = MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry.limits,
-                                      config.pwl_segments);
+    r.context =
+        MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry, config.pwl_segments);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
   r.context.warmup_steps = config.track.warmup_steps;
-  r.context.geometry = r.robot.geometry;
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);
     for (int t = 0; t < r.period; ++t) desired[t] = r.context.desired[t][j];

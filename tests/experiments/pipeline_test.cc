@@ -230,7 +230,7 @@ TEST(Pipeline, AScoreWithoutTheRunIsTheRunsScore) {
   std::array<JointModelParams, kLegJoints> models;
   models.fill(*config.model);
   const ControllerContext context =
-      MakeControllerContext(desired.angles_deg, models, robot.geometry.limits, 8);
+      MakeControllerContext(desired.angles_deg, models, robot.geometry, 8);
   for (const ControllerSpec& spec : config.controllers) {
     const auto kept_controller = MakeController(spec, context);
     const auto kept_plant = MakePlant(config, robot);

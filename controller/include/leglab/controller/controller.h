@@ -72,6 +72,12 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointLimits, kLegJoints>& limits,
                                         int pwl_segments);
 
+/// The same for a robot's leg: its geometry's limits, and the geometry itself for the modes
+/// that work at the foot. Throws as above, and as ValidateLegGeometry.
+ControllerContext MakeControllerContext(DesiredCycle desired,
+                                        const std::array<JointModelParams, kLegJoints>& models,
+                                        const LegGeometry& geometry, int pwl_segments);
+
 /// Each joint's model as a controller currently estimates it, with the RMS residual of its fit
 /// to the data it was estimated from (deg).
 using JointModelEstimates = std::array<IdentificationResult, kLegJoints>;
