@@ -219,7 +219,7 @@ void AdaptiveController::LearnFromExcursions(int joint, JointRecording step) {
   estimates_[j].rms_residual_deg = rms;
   if (!std::isfinite(baseline_rms_[j])) {
     baseline_rms_[j] = rms;
-  } else if (rms > kChangeRatio * baseline_rms_[j]) {
+  } else if (rms > kChangeRatio * std::max(baseline_rms_[j], kResidualFloorDeg)) {
     learned_[j] = false;  // the joint changed: learn it again, from new probed steps only
     probed_steps_[j].clear();
     stable_fits_[j] = 0;

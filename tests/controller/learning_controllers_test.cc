@@ -189,17 +189,18 @@ DesiredCycle SlowCycle() {
   return d;
 }
 
-// Runs `adaptive` for `steps` steps on the model plant with Gaussian noise (sd 0.1 deg, seeded)
+// Runs `adaptive` for `steps` steps on the model plant with Gaussian noise (sd `noise_deg`, seeded)
 // on every measured angle; `change_at` >= 0 changes the plant's models to `changed` at the
 // start of that step. Returns, per step, whether any request differed from the plan.
 std::vector<bool> RunWithNoise(AdaptiveController& adaptive, const ControllerContext& context,
                                const JointModelParams& truth, int steps, int change_at = -1,
-                               const std::vector<PlantSetting>& changed = {}) {
+                               const std::vector<PlantSetting>& changed = {},
+                               double noise_deg = 0.1) {
   JointModelPlant plant({truth, truth, truth}, context.limits);
   plant.Reset(context.desired[0]);
   adaptive.Reset();
   std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0.0, 0.1);
+  std::normal_distribution<double> noise(0.0, 1.0);
   std::vector<bool> probed;
   LegAngles measured = plant.Read().measured_deg;
   for (long t = 0; t < steps * 88L; ++t) {
@@ -213,7 +214,7 @@ std::vector<bool> RunWithNoise(AdaptiveController& adaptive, const ControllerCon
       if (request[j] != planned[j]) probed.back() = true;
     }
     const PlantReading& r = plant.Tick(request);
-    for (int j = 0; j < kLegJoints; ++j) measured[j] = r.measured_deg[j] + noise(rng);
+    for (int j = 0; j < kLegJoints; ++j) measured[j] = r.measured_deg[j] + noise_deg * noise(rng);
     adaptive.Observe(t, r.applied_deg, measured);
     if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
   }
@@ -285,6 +286,23 @@ TEST(AdaptiveController, ExcursionsLearnTheJointAgainAfterAChange) {
     EXPECT_EQ(p.accel_ticks, 4) << j;
     EXPECT_NEAR(p.v_max_deg_per_tick, 1.6, 0.05) << j;
     EXPECT_NEAR(p.theta0_deg, 6.0, 0.5) << j;
+  }
+}
+
+// Read exactly, the model plant is fitted exactly (residual 0 up to rounding): rounding must
+// not be taken for a change, so after the first steps nothing is probed again.
+TEST(AdaptiveController, ExcursionsStopForGoodOnAnExactPlant) {
+  const JointModelParams truth{2.0, 6.0, 5, 4};
+  const ControllerContext context = testing::PaperContext(SlowCycle());
+  AdaptiveController adaptive(ExcursionSpec(), context);
+  const std::vector<bool> probed = RunWithNoise(adaptive, context, truth, 14, -1, {}, 0.0);
+  for (int step = 4; step < 14; ++step) EXPECT_FALSE(probed[step]) << step;
+  const JointModelEstimates estimates = adaptive.ModelEstimates().value();
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_EQ(estimates[j].params.lag_ticks, 5) << j;
+    EXPECT_EQ(estimates[j].params.accel_ticks, 4) << j;
+    EXPECT_NEAR(estimates[j].params.v_max_deg_per_tick, 2.0, 1e-3) << j;
+    EXPECT_NEAR(estimates[j].params.theta0_deg, 6.0, 1e-2) << j;
   }
 }
 

@@ -44,9 +44,9 @@ namespace leglab {
 /// consecutive fits agree on l and a (kStableFits); from then on the model is kept and the
 /// walk only monitors it: after each step the model's open-loop prediction residual on that
 /// step is compared with the one of the first step after it was learned, and a residual over
-/// kChangeRatio times that marks a change (the joint is probed again, from no probed steps).
-/// Persistence of excitation scheduled by uncertainty: probing costs tracking error in the
-/// probed steps only, the steps before the model is known.
+/// kChangeRatio times that (or kResidualFloorDeg) marks a change (the joint is probed again, from
+/// no probed steps). Persistence of excitation scheduled by uncertainty: probing costs tracking
+/// error in the probed steps only, the steps before the model is known.
 ///
 /// Requests are always finite and within the limits: a failed estimate or re-plan keeps the
 /// previous model and cycle, and a non-finite request (which a valid model never gives)
@@ -80,6 +80,9 @@ class AdaptiveController final : public JointController {
   /// Excursion probing: a step whose residual exceeds this many times the first one after the
   /// model was learned marks a change of the joint.
   static constexpr double kChangeRatio = 1.5;
+  /// Excursion probing: the residual the change test compares against is at least this, deg,
+  /// so that an exact model (residual 0 up to rounding) is not taken for a changed one.
+  static constexpr double kResidualFloorDeg = 0.1;
   /// Throws the reader's error naming the key for a value out of its range.
   static Spec ReadSpec(OptionReader& reader);
 
