@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "leglab/core/units.h"
 #include "leglab/model/piecewise_linear.h"
@@ -28,6 +29,7 @@ std::string SpecProblem(const AdaptiveController::Spec& spec) {
   if (!(std::isfinite(spec.probe_deg) && spec.probe_deg >= 0.0 && spec.probe_deg <= 45.0)) {
     return "probe_deg";
   }
+  if (spec.probe_ticks < 0 || spec.probe_ticks > 64) return "probe_ticks";
   return {};
 }
 
@@ -41,6 +43,7 @@ AdaptiveController::Spec AdaptiveController::ReadSpec(OptionReader& reader) {
   reader.Read("initial_model.accel_ticks", spec.initial_model.accel_ticks);
   reader.Read("window_steps", spec.window_steps);
   reader.Read("probe_deg", spec.probe_deg);
+  reader.Read("probe_ticks", spec.probe_ticks);
   const std::string problem = SpecProblem(spec);
   if (problem == "initial_model.v_max_deg_per_tick" || problem == "initial_model.theta0_deg") {
     reader.Fail(problem, "a finite number > 0");
@@ -49,6 +52,9 @@ AdaptiveController::Spec AdaptiveController::ReadSpec(OptionReader& reader) {
   if (problem == "initial_model.accel_ticks") reader.Fail(problem, "in [1, 12] (ticks)");
   if (problem == "window_steps") reader.Fail(problem, "in [1, 50] (steps)");
   if (problem == "probe_deg") reader.Fail(problem, "in [0, 45] (deg; 0: no probing)");
+  if (problem == "probe_ticks") {
+    reader.Fail(problem, "in [0, 64] (ticks; 0: pulses of l + a ticks, > 0: excursions)");
+  }
   return spec;
 }
 
@@ -76,6 +82,35 @@ void AdaptiveController::Reset() {
   probe_next_.fill(false);
   probing_.fill(false);
   vmax_known_.fill(false);
+  for (auto& steps : probed_steps_) steps.clear();
+  stable_fits_.fill(0);
+  learned_.fill(false);
+  baseline_rms_.fill(kNoFit);
+  probe_sign_.fill(1.0);
+  if (Excursions()) {
+    probing_.fill(true);  // nothing is known yet: the first step is probed
+    for (int j = 0; j < kLegJoints; ++j) probe_sign_[j] = ProbeSign(j);
+  }
+}
+
+bool AdaptiveController::Excursions() const {
+  return spec_.probe_ticks > 0 && spec_.probe_deg > 0.0;
+}
+
+double AdaptiveController::ProbeSign(int joint) const {
+  // Towards the side with more room over the excursion's ticks, so the limit clamps least.
+  const auto period = static_cast<int>(requests_.size());
+  const int end = std::min(period, kProbeLeadTicks + spec_.probe_ticks);
+  double low = std::numeric_limits<double>::infinity();
+  double high = -low;
+  for (int t = std::min(kProbeLeadTicks, period - 1); t < end; ++t) {
+    low = std::min(low, requests_[t][joint]);
+    high = std::max(high, requests_[t][joint]);
+  }
+  if (!(low <= high)) return 1.0;
+  const double lower = RadToDeg(context_.limits[joint].lower_rad);
+  const double upper = RadToDeg(context_.limits[joint].upper_rad);
+  return upper - high >= low - lower ? 1.0 : -1.0;
 }
 
 bool AdaptiveController::Replan(int joint, const JointModelParams& model) {
@@ -104,7 +139,11 @@ LegAngles AdaptiveController::Update(long tick, const LegAngles& /*measured_deg*
   for (int j = 0; j < kLegJoints; ++j) {
     const double lower = RadToDeg(context_.limits[j].lower_rad);
     const double upper = RadToDeg(context_.limits[j].upper_rad);
-    if (probing_[j] && in_step < planned_[j].lag_ticks + planned_[j].accel_ticks) {
+    if (probing_[j] && Excursions()) {
+      if (in_step >= kProbeLeadTicks && in_step < kProbeLeadTicks + spec_.probe_ticks) {
+        request[j] += probe_sign_[j] * spec_.probe_deg;
+      }
+    } else if (probing_[j] && in_step < planned_[j].lag_ticks + planned_[j].accel_ticks) {
       // Away from the nearer limit, so the pulse is not clamped away.
       request[j] += upper - request[j] >= request[j] - lower ? spec_.probe_deg : -spec_.probe_deg;
     }
@@ -133,7 +172,82 @@ void AdaptiveController::Observe(long tick, const LegAngles& applied_deg,
   }
 }
 
+void AdaptiveController::LearnFromExcursions(int joint, JointRecording step) {
+  const int j = joint;
+  if (!learned_[j]) {
+    if (probing_[j]) {
+      probed_steps_[j].push_back(std::move(step));
+      if (probed_steps_[j].size() > static_cast<size_t>(kPooledProbeSteps)) {
+        probed_steps_[j].erase(probed_steps_[j].begin());
+      }
+    }
+    if (probed_steps_[j].empty()) return;
+    IdentificationResult fit;
+    try {
+      fit = IdentifyJointModel(probed_steps_[j], IdentificationOptions{});
+    } catch (const std::exception&) {
+      return;  // e.g. a non-finite sample: keep the estimate, probe again
+    }
+    const JointModelParams& before = estimates_[j].params;
+    const bool kept = probed_steps_[j].size() >= 2 && fit.params.lag_ticks == before.lag_ticks &&
+                      fit.params.accel_ticks == before.accel_ticks;
+    stable_fits_[j] = kept ? stable_fits_[j] + 1 : 0;
+    estimates_[j] = fit;
+    if (stable_fits_[j] >= kStableFits) {
+      learned_[j] = true;
+      baseline_rms_[j] = kNoFit;
+    }
+    return;
+  }
+  // Learned: the walk monitors the model.
+  const JointModelParams& p = estimates_[j].params;
+  double rms = kNoFit;
+  try {
+    const int warmup = p.lag_ticks + p.accel_ticks;
+    const std::vector<double> predicted = PredictRecording(p, step, warmup);
+    double sum = 0.0;
+    const auto n = static_cast<long>(step.measured_deg.size());
+    for (long t = warmup; t < n; ++t) {
+      const double e = step.measured_deg[t] - predicted[t];
+      sum += e * e;
+    }
+    rms = n > warmup ? std::sqrt(sum / static_cast<double>(n - warmup)) : kNoFit;
+  } catch (const std::exception&) {
+    return;
+  }
+  if (!std::isfinite(rms)) return;
+  estimates_[j].rms_residual_deg = rms;
+  if (!std::isfinite(baseline_rms_[j])) {
+    baseline_rms_[j] = rms;
+  } else if (rms > kChangeRatio * std::max(baseline_rms_[j], kResidualFloorDeg)) {
+    learned_[j] = false;  // the joint changed: learn it again, from new probed steps only
+    probed_steps_[j].clear();
+    stable_fits_[j] = 0;
+  }
+}
+
 void AdaptiveController::EndOfStep(long /*step*/) {
+  if (Excursions()) {
+    const size_t period = context_.desired.size();
+    for (int j = 0; j < kLegJoints; ++j) {
+      const JointRecording& w = window_[j];
+      if (w.request_deg.size() >= period) {
+        const auto from = static_cast<long>(w.request_deg.size() - period);
+        LearnFromExcursions(j, {{w.request_deg.begin() + from, w.request_deg.end()},
+                                {w.measured_deg.begin() + from, w.measured_deg.end()}});
+      }
+      const JointModelParams& now = estimates_[j].params;
+      const JointModelParams& planned = planned_[j];
+      if (now.lag_ticks != planned.lag_ticks || now.accel_ticks != planned.accel_ticks ||
+          std::abs(now.v_max_deg_per_tick - planned.v_max_deg_per_tick) > kVmaxResolution ||
+          std::abs(now.theta0_deg - planned.theta0_deg) > kTheta0Resolution) {
+        Replan(j, now);
+      }
+      probing_[j] = !learned_[j];
+      probe_sign_[j] = ProbeSign(j);
+    }
+    return;
+  }
   probing_.fill(false);
   for (int j = 0; j < kLegJoints; ++j) {
     // A whole step at least: shorter windows do not cover a walk's motion.

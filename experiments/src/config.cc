@@ -843,6 +843,7 @@ constexpr NumericRange kRanges[] = {
     {"adaptive.initial_model.accel_ticks", 1, 12, false, false, "ticks"},
     {"adaptive.window_steps", 1, 50, false, false, ""},
     {"adaptive.probe_deg", 0, 45, false, false, "deg"},
+    {"adaptive.probe_ticks", 0, 64, false, false, "ticks"},
     {"identify.theta_test_deg", -180, 180, false, false, "deg"},
     {"identify.t_step_ticks", 4, 1000, false, false, "ticks"},
     {"identify.settle_cycles", 1, 1000, false, false, ""},

@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -278,6 +279,136 @@ TEST(AdaptiveController, LearnsThePlantsModelFromAWrongStart) {
   }
 }
 
+// A slow cycle (4 deg sines, at most 0.29 deg/tick): on the model plant {2, 6, 5, 4} the
+// request never gets theta_0 = 6 deg from the angle (the lag of l + a = 9 ticks leaves at most
+// 0.29 * 9 = 2.6 deg plus the approach, well below 6), so a walk window shows no v_max.
+DesiredCycle SlowCycle() {
+  DesiredCycle d(88);
+  for (int t = 0; t < 88; ++t) {
+    const double phase = 2.0 * std::numbers::pi * t / 88.0;
+    d[t] = {10.0 + 4.0 * std::sin(phase), 30.0 + 4.0 * std::cos(phase),
+            60.0 + 4.0 * std::sin(phase + 1.0)};
+  }
+  return d;
+}
+
+// Runs `adaptive` for `steps` steps on the model plant with Gaussian noise (sd `noise_deg`, seeded)
+// on every measured angle; `change_at` >= 0 changes the plant's models to `changed` at the
+// start of that step. Returns, per step, whether any request differed from the plan.
+std::vector<bool> RunWithNoise(AdaptiveController& adaptive, const ControllerContext& context,
+                               const JointModelParams& truth, int steps, int change_at = -1,
+                               const std::vector<PlantSetting>& changed = {},
+                               double noise_deg = 0.1) {
+  JointModelPlant plant({truth, truth, truth}, context.limits);
+  plant.Reset(context.desired[0]);
+  adaptive.Reset();
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<bool> probed;
+  LegAngles measured = plant.Read().measured_deg;
+  for (long t = 0; t < steps * 88L; ++t) {
+    if (t % 88 == 0) {
+      if (t / 88 == change_at) plant.ChangeSettings(changed);
+      probed.push_back(false);
+    }
+    const LegAngles planned = adaptive.requests()[t % 88];
+    const LegAngles request = adaptive.Update(t, measured);
+    for (int j = 0; j < kLegJoints; ++j) {
+      if (request[j] != planned[j]) probed.back() = true;
+    }
+    const PlantReading& r = plant.Tick(request);
+    for (int j = 0; j < kLegJoints; ++j) measured[j] = r.measured_deg[j] + noise_deg * noise(rng);
+    adaptive.Observe(t, r.applied_deg, measured);
+    if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
+  }
+  return probed;
+}
+
+AdaptiveController::Spec ExcursionSpec() {
+  AdaptiveController::Spec spec;
+  spec.initial_model = {3.5, 3.0, 2, 2};  // the wrong start
+  spec.probe_deg = 20.0;
+  spec.probe_ticks = 24;
+  return spec;
+}
+
+// Without a probe the slow walk does not determine v_max (nothing saturates, derived above:
+// the plain window fit lands far from 2); with step-test-like excursions every parameter of the
+// plant comes back, l and a exactly, and probing stops once two fits agree on l and a.
+TEST(AdaptiveController, ExcursionsIdentifyEveryParameterOnAWalkThatNeverSaturates) {
+  const JointModelParams truth{2.0, 6.0, 5, 4};
+  const ControllerContext context = testing::PaperContext(SlowCycle());
+  AdaptiveController::Spec plain_spec = ExcursionSpec();
+  plain_spec.probe_deg = 0.0;
+  AdaptiveController plain(plain_spec, context);
+  RunWithNoise(plain, context, truth, 8);
+  const JointModelEstimates plain_estimates = plain.ModelEstimates().value();
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_GT(std::abs(plain_estimates[j].params.v_max_deg_per_tick - 2.0), 0.5) << j;
+  }
+
+  AdaptiveController adaptive(ExcursionSpec(), context);
+  const std::vector<bool> probed = RunWithNoise(adaptive, context, truth, 8);
+  const JointModelEstimates estimates = adaptive.ModelEstimates().value();
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = estimates[j].params;
+    EXPECT_EQ(p.lag_ticks, 5) << j;
+    EXPECT_EQ(p.accel_ticks, 4) << j;
+    EXPECT_NEAR(p.v_max_deg_per_tick, 2.0, 0.05) << j;
+    EXPECT_NEAR(p.theta0_deg, 6.0, 0.5) << j;
+    // ... and plans with it, to within what it re-plans for.
+    EXPECT_EQ(adaptive.planned_models()[j].lag_ticks, 5) << j;
+    EXPECT_EQ(adaptive.planned_models()[j].accel_ticks, 4) << j;
+    EXPECT_NEAR(adaptive.planned_models()[j].v_max_deg_per_tick, p.v_max_deg_per_tick,
+                AdaptiveController::kVmaxResolution)
+        << j;
+  }
+  // Steps 0 and 1 are probed (one fit cannot agree with a fit before it); the last ones not.
+  EXPECT_TRUE(probed[0]);
+  EXPECT_TRUE(probed[1]);
+  for (int step = 5; step < 8; ++step) EXPECT_FALSE(probed[step]) << step;
+}
+
+// The plant's lag grows from 5 to 7 ticks and its top speed drops to 1.6 deg/tick at step 8:
+// the walk's residual rises, the joint is probed again, and the model of the changed plant
+// is learned from the new probes alone; probing stops again.
+TEST(AdaptiveController, ExcursionsLearnTheJointAgainAfterAChange) {
+  const JointModelParams truth{2.0, 6.0, 5, 4};
+  const ControllerContext context = testing::PaperContext(SlowCycle());
+  AdaptiveController adaptive(ExcursionSpec(), context);
+  const std::vector<bool> probed =
+      RunWithNoise(adaptive, context, truth, 18, 8,
+                   {{"plant_model.lag_ticks", 7}, {"plant_model.v_max_deg_per_tick", 1.6}});
+  for (int step = 5; step < 9; ++step) EXPECT_FALSE(probed[step]) << step;
+  EXPECT_TRUE(probed[9] || probed[10]);
+  for (int step = 15; step < 18; ++step) EXPECT_FALSE(probed[step]) << step;
+  const JointModelEstimates estimates = adaptive.ModelEstimates().value();
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = estimates[j].params;
+    EXPECT_EQ(p.lag_ticks, 7) << j;
+    EXPECT_EQ(p.accel_ticks, 4) << j;
+    EXPECT_NEAR(p.v_max_deg_per_tick, 1.6, 0.05) << j;
+    EXPECT_NEAR(p.theta0_deg, 6.0, 0.5) << j;
+  }
+}
+
+// Read exactly, the model plant is fitted exactly (residual 0 up to rounding): rounding must
+// not be taken for a change, so after the first steps nothing is probed again.
+TEST(AdaptiveController, ExcursionsStopForGoodOnAnExactPlant) {
+  const JointModelParams truth{2.0, 6.0, 5, 4};
+  const ControllerContext context = testing::PaperContext(SlowCycle());
+  AdaptiveController adaptive(ExcursionSpec(), context);
+  const std::vector<bool> probed = RunWithNoise(adaptive, context, truth, 14, -1, {}, 0.0);
+  for (int step = 4; step < 14; ++step) EXPECT_FALSE(probed[step]) << step;
+  const JointModelEstimates estimates = adaptive.ModelEstimates().value();
+  for (int j = 0; j < kLegJoints; ++j) {
+    EXPECT_EQ(estimates[j].params.lag_ticks, 5) << j;
+    EXPECT_EQ(estimates[j].params.accel_ticks, 4) << j;
+    EXPECT_NEAR(estimates[j].params.v_max_deg_per_tick, 2.0, 1e-3) << j;
+    EXPECT_NEAR(estimates[j].params.theta0_deg, 6.0, 1e-2) << j;
+  }
+}
+
 // Whatever it estimates or is told, the requests stay finite and inside the limits: extreme
 // starting models, a probe of 45 deg, and measurements that are not finite or far outside
 // any limit.
@@ -291,23 +422,26 @@ TEST(AdaptiveController, RequestsStayFiniteAndWithinTheLimitsWhateverTheEstimate
     spec.initial_model = start;
     spec.window_steps = 1;
     spec.probe_deg = 45.0;
-    AdaptiveController adaptive(spec, context);
-    const double junk[] = {std::nan(""), INFINITY, -1e9, 1e9};
-    for (long t = 0; t < 6L * 88; ++t) {
-      const LegAngles r = adaptive.Update(t, {});
-      for (int j = 0; j < kLegJoints; ++j) {
-        ASSERT_TRUE(std::isfinite(r[j])) << t;
-        ASSERT_GE(r[j], limits[j].lower_rad * 180.0 / std::numbers::pi - 1e-9) << t;
-        ASSERT_LE(r[j], limits[j].upper_rad * 180.0 / std::numbers::pi + 1e-9) << t;
+    for (int probe_ticks : {0, 64}) {
+      spec.probe_ticks = probe_ticks;
+      AdaptiveController adaptive(spec, context);
+      const double junk[] = {std::nan(""), INFINITY, -1e9, 1e9};
+      for (long t = 0; t < 6L * 88; ++t) {
+        const LegAngles r = adaptive.Update(t, {});
+        for (int j = 0; j < kLegJoints; ++j) {
+          ASSERT_TRUE(std::isfinite(r[j])) << t;
+          ASSERT_GE(r[j], limits[j].lower_rad * 180.0 / std::numbers::pi - 1e-9) << t;
+          ASSERT_LE(r[j], limits[j].upper_rad * 180.0 / std::numbers::pi + 1e-9) << t;
+        }
+        // Steps 0-1: the angle follows the request exactly; steps 2-3: junk; then wild swings.
+        LegAngles measured = r;
+        if (t >= 2L * 88 && t < 4L * 88)
+          measured = {junk[t % 4], junk[(t + 1) % 4], junk[(t + 2) % 4]};
+        const auto x = static_cast<double>(t);
+        if (t >= 4L * 88) measured = {300.0 * std::sin(0.9 * x), -200.0, 1e4 * std::cos(x)};
+        adaptive.Observe(t, r, measured);
+        if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
       }
-      // Steps 0-1: the angle follows the request exactly; steps 2-3: junk; then wild swings.
-      LegAngles measured = r;
-      if (t >= 2L * 88 && t < 4L * 88)
-        measured = {junk[t % 4], junk[(t + 1) % 4], junk[(t + 2) % 4]};
-      const auto x = static_cast<double>(t);
-      if (t >= 4L * 88) measured = {300.0 * std::sin(0.9 * x), -200.0, 1e4 * std::cos(x)};
-      adaptive.Observe(t, r, measured);
-      if ((t + 1) % 88 == 0) adaptive.EndOfStep(t / 88);
     }
   }
 }

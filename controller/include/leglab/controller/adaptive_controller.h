@@ -31,6 +31,23 @@ namespace leglab {
 /// saturates it when probe_deg exceeds theta_0 (a cost in tracking error for that step). 0
 /// (default) never probes.
 ///
+/// Excursion probing (`adaptive.probe_ticks` > 0, with probe_deg > 0): on a walk, a window's
+/// fit pins l + a/2 and not l and a apart (the walk's requests change smoothly), and a joint
+/// that never saturates shows no v_max. A step test separates them: the velocity ramps up over
+/// a ticks, starting l + 1 ticks after the step, and a step larger than theta_0 reaches top
+/// speed. So while a joint's model is uncertain (from the start, and again after a change is
+/// detected) each step adds a step-test-like excursion to its requests: probe_deg, away from
+/// the joint's nearer limit, held probe_ticks ticks from the step's tick kProbeLeadTicks on.
+/// The model is then the identification's own fit (IdentifyJointModel, the whole grid of l
+/// and a) to the probed steps since the change (the latest kPooledProbeSteps of them), as
+/// `identify` fits its step tests, rather than to the walk. Probing stops when two
+/// consecutive fits agree on l and a (kStableFits); from then on the model is kept and the
+/// walk only monitors it: after each step the model's open-loop prediction residual on that
+/// step is compared with the one of the first step after it was learned, and a residual over
+/// kChangeRatio times that (or kResidualFloorDeg) marks a change (the joint is probed again, from
+/// no probed steps). Persistence of excitation scheduled by uncertainty: probing costs tracking
+/// error in the probed steps only, the steps before the model is known.
+///
 /// Requests are always finite and within the limits: a failed estimate or re-plan keeps the
 /// previous model and cycle, and a non-finite request (which a valid model never gives)
 /// falls back to the desired angle.
@@ -41,6 +58,7 @@ class AdaptiveController final : public JointController {
     JointModelParams initial_model = {2.5, 7.0, 4, 6};  ///< adaptive.initial_model (Table 1)
     int window_steps = 2;                               ///< adaptive.window_steps, >= 1
     double probe_deg = 0.0;                             ///< adaptive.probe_deg, >= 0
+    int probe_ticks = 0;  ///< adaptive.probe_ticks, [0, 64]; 0: pulses, > 0: excursions
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "adaptive";
@@ -51,6 +69,20 @@ class AdaptiveController final : public JointController {
   static constexpr double kVmaxResolution = 0.03;
   /// A theta_0 change smaller than this is not re-planned for, deg.
   static constexpr double kTheta0Resolution = 0.3;
+  /// Excursion probing: the excursion starts at this tick of a step (the identification's
+  /// largest l + a, so the fit has the requests that act on the first scored tick).
+  static constexpr int kProbeLeadTicks = 24;
+  /// Excursion probing: the model is fitted to at most this many latest probed steps.
+  static constexpr int kPooledProbeSteps = 4;
+  /// Excursion probing: probing stops after this many fits in a row with the l and a of the fit
+  /// before.
+  static constexpr int kStableFits = 1;
+  /// Excursion probing: a step whose residual exceeds this many times the first one after the
+  /// model was learned marks a change of the joint.
+  static constexpr double kChangeRatio = 1.5;
+  /// Excursion probing: the residual the change test compares against is at least this, deg,
+  /// so that an exact model (residual 0 up to rounding) is not taken for a changed one.
+  static constexpr double kResidualFloorDeg = 0.1;
   /// Throws the reader's error naming the key for a value out of its range.
   static Spec ReadSpec(OptionReader& reader);
 
@@ -70,6 +102,11 @@ class AdaptiveController final : public JointController {
   const std::array<JointModelParams, kLegJoints>& planned_models() const { return planned_; }
 
  private:
+  bool Excursions() const;
+  // Excursion probing: +1 or -1, the side of joint j's planned requests with more room.
+  double ProbeSign(int joint) const;
+  // Excursion probing's EndOfStep for joint j (the latest step's recording in `step`).
+  void LearnFromExcursions(int joint, JointRecording step);
   // Re-plans joint j's column of requests_ for `model`; false (nothing changed) on failure.
   bool Replan(int joint, const JointModelParams& model);
 
@@ -86,6 +123,14 @@ class AdaptiveController final : public JointController {
   std::array<bool, kLegJoints> probing_{};     // probing it in the current step
   // A window since the joint last changed (l or a) saturated it: its v_max is current.
   std::array<bool, kLegJoints> vmax_known_{};
+  // Excursion probing: the probed steps since the joint last changed (latest last), the fits
+  // in a row that kept l and a, whether the model is learned (probing stopped), the residual of
+  // the first step after it was, and the excursion's sign in the coming step.
+  std::array<std::vector<JointRecording>, kLegJoints> probed_steps_;
+  std::array<int, kLegJoints> stable_fits_{};
+  std::array<bool, kLegJoints> learned_{};
+  std::array<double, kLegJoints> baseline_rms_{};
+  std::array<double, kLegJoints> probe_sign_{};
 };
 
 }  // namespace leglab
