@@ -168,8 +168,11 @@ def main(out):
         foot = table["foot_cm"]
         for mode, style in (("floor", "k:"), ("model_based", "b--"), ("time_shift", "g--")):
             if mode in foot:
+                # The floor row is the joints' floors put together: a bound for policies that
+                # track each joint on its own, not for ILC's foot objective.
+                label = "floor (the joints' floors)" if mode == "floor" else mode
                 foot_ax.axhline(foot[mode]["L2"]["mean"], ls=style[1:], color=style[0],
-                                lw=1, label=mode)
+                                lw=1, label=label)
         foot_ax.axvline(-0.5, color="0.6", lw=0.8)
         foot_ax.set(xlabel="step (warm-up < 0)", ylabel="foot L2 (cm)",
                     title="ILC learning, foot")
