@@ -90,6 +90,10 @@ struct Stand {
   StandConfig config;
   dBodyID carriage = nullptr;
   dJointID rail = nullptr;
+  // The horizontal sled under the rail and its slider to the frame, when there is one
+  // (StandConfig::sled_stiffness_n_per_m > 0); otherwise the rail holds to the frame itself.
+  dBodyID sled = nullptr;
+  dJointID sled_slider = nullptr;
   dSpaceID space = nullptr;
   dGeomID floor = nullptr;
   dGeomID foot = nullptr;
@@ -110,6 +114,8 @@ struct Stand {
   }
 
   double CarriageZM() const { return dBodyGetPosition(carriage)[2]; }
+  // The sled's (and so the carriage's) position along x, m; 0 without a sled.
+  double SledXM() const { return sled != nullptr ? dBodyGetPosition(sled)[0] : 0.0; }
 };
 
 struct LegWorld::Impl {
@@ -208,10 +214,29 @@ void LegWorld::Impl::BuildStand(const StandConfig& config) {
   dMassSetSphereTotal(&mass, config.load_kg, 0.05);
   dBodySetMass(s.carriage, &mass);
   dBodySetPosition(s.carriage, 0.0, 0.0, 0.0);
-  // The rail: a vertical slider to the static world. Its position is the carriage's height
-  // (zero where it was attached, at the walking height).
+  // The sled, when there is one: a horizontal slider along x to the static world whose two
+  // stops, both at x = 0, make one two-sided constraint with the sled's spring and damper as
+  // its ERP and CFM for the physics step, as the contact's are (set in Step, which knows the
+  // step): the spring-damper is integrated implicitly, so it cannot feed energy into the
+  // walk whatever k and c are. Its own mass is a light frame, kSledMassKg; the slider keeps it
+  // upright, so its inertia only has to be valid.
+  if (config.sled_stiffness_n_per_m > 0.0) {
+    s.sled = dBodyCreate(world->get());
+    dMass sled_mass;
+    dMassSetSphereTotal(&sled_mass, kSledMassKg, 0.05);
+    dBodySetMass(s.sled, &sled_mass);
+    dBodySetPosition(s.sled, 0.0, 0.0, 0.0);
+    s.sled_slider = dJointCreateSlider(world->get(), nullptr);
+    dJointAttach(s.sled_slider, s.sled, nullptr);
+    dJointSetSliderAxis(s.sled_slider, 1.0, 0.0, 0.0);
+    dJointSetSliderParam(s.sled_slider, dParamLoStop, 0.0);
+    dJointSetSliderParam(s.sled_slider, dParamHiStop, 0.0);
+    dJointSetSliderParam(s.sled_slider, dParamBounce, 0.0);
+  }
+  // The rail: a vertical slider to the static world (or to the sled). Its position is the
+  // carriage's height (zero where it was attached, at the walking height).
   s.rail = dJointCreateSlider(world->get(), nullptr);
-  dJointAttach(s.rail, s.carriage, nullptr);
+  dJointAttach(s.rail, s.carriage, s.sled);
   dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
   dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
   dJointSetSliderParam(s.rail, dParamBounce, 0.0);
@@ -300,6 +325,7 @@ void LegWorld::Impl::MeasureContacts(double dt_s) {
   s.contact_count = 0;
   s.state.contact_force_n = {force.x(), force.y(), force.z()};
   s.state.carriage_z_mm = 1000.0 * s.CarriageZM();
+  s.state.sled_x_mm = 1000.0 * s.SledXM();
 }
 
 LegWorld::LegWorld(const LegDescription& leg, const StandConfig& stand)
@@ -356,6 +382,14 @@ void LegWorld::Step(double dt_s) {
     return;
   }
   impl_->CollideAndJoin(dt_s);
+  if (const Stand& s = *impl_->stand; s.sled != nullptr) {
+    // The sled's spring-damper as its slider's stop ERP and CFM for this step (ODE manual,
+    // "How to use ERP and CFM"; both stops at 0 make the limit row two-sided).
+    const double k = s.config.sled_stiffness_n_per_m;
+    const double c = s.config.sled_damping_n_s_per_m;
+    dJointSetSliderParam(s.sled_slider, dParamStopERP, dt_s * k / (dt_s * k + c));
+    dJointSetSliderParam(s.sled_slider, dParamStopCFM, 1.0 / (dt_s * k + c));
+  }
   dWorldStep(impl_->world->get(), dt_s);
   impl_->MeasureContacts(dt_s);
 }
@@ -379,8 +413,15 @@ void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
     dBodySetPosition(s->carriage, 0.0, 0.0, lift.z());
     dBodySetLinearVel(s->carriage, 0.0, 0.0, 0.0);
     dBodySetAngularVel(s->carriage, 0.0, 0.0, 0.0);
+    if (s->sled != nullptr) {
+      // The sled at its spring's rest, at rest.
+      dBodySetPosition(s->sled, 0.0, 0.0, 0.0);
+      dBodySetLinearVel(s->sled, 0.0, 0.0, 0.0);
+      dBodySetAngularVel(s->sled, 0.0, 0.0, 0.0);
+    }
     s->state.contact_force_n = {0.0, 0.0, 0.0};
     s->state.carriage_z_mm = 1000.0 * lift.z();
+    s->state.sled_x_mm = 0.0;
   }
   for (const Impl::Body& body : impl_->bodies) {
     const Eigen::Isometry3d& pose = poses[body.link];
@@ -402,9 +443,11 @@ std::array<double, 3> LegWorld::LinkOriginMm(std::string_view link_name) const {
                                                ? impl_->BodyLinkPose(impl_->bodies[link.body])
                                                : Eigen::Isometry3d::Identity();
   Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
-  // On the stand the body frame is the carriage's: the world frame raised by its height.
+  // On the stand the body frame is the carriage's: the world frame raised by its height (and
+  // moved along x with the sled, when there is one).
   if (impl_->stand) {
     origin_mm.z() -= 1000.0 * impl_->stand->CarriageZM();
+    if (impl_->stand->sled != nullptr) origin_mm.x() -= 1000.0 * impl_->stand->SledXM();
     if (link.body < 0) origin_mm = 1000.0 * ToEigen(link.in_body.translation_m);
   }
   return {origin_mm.x(), origin_mm.y(), origin_mm.z()};
@@ -424,6 +467,9 @@ double LegWorld::KineticEnergyJ() const {
     // The carriage only slides: translation alone.
     energy += 0.5 * impl_->stand->config.load_kg *
               FromOde(dBodyGetLinearVel(impl_->stand->carriage)).squaredNorm();
+    if (impl_->stand->sled != nullptr) {
+      energy += 0.5 * kSledMassKg * FromOde(dBodyGetLinearVel(impl_->stand->sled)).squaredNorm();
+    }
   }
   return energy;
 }
@@ -435,6 +481,9 @@ double LegWorld::MechanicalEnergyJ() const {
   }
   if (impl_->stand) {
     potential += impl_->stand->config.load_kg * kGravityMPerS2 * impl_->stand->CarriageZM();
+    // The sled's spring (zero without a sled).
+    const double x_m = impl_->stand->SledXM();
+    potential += 0.5 * impl_->stand->config.sled_stiffness_n_per_m * x_m * x_m;
   }
   return KineticEnergyJ() + potential;
 }
@@ -445,6 +494,9 @@ std::string LegWorld::StateProblem() const {
     const dReal* v = dBodyGetLinearVel(impl_->stand->carriage);
     if (!std::isfinite(p[2]) || !std::isfinite(v[2])) {
       return "the stand's carriage has a non-finite height or speed";
+    }
+    if (!std::isfinite(p[0]) || !std::isfinite(v[0])) {
+      return "the stand's sled has a non-finite position or speed";
     }
   }
   for (const Impl::Body& body : impl_->bodies) {

@@ -27,6 +27,8 @@ struct StandState {
   /// surface (the treadmill belt's, StandConfig::belt_speed_mm_per_s), integrated over every
   /// physics step whose normal force exceeds kLoadedContactN. Rolling of the ball is not slip.
   double slip_mm = 0.0;
+  /// The sled's position along x (forward) from its spring's rest, mm; 0 without a sled.
+  double sled_x_mm = 0.0;
 };
 
 /// The rigid-body physics of the leg: a LegDescription (the URDF, checked) turned into an ODE
@@ -53,11 +55,18 @@ class LegWorld {
   /// A contact carrying more than this normal force, N, counts as loaded (StandState::slip_mm).
   static constexpr double kLoadedContactN = 0.1;
 
+  /// Mass of the stand's sled itself (StandConfig::sled_stiffness_n_per_m), kg: a light
+  /// aluminium slide; the carriage, its load and the leg ride on it, so the body's horizontal
+  /// mass is kSledMassKg + load + leg.
+  static constexpr double kSledMassKg = 0.05;
+
   /// Builds the ODE world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
   /// off). With `stand.enabled` the root link rides on a carriage of mass stand.load_kg on a
   /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
   /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
-  /// through an ODE space; `stand` is expected valid (ValidateSimConfig). `leg` is normally
+  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled, an
+  /// ODE slider along x held at x = 0 by the sled's spring-damper (kSledMassKg of its own);
+  /// `stand` is expected valid (ValidateSimConfig). `leg` is normally
   /// LoadLegDescription's result; throws std::invalid_argument when its indices do not form a tree
   /// with each LegJoint moving one link and each body carried by its link, or naming the link when
   /// ODE rejects a body's mass.
@@ -113,7 +122,8 @@ class LegWorld {
   std::array<double, 3> LinkOriginMm(std::string_view link) const;
 
   /// Kinetic plus gravitational potential energy of the moving bodies (and the carriage on the
-  /// stand), J (zero potential at world z = 0).
+  /// stand, and the sled with its spring's energy when there is one), J (zero potential at
+  /// world z = 0).
   double MechanicalEnergyJ() const;
 
   /// Kinetic energy (translation and rotation) of the moving bodies, J.
