@@ -250,7 +250,8 @@ std::string Table2Json(const Table2& table) {
                                   {"ground_phase_fz_n", StatJson(row.ground_phase_fz_n)},
                                   {"peak_fz_n", row.peak_fz_n},
                                   {"loaded_ticks", row.loaded_ticks},
-                                  {"sled_travel_mm", StatJson(row.sled_travel_mm)}};
+                                  {"sled_travel_x_mm", StatJson(row.sled_travel_x_mm)},
+                                  {"sled_travel_y_mm", StatJson(row.sled_travel_y_mm)}};
     }
     json["stand"] = entry;
   }

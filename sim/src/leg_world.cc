@@ -90,10 +90,12 @@ struct Stand {
   StandConfig config;
   dBodyID carriage = nullptr;
   dJointID rail = nullptr;
-  // The horizontal sled under the rail and its slider to the frame, when there is one
-  // (StandConfig::sled_stiffness_n_per_m > 0); otherwise the rail holds to the frame itself.
-  dBodyID sled = nullptr;
-  dJointID sled_slider = nullptr;
+  // The horizontal sled under the rail, when there is one (StandConfig::sled_stiffness_n_per_m
+  // > 0): slides[0] moves along x on the frame, slides[1] along y on slides[0], and the rail
+  // stands on slides[1]; otherwise the rail holds to the frame itself.
+  std::array<dBodyID, 2> slides{};
+  std::array<dJointID, 2> slide_joints{};
+  bool has_sled() const { return slides[0] != nullptr; }
   dSpaceID space = nullptr;
   dGeomID floor = nullptr;
   dGeomID foot = nullptr;
@@ -114,8 +116,10 @@ struct Stand {
   }
 
   double CarriageZM() const { return dBodyGetPosition(carriage)[2]; }
-  // The sled's (and so the carriage's) position along x, m; 0 without a sled.
-  double SledXM() const { return sled != nullptr ? dBodyGetPosition(sled)[0] : 0.0; }
+  // The sled's (and so the carriage's) position along x and y from its spring's rest, m; 0
+  // without a sled.
+  double SledXM() const { return has_sled() ? dBodyGetPosition(slides[0])[0] : 0.0; }
+  double SledYM() const { return has_sled() ? dBodyGetPosition(slides[1])[1] : 0.0; }
 };
 
 struct LegWorld::Impl {
@@ -214,29 +218,34 @@ void LegWorld::Impl::BuildStand(const StandConfig& config) {
   dMassSetSphereTotal(&mass, config.load_kg, 0.05);
   dBodySetMass(s.carriage, &mass);
   dBodySetPosition(s.carriage, 0.0, 0.0, 0.0);
-  // The sled, when there is one: a horizontal slider along x to the static world whose two
-  // stops, both at x = 0, make one two-sided constraint with the sled's spring and damper as
-  // its ERP and CFM for the physics step, as the contact's are (set in Step, which knows the
-  // step): the spring-damper is integrated implicitly, so it cannot feed energy into the
-  // walk whatever k and c are. Its own mass is a light frame, kSledMassKg; the slider keeps it
-  // upright, so its inertia only has to be valid.
+  // The sled, when there is one: a cross slide, a slider along x on the static world carrying
+  // a slider along y (the stance's speed errors are along the walk and across it). Each
+  // slider's two stops, both at 0, make one two-sided constraint with the sled's spring and
+  // damper as its ERP and CFM for the physics step, as the contact's are (set in Step, which
+  // knows the step): the spring-damper is integrated implicitly, so it cannot feed energy into
+  // the walk whatever k and c are. Each slide is a light frame of kSledMassKg; the sliders
+  // keep them upright, so their inertia only has to be valid.
   if (config.sled_stiffness_n_per_m > 0.0) {
-    s.sled = dBodyCreate(world->get());
-    dMass sled_mass;
-    dMassSetSphereTotal(&sled_mass, kSledMassKg, 0.05);
-    dBodySetMass(s.sled, &sled_mass);
-    dBodySetPosition(s.sled, 0.0, 0.0, 0.0);
-    s.sled_slider = dJointCreateSlider(world->get(), nullptr);
-    dJointAttach(s.sled_slider, s.sled, nullptr);
-    dJointSetSliderAxis(s.sled_slider, 1.0, 0.0, 0.0);
-    dJointSetSliderParam(s.sled_slider, dParamLoStop, 0.0);
-    dJointSetSliderParam(s.sled_slider, dParamHiStop, 0.0);
-    dJointSetSliderParam(s.sled_slider, dParamBounce, 0.0);
+    for (int axis = 0; axis < 2; ++axis) {
+      const dBodyID slide = dBodyCreate(world->get());
+      dMass slide_mass;
+      dMassSetSphereTotal(&slide_mass, kSledMassKg, 0.05);
+      dBodySetMass(slide, &slide_mass);
+      dBodySetPosition(slide, 0.0, 0.0, 0.0);
+      const dJointID joint = dJointCreateSlider(world->get(), nullptr);
+      dJointAttach(joint, slide, axis == 0 ? nullptr : s.slides[0]);
+      dJointSetSliderAxis(joint, axis == 0 ? 1.0 : 0.0, axis == 1 ? 1.0 : 0.0, 0.0);
+      dJointSetSliderParam(joint, dParamLoStop, 0.0);
+      dJointSetSliderParam(joint, dParamHiStop, 0.0);
+      dJointSetSliderParam(joint, dParamBounce, 0.0);
+      s.slides[axis] = slide;
+      s.slide_joints[axis] = joint;
+    }
   }
   // The rail: a vertical slider to the static world (or to the sled). Its position is the
   // carriage's height (zero where it was attached, at the walking height).
   s.rail = dJointCreateSlider(world->get(), nullptr);
-  dJointAttach(s.rail, s.carriage, s.sled);
+  dJointAttach(s.rail, s.carriage, s.slides[1]);
   dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
   dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
   dJointSetSliderParam(s.rail, dParamBounce, 0.0);
@@ -326,6 +335,7 @@ void LegWorld::Impl::MeasureContacts(double dt_s) {
   s.state.contact_force_n = {force.x(), force.y(), force.z()};
   s.state.carriage_z_mm = 1000.0 * s.CarriageZM();
   s.state.sled_x_mm = 1000.0 * s.SledXM();
+  s.state.sled_y_mm = 1000.0 * s.SledYM();
 }
 
 LegWorld::LegWorld(const LegDescription& leg, const StandConfig& stand)
@@ -382,13 +392,15 @@ void LegWorld::Step(double dt_s) {
     return;
   }
   impl_->CollideAndJoin(dt_s);
-  if (const Stand& s = *impl_->stand; s.sled != nullptr) {
+  if (const Stand& s = *impl_->stand; s.has_sled()) {
     // The sled's spring-damper as its slider's stop ERP and CFM for this step (ODE manual,
     // "How to use ERP and CFM"; both stops at 0 make the limit row two-sided).
     const double k = s.config.sled_stiffness_n_per_m;
     const double c = s.config.sled_damping_n_s_per_m;
-    dJointSetSliderParam(s.sled_slider, dParamStopERP, dt_s * k / (dt_s * k + c));
-    dJointSetSliderParam(s.sled_slider, dParamStopCFM, 1.0 / (dt_s * k + c));
+    for (const dJointID joint : s.slide_joints) {
+      dJointSetSliderParam(joint, dParamStopERP, dt_s * k / (dt_s * k + c));
+      dJointSetSliderParam(joint, dParamStopCFM, 1.0 / (dt_s * k + c));
+    }
   }
   dWorldStep(impl_->world->get(), dt_s);
   impl_->MeasureContacts(dt_s);
@@ -413,15 +425,17 @@ void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
     dBodySetPosition(s->carriage, 0.0, 0.0, lift.z());
     dBodySetLinearVel(s->carriage, 0.0, 0.0, 0.0);
     dBodySetAngularVel(s->carriage, 0.0, 0.0, 0.0);
-    if (s->sled != nullptr) {
+    for (const dBodyID slide : s->slides) {
+      if (slide == nullptr) continue;
       // The sled at its spring's rest, at rest.
-      dBodySetPosition(s->sled, 0.0, 0.0, 0.0);
-      dBodySetLinearVel(s->sled, 0.0, 0.0, 0.0);
-      dBodySetAngularVel(s->sled, 0.0, 0.0, 0.0);
+      dBodySetPosition(slide, 0.0, 0.0, 0.0);
+      dBodySetLinearVel(slide, 0.0, 0.0, 0.0);
+      dBodySetAngularVel(slide, 0.0, 0.0, 0.0);
     }
     s->state.contact_force_n = {0.0, 0.0, 0.0};
     s->state.carriage_z_mm = 1000.0 * lift.z();
     s->state.sled_x_mm = 0.0;
+    s->state.sled_y_mm = 0.0;
   }
   for (const Impl::Body& body : impl_->bodies) {
     const Eigen::Isometry3d& pose = poses[body.link];
@@ -444,10 +458,13 @@ std::array<double, 3> LegWorld::LinkOriginMm(std::string_view link_name) const {
                                                : Eigen::Isometry3d::Identity();
   Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
   // On the stand the body frame is the carriage's: the world frame raised by its height (and
-  // moved along x with the sled, when there is one).
+  // moved along x and y with the sled, when there is one).
   if (impl_->stand) {
     origin_mm.z() -= 1000.0 * impl_->stand->CarriageZM();
-    if (impl_->stand->sled != nullptr) origin_mm.x() -= 1000.0 * impl_->stand->SledXM();
+    if (impl_->stand->has_sled()) {
+      origin_mm.x() -= 1000.0 * impl_->stand->SledXM();
+      origin_mm.y() -= 1000.0 * impl_->stand->SledYM();
+    }
     if (link.body < 0) origin_mm = 1000.0 * ToEigen(link.in_body.translation_m);
   }
   return {origin_mm.x(), origin_mm.y(), origin_mm.z()};
@@ -467,8 +484,10 @@ double LegWorld::KineticEnergyJ() const {
     // The carriage only slides: translation alone.
     energy += 0.5 * impl_->stand->config.load_kg *
               FromOde(dBodyGetLinearVel(impl_->stand->carriage)).squaredNorm();
-    if (impl_->stand->sled != nullptr) {
-      energy += 0.5 * kSledMassKg * FromOde(dBodyGetLinearVel(impl_->stand->sled)).squaredNorm();
+    for (const dBodyID slide : impl_->stand->slides) {
+      if (slide != nullptr) {
+        energy += 0.5 * kSledMassKg * FromOde(dBodyGetLinearVel(slide)).squaredNorm();
+      }
     }
   }
   return energy;
@@ -483,7 +502,8 @@ double LegWorld::MechanicalEnergyJ() const {
     potential += impl_->stand->config.load_kg * kGravityMPerS2 * impl_->stand->CarriageZM();
     // The sled's spring (zero without a sled).
     const double x_m = impl_->stand->SledXM();
-    potential += 0.5 * impl_->stand->config.sled_stiffness_n_per_m * x_m * x_m;
+    const double y_m = impl_->stand->SledYM();
+    potential += 0.5 * impl_->stand->config.sled_stiffness_n_per_m * (x_m * x_m + y_m * y_m);
   }
   return KineticEnergyJ() + potential;
 }
@@ -495,7 +515,8 @@ std::string LegWorld::StateProblem() const {
     if (!std::isfinite(p[2]) || !std::isfinite(v[2])) {
       return "the stand's carriage has a non-finite height or speed";
     }
-    if (!std::isfinite(p[0]) || !std::isfinite(v[0])) {
+    if (!std::isfinite(p[0]) || !std::isfinite(v[0]) || !std::isfinite(p[1]) ||
+        !std::isfinite(v[1])) {
       return "the stand's sled has a non-finite position or speed";
     }
   }

@@ -235,8 +235,9 @@ TEST(StandTest, BadStandValuesNameTheKey) {
   EXPECT_NO_THROW(ValidateSimConfig(off));
 }
 
-// The sled (stand.sled_*): the rail on a horizontal slider held by a spring-damper. The body's
-// horizontal mass is the sled's own, the load and the leg.
+// The sled (stand.sled_*): the rail on a cross slide (x on the frame, y on the x slide) held by
+// a spring-damper along each axis. Along x the body's mass is both slides', the load and the
+// leg.
 SimConfig SledConfigFor(double stiffness_n_per_m, double damping_n_s_per_m) {
   SimConfig config = StandConfigFor();
   config.stand.sled_stiffness_n_per_m = stiffness_n_per_m;
@@ -245,7 +246,7 @@ SimConfig SledConfigFor(double stiffness_n_per_m, double damping_n_s_per_m) {
 }
 
 double HorizontalMassKg(const SimConfig& config) {
-  return LegWorld::kSledMassKg + config.stand.load_kg + kLegMassKg;
+  return 2.0 * LegWorld::kSledMassKg + config.stand.load_kg + kLegMassKg;
 }
 
 TEST(StandSledTest, TheBeltDeflectsTheSledByFrictionOverStiffness) {
@@ -286,6 +287,7 @@ TEST(StandSledTest, StandingStillTheSledRestsAtItsSpringsRest) {
   const double weight_n = (sim.config().stand.load_kg + kLegMassKg) * kG;
   EXPECT_NEAR(sim.Telemetry().contact_force_n[2], weight_n, 0.02 * weight_n);
   EXPECT_LT(std::abs(sim.Telemetry().sled_x_mm), 0.05);
+  EXPECT_LT(std::abs(sim.Telemetry().sled_y_mm), 0.05);
   EXPECT_LT(sim.Telemetry().slip_mm, 0.5);
 }
 
@@ -293,7 +295,7 @@ TEST(StandSledTest, TheBodyOscillatesOnTheSledWithPeriodTwoPiRootMOverK) {
   // The foot in the air (knee at 90 deg, the carriage on its stop), no damping: the rotator
   // swings the leg 30 deg forward and holds it; the reaction sets the body oscillating on the
   // sled, a mass m = sled + load + leg (held rigid by its servos) on the spring k:
-  // T = 2 pi sqrt(m / k) = 2 pi sqrt(0.621 / 200) = 0.350 s. Timed from upward zero crossings
+  // T = 2 pi sqrt(m / k) = 2 pi sqrt(0.671 / 200) = 0.364 s. Timed from upward zero crossings
   // of x about its mean, interpolated between ticks, over the periods after the swing.
   const SimConfig config = SledConfigFor(200.0, 0.0);
   LegSim sim(config);
@@ -363,7 +365,7 @@ TEST(StandSledTest, WithoutStiffnessThereIsNoSledAndTheSameBits) {
   };
   const std::vector<double> rigid = run(StandConfigFor());
   EXPECT_EQ(rigid, run(SledConfigFor(0.0, 50.0)));
-  for (size_t i = 4; i < rigid.size(); i += 7) EXPECT_EQ(rigid[i], 0.0);  // sled_x_mm
+  for (size_t i = 4; i < rigid.size(); i += 7) EXPECT_EQ(rigid[i], 0.0);  // the sled's x + y
 }
 
 TEST(StandSledTest, BadSledValuesNameTheKey) {

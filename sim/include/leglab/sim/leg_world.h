@@ -27,8 +27,10 @@ struct StandState {
   /// surface (the treadmill belt's, StandConfig::belt_speed_mm_per_s), integrated over every
   /// physics step whose normal force exceeds kLoadedContactN. Rolling of the ball is not slip.
   double slip_mm = 0.0;
-  /// The sled's position along x (forward) from its spring's rest, mm; 0 without a sled.
+  /// The sled's position along x (forward) and y (left) from its spring's rest, mm; 0 without
+  /// a sled.
   double sled_x_mm = 0.0;
+  double sled_y_mm = 0.0;
 };
 
 /// The rigid-body physics of the leg: a LegDescription (the URDF, checked) turned into an ODE
@@ -55,17 +57,19 @@ class LegWorld {
   /// A contact carrying more than this normal force, N, counts as loaded (StandState::slip_mm).
   static constexpr double kLoadedContactN = 0.1;
 
-  /// Mass of the stand's sled itself (StandConfig::sled_stiffness_n_per_m), kg: a light
-  /// aluminium slide; the carriage, its load and the leg ride on it, so the body's horizontal
-  /// mass is kSledMassKg + load + leg.
+  /// Mass of each of the stand's two slides (StandConfig::sled_stiffness_n_per_m), kg: a light
+  /// aluminium frame; the y slide, the carriage, its load and the leg ride on the x slide, so
+  /// the body's horizontal mass is 2 kSledMassKg + load + leg along x, kSledMassKg + load + leg
+  /// along y.
   static constexpr double kSledMassKg = 0.05;
 
   /// Builds the ODE world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
   /// off). With `stand.enabled` the root link rides on a carriage of mass stand.load_kg on a
   /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
   /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
-  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled, an
-  /// ODE slider along x held at x = 0 by the sled's spring-damper (kSledMassKg of its own);
+  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled, a
+  /// cross slide (an ODE slider along x on the frame carrying one along y), each held at 0 by
+  /// the sled's spring-damper (kSledMassKg each of its own);
   /// `stand` is expected valid (ValidateSimConfig). `leg` is normally
   /// LoadLegDescription's result; throws std::invalid_argument when its indices do not form a tree
   /// with each LegJoint moving one link and each body carried by its link, or naming the link when
