@@ -90,12 +90,13 @@ struct Stand {
   StandConfig config;
   dBodyID carriage = nullptr;
   dJointID rail = nullptr;
-  // The horizontal sled under the rail, when there is one (StandConfig::sled_stiffness_n_per_m
-  // > 0): slides[0] moves along x on the frame, slides[1] along y on slides[0], and the rail
-  // stands on slides[1]; otherwise the rail holds to the frame itself.
-  std::array<dBodyID, 2> slides{};
-  std::array<dJointID, 2> slide_joints{};
-  bool has_sled() const { return slides[0] != nullptr; }
+  // With the sled (StandConfig::sled_stiffness_n_per_m > 0) the carriage has no slider: an
+  // angular motor holds its rotation (3 rows), a linear motor along x and y carries the sled's
+  // spring-damper (2 rows), and the rail's stop is a one-row contact made while the carriage
+  // is on it: as many constraint rows as the slider and its stop, so the stand costs no more.
+  dJointID upright = nullptr;
+  dJointID sled = nullptr;
+  bool has_sled() const { return sled != nullptr; }
   dSpaceID space = nullptr;
   dGeomID floor = nullptr;
   dGeomID foot = nullptr;
@@ -118,8 +119,8 @@ struct Stand {
   double CarriageZM() const { return dBodyGetPosition(carriage)[2]; }
   // The sled's (and so the carriage's) position along x and y from its spring's rest, m; 0
   // without a sled.
-  double SledXM() const { return has_sled() ? dBodyGetPosition(slides[0])[0] : 0.0; }
-  double SledYM() const { return has_sled() ? dBodyGetPosition(slides[1])[1] : 0.0; }
+  double SledXM() const { return has_sled() ? dBodyGetPosition(carriage)[0] : 0.0; }
+  double SledYM() const { return has_sled() ? dBodyGetPosition(carriage)[1] : 0.0; }
 };
 
 struct LegWorld::Impl {
@@ -154,6 +155,7 @@ struct LegWorld::Impl {
   void BuildHinges();
   void BuildStand(const StandConfig& config);
   void CollideAndJoin(double dt_s);
+  void JoinSled(double dt_s);
   void MeasureContacts(double dt_s);
 };
 
@@ -211,44 +213,49 @@ void LegWorld::Impl::BuildStand(const StandConfig& config) {
   stand = std::make_unique<Stand>();
   Stand& s = *stand;
   s.config = config;
-  // The carriage: the root link's frame, carrying the load. The slider keeps it upright, so its
-  // inertia only has to be valid: a solid sphere of 5 cm radius.
+  // The carriage: the root link's frame, carrying the load. The slider (or the sled's angular
+  // motor) keeps it upright, so its inertia only has to be valid: a solid sphere of 5 cm radius.
   s.carriage = dBodyCreate(world->get());
   dMass mass;
   dMassSetSphereTotal(&mass, config.load_kg, 0.05);
   dBodySetMass(s.carriage, &mass);
   dBodySetPosition(s.carriage, 0.0, 0.0, 0.0);
-  // The sled, when there is one: a cross slide, a slider along x on the static world carrying
-  // a slider along y (the stance's speed errors are along the walk and across it). Each
-  // slider's two stops, both at 0, make one two-sided constraint with the sled's spring and
-  // damper as its ERP and CFM for the physics step, as the contact's are (set in Step, which
-  // knows the step): the spring-damper is integrated implicitly, so it cannot feed energy into
-  // the walk whatever k and c are. Each slide is a light frame of kSledMassKg; the sliders
-  // keep them upright, so their inertia only has to be valid.
   if (config.sled_stiffness_n_per_m > 0.0) {
-    for (int axis = 0; axis < 2; ++axis) {
-      const dBodyID slide = dBodyCreate(world->get());
-      dMass slide_mass;
-      dMassSetSphereTotal(&slide_mass, kSledMassKg, 0.05);
-      dBodySetMass(slide, &slide_mass);
-      dBodySetPosition(slide, 0.0, 0.0, 0.0);
-      const dJointID joint = dJointCreateSlider(world->get(), nullptr);
-      dJointAttach(joint, slide, axis == 0 ? nullptr : s.slides[0]);
-      dJointSetSliderAxis(joint, axis == 0 ? 1.0 : 0.0, axis == 1 ? 1.0 : 0.0, 0.0);
-      dJointSetSliderParam(joint, dParamLoStop, 0.0);
-      dJointSetSliderParam(joint, dParamHiStop, 0.0);
-      dJointSetSliderParam(joint, dParamBounce, 0.0);
-      s.slides[axis] = slide;
-      s.slide_joints[axis] = joint;
+    // The sled: the rail rides on a cross slide, so the carriage moves along x, y and z but
+    // never turns. Built from the fewest constraint rows rather than as a chain of slider
+    // bodies (which tripled the physics step's cost): an angular motor holding the carriage's
+    // angular velocity at zero about the world's three axes (unbounded torque; the slider's
+    // rotation rows did the same), and a linear motor along x and y whose rows are the
+    // sled's spring-damper, the very rows a soft stop at 0 would make (ODE manual, "How to
+    // use ERP and CFM"): speed -(ERP / h) x and CFM = 1 / (h k + c), with ERP = h k / (h k + c),
+    // set in Step, which knows h. Integrated implicitly, the spring cannot feed energy into
+    // the walk whatever k and c are. The rail's stop is a contact with the frame (Step).
+    s.upright = dJointCreateAMotor(world->get(), nullptr);
+    dJointAttach(s.upright, s.carriage, nullptr);
+    dJointSetAMotorMode(s.upright, dAMotorUser);
+    dJointSetAMotorNumAxes(s.upright, 3);
+    dJointSetAMotorAxis(s.upright, 0, 0, 1.0, 0.0, 0.0);
+    dJointSetAMotorAxis(s.upright, 1, 0, 0.0, 1.0, 0.0);
+    dJointSetAMotorAxis(s.upright, 2, 0, 0.0, 0.0, 1.0);
+    for (const int param : {dParamFMax, dParamFMax2, dParamFMax3}) {
+      dJointSetAMotorParam(s.upright, param, dInfinity);
     }
+    s.sled = dJointCreateLMotor(world->get(), nullptr);
+    dJointAttach(s.sled, s.carriage, nullptr);
+    dJointSetLMotorNumAxes(s.sled, 2);
+    dJointSetLMotorAxis(s.sled, 0, 0, 1.0, 0.0, 0.0);
+    dJointSetLMotorAxis(s.sled, 1, 0, 0.0, 1.0, 0.0);
+    dJointSetLMotorParam(s.sled, dParamFMax, dInfinity);
+    dJointSetLMotorParam(s.sled, dParamFMax2, dInfinity);
+  } else {
+    // The rail: a vertical slider to the static world. Its position is the carriage's height
+    // (zero where it was attached, at the walking height).
+    s.rail = dJointCreateSlider(world->get(), nullptr);
+    dJointAttach(s.rail, s.carriage, nullptr);
+    dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
+    dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
+    dJointSetSliderParam(s.rail, dParamBounce, 0.0);
   }
-  // The rail: a vertical slider to the static world (or to the sled). Its position is the
-  // carriage's height (zero where it was attached, at the walking height).
-  s.rail = dJointCreateSlider(world->get(), nullptr);
-  dJointAttach(s.rail, s.carriage, s.slides[1]);
-  dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
-  dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
-  dJointSetSliderParam(s.rail, dParamBounce, 0.0);
   // The floor and the ball of the foot, in one collision space.
   const double shoulder_z_m = leg.joints[kRotator].position_m[2];
   s.floor_z_m = shoulder_z_m - (config.ground_below_shoulder_mm + config.foot_radius_mm) / 1000.0;
@@ -308,6 +315,35 @@ void LegWorld::Impl::CollideAndJoin(double dt_s) {
     dJointAttach(joint, foot_body, nullptr);
     s.feedback[i] = dJointFeedback{};
     dJointSetFeedback(joint, &s.feedback[i]);
+  }
+}
+
+void LegWorld::Impl::JoinSled(double dt_s) {
+  Stand& s = *stand;
+  // The spring-damper's rows for this step: ERP = h k / (h k + c), CFM = 1 / (h k + c) (ODE
+  // manual, "How to use ERP and CFM"), as a motor row: speed -(ERP / h) x, force unbounded.
+  const double k = s.config.sled_stiffness_n_per_m;
+  const double c = s.config.sled_damping_n_s_per_m;
+  const double erp_per_s = k / (dt_s * k + c);
+  const double cfm = 1.0 / (dt_s * k + c);
+  const dReal* position = dBodyGetPosition(s.carriage);
+  dJointSetLMotorParam(s.sled, dParamVel, -erp_per_s * position[0]);
+  dJointSetLMotorParam(s.sled, dParamVel2, -erp_per_s * position[1]);
+  dJointSetLMotorParam(s.sled, dParamCFM, cfm);
+  dJointSetLMotorParam(s.sled, dParamCFM2, cfm);
+  // The rail's lower stop, while the carriage is on it: a frictionless contact with the frame,
+  // one row pushing up only, with the world's ERP and CFM as the slider's stop had.
+  const double below_stop_m = -s.config.stop_below_shoulder_mm / 1000.0 - position[2];
+  if (below_stop_m >= 0.0) {
+    dContact stop{};
+    stop.surface.mode = 0;
+    stop.surface.mu = 0.0;
+    stop.geom.pos[0] = position[0];
+    stop.geom.pos[1] = position[1];
+    stop.geom.pos[2] = position[2];
+    stop.geom.normal[2] = 1.0;  // pointing at the carriage, body 1
+    stop.geom.depth = below_stop_m;
+    dJointAttach(dJointCreateContact(world->get(), s.contacts, &stop), s.carriage, nullptr);
   }
 }
 
@@ -392,16 +428,7 @@ void LegWorld::Step(double dt_s) {
     return;
   }
   impl_->CollideAndJoin(dt_s);
-  if (const Stand& s = *impl_->stand; s.has_sled()) {
-    // The sled's spring-damper as its slider's stop ERP and CFM for this step (ODE manual,
-    // "How to use ERP and CFM"; both stops at 0 make the limit row two-sided).
-    const double k = s.config.sled_stiffness_n_per_m;
-    const double c = s.config.sled_damping_n_s_per_m;
-    for (const dJointID joint : s.slide_joints) {
-      dJointSetSliderParam(joint, dParamStopERP, dt_s * k / (dt_s * k + c));
-      dJointSetSliderParam(joint, dParamStopCFM, 1.0 / (dt_s * k + c));
-    }
-  }
+  if (impl_->stand->has_sled()) impl_->JoinSled(dt_s);
   dWorldStep(impl_->world->get(), dt_s);
   impl_->MeasureContacts(dt_s);
 }
@@ -423,15 +450,9 @@ void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
     const double touching_z_m = s->floor_z_m + s->config.foot_radius_mm / 1000.0 - foot_z_m;
     lift.z() = std::max(-s->config.stop_below_shoulder_mm / 1000.0, touching_z_m);
     dBodySetPosition(s->carriage, 0.0, 0.0, lift.z());
+    if (s->has_sled()) SetRotation(s->carriage, Eigen::Matrix3d::Identity());
     dBodySetLinearVel(s->carriage, 0.0, 0.0, 0.0);
     dBodySetAngularVel(s->carriage, 0.0, 0.0, 0.0);
-    for (const dBodyID slide : s->slides) {
-      if (slide == nullptr) continue;
-      // The sled at its spring's rest, at rest.
-      dBodySetPosition(slide, 0.0, 0.0, 0.0);
-      dBodySetLinearVel(slide, 0.0, 0.0, 0.0);
-      dBodySetAngularVel(slide, 0.0, 0.0, 0.0);
-    }
     s->state.contact_force_n = {0.0, 0.0, 0.0};
     s->state.carriage_z_mm = 1000.0 * lift.z();
     s->state.sled_x_mm = 0.0;
@@ -484,11 +505,6 @@ double LegWorld::KineticEnergyJ() const {
     // The carriage only slides: translation alone.
     energy += 0.5 * impl_->stand->config.load_kg *
               FromOde(dBodyGetLinearVel(impl_->stand->carriage)).squaredNorm();
-    for (const dBodyID slide : impl_->stand->slides) {
-      if (slide != nullptr) {
-        energy += 0.5 * kSledMassKg * FromOde(dBodyGetLinearVel(slide)).squaredNorm();
-      }
-    }
   }
   return energy;
 }

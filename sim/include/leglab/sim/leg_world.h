@@ -57,19 +57,13 @@ class LegWorld {
   /// A contact carrying more than this normal force, N, counts as loaded (StandState::slip_mm).
   static constexpr double kLoadedContactN = 0.1;
 
-  /// Mass of each of the stand's two slides (StandConfig::sled_stiffness_n_per_m), kg: a light
-  /// aluminium frame; the y slide, the carriage, its load and the leg ride on the x slide, so
-  /// the body's horizontal mass is 2 kSledMassKg + load + leg along x, kSledMassKg + load + leg
-  /// along y.
-  static constexpr double kSledMassKg = 0.05;
-
   /// Builds the ODE world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
   /// off). With `stand.enabled` the root link rides on a carriage of mass stand.load_kg on a
   /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
   /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
-  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled, a
-  /// cross slide (an ODE slider along x on the frame carrying one along y), each held at 0 by
-  /// the sled's spring-damper (kSledMassKg each of its own);
+  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled: the
+  /// carriage also moves along x and y (never turning), held at 0 by the sled's spring-damper
+  /// (the slides' own mass neglected: the body's horizontal mass is the load and the leg);
   /// `stand` is expected valid (ValidateSimConfig). `leg` is normally
   /// LoadLegDescription's result; throws std::invalid_argument when its indices do not form a tree
   /// with each LegJoint moving one link and each body carried by its link, or naming the link when
