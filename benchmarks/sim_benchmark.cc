@@ -55,8 +55,8 @@ SimConfig Config() {
   return config;
 }
 
-// The leg on the test stand: StandConfig's defaults are robots/ers210a_stand/robot.yaml's values,
-// but for the sled, which StandConfig leaves off (the rigid rail) and the robot file ships.
+// The leg on the test stand: StandConfig's defaults are robots/ers210a_stand/robot.yaml's values;
+// the sled is track_stand.yaml's, the walk's stand.
 SimConfig StandConfig() {
   SimConfig config = Config();
   config.stand.enabled = true;
