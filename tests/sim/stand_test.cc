@@ -288,21 +288,30 @@ TEST(StandSledTest, StandingStillTheSledRestsAtItsSpringsRest) {
   EXPECT_LT(sim.Telemetry().slip_mm, 0.5);
 }
 
-TEST(StandSledTest, TheBodyOscillatesOnTheSledWithPeriodTwoPiRootMOverK) {
-  // The foot in the air (knee at 90 deg, the carriage on its stop), no damping: the rotator
-  // swings the leg 30 deg forward and holds it; the reaction sets the body oscillating on the
-  // sled, a mass m = sled + load + leg (held rigid by its servos) on the spring k:
+struct SwingCase {
+  const char* name;
+  LegAngles request_deg;  // from {0, 0, 90}
+  int axis;               // 0: the sled's x, 1: its y
+};
+
+class StandSledSwingTest : public ::testing::TestWithParam<SwingCase> {};
+
+TEST_P(StandSledSwingTest, TheBodyOscillatesOnTheSledWithPeriodTwoPiRootMOverK) {
+  // The foot in the air (knee at 90 deg, the carriage on its stop), no damping: one joint swings
+  // the leg 30 deg and holds it; the reaction sets the body oscillating on the sled, a mass
+  // m = load + leg (held rigid by its servos) on the spring k, along either axis:
   // T = 2 pi sqrt(m / k) = 2 pi sqrt(0.571 / 200) = 0.336 s. Timed from upward zero crossings
-  // of x about its mean, interpolated between ticks, over the periods after the swing.
+  // of the position about its mean, interpolated between ticks, over the periods after the
+  // swing.
   const SimConfig config = SledConfigFor(200.0, 0.0);
   LegSim sim(config);
   sim.SetJointAnglesDeg({0.0, 0.0, 90.0});
-  sim.SetRequestsDeg({30.0, 0.0, 90.0});
+  sim.SetRequestsDeg(GetParam().request_deg);
   for (int t = 0; t < 63; ++t) sim.Tick();  // 0.5 s: the swing is over
   std::vector<double> x;
-  for (int t = 0; t < 250; ++t) {  // 2 s, about 5.7 periods
+  for (int t = 0; t < 250; ++t) {  // 2 s, about 6 periods
     sim.Tick();
-    x.push_back(sim.Telemetry().sled_x_mm);
+    x.push_back(GetParam().axis == 0 ? sim.Telemetry().sled_x_mm : sim.Telemetry().sled_y_mm);
   }
   double mean = 0.0;
   for (const double v : x) mean += v / static_cast<double>(x.size());
@@ -323,8 +332,18 @@ TEST(StandSledTest, TheBodyOscillatesOnTheSledWithPeriodTwoPiRootMOverK) {
   EXPECT_GT(*std::max_element(x.begin(), x.end()) - *std::min_element(x.begin(), x.end()), 0.5);
 }
 
+INSTANTIATE_TEST_SUITE_P(Swings, StandSledSwingTest,
+                         ::testing::Values(
+                             // The rotator swings the leg forward: the body moves along x.
+                             SwingCase{"RotatorAlongX", {30.0, 0.0, 90.0}, 0},
+                             // The abductor swings it outward: the body moves along y.
+                             SwingCase{"AbductorAlongY", {0.0, 30.0, 90.0}, 1}),
+                         [](const ::testing::TestParamInfo<SwingCase>& swing) {
+                           return std::string(swing.param.name);
+                         });
+
 TEST(StandSledTest, PassiveDropOnTheSledGainsNoEnergy) {
-  // As StandDropTest, with the body free to move along x on an undamped spring: the limp leg
+  // As StandDropTest, with the body free to move along x and y on an undamped spring: the limp leg
   // swings down onto the floor, throwing the body sideways; the sum (the spring's energy
   // included) never grows.
   LegSim sim(SledConfigFor(200.0, 0.0));
