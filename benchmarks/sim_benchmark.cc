@@ -12,7 +12,8 @@
 // to what ODE itself costs.
 //
 //   BM_StandTick  one LegSim::Tick of the leg on the single-leg test stand (issue 11: carriage
-//                 on a slider, floor contact through an ODE space), the same requests, which
+//                 on a slider on the sled's cross slide, floor contact through an ODE space),
+//                 the same requests, which
 //                 put the foot on the floor for part of each cycle;
 //
 // and, side by side in the same way, the stand's cost per physics step over the air leg's
@@ -54,10 +55,13 @@ SimConfig Config() {
   return config;
 }
 
-// The leg on the test stand: StandConfig's defaults are robots/ers210a_stand/robot.yaml's values.
+// The leg on the test stand: StandConfig's defaults are robots/ers210a_stand/robot.yaml's values;
+// the sled is track_stand.yaml's, the walk's stand.
 SimConfig StandConfig() {
   SimConfig config = Config();
   config.stand.enabled = true;
+  config.stand.sled_stiffness_n_per_m = 200.0;
+  config.stand.sled_damping_n_s_per_m = 16.0;
   return config;
 }
 

@@ -468,6 +468,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     stand.Read("foot_radius_mm", stand_config.foot_radius_mm);
     belt_given = stand.Has("belt_speed_mm_per_s");
     stand.Read("belt_speed_mm_per_s", stand_config.belt_speed_mm_per_s);
+    stand.Read("sled_stiffness_n_per_m", stand_config.sled_stiffness_n_per_m);
+    stand.Read("sled_damping_n_s_per_m", stand_config.sled_damping_n_s_per_m);
     stand.Finish();
     long long seed = static_cast<long long>(config.sim.seed);
     root.Read("seed", seed);
@@ -822,6 +824,8 @@ constexpr NumericRange kRanges[] = {
     {"stand.contact_damping_n_s_per_m", 0, 1000, false, false, "N s/m"},
     {"stand.foot_radius_mm", 0, 50, true, false, "mm"},
     {"stand.belt_speed_mm_per_s", -2000, 2000, false, false, "mm/s"},
+    {"stand.sled_stiffness_n_per_m", 0, 1e5, false, false, "N/m"},
+    {"stand.sled_damping_n_s_per_m", 0, 1000, false, false, "N s/m"},
     {"plant_model.v_max_deg_per_tick", 0.01, 45, false, false, "deg/tick"},
     {"plant_model.theta0_deg", 0.01, 180, false, false, "deg"},
     {"plant_model.lag_ticks", 0, 50, false, false, "ticks"},

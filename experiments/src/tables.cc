@@ -1,6 +1,7 @@
 #include "leglab/experiments/tables.h"
 
 #include <algorithm>
+#include <array>
 #include <span>
 
 namespace leglab::experiments {
@@ -123,6 +124,7 @@ StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period
   const std::vector<PlantTelemetry>& m = run.run.telemetry;
   std::vector<double> stance_fz;
   std::vector<double> ground_phase_fz;
+  std::array<std::vector<double>, 2> sled_travel;  // x, y
   double loaded = 0.0;
   double slip_before = run.run.telemetry_before.slip_mm;
   for (size_t s = 0; (s + 1) * period <= m.size(); ++s) {
@@ -137,7 +139,14 @@ StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period
     // The plant's own stance: the ticks its foot was loaded.
     double loaded_fz = 0.0;
     int loaded_here = 0;
+    std::array<double, 2> sled_low{m[first].sled_x_mm, m[first].sled_y_mm};
+    std::array<double, 2> sled_high = sled_low;
     for (int t = 0; t < period; ++t) {
+      const std::array<double, 2> sled{m[first + t].sled_x_mm, m[first + t].sled_y_mm};
+      for (int axis = 0; axis < 2; ++axis) {
+        sled_low[axis] = std::min(sled_low[axis], sled[axis]);
+        sled_high[axis] = std::max(sled_high[axis], sled[axis]);
+      }
       const double f = m[first + t].contact_force_n[2];
       row.peak_fz_n = std::max(row.peak_fz_n, f);
       if (f > kLoadedFzN) {
@@ -146,12 +155,17 @@ StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period
       }
     }
     loaded += loaded_here;
+    for (int axis = 0; axis < 2; ++axis) {
+      sled_travel[axis].push_back(sled_high[axis] - sled_low[axis]);
+    }
     stance_fz.push_back(loaded_here > 0 ? loaded_fz / loaded_here : 0.0);
   }
   row.slip_stat_mm = MeanAndStd(row.slip_mm);
   for (const double s : row.slip_mm) row.max_slip_mm = std::max(row.max_slip_mm, s);
   row.stance_fz_n = MeanAndStd(stance_fz);
   row.ground_phase_fz_n = MeanAndStd(ground_phase_fz);
+  row.sled_travel_x_mm = MeanAndStd(sled_travel[0]);
+  row.sled_travel_y_mm = MeanAndStd(sled_travel[1]);
   row.loaded_ticks = row.slip_mm.empty() ? 0.0 : loaded / static_cast<double>(row.slip_mm.size());
   return row;
 }

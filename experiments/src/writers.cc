@@ -109,7 +109,9 @@ std::string Table1Json(const Table1& table, const ExperimentConfig& config) {
                               {"contact_stiffness_n_per_m", stand.contact_stiffness_n_per_m},
                               {"contact_damping_n_s_per_m", stand.contact_damping_n_s_per_m},
                               {"foot_radius_mm", stand.foot_radius_mm},
-                              {"ground_below_shoulder_mm", stand.ground_below_shoulder_mm}};
+                              {"ground_below_shoulder_mm", stand.ground_below_shoulder_mm},
+                              {"sled_stiffness_n_per_m", stand.sled_stiffness_n_per_m},
+                              {"sled_damping_n_s_per_m", stand.sled_damping_n_s_per_m}};
   }
   if (config.plant == PlantKind::kModel) {
     json["plant"]["kind"] = "model";
@@ -247,7 +249,9 @@ std::string Table2Json(const Table2& table) {
                                   {"stance_fz_n", StatJson(row.stance_fz_n)},
                                   {"ground_phase_fz_n", StatJson(row.ground_phase_fz_n)},
                                   {"peak_fz_n", row.peak_fz_n},
-                                  {"loaded_ticks", row.loaded_ticks}};
+                                  {"loaded_ticks", row.loaded_ticks},
+                                  {"sled_travel_x_mm", StatJson(row.sled_travel_x_mm)},
+                                  {"sled_travel_y_mm", StatJson(row.sled_travel_y_mm)}};
     }
     json["stand"] = entry;
   }

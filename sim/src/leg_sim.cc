@@ -121,7 +121,8 @@ void LegSim::SampleReading() {
   reading_.applied_deg = ToDeg(commanded_rad);
   if (world_.has_stand()) {
     const StandState& stand = world_.stand_state();
-    reading_.telemetry = {tick_force_n_, stand.carriage_z_mm, stand.slip_mm - slip_at_reset_mm_};
+    reading_.telemetry = {tick_force_n_, stand.carriage_z_mm, stand.slip_mm - slip_at_reset_mm_,
+                          stand.sled_x_mm, stand.sled_y_mm};
   }
 }
 

@@ -90,6 +90,13 @@ struct Stand {
   StandConfig config;
   dBodyID carriage = nullptr;
   dJointID rail = nullptr;
+  // With the sled (StandConfig::sled_stiffness_n_per_m > 0) the carriage has no slider: an
+  // angular motor holds its rotation (3 rows), a linear motor along x and y carries the sled's
+  // spring-damper (2 rows), and the rail's stop is a one-row contact made while the carriage
+  // is on it: as many constraint rows as the slider and its stop, so the stand costs no more.
+  dJointID upright = nullptr;
+  dJointID sled = nullptr;
+  bool has_sled() const { return sled != nullptr; }
   dSpaceID space = nullptr;
   dGeomID floor = nullptr;
   dGeomID foot = nullptr;
@@ -110,6 +117,10 @@ struct Stand {
   }
 
   double CarriageZM() const { return dBodyGetPosition(carriage)[2]; }
+  // The sled's (and so the carriage's) position along x and y from its spring's rest, m; 0
+  // without a sled.
+  double SledXM() const { return has_sled() ? dBodyGetPosition(carriage)[0] : 0.0; }
+  double SledYM() const { return has_sled() ? dBodyGetPosition(carriage)[1] : 0.0; }
 };
 
 struct LegWorld::Impl {
@@ -144,6 +155,7 @@ struct LegWorld::Impl {
   void BuildHinges();
   void BuildStand(const StandConfig& config);
   void CollideAndJoin(double dt_s);
+  void JoinSled(double dt_s);
   void MeasureContacts(double dt_s);
 };
 
@@ -201,20 +213,49 @@ void LegWorld::Impl::BuildStand(const StandConfig& config) {
   stand = std::make_unique<Stand>();
   Stand& s = *stand;
   s.config = config;
-  // The carriage: the root link's frame, carrying the load. The slider keeps it upright, so its
-  // inertia only has to be valid: a solid sphere of 5 cm radius.
+  // The carriage: the root link's frame, carrying the load. The slider (or the sled's angular
+  // motor) keeps it upright, so its inertia only has to be valid: a solid sphere of 5 cm radius.
   s.carriage = dBodyCreate(world->get());
   dMass mass;
   dMassSetSphereTotal(&mass, config.load_kg, 0.05);
   dBodySetMass(s.carriage, &mass);
   dBodySetPosition(s.carriage, 0.0, 0.0, 0.0);
-  // The rail: a vertical slider to the static world. Its position is the carriage's height
-  // (zero where it was attached, at the walking height).
-  s.rail = dJointCreateSlider(world->get(), nullptr);
-  dJointAttach(s.rail, s.carriage, nullptr);
-  dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
-  dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
-  dJointSetSliderParam(s.rail, dParamBounce, 0.0);
+  if (config.sled_stiffness_n_per_m > 0.0) {
+    // The sled: the rail rides on a cross slide, so the carriage moves along x, y and z but
+    // never turns. Built from the fewest constraint rows rather than as a chain of slider
+    // bodies (which tripled the physics step's cost): an angular motor holding the carriage's
+    // angular velocity at zero about the world's three axes (unbounded torque; the slider's
+    // rotation rows did the same), and a linear motor along x and y whose rows are the
+    // sled's spring-damper, the very rows a soft stop at 0 would make (ODE manual, "How to
+    // use ERP and CFM"): speed -(ERP / h) x and CFM = 1 / (h k + c), with ERP = h k / (h k + c),
+    // set in Step, which knows h. Integrated implicitly, the spring cannot feed energy into
+    // the walk whatever k and c are. The rail's stop is a contact with the frame (Step).
+    s.upright = dJointCreateAMotor(world->get(), nullptr);
+    dJointAttach(s.upright, s.carriage, nullptr);
+    dJointSetAMotorMode(s.upright, dAMotorUser);
+    dJointSetAMotorNumAxes(s.upright, 3);
+    dJointSetAMotorAxis(s.upright, 0, 0, 1.0, 0.0, 0.0);
+    dJointSetAMotorAxis(s.upright, 1, 0, 0.0, 1.0, 0.0);
+    dJointSetAMotorAxis(s.upright, 2, 0, 0.0, 0.0, 1.0);
+    for (const int param : {dParamFMax, dParamFMax2, dParamFMax3}) {
+      dJointSetAMotorParam(s.upright, param, dInfinity);
+    }
+    s.sled = dJointCreateLMotor(world->get(), nullptr);
+    dJointAttach(s.sled, s.carriage, nullptr);
+    dJointSetLMotorNumAxes(s.sled, 2);
+    dJointSetLMotorAxis(s.sled, 0, 0, 1.0, 0.0, 0.0);
+    dJointSetLMotorAxis(s.sled, 1, 0, 0.0, 1.0, 0.0);
+    dJointSetLMotorParam(s.sled, dParamFMax, dInfinity);
+    dJointSetLMotorParam(s.sled, dParamFMax2, dInfinity);
+  } else {
+    // The rail: a vertical slider to the static world. Its position is the carriage's height
+    // (zero where it was attached, at the walking height).
+    s.rail = dJointCreateSlider(world->get(), nullptr);
+    dJointAttach(s.rail, s.carriage, nullptr);
+    dJointSetSliderAxis(s.rail, 0.0, 0.0, 1.0);
+    dJointSetSliderParam(s.rail, dParamLoStop, -config.stop_below_shoulder_mm / 1000.0);
+    dJointSetSliderParam(s.rail, dParamBounce, 0.0);
+  }
   // The floor and the ball of the foot, in one collision space.
   const double shoulder_z_m = leg.joints[kRotator].position_m[2];
   s.floor_z_m = shoulder_z_m - (config.ground_below_shoulder_mm + config.foot_radius_mm) / 1000.0;
@@ -277,6 +318,35 @@ void LegWorld::Impl::CollideAndJoin(double dt_s) {
   }
 }
 
+void LegWorld::Impl::JoinSled(double dt_s) {
+  Stand& s = *stand;
+  // The spring-damper's rows for this step: ERP = h k / (h k + c), CFM = 1 / (h k + c) (ODE
+  // manual, "How to use ERP and CFM"), as a motor row: speed -(ERP / h) x, force unbounded.
+  const double k = s.config.sled_stiffness_n_per_m;
+  const double c = s.config.sled_damping_n_s_per_m;
+  const double erp_per_s = k / (dt_s * k + c);
+  const double cfm = 1.0 / (dt_s * k + c);
+  const dReal* position = dBodyGetPosition(s.carriage);
+  dJointSetLMotorParam(s.sled, dParamVel, -erp_per_s * position[0]);
+  dJointSetLMotorParam(s.sled, dParamVel2, -erp_per_s * position[1]);
+  dJointSetLMotorParam(s.sled, dParamCFM, cfm);
+  dJointSetLMotorParam(s.sled, dParamCFM2, cfm);
+  // The rail's lower stop, while the carriage is on it: a frictionless contact with the frame,
+  // one row pushing up only, with the world's ERP and CFM as the slider's stop had.
+  const double below_stop_m = -s.config.stop_below_shoulder_mm / 1000.0 - position[2];
+  if (below_stop_m >= 0.0) {
+    dContact stop{};
+    stop.surface.mode = 0;
+    stop.surface.mu = 0.0;
+    stop.geom.pos[0] = position[0];
+    stop.geom.pos[1] = position[1];
+    stop.geom.pos[2] = position[2];
+    stop.geom.normal[2] = 1.0;  // pointing at the carriage, body 1
+    stop.geom.depth = below_stop_m;
+    dJointAttach(dJointCreateContact(world->get(), s.contacts, &stop), s.carriage, nullptr);
+  }
+}
+
 void LegWorld::Impl::MeasureContacts(double dt_s) {
   Stand& s = *stand;
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
@@ -300,6 +370,8 @@ void LegWorld::Impl::MeasureContacts(double dt_s) {
   s.contact_count = 0;
   s.state.contact_force_n = {force.x(), force.y(), force.z()};
   s.state.carriage_z_mm = 1000.0 * s.CarriageZM();
+  s.state.sled_x_mm = 1000.0 * s.SledXM();
+  s.state.sled_y_mm = 1000.0 * s.SledYM();
 }
 
 LegWorld::LegWorld(const LegDescription& leg, const StandConfig& stand)
@@ -356,6 +428,7 @@ void LegWorld::Step(double dt_s) {
     return;
   }
   impl_->CollideAndJoin(dt_s);
+  if (impl_->stand->has_sled()) impl_->JoinSled(dt_s);
   dWorldStep(impl_->world->get(), dt_s);
   impl_->MeasureContacts(dt_s);
 }
@@ -377,10 +450,13 @@ void LegWorld::SetConfigurationRad(const LegAngles& q_rad) {
     const double touching_z_m = s->floor_z_m + s->config.foot_radius_mm / 1000.0 - foot_z_m;
     lift.z() = std::max(-s->config.stop_below_shoulder_mm / 1000.0, touching_z_m);
     dBodySetPosition(s->carriage, 0.0, 0.0, lift.z());
+    if (s->has_sled()) SetRotation(s->carriage, Eigen::Matrix3d::Identity());
     dBodySetLinearVel(s->carriage, 0.0, 0.0, 0.0);
     dBodySetAngularVel(s->carriage, 0.0, 0.0, 0.0);
     s->state.contact_force_n = {0.0, 0.0, 0.0};
     s->state.carriage_z_mm = 1000.0 * lift.z();
+    s->state.sled_x_mm = 0.0;
+    s->state.sled_y_mm = 0.0;
   }
   for (const Impl::Body& body : impl_->bodies) {
     const Eigen::Isometry3d& pose = poses[body.link];
@@ -402,9 +478,14 @@ std::array<double, 3> LegWorld::LinkOriginMm(std::string_view link_name) const {
                                                ? impl_->BodyLinkPose(impl_->bodies[link.body])
                                                : Eigen::Isometry3d::Identity();
   Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
-  // On the stand the body frame is the carriage's: the world frame raised by its height.
+  // On the stand the body frame is the carriage's: the world frame raised by its height (and
+  // moved along x and y with the sled, when there is one).
   if (impl_->stand) {
     origin_mm.z() -= 1000.0 * impl_->stand->CarriageZM();
+    if (impl_->stand->has_sled()) {
+      origin_mm.x() -= 1000.0 * impl_->stand->SledXM();
+      origin_mm.y() -= 1000.0 * impl_->stand->SledYM();
+    }
     if (link.body < 0) origin_mm = 1000.0 * ToEigen(link.in_body.translation_m);
   }
   return {origin_mm.x(), origin_mm.y(), origin_mm.z()};
@@ -435,6 +516,10 @@ double LegWorld::MechanicalEnergyJ() const {
   }
   if (impl_->stand) {
     potential += impl_->stand->config.load_kg * kGravityMPerS2 * impl_->stand->CarriageZM();
+    // The sled's spring (zero without a sled).
+    const double x_m = impl_->stand->SledXM();
+    const double y_m = impl_->stand->SledYM();
+    potential += 0.5 * impl_->stand->config.sled_stiffness_n_per_m * (x_m * x_m + y_m * y_m);
   }
   return KineticEnergyJ() + potential;
 }
@@ -445,6 +530,10 @@ std::string LegWorld::StateProblem() const {
     const dReal* v = dBodyGetLinearVel(impl_->stand->carriage);
     if (!std::isfinite(p[2]) || !std::isfinite(v[2])) {
       return "the stand's carriage has a non-finite height or speed";
+    }
+    if (!std::isfinite(p[0]) || !std::isfinite(v[0]) || !std::isfinite(p[1]) ||
+        !std::isfinite(v[1])) {
+      return "the stand's sled has a non-finite position or speed";
     }
   }
   for (const Impl::Body& body : impl_->bodies) {

@@ -80,6 +80,13 @@ void ValidateSimConfig(const SimConfig& config) {
            stand.contact_damping_n_s_per_m);
   }
   RequirePositive("stand.foot_radius_mm", stand.foot_radius_mm);
+  if (!std::isfinite(stand.sled_stiffness_n_per_m) || stand.sled_stiffness_n_per_m < 0.0) {
+    Reject("stand.sled_stiffness_n_per_m", "a finite number >= 0 (0: no sled, a rigid rail)",
+           stand.sled_stiffness_n_per_m);
+  }
+  if (!std::isfinite(stand.sled_damping_n_s_per_m) || stand.sled_damping_n_s_per_m < 0.0) {
+    Reject("stand.sled_damping_n_s_per_m", "a finite number >= 0", stand.sled_damping_n_s_per_m);
+  }
   if (!std::isfinite(stand.belt_speed_mm_per_s)) {
     Reject("stand.belt_speed_mm_per_s", "finite", stand.belt_speed_mm_per_s);
   }

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "leglab/core/plant.h"
 #include "leglab/sim/leg_sim.h"
@@ -231,6 +233,169 @@ TEST(StandTest, BadStandValuesNameTheKey) {
   off.stand.enabled = false;
   off.stand.load_kg = -1.0;
   EXPECT_NO_THROW(ValidateSimConfig(off));
+}
+
+// The sled (stand.sled_*): the rail on a cross slide held by a spring-damper along x and y. The
+// body's horizontal mass is the load's and the leg's (the slides' own is neglected).
+SimConfig SledConfigFor(double stiffness_n_per_m, double damping_n_s_per_m) {
+  SimConfig config = StandConfigFor();
+  config.stand.sled_stiffness_n_per_m = stiffness_n_per_m;
+  config.stand.sled_damping_n_s_per_m = damping_n_s_per_m;
+  return config;
+}
+
+double HorizontalMassKg(const SimConfig& config) { return config.stand.load_kg + kLegMassKg; }
+
+TEST(StandSledTest, TheBeltDeflectsTheSledByFrictionOverStiffness) {
+  // The foot held still on the running belt (as above): the belt drags it backward with
+  // Coulomb friction mu N, and the body gives until the sled's spring carries that force:
+  // x = -mu N / k, with N the supported weight (the rail still carries nothing vertical).
+  // mu 0.5, N = 0.571 x 9.81 = 5.60 N, k = 200 N/m: x = -14.0 mm.
+  SimConfig config = SledConfigFor(200.0, 20.0);
+  config.stand.friction = 0.5;
+  config.stand.belt_speed_mm_per_s = 100.0;
+  LegSim sim(config);
+  sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
+  for (int t = 0; t < 250; ++t) sim.Tick();  // 2 s: the sled settles (damping ratio 1.7)
+  double x = 0.0;
+  double fx = 0.0;
+  double fz = 0.0;
+  constexpr int kTicks = 125;
+  for (int t = 0; t < kTicks; ++t) {
+    sim.Tick();
+    x += sim.Telemetry().sled_x_mm / kTicks;
+    fx += sim.Telemetry().contact_force_n[0] / kTicks;
+    fz += sim.Telemetry().contact_force_n[2] / kTicks;
+  }
+  const double weight_n = (config.stand.load_kg + kLegMassKg) * kG;
+  const double expected_mm = -1000.0 * config.stand.friction * weight_n / 200.0;
+  RecordProperty("sled_x_mm", std::to_string(x));
+  EXPECT_NEAR(fz, weight_n, 0.02 * weight_n);
+  EXPECT_NEAR(fx, -config.stand.friction * weight_n, 0.02 * config.stand.friction * weight_n);
+  EXPECT_NEAR(x, expected_mm, 0.02 * std::abs(expected_mm));
+}
+
+TEST(StandSledTest, StandingStillTheSledRestsAtItsSpringsRest) {
+  // On a still floor nothing pushes the body sideways: the floor carries the weight, the
+  // spring nothing.
+  LegSim sim(SledConfigFor(200.0, 20.0));
+  sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
+  for (int t = 0; t < 250; ++t) sim.Tick();
+  const double weight_n = (sim.config().stand.load_kg + kLegMassKg) * kG;
+  EXPECT_NEAR(sim.Telemetry().contact_force_n[2], weight_n, 0.02 * weight_n);
+  EXPECT_LT(std::abs(sim.Telemetry().sled_x_mm), 0.05);
+  EXPECT_LT(std::abs(sim.Telemetry().sled_y_mm), 0.05);
+  EXPECT_LT(sim.Telemetry().slip_mm, 0.5);
+}
+
+struct SwingCase {
+  const char* name;
+  LegAngles request_deg;  // from {0, 0, 90}
+  int axis;               // 0: the sled's x, 1: its y
+};
+
+class StandSledSwingTest : public ::testing::TestWithParam<SwingCase> {};
+
+TEST_P(StandSledSwingTest, TheBodyOscillatesOnTheSledWithPeriodTwoPiRootMOverK) {
+  // The foot in the air (knee at 90 deg, the carriage on its stop), no damping: one joint swings
+  // the leg 30 deg and holds it; the reaction sets the body oscillating on the sled, a mass
+  // m = load + leg (held rigid by its servos) on the spring k, along either axis:
+  // T = 2 pi sqrt(m / k) = 2 pi sqrt(0.571 / 200) = 0.336 s. Timed from upward zero crossings
+  // of the position about its mean, interpolated between ticks, over the periods after the
+  // swing.
+  const SimConfig config = SledConfigFor(200.0, 0.0);
+  LegSim sim(config);
+  sim.SetJointAnglesDeg({0.0, 0.0, 90.0});
+  sim.SetRequestsDeg(GetParam().request_deg);
+  for (int t = 0; t < 63; ++t) sim.Tick();  // 0.5 s: the swing is over
+  std::vector<double> x;
+  for (int t = 0; t < 250; ++t) {  // 2 s, about 6 periods
+    sim.Tick();
+    x.push_back(GetParam().axis == 0 ? sim.Telemetry().sled_x_mm : sim.Telemetry().sled_y_mm);
+  }
+  double mean = 0.0;
+  for (const double v : x) mean += v / static_cast<double>(x.size());
+  std::vector<double> crossings_s;
+  for (size_t i = 1; i < x.size(); ++i) {
+    const double a = x[i - 1] - mean;
+    const double b = x[i] - mean;
+    if (a < 0.0 && b >= 0.0)
+      crossings_s.push_back(kTickMs / 1000.0 * (static_cast<double>(i - 1) + a / (a - b)));
+  }
+  ASSERT_GE(crossings_s.size(), 4U);
+  const double period_s =
+      (crossings_s.back() - crossings_s.front()) / static_cast<double>(crossings_s.size() - 1);
+  const double expected_s = 2.0 * std::numbers::pi * std::sqrt(HorizontalMassKg(config) / 200.0);
+  RecordProperty("period_s", std::to_string(period_s));
+  EXPECT_NEAR(period_s, expected_s, 0.01 * expected_s);
+  // It does swing: the reaction of a 30 deg swing moves the body millimetres.
+  EXPECT_GT(*std::max_element(x.begin(), x.end()) - *std::min_element(x.begin(), x.end()), 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Swings, StandSledSwingTest,
+                         ::testing::Values(
+                             // The rotator swings the leg forward: the body moves along x.
+                             SwingCase{"RotatorAlongX", {30.0, 0.0, 90.0}, 0},
+                             // The abductor swings it outward: the body moves along y.
+                             SwingCase{"AbductorAlongY", {0.0, 30.0, 90.0}, 1}),
+                         [](const ::testing::TestParamInfo<SwingCase>& swing) {
+                           return std::string(swing.param.name);
+                         });
+
+TEST(StandSledTest, PassiveDropOnTheSledGainsNoEnergy) {
+  // As StandDropTest, with the body free to move along x and y on an undamped spring: the limp leg
+  // swings down onto the floor, throwing the body sideways; the sum (the spring's energy
+  // included) never grows.
+  LegSim sim(SledConfigFor(200.0, 0.0));
+  sim.SetJointAnglesDeg({20.0, 0.0, 100.0});
+  sim.SetMotorsEnabled(false);
+  const double initial = sim.MechanicalEnergyJ();
+  double peak_kinetic = 0.0;
+  double sled_travel_mm = 0.0;
+  for (int t = 0; t < 250; ++t) {  // 2 s
+    sim.Tick();
+    peak_kinetic = std::max(peak_kinetic, sim.world().KineticEnergyJ());
+    sled_travel_mm = std::max(sled_travel_mm, std::abs(sim.Telemetry().sled_x_mm));
+    ASSERT_LE(sim.MechanicalEnergyJ() - initial, 0.01 * peak_kinetic) << "tick " << t;
+  }
+  EXPECT_GT(peak_kinetic, 1e-3);
+  EXPECT_GT(sled_travel_mm, 0.1);  // the sled did move
+  EXPECT_LT(sim.MechanicalEnergyJ(), initial);
+}
+
+TEST(StandSledTest, WithoutStiffnessThereIsNoSledAndTheSameBits) {
+  // Stiffness 0 is the rigid rail: the same world as a StandConfig that never names the sled,
+  // whatever the damping says, bit for bit.
+  auto run = [](const SimConfig& config) {
+    LegSim sim(config);
+    sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
+    std::vector<double> out;
+    for (int t = 0; t < 100; ++t) {
+      sim.SetRequestsDeg({10.0 * std::sin(t * 0.1), 5.0, 30.0 + 20.0 * std::sin(t * 0.07)});
+      sim.Tick();
+      const PlantTelemetry& m = sim.Telemetry();
+      out.insert(out.end(), {m.contact_force_n[0], m.contact_force_n[2], m.carriage_z_mm, m.slip_mm,
+                             m.sled_x_mm, sim.TrueDeg()[0], sim.TrueDeg()[2]});
+    }
+    return out;
+  };
+  const std::vector<double> rigid = run(StandConfigFor());
+  EXPECT_EQ(rigid, run(SledConfigFor(0.0, 50.0)));
+  for (size_t i = 4; i < rigid.size(); i += 7) EXPECT_EQ(rigid[i], 0.0);  // the sled's x + y
+}
+
+TEST(StandSledTest, BadSledValuesNameTheKey) {
+  auto error_of = [](double k, double c) {
+    try {
+      ValidateSimConfig(SledConfigFor(k, c));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error_of(-1.0, 0.0).find("stand.sled_stiffness_n_per_m"), std::string::npos);
+  EXPECT_NE(error_of(100.0, -1.0).find("stand.sled_damping_n_s_per_m"), std::string::npos);
+  EXPECT_EQ(error_of(0.0, 0.0), "");
 }
 
 }  // namespace

@@ -21,6 +21,10 @@ struct PlantTelemetry {
   /// How far the foot has slid along the floor while loaded since the plant was built or
   /// reset, mm (cumulative; a step's slip is the difference across it).
   double slip_mm = 0.0;
+  /// The stand's sled (the body's horizontal give) forward (x) and to the left (y) of its
+  /// spring's rest at the end of the tick, mm; 0 without a sled or in the air.
+  double sled_x_mm = 0.0;
+  double sled_y_mm = 0.0;
 };
 
 /// What a plant reports at the end of a control tick, degrees.

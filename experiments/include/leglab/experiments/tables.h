@@ -66,6 +66,10 @@ struct StandRow {
   double peak_fz_n = 0.0;  ///< the largest vertical force of any tick, N
   /// Ticks of a step the foot carried more than kLoadedFzN, mean over the steps.
   double loaded_ticks = 0.0;
+  /// How far the stand's sled travelled within a step along x and along y (its highest
+  /// position minus its lowest), mean (and std) over the steps, mm; 0 without a sled.
+  MeanStd sled_travel_x_mm;
+  MeanStd sled_travel_y_mm;
 };
 
 /// The stand's part of Table 2 (table2.json `stand`).

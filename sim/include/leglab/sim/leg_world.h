@@ -27,6 +27,10 @@ struct StandState {
   /// surface (the treadmill belt's, StandConfig::belt_speed_mm_per_s), integrated over every
   /// physics step whose normal force exceeds kLoadedContactN. Rolling of the ball is not slip.
   double slip_mm = 0.0;
+  /// The sled's position along x (forward) and y (left) from its spring's rest, mm; 0 without
+  /// a sled.
+  double sled_x_mm = 0.0;
+  double sled_y_mm = 0.0;
 };
 
 /// The rigid-body physics of the leg: a LegDescription (the URDF, checked) turned into an ODE
@@ -57,7 +61,10 @@ class LegWorld {
   /// off). With `stand.enabled` the root link rides on a carriage of mass stand.load_kg on a
   /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
   /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
-  /// through an ODE space; `stand` is expected valid (ValidateSimConfig). `leg` is normally
+  /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled: the
+  /// carriage also moves along x and y (never turning), held at 0 by the sled's spring-damper
+  /// (the slides' own mass neglected: the body's horizontal mass is the load and the leg);
+  /// `stand` is expected valid (ValidateSimConfig). `leg` is normally
   /// LoadLegDescription's result; throws std::invalid_argument when its indices do not form a tree
   /// with each LegJoint moving one link and each body carried by its link, or naming the link when
   /// ODE rejects a body's mass.
@@ -113,7 +120,8 @@ class LegWorld {
   std::array<double, 3> LinkOriginMm(std::string_view link) const;
 
   /// Kinetic plus gravitational potential energy of the moving bodies (and the carriage on the
-  /// stand), J (zero potential at world z = 0).
+  /// stand, and the sled with its spring's energy when there is one), J (zero potential at
+  /// world z = 0).
   double MechanicalEnergyJ() const;
 
   /// Kinetic energy (translation and rotation) of the moving bodies, J.

@@ -77,6 +77,16 @@ struct StandConfig {
   double belt_speed_mm_per_s = 0.0;
   /// Radius of the contact sphere at the foot (the ball of the foot), mm (> 0).
   double foot_radius_mm = 13.96;
+  /// The horizontal sled under the rail, N/m (>= 0): with a stiffness k > 0 the vertical rail
+  /// rides on a sled, a cross slide that moves along x and y (as the sleds and booms of
+  /// legged-robot labs' single-leg rigs; the slides' own mass neglected), tied to the frame's
+  /// origin by a spring k and a damper sled_damping_n_s_per_m along each axis, integrated
+  /// implicitly (LegWorld): the horizontal compliance of the rest of the body and its other
+  /// legs, so that the stance's speed errors can move the body instead of sliding the foot.
+  /// 0 (the default): no sled, the rail is fixed to the frame (bit for bit as without it).
+  double sled_stiffness_n_per_m = 0.0;
+  /// The sled's damper, N s/m (>= 0); used only with a sled (sled_stiffness_n_per_m > 0).
+  double sled_damping_n_s_per_m = 0.0;
   /// Where the walk's ground is: the foot centre's depth below the shoulder on the ground, mm
   /// (the experiments set it from desired.locus.ground_below_shoulder_mm).
   double ground_below_shoulder_mm = 100.0;
