@@ -37,7 +37,12 @@ class PeriodicModel {
   double RequestBefore(int t, int i) const { return requests_[IndexBefore(t, i)]; }
 
   double Response(double x) const {
-    if (smoothing_ == 0.0) return SpeedResponse(params_, x);
+    if (smoothing_ == 0.0) {
+      // SpeedResponse, inlined (this is the inner loop of every steady state).
+      if (x >= params_.theta0_deg) return params_.v_max_deg_per_tick;
+      if (x <= -params_.theta0_deg) return -params_.v_max_deg_per_tick;
+      return x * (params_.v_max_deg_per_tick / params_.theta0_deg);
+    }
     const double th = params_.theta0_deg;
     const double s2 = smoothing_ * smoothing_;
     return 0.5 * Gain() *
@@ -175,6 +180,9 @@ class PeriodicModel {
     Eigen::VectorXd decay(n);  // alpha_0 ... alpha_t
     Eigen::VectorXd alphas(n);
     Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n);
+    // With `normal`, also S0's rows as columns: the recursion below reads them contiguously.
+    Eigen::MatrixXd rows_t;
+    if (normal != nullptr) rows_t.resize(n, n);
     // f'(x_ti) / a, row t, column i - l - 1.
     Eigen::MatrixXd slopes(n, a);
     double product = 1.0;
@@ -193,6 +201,7 @@ class PeriodicModel {
       product *= alpha;
       decay[t] = product;
       s.row(t) = row;
+      if (normal != nullptr) rows_t.col(t) = row.transpose();
     }
     Eigen::RowVectorXd periodic_start;
     if (1.0 - product > 0.0) {
@@ -216,14 +225,17 @@ class PeriodicModel {
           if (ui == 0.0) continue;
           const int ci = IndexBefore(t, i + l + 1);
           // One half of the cross term (the other is its transpose, added below).
-          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * s.row(t - 1).transpose();
+          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
           for (int k = 0; k < a; ++k) {
             g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
           }
         }
       }
-      const Eigen::MatrixXd half = g;
-      g += half.transpose();
+      // g + g^T in place (a + b is b + a, bit for bit).
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
+        g(j, j) += g(j, j);
+      }
       Eigen::VectorXd weighted_decay = decay;
       for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
       const Eigen::VectorXd v = s.transpose() * weighted_decay;
