@@ -593,20 +593,27 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   stages.push_back({0.0, options.tolerance_deg});
 
   Iterate it = initial;
+  double evaluated_with = 0.0;  // the smoothing `it` was evaluated with
   int used = 0;
   for (std::size_t k = 0; k < stages.size() && used < options.max_iterations; ++k) {
     const int remaining = options.max_iterations - used;
     const int stages_left = static_cast<int>(stages.size() - k);
     // Dead requests are moved to the edge of f's linear range (exactly neutral for f exact).
     if (k == 0) PullBackDeadRequests(params, it.angles, options, it.requests);
-    it =
-        Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg, options.weights);
+    // (Evaluate is deterministic: `it` is kept when it is already this evaluation.)
+    if (stages[k].smoothing != evaluated_with || it.requests != initial.requests) {
+      it = Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg,
+                    options.weights);
+      evaluated_with = stages[k].smoothing;
+    }
     used += MinimiseStage(params, desired_deg, options, stages[k],
                           std::max(1, remaining / stages_left), it);
   }
   // Scored with f exact (the last stage's model, unless the budget ran out before it), and
   // never worse than the start.
-  it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
+  if (evaluated_with != 0.0) {
+    it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
+  }
   if (!(it.cost <= initial.cost)) it = initial;
 
   OptimalRequests result;
