@@ -11,6 +11,15 @@
 namespace leglab {
 namespace {
 
+// t modulo n in [0, n), as ((t % n) + n) % n, without its two integer divisions when t is in
+// range or at most one period below it (every index of eq. 3's window unless l + a exceeds the
+// cycle): a division takes tens of cycles, and the solves take these in their inner loops.
+inline int Wrap(int t, int n) {
+  if (t >= 0 && t < n) return t;
+  if (t < 0 && t >= -n) return t + n;
+  return ((t % n) + n) % n;
+}
+
 // The smoothing is quartered from stage to stage while it is at least this fraction of theta_0.
 constexpr double kLastSmoothingTheta0 = 1e-3;
 // A smoothed stage only warms up the next one: it stops once a step gains less than this.
@@ -27,13 +36,14 @@ class PeriodicModel {
   PeriodicModel(const JointModelParams& params, std::span<const double> requests_deg,
                 double smoothing_deg, bool closed_kinks)
       : params_(params),
+        gain_(params.v_max_deg_per_tick / params.theta0_deg),
         requests_(requests_deg),
         smoothing_(smoothing_deg),
         closed_kinks_(closed_kinks) {}
 
   int period() const { return static_cast<int>(requests_.size()); }
   // The index of R(t - i) in the cycle.
-  int IndexBefore(int t, int i) const { return ((t - i) % period() + period()) % period(); }
+  int IndexBefore(int t, int i) const { return Wrap(t - i, period()); }
   double RequestBefore(int t, int i) const { return requests_[IndexBefore(t, i)]; }
 
   double Response(double x) const {
@@ -41,7 +51,7 @@ class PeriodicModel {
       // SpeedResponse, inlined (this is the inner loop of every steady state).
       if (x >= params_.theta0_deg) return params_.v_max_deg_per_tick;
       if (x <= -params_.theta0_deg) return -params_.v_max_deg_per_tick;
-      return x * (params_.v_max_deg_per_tick / params_.theta0_deg);
+      return x * gain_;  // the same quotient, divided once
     }
     const double th = params_.theta0_deg;
     const double s2 = smoothing_ * smoothing_;
@@ -248,9 +258,10 @@ class PeriodicModel {
   }
 
  private:
-  double Gain() const { return params_.v_max_deg_per_tick / params_.theta0_deg; }
+  double Gain() const { return gain_; }
 
   JointModelParams params_;
+  double gain_;  // v_max / theta_0
   std::span<const double> requests_;
   double smoothing_;
   bool closed_kinks_;
@@ -367,7 +378,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   auto rms_gain = [&](double from, double to) {
     return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale;
   };
-  auto index = [n](int t) { return ((t % n) + n) % n; };
+  auto index = [n](int t) { return Wrap(t, n); };
   double damping = 1e-3;
   int used = 0;
   // Work space, allocated once a stage.
