@@ -179,6 +179,12 @@ Candidate FitWithSegments(std::span<const double> desired, double v_max, int seg
   return best;
 }
 
+// t modulo the period in [0, period): ((t % period) + period) % period, without its two integer
+// divisions for a t already in range (every call of the fits' inner loops).
+long InCycle(long t, long period) {
+  return t >= 0 && t < period ? t : ((t % period) + period) % period;
+}
+
 }  // namespace
 
 int PiecewiseLinear::SegmentLength(int k) const {
@@ -194,14 +200,14 @@ double PiecewiseLinear::Slope(int k) const {
 }
 
 int PiecewiseLinear::SegmentAt(long t) const {
-  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const long r = InCycle(t, period_ticks);
   const auto it = std::upper_bound(breakpoints_tick.begin(), breakpoints_tick.end(), r);
   return it == breakpoints_tick.begin() ? num_segments() - 1
                                         : static_cast<int>(it - breakpoints_tick.begin()) - 1;
 }
 
 double PiecewiseLinear::At(long t) const {
-  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const long r = InCycle(t, period_ticks);
   const int k = SegmentAt(r);
   long offset = r - breakpoints_tick[k];
   if (offset < 0) offset += period_ticks;
