@@ -252,35 +252,49 @@ CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& colum
   EndRow();
 }
 
+CsvWriter::~CsvWriter() { Flush(); }
+
+void CsvWriter::Flush() {
+  if (pending_.empty()) return;
+  out_.write(pending_.data(), static_cast<std::streamsize>(pending_.size()));
+  pending_.clear();
+}
+
 void CsvWriter::Separator() {
-  if (in_row_++ > 0) out_ << ',';
+  if (in_row_++ > 0) pending_ += ',';
 }
 
 CsvWriter& CsvWriter::Cell(double value) {
   Separator();
-  out_ << FormatDouble(value);
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  pending_.append(buffer, result.ptr);
   return *this;
 }
 
 CsvWriter& CsvWriter::Cell(long value) {
   Separator();
-  out_ << value;
+  char buffer[24];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  pending_.append(buffer, result.ptr);
   return *this;
 }
 
 CsvWriter& CsvWriter::Cell(const std::string& text) {
   Separator();
-  out_ << text;
+  pending_ += text;
   return *this;
 }
 
 void CsvWriter::EndRow() {
   assert(in_row_ == columns_);
-  out_ << '\n';
+  pending_ += '\n';
   in_row_ = 0;
+  if (pending_.size() >= 1 << 16) Flush();
 }
 
 void CsvWriter::Close() {
+  Flush();
   out_.close();
   if (!out_) throw OutputError("cannot write " + path_.string());
 }

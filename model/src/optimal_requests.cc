@@ -11,6 +11,15 @@
 namespace leglab {
 namespace {
 
+// t modulo n in [0, n), as ((t % n) + n) % n, without its two integer divisions when t is in
+// range or at most one period below it (every index of eq. 3's window unless l + a exceeds the
+// cycle): a division takes tens of cycles, and the solves take these in their inner loops.
+inline int Wrap(int t, int n) {
+  if (t >= 0 && t < n) return t;
+  if (t < 0 && t >= -n) return t + n;
+  return ((t % n) + n) % n;
+}
+
 // The smoothing is quartered from stage to stage while it is at least this fraction of theta_0.
 constexpr double kLastSmoothingTheta0 = 1e-3;
 // A smoothed stage only warms up the next one: it stops once a step gains less than this.
@@ -27,17 +36,23 @@ class PeriodicModel {
   PeriodicModel(const JointModelParams& params, std::span<const double> requests_deg,
                 double smoothing_deg, bool closed_kinks)
       : params_(params),
+        gain_(params.v_max_deg_per_tick / params.theta0_deg),
         requests_(requests_deg),
         smoothing_(smoothing_deg),
         closed_kinks_(closed_kinks) {}
 
   int period() const { return static_cast<int>(requests_.size()); }
   // The index of R(t - i) in the cycle.
-  int IndexBefore(int t, int i) const { return ((t - i) % period() + period()) % period(); }
+  int IndexBefore(int t, int i) const { return Wrap(t - i, period()); }
   double RequestBefore(int t, int i) const { return requests_[IndexBefore(t, i)]; }
 
   double Response(double x) const {
-    if (smoothing_ == 0.0) return SpeedResponse(params_, x);
+    if (smoothing_ == 0.0) {
+      // SpeedResponse, inlined (this is the inner loop of every steady state).
+      if (x >= params_.theta0_deg) return params_.v_max_deg_per_tick;
+      if (x <= -params_.theta0_deg) return -params_.v_max_deg_per_tick;
+      return x * gain_;  // the same quotient, divided once
+    }
     const double th = params_.theta0_deg;
     const double s2 = smoothing_ * smoothing_;
     return 0.5 * Gain() *
@@ -175,6 +190,9 @@ class PeriodicModel {
     Eigen::VectorXd decay(n);  // alpha_0 ... alpha_t
     Eigen::VectorXd alphas(n);
     Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n);
+    // With `normal`, also S0's rows as columns: the recursion below reads them contiguously.
+    Eigen::MatrixXd rows_t;
+    if (normal != nullptr) rows_t.resize(n, n);
     // f'(x_ti) / a, row t, column i - l - 1.
     Eigen::MatrixXd slopes(n, a);
     double product = 1.0;
@@ -193,6 +211,7 @@ class PeriodicModel {
       product *= alpha;
       decay[t] = product;
       s.row(t) = row;
+      if (normal != nullptr) rows_t.col(t) = row.transpose();
     }
     Eigen::RowVectorXd periodic_start;
     if (1.0 - product > 0.0) {
@@ -216,14 +235,17 @@ class PeriodicModel {
           if (ui == 0.0) continue;
           const int ci = IndexBefore(t, i + l + 1);
           // One half of the cross term (the other is its transpose, added below).
-          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * s.row(t - 1).transpose();
+          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
           for (int k = 0; k < a; ++k) {
             g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
           }
         }
       }
-      const Eigen::MatrixXd half = g;
-      g += half.transpose();
+      // g + g^T in place (a + b is b + a, bit for bit).
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
+        g(j, j) += g(j, j);
+      }
       Eigen::VectorXd weighted_decay = decay;
       for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
       const Eigen::VectorXd v = s.transpose() * weighted_decay;
@@ -236,9 +258,10 @@ class PeriodicModel {
   }
 
  private:
-  double Gain() const { return params_.v_max_deg_per_tick / params_.theta0_deg; }
+  double Gain() const { return gain_; }
 
   JointModelParams params_;
+  double gain_;  // v_max / theta_0
   std::span<const double> requests_;
   double smoothing_;
   bool closed_kinks_;
@@ -355,7 +378,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   auto rms_gain = [&](double from, double to) {
     return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale;
   };
-  auto index = [n](int t) { return ((t % n) + n) % n; };
+  auto index = [n](int t) { return Wrap(t, n); };
   double damping = 1e-3;
   int used = 0;
   // Work space, allocated once a stage.
@@ -581,20 +604,27 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   stages.push_back({0.0, options.tolerance_deg});
 
   Iterate it = initial;
+  double evaluated_with = 0.0;  // the smoothing `it` was evaluated with
   int used = 0;
   for (std::size_t k = 0; k < stages.size() && used < options.max_iterations; ++k) {
     const int remaining = options.max_iterations - used;
     const int stages_left = static_cast<int>(stages.size() - k);
     // Dead requests are moved to the edge of f's linear range (exactly neutral for f exact).
     if (k == 0) PullBackDeadRequests(params, it.angles, options, it.requests);
-    it =
-        Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg, options.weights);
+    // (Evaluate is deterministic: `it` is kept when it is already this evaluation.)
+    if (stages[k].smoothing != evaluated_with || it.requests != initial.requests) {
+      it = Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg,
+                    options.weights);
+      evaluated_with = stages[k].smoothing;
+    }
     used += MinimiseStage(params, desired_deg, options, stages[k],
                           std::max(1, remaining / stages_left), it);
   }
   // Scored with f exact (the last stage's model, unless the budget ran out before it), and
   // never worse than the start.
-  it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
+  if (evaluated_with != 0.0) {
+    it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
+  }
   if (!(it.cost <= initial.cost)) it = initial;
 
   OptimalRequests result;

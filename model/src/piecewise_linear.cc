@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -117,10 +118,29 @@ Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<in
   return c;
 }
 
+// Evaluate, remembered: the descents from different phases keep meeting the same breakpoints
+// (on the shipped walk most evaluations were repeats), and a fit depends on nothing else.
+class EvaluationMemo {
+ public:
+  EvaluationMemo(std::span<const double> desired, double v_max)
+      : desired_(desired), v_max_(v_max) {}
+  const Candidate& operator()(const std::vector<int>& breakpoints) {
+    auto it = fits_.find(breakpoints);
+    if (it == fits_.end()) {
+      it = fits_.emplace(breakpoints, Evaluate(desired_, v_max_, breakpoints)).first;
+    }
+    return it->second;
+  }
+
+ private:
+  std::span<const double> desired_;
+  double v_max_;
+  std::map<std::vector<int>, Candidate> fits_;
+};
+
 // Coordinate descent from `start`: moves one breakpoint at a time by a shrinking step while
 // the error falls.
-Candidate Descend(std::span<const double> desired, double v_max, Candidate best, int spacing) {
-  const int period = static_cast<int>(desired.size());
+Candidate Descend(EvaluationMemo& evaluate, Candidate best, int spacing, int period) {
   const int segments = best.pwl.num_segments();
   for (int step = std::max(1, spacing / 2); step >= 1; step /= 2) {
     bool improved = true;
@@ -132,9 +152,9 @@ Candidate Descend(std::span<const double> desired, double v_max, Candidate best,
           moved[k] += direction * step;
           moved = Normalized(moved, period);
           if (moved.empty()) continue;
-          Candidate c = Evaluate(desired, v_max, std::move(moved));
+          const Candidate& c = evaluate(moved);
           if (c.rms_deg < best.rms_deg - 1e-12) {
-            best = std::move(c);
+            best = c;
             improved = true;
             break;
           }
@@ -149,13 +169,20 @@ Candidate Descend(std::span<const double> desired, double v_max, Candidate best,
 Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments) {
   const int period = static_cast<int>(desired.size());
   const int spacing = std::max(1, period / segments);
+  EvaluationMemo evaluate(desired, v_max);
   Candidate best;
   for (int phase = 0; phase < spacing; ++phase) {
-    Candidate start = Evaluate(desired, v_max, EvenlySpaced(segments, period, phase));
-    if (segments > 1) start = Descend(desired, v_max, std::move(start), spacing);
+    Candidate start = evaluate(EvenlySpaced(segments, period, phase));
+    if (segments > 1) start = Descend(evaluate, std::move(start), spacing, period);
     if (start.rms_deg < best.rms_deg) best = std::move(start);
   }
   return best;
+}
+
+// t modulo the period in [0, period): ((t % period) + period) % period, without its two integer
+// divisions for a t already in range (every call of the fits' inner loops).
+long InCycle(long t, long period) {
+  return t >= 0 && t < period ? t : ((t % period) + period) % period;
 }
 
 }  // namespace
@@ -173,14 +200,14 @@ double PiecewiseLinear::Slope(int k) const {
 }
 
 int PiecewiseLinear::SegmentAt(long t) const {
-  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const long r = InCycle(t, period_ticks);
   const auto it = std::upper_bound(breakpoints_tick.begin(), breakpoints_tick.end(), r);
   return it == breakpoints_tick.begin() ? num_segments() - 1
                                         : static_cast<int>(it - breakpoints_tick.begin()) - 1;
 }
 
 double PiecewiseLinear::At(long t) const {
-  const long r = ((t % period_ticks) + period_ticks) % period_ticks;
+  const long r = InCycle(t, period_ticks);
   const int k = SegmentAt(r);
   long offset = r - breakpoints_tick[k];
   if (offset < 0) offset += period_ticks;

@@ -76,6 +76,10 @@ class CsvWriter {
   /// in `path` and the header is written only when the file is new (several runs, one table).
   CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns,
             bool append = false);
+  /// Writes what is still buffered (as the stream's own destructor would flush it).
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
   /// One row: text cells (e.g. a joint name) are written as given.
   CsvWriter& Cell(double value);
   CsvWriter& Cell(long value);
@@ -86,8 +90,12 @@ class CsvWriter {
 
  private:
   void Separator();
+  void Flush();
   std::filesystem::path path_;
   std::ofstream out_;
+  // Rows not yet handed to out_: formatting into one string and writing it in large pieces
+  // costs a fraction of a stream insertion per cell.
+  std::string pending_;
   size_t columns_;
   size_t in_row_ = 0;
 };
