@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <stdexcept>
@@ -144,10 +145,12 @@ void IlcController::EndOfStep(long step) {
   const auto period = static_cast<int>(requests_.size());
   // The learned mismatch, per joint; a joint whose measurement was not finite keeps its own.
   DesiredCycle disturbance = disturbance_;
+  std::array<bool, kLegJoints> measured_finite{};
   for (int j = 0; j < kLegJoints; ++j) {
     Eigen::VectorXd mismatch(period);
     for (int t = 0; t < period; ++t) mismatch[t] = measured_[t][j] - predicted_[t][j];
-    if (!mismatch.allFinite()) continue;
+    measured_finite[j] = mismatch.allFinite();
+    if (!measured_finite[j]) continue;
     mismatch = CyclicMovingAverage(mismatch, spec_.filter_ticks);
     for (int t = 0; t < period; ++t) {
       disturbance[t][j] = disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
@@ -155,6 +158,9 @@ void IlcController::EndOfStep(long step) {
   }
   const bool foot = spec_.objective == "foot";
   for (int j = 0; j < kLegJoints; ++j) {
+    // The joint objective has nothing new to solve for a joint it learned nothing about; the
+    // foot objective does when the other joints moved.
+    if (!foot && !measured_finite[j]) continue;
     std::vector<double> target(period), requests(period), steady_state(period), weights;
     for (int t = 0; t < period; ++t) {
       target[t] = context_.desired[t][j] - disturbance[t][j];

@@ -651,6 +651,12 @@ Eigen::MatrixXd SensitivityAtSteadyState(const JointModelParams& params,
                                 " row weights");
   }
   RequireFinite(row_weights, "row_weights");
+  for (std::size_t t = 0; t < row_weights.size(); ++t) {
+    if (row_weights[t] < 0.0) {
+      throw std::invalid_argument("optimal requests: row_weights[" + std::to_string(t) +
+                                  "] must be >= 0, got " + std::to_string(row_weights[t]));
+    }
+  }
   const PeriodicModel model(params, requests_deg, 0.0, false);
   Eigen::MatrixXd sensitivity;
   model.Sensitivity(model.SteadyState(), sensitivity, nullptr, normal, row_weights);

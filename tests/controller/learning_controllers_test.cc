@@ -239,6 +239,43 @@ TEST(IlcController, FootObjectiveNeedsTheLegsGeometry) {
   EXPECT_THROW(IlcController(bad, FrontLegContext(FastCycle())), std::invalid_argument);
 }
 
+// A step in which one joint's sensor read NaN teaches nothing about that joint: with the joint
+// objective its cycle stays as it was, while the other joints learn; with the foot objective
+// every request stays finite and within the limits.
+TEST(IlcController, ANonFiniteMeasurementLeavesThatJointAlone) {
+  for (const char* objective : {"joint", "foot"}) {
+    const ControllerContext context = FrontLegContext(FastCycle());
+    IlcController::Spec spec;
+    spec.objective = objective;
+    IlcController ilc(spec, context);
+    const DesiredCycle start = ilc.requests();
+    const long period = static_cast<long>(context.desired.size());
+    for (long t = 0; t < period; ++t) {
+      const LegAngles r = ilc.Update(t, {});
+      // The plant does not follow at all (a large mismatch to learn from), and the knee's
+      // sensor fails on one tick.
+      LegAngles measured = {0.0, 20.0, 60.0};
+      if (t == 40) measured[kKnee] = std::nan("");
+      ilc.Observe(t, r, measured);
+    }
+    ilc.EndOfStep(0);
+    for (long t = 0; t < period; ++t) {
+      for (int j = 0; j < kLegJoints; ++j) {
+        const double r = ilc.requests()[t][j];
+        ASSERT_TRUE(std::isfinite(r)) << objective << " t " << t;
+        EXPECT_GE(r, RadToDeg(context.limits[j].lower_rad) - 1e-9);
+        EXPECT_LE(r, RadToDeg(context.limits[j].upper_rad) + 1e-9);
+      }
+      if (std::string(objective) == "joint") {
+        EXPECT_EQ(ilc.requests()[t][kKnee], start[t][kKnee]) << "t " << t;
+      }
+    }
+    if (std::string(objective) == "joint") {
+      EXPECT_NE(ilc.requests(), start);  // the rotator and abductor learned
+    }
+  }
+}
+
 TEST(IlcController, FreezeAfterWarmupStopsLearningAtTheFirstMeasuredStep) {
   ControllerContext context = testing::PaperContext(FastCycle());
   context.warmup_steps = 3;

@@ -7,6 +7,8 @@
 // pin is a deliberate commit that says why.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -281,7 +283,9 @@ double Triangle(double phase) {
 }
 
 TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "leglab_untuned";
+  // Per process: two test runs at once (say a release and a sanitizer build) must not share it.
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("leglab_untuned_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   for (const bool triangle : {false, true}) {
     for (const int period : {88, 44}) {
@@ -312,6 +316,7 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       EXPECT_LT(foot("ilc"), foot("time_shift")) << walk;
     }
   }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -197,6 +197,10 @@ TEST(SteadyStateNormalMatrix, WeightedIsTheProductWithTheWeightsBetween) {
   const std::vector<double> two_weights = {1.0, 2.0};  // not one per tick
   EXPECT_THROW(SteadyStateNormalMatrix(kPaper, SensitivityCases()[0].requests, two_weights),
                std::invalid_argument);
+  std::vector<double> negative(SensitivityCases()[0].requests.size(), 1.0);
+  negative[2] = -0.5;
+  EXPECT_THROW(SteadyStateNormalMatrix(kPaper, SensitivityCases()[0].requests, negative),
+               std::invalid_argument);
 }
 
 // --- Brute force on small cycles -----------------------------------------------------------

@@ -46,7 +46,14 @@ namespace leglab {
 /// step is compared with the one of the first step after it was learned, and a residual over
 /// kChangeRatio times that (or kResidualFloorDeg) marks a change (the joint is probed again, from
 /// no probed steps). Persistence of excitation scheduled by uncertainty: probing costs tracking
-/// error in the probed steps only, the steps before the model is known.
+/// error in the probed steps (and the first ticks after one, when the excursion is held to the
+/// step's end), the steps before the model is known. Costs: while a joint probes, every
+/// EndOfStep runs the whole identification on up to kPooledProbeSteps steps of it, far more
+/// than one 8 ms tick (fine in simulation; on a robot it belongs in a background thread). A
+/// step of at most kProbeLeadTicks ticks has no room for an excursion: it never probes, and
+/// the model is learned from the walk alone. Once learned, the residual reported for a joint
+/// (ModelEstimates, `model_estimates.csv`'s fit_rms_deg) is the monitor's: the kept model's
+/// prediction residual on the latest step, no longer the fit's.
 ///
 /// Requests are always finite and within the limits: a failed estimate or re-plan keeps the
 /// previous model and cycle, and a non-finite request (which a valid model never gives)

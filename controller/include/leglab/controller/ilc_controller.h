@@ -41,22 +41,23 @@ namespace leglab {
 ///    fast cycle, which IlcController.ReachesTheFloorOnTheModelPlant does not allow.)
 ///  - Objective (`ilc.objective`): `joint` minimises each joint's RMS error on its own, as
 ///    above. `foot` minimises what the experiment scores, the foot's distance from its desired
-///    path, sum_t |FK(M_ss(t) + d(t)) - FK(D(t))|^2, plus `ilc.joint_weight` times each joint's
-///    own squared error (which keeps a joint that hardly moves the foot, near a singularity,
-///    from drifting). The joints are coupled through the kinematics, so each update is one
-///    Gauss-Seidel sweep over the joints of Gauss-Newton on that sum: with the other joints at
-///    their predicted angles, the foot error is linearised in joint j at the predicted angles,
-///    r(t) + K_j(t) (theta_j(t) - theta^_j(t)), K_j = column j of FootJacobian (mm/deg), which
-///    makes joint j's problem the weighted one OptimizeRequests solves: per tick the weight
-///    w_t = |K_j|^2 + lambda and the target (|K_j|^2 theta^_j - K_j.r + lambda D_j) / w_t
-///    (lambda = joint_weight times the mean |K_j|^2 over the cycle; the weights scaled to mean
-///    1, so the solver's tolerance stays in degrees). The steps re-linearise: a step's
-///    measurement is the next sweep's starting point. Trading a joint's error for the foot's
-///    is the point: at fast walks the joints cannot all reach their floors, and where the foot
-///    is insensitive to a joint the error is cheaper there.
+///    path, sum_t |FK(M_ss(t) + d(t)) - FK(D(t))|^2, plus lambda times each joint's own squared
+///    error, lambda = `ilc.joint_weight` times the joint's mean |K_j|^2 below (which keeps a joint
+///    that hardly moves the foot, near a singularity, from drifting). The joints are coupled
+///    through the kinematics, so each update is one Gauss-Seidel sweep over the joints of
+///    Gauss-Newton on that sum: with the other joints at their predicted angles, the foot error is
+///    linearised in joint j at the predicted angles, r(t) + K_j(t) (theta_j(t) - theta^_j(t)), K_j
+///    = column j of FootJacobian (mm/deg), which makes joint j's problem the weighted one
+///    OptimizeRequests solves: per tick the weight w_t = |K_j|^2 + lambda and the target (|K_j|^2
+///    theta^_j - K_j.r + lambda D_j) / w_t (lambda = joint_weight times the mean |K_j|^2 over the
+///    cycle; the weights scaled to mean 1, so the solver's tolerance stays in degrees). The steps
+///    re-linearise: a step's measurement is the next sweep's starting point. Trading a joint's
+///    error for the foot's is the point: at fast walks the joints cannot all reach their floors,
+///    and where the foot is insensitive to a joint the error is cheaper there.
 /// It learns during the warm-up steps and keeps learning while measured unless
 /// `ilc.freeze_after_warmup`. Requests are always finite and within the limits; a non-finite
-/// measurement or a failed solve leaves the cycle as it was.
+/// measurement of a joint keeps that joint's learned mismatch (with the joint objective, its
+/// cycle too), and a failed solve leaves the joint's cycle as it was.
 class IlcController final : public JointController {
  public:
   /// The `ilc.*` keys.

@@ -106,7 +106,7 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
 /// the product's O(T^3) (see the derivation at PeriodicModel::Sensitivity in
 /// optimal_requests.cc). Equal to the product up to rounding.
 /// Throws as SteadyStateSensitivity, and std::invalid_argument when row_weights is neither
-/// empty nor of the cycle's size, or not finite.
+/// empty nor of the cycle's size, or not finite and >= 0.
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
                                         std::span<const double> requests_deg,
                                         std::span<const double> row_weights = {});
