@@ -24,6 +24,18 @@ namespace fs = std::filesystem;
 
 [[noreturn]] void Fail(const std::string& what) { throw InputError("config: " + what); }
 
+// Whether a path names something, or a regular file. A path the file system cannot even look
+// up (a name too long, a component not a folder) is a path that does not exist: the user's
+// input, so never a filesystem_error escaping as an internal error.
+bool Exists(const fs::path& path) {
+  std::error_code ec;
+  return fs::exists(path, ec);
+}
+bool IsFile(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
 // Shortest text that reads back as `value`.
 std::string Text(double value) {
   if (std::isnan(value)) return "nan";
@@ -100,7 +112,7 @@ void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
 }
 
 YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
-  if (!fs::is_regular_file(path)) Fail(what + " '" + path.string() + "' does not exist");
+  if (!IsFile(path)) Fail(what + " '" + path.string() + "' does not exist");
   try {
     YAML::Node node = YAML::LoadFile(path.string());
     if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);
@@ -347,7 +359,7 @@ fs::path ResolveRobot(const std::string& robot, const fs::path& config_dir) {
   // A robot name: robots/<name>/robot.yaml in the working directory, else leglab's own
   // (DataDir(): the installed share/leglab, or the build tree's link to the source folder).
   fs::path here = fs::path("robots") / robot / "robot.yaml";
-  if (fs::exists(here)) return here;
+  if (Exists(here)) return here;
   return DataDir() / "robots" / robot / "robot.yaml";
 }
 
@@ -421,9 +433,13 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     } catch (const YAML::Exception&) {
       Fail("robot: expected a robot name or a path to a robot.yaml");
     }
+    // The error below names it, on one line.
+    if (robot.find_first_of("\n\r") != std::string::npos) {
+      Fail("robot: expected a robot name or a path to a robot.yaml, got text with a line break");
+    }
   }
   const fs::path robot_yaml = ResolveRobot(robot, fs::path(config_path).parent_path());
-  if (!fs::exists(robot_yaml)) Fail("robot '" + robot + "': no " + robot_yaml.string());
+  if (!Exists(robot_yaml)) Fail("robot '" + robot + "': no " + robot_yaml.string());
   config.robot_yaml = robot_yaml.string();
   YAML::Node merged = LoadWithBase(robot_yaml, 0, "robot file");
   MergeInto(merged, experiment);
@@ -439,7 +455,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   if (urdf.empty()) Fail("urdf: no URDF given (robot file " + robot_yaml.string() + ")");
   const fs::path urdf_path =
       fs::path(urdf).is_absolute() ? fs::path(urdf) : robot_yaml.parent_path() / urdf;
-  if (!fs::is_regular_file(urdf_path)) Fail("urdf: '" + urdf_path.string() + "' does not exist");
+  if (!IsFile(urdf_path)) Fail("urdf: '" + urdf_path.string() + "' does not exist");
   config.sim.urdf_path = urdf_path.string();
   {
     MapReader sim = root.Child("sim");
@@ -678,7 +694,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     TrackConfig& t = config.track;
     desired.Read("csv", t.desired_csv);
     if (!t.desired_csv.empty() && fs::path(t.desired_csv).is_relative() &&
-        !fs::exists(t.desired_csv)) {
+        !Exists(t.desired_csv)) {
       // Relative to the config file when not found from the working directory.
       t.desired_csv = (fs::path(config_path).parent_path() / t.desired_csv).string();
     }
@@ -933,7 +949,7 @@ SweepConfig LoadSweepConfigUnguarded(const std::string& path) {
   if (!file["base"] || !file["base"].IsScalar()) fail("base: expected the base config's file name");
   const fs::path base(file["base"].Scalar());
   sweep.base_path = (base.is_absolute() ? base : fs::path(path).parent_path() / base).string();
-  if (!fs::is_regular_file(sweep.base_path)) {
+  if (!IsFile(sweep.base_path)) {
     fail("base: '" + sweep.base_path + "' does not exist");
   }
   const bool has_grid = file["grid"].IsDefined(), has_sample = file["sample"].IsDefined();
