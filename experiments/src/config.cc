@@ -693,8 +693,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     MapReader desired = root.Child("desired");
     TrackConfig& t = config.track;
     desired.Read("csv", t.desired_csv);
-    if (!t.desired_csv.empty() && fs::path(t.desired_csv).is_relative() &&
-        !Exists(t.desired_csv)) {
+    if (!t.desired_csv.empty() && fs::path(t.desired_csv).is_relative() && !Exists(t.desired_csv)) {
       // Relative to the config file when not found from the working directory.
       t.desired_csv = (fs::path(config_path).parent_path() / t.desired_csv).string();
     }
