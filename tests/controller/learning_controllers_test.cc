@@ -37,26 +37,42 @@ DesiredCycle FastCycle() {
   return d;
 }
 
-// Per step, each joint's RMS distance to D when `controller` runs on a plant with `plant_models`.
-std::vector<LegAngles> ErrorPerStep(JointController& controller, const ControllerContext& context,
-                                    const std::array<JointModelParams, kLegJoints>& plant_models,
-                                    int steps) {
+// The front leg's foot for joint angles in degrees.
+Eigen::Vector3d FootMm(const LegAngles& q_deg) {
+  return ForwardKinematics(testing::FrontLeftLeg(), Eigen::Vector3d(q_deg[0], q_deg[1], q_deg[2]) *
+                                                        (std::numbers::pi / 180));
+}
+
+// What `controller` did per step on a plant with `plant_models`: each joint's RMS distance to
+// D, deg, and the front leg's foot's RMS distance (mm) from the desired foot path (the plant's
+// angles through the forward kinematics). Every request must be finite and within the limits.
+struct StepErrors {
+  std::vector<LegAngles> joints_deg;
+  std::vector<double> foot_mm;
+};
+
+StepErrors RunSteps(JointController& controller, const ControllerContext& context,
+                    const std::array<JointModelParams, kLegJoints>& plant_models, int steps) {
   JointModelPlant plant(plant_models, context.limits);
   plant.Reset(context.desired[0]);
   controller.Reset();
   const long period = static_cast<long>(context.desired.size());
-  std::vector<LegAngles> errors;
+  StepErrors errors;
   std::array<std::vector<double>, kLegJoints> actual;
+  double foot_sum = 0.0;
   LegAngles measured = plant.Read().measured_deg;
   for (long t = 0; t < steps * period; ++t) {
     const LegAngles request = controller.Update(t, measured);
     for (int j = 0; j < kLegJoints; ++j) {
       EXPECT_TRUE(std::isfinite(request[j]));
+      EXPECT_GE(request[j], RadToDeg(context.limits[j].lower_rad) - 1e-9);
+      EXPECT_LE(request[j], RadToDeg(context.limits[j].upper_rad) + 1e-9);
     }
     const PlantReading& r = plant.Tick(request);
     controller.Observe(t, r.applied_deg, r.measured_deg);
     measured = r.measured_deg;
     for (int j = 0; j < kLegJoints; ++j) actual[j].push_back(measured[j]);
+    foot_sum += (FootMm(measured) - FootMm(context.desired[t % period])).squaredNorm();
     if ((t + 1) % period == 0) {
       controller.EndOfStep(t / period);
       LegAngles e{};
@@ -66,10 +82,24 @@ std::vector<LegAngles> ErrorPerStep(JointController& controller, const Controlle
         e[j] = RmsDistance(desired, actual[j]);
         actual[j].clear();
       }
-      errors.push_back(e);
+      errors.joints_deg.push_back(e);
+      errors.foot_mm.push_back(std::sqrt(foot_sum / static_cast<double>(period)));
+      foot_sum = 0.0;
     }
   }
   return errors;
+}
+
+std::vector<LegAngles> ErrorPerStep(JointController& controller, const ControllerContext& context,
+                                    const std::array<JointModelParams, kLegJoints>& plant_models,
+                                    int steps) {
+  return RunSteps(controller, context, plant_models, steps).joints_deg;
+}
+
+std::vector<double> FootErrorPerStep(JointController& controller, const ControllerContext& context,
+                                     const std::array<JointModelParams, kLegJoints>& plant_models,
+                                     int steps) {
+  return RunSteps(controller, context, plant_models, steps).foot_mm;
 }
 
 double FloorRms(const ControllerContext& context, int joint) {
@@ -139,45 +169,6 @@ TEST(IlcController, DoesNotDivergeOnAPlantUnlikeItsModel) {
 }
 
 // ---- ilc, foot objective ------------------------------------------------------------------
-
-// The front leg's foot for joint angles in degrees.
-Eigen::Vector3d FootMm(const LegAngles& q_deg) {
-  return ForwardKinematics(testing::FrontLeftLeg(), Eigen::Vector3d(q_deg[0], q_deg[1], q_deg[2]) *
-                                                        (std::numbers::pi / 180));
-}
-
-// Per step, the foot's RMS distance (mm) from the desired foot path, on the same plant runs as
-// ErrorPerStep (which its joint errors come from): the plant's angles are replayed through the
-// forward kinematics here.
-std::vector<double> FootErrorPerStep(JointController& controller, const ControllerContext& context,
-                                     const std::array<JointModelParams, kLegJoints>& plant_models,
-                                     int steps) {
-  JointModelPlant plant(plant_models, context.limits);
-  plant.Reset(context.desired[0]);
-  controller.Reset();
-  const long period = static_cast<long>(context.desired.size());
-  std::vector<double> errors;
-  double sum = 0.0;
-  LegAngles measured = plant.Read().measured_deg;
-  for (long t = 0; t < steps * period; ++t) {
-    const LegAngles request = controller.Update(t, measured);
-    for (int j = 0; j < kLegJoints; ++j) {
-      EXPECT_TRUE(std::isfinite(request[j]));
-      EXPECT_GE(request[j], RadToDeg(context.limits[j].lower_rad) - 1e-9);
-      EXPECT_LE(request[j], RadToDeg(context.limits[j].upper_rad) + 1e-9);
-    }
-    const PlantReading& r = plant.Tick(request);
-    controller.Observe(t, r.applied_deg, r.measured_deg);
-    measured = r.measured_deg;
-    sum += (FootMm(measured) - FootMm(context.desired[t % period])).squaredNorm();
-    if ((t + 1) % period == 0) {
-      controller.EndOfStep(t / period);
-      errors.push_back(std::sqrt(sum / static_cast<double>(period)));
-      sum = 0.0;
-    }
-  }
-  return errors;
-}
 
 ControllerContext FrontLegContext(const DesiredCycle& desired) {
   ControllerContext context = testing::PaperContext(desired);
