@@ -360,6 +360,18 @@ AdaptiveController::Spec ExcursionSpec() {
   return spec;
 }
 
+// Every joint's estimate is the plant's model: l and a exactly, v_max within 0.05 deg/tick and
+// theta_0 within 0.5 deg.
+void ExpectExcursionsFound(const JointModelEstimates& estimates, const JointModelParams& truth) {
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = estimates[j].params;
+    EXPECT_EQ(p.lag_ticks, truth.lag_ticks) << j;
+    EXPECT_EQ(p.accel_ticks, truth.accel_ticks) << j;
+    EXPECT_NEAR(p.v_max_deg_per_tick, truth.v_max_deg_per_tick, 0.05) << j;
+    EXPECT_NEAR(p.theta0_deg, truth.theta0_deg, 0.5) << j;
+  }
+}
+
 // Without a probe the slow walk does not determine v_max (nothing saturates, derived above:
 // the plain window fit lands far from 2); with step-test-like excursions every parameter of the
 // plant comes back, l and a exactly, and probing stops once two fits agree on l and a.
@@ -378,12 +390,9 @@ TEST(AdaptiveController, ExcursionsIdentifyEveryParameterOnAWalkThatNeverSaturat
   AdaptiveController adaptive(ExcursionSpec(), context);
   const std::vector<bool> probed = RunWithNoise(adaptive, context, truth, 8);
   const JointModelEstimates estimates = adaptive.ModelEstimates().value();
+  ExpectExcursionsFound(estimates, truth);
   for (int j = 0; j < kLegJoints; ++j) {
     const JointModelParams& p = estimates[j].params;
-    EXPECT_EQ(p.lag_ticks, 5) << j;
-    EXPECT_EQ(p.accel_ticks, 4) << j;
-    EXPECT_NEAR(p.v_max_deg_per_tick, 2.0, 0.05) << j;
-    EXPECT_NEAR(p.theta0_deg, 6.0, 0.5) << j;
     // ... and plans with it, to within what it re-plans for.
     EXPECT_EQ(adaptive.planned_models()[j].lag_ticks, 5) << j;
     EXPECT_EQ(adaptive.planned_models()[j].accel_ticks, 4) << j;
@@ -410,14 +419,7 @@ TEST(AdaptiveController, ExcursionsLearnTheJointAgainAfterAChange) {
   for (int step = 5; step < 9; ++step) EXPECT_FALSE(probed[step]) << step;
   EXPECT_TRUE(probed[9] || probed[10]);
   for (int step = 15; step < 18; ++step) EXPECT_FALSE(probed[step]) << step;
-  const JointModelEstimates estimates = adaptive.ModelEstimates().value();
-  for (int j = 0; j < kLegJoints; ++j) {
-    const JointModelParams& p = estimates[j].params;
-    EXPECT_EQ(p.lag_ticks, 7) << j;
-    EXPECT_EQ(p.accel_ticks, 4) << j;
-    EXPECT_NEAR(p.v_max_deg_per_tick, 1.6, 0.05) << j;
-    EXPECT_NEAR(p.theta0_deg, 6.0, 0.5) << j;
-  }
+  ExpectExcursionsFound(adaptive.ModelEstimates().value(), {1.6, 6.0, 7, 4});
 }
 
 // Read exactly, the model plant is fitted exactly (residual 0 up to rounding): rounding must

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -52,6 +53,22 @@ double PenetrationMm(const LegSim& sim) {
   return FloorZMm(sim.config()) + sim.config().stand.foot_radius_mm - foot_world_z;
 }
 
+// The floor's force on the foot (N, body axes) and the sled's x (mm), averaged over the next
+// `ticks` ticks of `sim`.
+struct MeanTelemetry {
+  std::array<double, 3> force_n{};
+  double sled_x_mm = 0.0;
+};
+MeanTelemetry TickAndAverage(LegSim& sim, int ticks) {
+  MeanTelemetry mean;
+  for (int t = 0; t < ticks; ++t) {
+    sim.Tick();
+    for (int k = 0; k < 3; ++k) mean.force_n[k] += sim.Telemetry().contact_force_n[k] / ticks;
+    mean.sled_x_mm += sim.Telemetry().sled_x_mm / ticks;
+  }
+  return mean;
+}
+
 TEST(StandTest, CarriageRestsOnTheStopWithTheFootInTheAir) {
   const SimConfig config = StandConfigFor();
   LegSim sim(config);
@@ -78,16 +95,7 @@ TEST_P(StandStaticLoadTest, FloorCarriesTheSupportedWeight) {
   // floor with the carriage lifted about 11.7 mm, off its stop.
   sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
   for (int t = 0; t < 250; ++t) sim.Tick();  // 2 s to settle
-  double fz = 0.0;
-  double fx = 0.0;
-  double fy = 0.0;
-  constexpr int kTicks = 25;
-  for (int t = 0; t < kTicks; ++t) {
-    sim.Tick();
-    fx += sim.Telemetry().contact_force_n[0] / kTicks;
-    fy += sim.Telemetry().contact_force_n[1] / kTicks;
-    fz += sim.Telemetry().contact_force_n[2] / kTicks;
-  }
+  const auto [fx, fy, fz] = TickAndAverage(sim, 25).force_n;
   // Statics: the carriage is off the stop, the slider carries no vertical force, so the floor
   // carries the load and the leg.
   const double weight_n = (load_kg + kLegMassKg) * kG;
@@ -118,14 +126,7 @@ TEST(StandTest, AStillFootOnTheRunningBeltSlidesAtTheBeltSpeedAgainstCoulombFric
   sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
   for (int t = 0; t < 125; ++t) sim.Tick();  // 1 s to settle
   const double slip_before = sim.Telemetry().slip_mm;
-  double fx = 0.0;
-  double fz = 0.0;
-  constexpr int kTicks = 125;
-  for (int t = 0; t < kTicks; ++t) {
-    sim.Tick();
-    fx += sim.Telemetry().contact_force_n[0] / kTicks;
-    fz += sim.Telemetry().contact_force_n[2] / kTicks;
-  }
+  const auto [fx, fy, fz] = TickAndAverage(sim, 125).force_n;
   // The servos hold the foot still, so the belt slides under it: Coulomb friction mu N drags
   // it backward, and the slip grows by the belt's speed times the time, 100 mm in 1 s.
   const double weight_n = (config.stand.load_kg + kLegMassKg) * kG;
@@ -257,16 +258,9 @@ TEST(StandSledTest, TheBeltDeflectsTheSledByFrictionOverStiffness) {
   LegSim sim(config);
   sim.SetJointAnglesDeg({0.0, 0.0, 30.0});
   for (int t = 0; t < 250; ++t) sim.Tick();  // 2 s: the sled settles (damping ratio 1.7)
-  double x = 0.0;
-  double fx = 0.0;
-  double fz = 0.0;
-  constexpr int kTicks = 125;
-  for (int t = 0; t < kTicks; ++t) {
-    sim.Tick();
-    x += sim.Telemetry().sled_x_mm / kTicks;
-    fx += sim.Telemetry().contact_force_n[0] / kTicks;
-    fz += sim.Telemetry().contact_force_n[2] / kTicks;
-  }
+  const MeanTelemetry mean = TickAndAverage(sim, 125);
+  const auto [fx, fy, fz] = mean.force_n;
+  const double x = mean.sled_x_mm;
   const double weight_n = (config.stand.load_kg + kLegMassKg) * kG;
   const double expected_mm = -1000.0 * config.stand.friction * weight_n / 200.0;
   RecordProperty("sled_x_mm", std::to_string(x));
