@@ -107,8 +107,7 @@ TEST(HalfEllipse, MatchedSwingLeavesAndMeetsTheGroundAtTheStanceSpeed) {
     EXPECT_LE(std::abs(b.x() - a.x()), max_step * 1.001) << t;
     max_change = std::max(max_change, std::abs((c.x() - b.x()) - (b.x() - a.x())));
   }
-  EXPECT_LT(max_change, (std::numbers::pi * std::numbers::pi / 2.0 + 6.0) * 40.0 / 4400.0 /
-                            4400.0);
+  EXPECT_LT(max_change, (std::numbers::pi * std::numbers::pi / 2.0 + 6.0) * 40.0 / 4400.0 / 4400.0);
   // The price: the flight overshoots the flat bottom at both ends, by 0.04756 L (the cubic's
   // extremum, found by a brute-force scan of s in steps of 1e-5 off line: 0.547562 L from
   // the centre at s = 0.0973 and 0.9027, where z is 0.301 of the height).
