@@ -705,6 +705,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     locus.Read("outward_mm", t.locus.outward_mm);
     locus.Read("ground_below_shoulder_mm", t.locus.ground_below_shoulder_mm);
     locus.Read("skew", t.locus.shape.skew);
+    locus.Read("swing_end_speed_fraction", t.locus.shape.swing_end_speed_fraction);
     locus.Read("body_pitch_deg", t.locus.body_pitch_deg);
     locus.Finish();
     desired.Finish();
@@ -877,6 +878,7 @@ constexpr NumericRange kRanges[] = {
     {"desired.locus.outward_mm", -1000, 1000, false, false, "mm"},
     {"desired.locus.ground_below_shoulder_mm", -1000, 1000, false, false, "mm"},
     {"desired.locus.skew", -1, 1, false, false, ""},
+    {"desired.locus.swing_end_speed_fraction", 0, 2, false, false, ""},
     {"desired.locus.body_pitch_deg", -45, 45, false, false, "deg"},
     {"track.t_step_ticks", 4, 1000, false, false, "ticks"},
     {"warmup_steps", 0, 1'000'000, false, false, ""},

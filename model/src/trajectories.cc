@@ -32,6 +32,9 @@ std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
   }
   if (!locus.centre_mm.allFinite()) return "centre_mm must be finite";
   if (!std::isfinite(locus.skew)) return "skew must be finite";
+  if (!(locus.swing_end_speed_fraction >= 0.0 && std::isfinite(locus.swing_end_speed_fraction))) {
+    return "swing_end_speed_fraction must be finite and >= 0";
+  }
   return {};
 }
 
@@ -43,6 +46,10 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
   const int ground_ticks =
       std::clamp(static_cast<int>(std::lround(locus.ground_fraction * period)), 1, period - 1);
   const double half = 0.5 * locus.length_mm;
+  // The flight's extra backward sweep, mm per unit of s at either end: the stance's speed
+  // (length_mm / ground_ticks per tick) times the flight's ticks, times the fraction asked.
+  const double end_sweep = locus.swing_end_speed_fraction * locus.length_mm *
+                           static_cast<double>(period - ground_ticks) / ground_ticks;
   std::vector<Eigen::Vector3d> path(period);
   for (int t = 0; t < period; ++t) {
     Eigen::Vector3d offset = Eigen::Vector3d::Zero();
@@ -52,6 +59,11 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
       const double angle = std::numbers::pi * (t - ground_ticks) / (period - ground_ticks);
       offset.x() = -half * std::cos(angle);
       offset.z() = locus.height_mm * std::sin(angle);
+      if (locus.swing_end_speed_fraction != 0.0) {
+        // s - 3 s^2 + 2 s^3: 0 at both ends, slope 1 at both ends (0 off: the same bits).
+        const double s = static_cast<double>(t - ground_ticks) / (period - ground_ticks);
+        offset.x() -= end_sweep * (s - 3.0 * s * s + 2.0 * s * s * s);
+      }
     }
     // A skew of 0 leaves y at +-0, so the plain locus keeps its bits.
     offset.y() = locus.skew * offset.x();

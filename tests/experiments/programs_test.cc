@@ -128,6 +128,10 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
                  good + " --set 'plant_changes=[{at_step: 0, set: {servo.max_speed_deg_s: -1}}]'",
                  "plant_changes[0].set.servo.max_speed_deg_s");
   ExpectBadInput(kTrack, good + " --set desired.locus.ground_below_shoulder_mm=200", "unreachable");
+  ExpectBadInput(kTrack, good + " --set desired.locus.swing_end_speed_fraction=-0.5",
+                 "desired.locus.swing_end_speed_fraction");
+  ExpectBadInput(kTrack, good + " --set desired.locus.swing_end_speed_fraction=3",
+                 "desired.locus.swing_end_speed_fraction");
   ExpectBadInput(kTrack, good + " --set desired.csv=" + (dir_ / "none.csv").string(), "none.csv");
   std::string csv = DesiredCsv(88);
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("short.csv", DesiredCsv(80)),

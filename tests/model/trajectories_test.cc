@@ -72,6 +72,93 @@ TEST(HalfEllipse, SkewShearsTheLocusInTheGroundPlane) {
   EXPECT_THROW(HalfEllipseFootPath(skewed), std::invalid_argument);
 }
 
+// swing_end_speed_fraction 1 (issue 11's slip): the foot leaves and meets the ground at the
+// stance's speed. Checked by finite differences on a finely sampled step (8800 ticks, h =
+// 1 / 4400 of the flight), against the speed the flat bottom runs at (L per unit of the
+// flight's s here): a one-sided difference misses the end speed by at most max|x''| h / 2 =
+// (pi^2 L / 2 + 6 L) / 8800 = 1.24e-3 L.
+TEST(HalfEllipse, MatchedSwingLeavesAndMeetsTheGroundAtTheStanceSpeed) {
+  HalfEllipseLocus locus;
+  locus.length_mm = 40.0;
+  locus.height_mm = 30.0;
+  locus.centre_mm = {10.0, 70.0, -110.0};
+  locus.t_step_ticks = 8800;
+  locus.swing_end_speed_fraction = 1.0;
+  const auto path = HalfEllipseFootPath(locus);
+  const int ground = 4400, period = 8800;
+  const double stance_speed = -40.0 / ground;  // mm per tick, backward
+  // The stance is untouched: its speed, here from the flat bottom's own ticks.
+  EXPECT_NEAR(path[1].x() - path[0].x(), stance_speed, 1e-12);
+  EXPECT_NEAR(path[ground].x() - path[ground - 1].x(), stance_speed, 1e-12);
+  // Lift-off: the first flight ticks keep the stance's speed; touch-down: the last flight
+  // tick to the wrap-around (path[0]) too.
+  const double bound = (std::numbers::pi * std::numbers::pi / 2.0 + 6.0) / 8800.0;
+  EXPECT_NEAR((path[ground + 1].x() - path[ground].x()) / stance_speed, 1.0, bound);
+  EXPECT_NEAR((path[0].x() - path[period - 1].x()) / stance_speed, 1.0, bound);
+  // Position continuous (no tick moves the foot farther than the fastest flight speed, pi L /
+  // 2 + L / 2 per unit of s at s = 1/2, allows) and the speed continuous: consecutive
+  // differences change by at most max|x''| h^2 = 10.9 L / 4400^2 per tick, 2.3e-5 mm.
+  const double max_step = (std::numbers::pi / 2.0 + 0.5) * 40.0 / 4400.0;
+  double max_change = 0.0;
+  for (int t = 0; t < period; ++t) {
+    const auto& a = path[(t + period - 1) % period];
+    const auto& b = path[t];
+    const auto& c = path[(t + 1) % period];
+    EXPECT_LE(std::abs(b.x() - a.x()), max_step * 1.001) << t;
+    max_change = std::max(max_change, std::abs((c.x() - b.x()) - (b.x() - a.x())));
+  }
+  EXPECT_LT(max_change, (std::numbers::pi * std::numbers::pi / 2.0 + 6.0) * 40.0 / 4400.0 / 4400.0);
+  // The price: the flight overshoots the flat bottom at both ends, by 0.04756 L (the cubic's
+  // extremum, found by a brute-force scan of s in steps of 1e-5 off line: 0.547562 L from
+  // the centre at s = 0.0973 and 0.9027, where z is 0.301 of the height).
+  double front = 0.0, back = 0.0;
+  for (const auto& p : path) {
+    front = std::max(front, p.x() - 10.0);
+    back = std::min(back, p.x() - 10.0);
+  }
+  EXPECT_NEAR(front, 0.547562 * 40.0, 1e-3);
+  EXPECT_NEAR(back, -0.547562 * 40.0, 1e-3);
+  // The plain half-ellipse, by contrast, leaves at rest: its first flight tick moves the foot
+  // forward by L/2 (1 - cos(pi / 4400)), 1e-5 of the stance's tick.
+  HalfEllipseLocus plain = locus;
+  plain.swing_end_speed_fraction = 0.0;
+  const auto still = HalfEllipseFootPath(plain);
+  EXPECT_NEAR(still[ground + 1].x() - still[ground].x(),
+              20.0 * (1.0 - std::cos(std::numbers::pi / 4400.0)), 1e-12);
+  // z is the half-ellipse's at every tick; y too.
+  for (int t = 0; t < period; ++t) {
+    EXPECT_EQ(path[t].z(), still[t].z()) << t;
+    EXPECT_EQ(path[t].y(), still[t].y()) << t;
+  }
+}
+
+// The same swing worked by hand at a tick of the 88-tick step: half way through the flight (s
+// = 1/2) the cubic s - 3 s^2 + 2 s^3 is 0, so the top of the arc is the half-ellipse's; a
+// quarter of the way (s = 1/4, tick 55), it is 1/4 - 3/16 + 2/64 = 3/32, so the foot is
+// f L (44 / 44) 3 / 32 = 0.5 x 40 x 3 / 32 = 1.875 mm behind the half-ellipse's point.
+// 0 gives the half-ellipse bit for bit; negative or NaN fractions are refused.
+TEST(HalfEllipse, MatchedSwingByHand) {
+  HalfEllipseLocus plain;
+  plain.length_mm = 40.0;
+  plain.height_mm = 30.0;
+  plain.centre_mm = {10.0, 70.0, -110.0};
+  HalfEllipseLocus half = plain;
+  half.swing_end_speed_fraction = 0.5;
+  const auto a = HalfEllipseFootPath(plain);
+  const auto b = HalfEllipseFootPath(half);
+  for (int t = 0; t < 44; ++t) EXPECT_EQ(a[t], b[t]) << t;
+  EXPECT_NEAR((b[66] - Eigen::Vector3d(10.0, 70.0, -80.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(b[55].x() - a[55].x(), -1.875, 1e-12);
+  EXPECT_NEAR(b[77].x() - a[77].x(), +1.875, 1e-12);  // s = 3/4: -3/32
+  HalfEllipseLocus zero = plain;
+  zero.swing_end_speed_fraction = 0.0;
+  EXPECT_EQ(HalfEllipseFootPath(zero), a);
+  zero.swing_end_speed_fraction = -0.1;
+  EXPECT_THROW(HalfEllipseFootPath(zero), std::invalid_argument);
+  zero.swing_end_speed_fraction = std::nan("");
+  EXPECT_THROW(HalfEllipseFootPath(zero), std::invalid_argument);
+}
+
 TEST(PitchFootPath, TurnsLevelPointsIntoThePitchedBody) {
   const Eigen::Vector3d pivot(59.5, 59.2, 0.0);
   const std::vector<Eigen::Vector3d> level = {pivot + Eigen::Vector3d(0.0, 0.0, -100.0),

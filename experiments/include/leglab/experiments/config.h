@@ -72,7 +72,8 @@ struct IdentifyConfig {
 /// are the only defaults of the locus, equal to the shipped track.yaml.
 struct LocusConfig {
   /// length_mm, height_mm, ground_fraction, skew (outward mm per mm forward of the locus's
-  /// centre; centre and period unused)
+  /// centre), swing_end_speed_fraction (the foot's backward speed at lift-off and touch-down
+  /// over the stance's; 0, the half-ellipse); centre and period unused
   HalfEllipseLocus shape;
   double forward_mm = 49.0;                 ///< centre of the flat bottom ahead of the shoulder
   double outward_mm = 28.0;                 ///< ... outward of the shoulder (away from the body)

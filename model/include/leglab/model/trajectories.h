@@ -28,6 +28,16 @@ struct HalfEllipseLocus {
   /// times its x offset (mm per mm; 0 = the plain half-ellipse; the cited walk's "locus skew
   /// multiplier", 0.035). A shear: lengths along x stay the same.
   double skew = 0.0;
+  /// The foot's backward speed at the swing's two ends, lift-off and touch-down, as a fraction
+  /// of the stance's (length_mm / ground ticks per tick; >= 0). 0 is the plain half-ellipse,
+  /// whose flight starts and ends at rest along x. Otherwise the flight's x offset is the
+  /// half-ellipse's plus a cubic that is 0 at both ends and moves them backward at that speed:
+  /// x(s) = -L/2 cos(pi s) - f L (n / g) (s - 3 s^2 + 2 s^3), s in [0, 1] over the n flight
+  /// ticks, g the ground ticks; z is the half-ellipse's. With 1 the foot leaves the ground and
+  /// meets it again moving backward with the stance (a belt under it): x is continuous in
+  /// position and speed around the whole step, at the price of overshooting the flat bottom by
+  /// about 0.048 L at each end (at 0.30 of the arc's height; ground fraction 0.5).
+  double swing_end_speed_fraction = 0.0;
 };
 
 /// Empty when the locus is valid; otherwise what is wrong, naming the field
