@@ -105,6 +105,10 @@ OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {
   Spec spec;
   reader.Read("objective", spec.objective);
   reader.Read("joint_weight", spec.joint_weight);
+  reader.Read("model", spec.model);
+  if (spec.model != "step_tests" && spec.model != "walk") {
+    reader.Fail("model", "step_tests or walk, got '" + spec.model + "'");
+  }
   if (spec.objective != "joint" && spec.objective != "foot") {
     reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
   }
@@ -119,6 +123,7 @@ OptimalController::OptimalController(const Spec& spec, const ControllerContext& 
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
   if ((spec.objective != "joint" && spec.objective != "foot") ||
+      (spec.model != "step_tests" && spec.model != "walk") ||
       !(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
     throw std::invalid_argument("optimal: invalid options");
   }

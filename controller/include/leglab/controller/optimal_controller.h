@@ -24,12 +24,20 @@ namespace leglab {
 /// kept only if it lowers the predicted foot error (so the foot error never rises above the
 /// joint optimum's), and the sweeps stop when one lowers it by less than kFootToleranceMm or
 /// after kMaxFootSweeps.
+///
+/// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
+/// models, identified from the step tests (or given); `walk` under models fitted to the walk
+/// itself ("identification for control"): the experiments play the paper's model-based
+/// requests on the plant and fit each joint's model to those requests and the angles measured
+/// (pooled with the step tests' recordings when there are any), and hand this mode a context
+/// with those models (see ModelFittedToWalk; the controller never sees the plant).
 class OptimalController final : public JointController {
  public:
   /// The `optimal.*` keys.
   struct Spec {
     std::string objective = "joint";  ///< optimal.objective: joint or foot
     double joint_weight = 2.0;        ///< optimal.joint_weight: in [0, 100], foot objective
+    std::string model = "step_tests";  ///< optimal.model: step_tests or walk
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "optimal";
@@ -42,6 +50,8 @@ class OptimalController final : public JointController {
   static constexpr int kMaxFootSweeps = 20;
   /// Throws the reader's error naming the key for a value out of its range.
   static Spec ReadSpec(OptionReader& reader);
+  /// Whether the experiments must give this spec a context with models fitted to the walk.
+  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == "walk"; }
 
   /// Throws std::invalid_argument on an empty cycle, a bad spec, or the foot objective without
   /// the context's geometry.
