@@ -60,6 +60,7 @@ Table2 BeginTable2(const TrackResult& r) {
   table.period = r.period;
   table.models = r.context.models;
   table.models_identified = r.models_identified;
+  if (r.walk_context) table.walk_models = r.walk_context->models;
   std::array<std::vector<double>, kLegJoints> desired;
   for (int j = 0; j < kLegJoints; ++j) {
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
