@@ -276,7 +276,10 @@ TEST_F(PaperRegimeRegression, EveryMeanMatchesItsPin) {
 // knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; the README's table). On each, ILC (track.yaml's
 // foot objective) must put the foot nearer its path than the paper's method and the best time
 // shift do, over the shipped run (5 warm-up and 20 measured steps: on the slow sine ILC is
-// still gaining after 4).
+// still gaining after 4). So must optimal (track.yaml's: foot objective, model fitted to the
+// walk), except against the time shift on the slow triangle, where it does not: 0.110 cm against
+// 0.102 (model_based 0.261), whichever optimal.objective or joint_weight; what is left there is
+// the walk-fitted model's mismatch with the plant (the README's table).
 double Triangle(double phase) {
   const double x = phase / (2.0 * std::numbers::pi) - std::floor(phase / (2.0 * std::numbers::pi));
   return x < 0.25 ? 4.0 * x : (x < 0.75 ? 2.0 - 4.0 * x : 4.0 * x - 4.0);
@@ -305,7 +308,7 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       const Table2 table = ComputeTable2(RunTrackExperiment(LoadExperimentConfig(
           kConfigs + "track.yaml",
           {"desired.csv=" + csv.string(), "track.t_step_ticks=" + std::to_string(period),
-           "controller.modes=[time_shift, model_based, ilc]"})));
+           "controller.modes=[time_shift, model_based, optimal, ilc]"})));
       auto foot = [&](const char* mode) {
         const FootRow* row = table.FindFoot(mode);
         EXPECT_NE(row, nullptr) << mode;
@@ -314,6 +317,8 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       const std::string walk = csv.filename().string();
       EXPECT_LT(foot("ilc"), foot("model_based")) << walk;
       EXPECT_LT(foot("ilc"), foot("time_shift")) << walk;
+      EXPECT_LT(foot("optimal"), foot("model_based")) << walk;
+      if (!(triangle && period == 88)) EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
     }
   }
   std::filesystem::remove_all(dir);
