@@ -43,7 +43,7 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
   const TrackingRun walk = RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps,
                                        kWalkFitSteps);
   r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
-  std::array<JointModelParams, kLegJoints> models;
+  std::array<JointModelParams, kLegJoints> models = r.context.models;
   ParallelFor(kLegJoints, config.threads, [&](int j) {
     std::vector<JointRecording> recordings = step_tests[j];
     JointRecording recording;
@@ -51,8 +51,19 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
       recording.request_deg.push_back(walk.request_deg[t][j]);
       recording.measured_deg.push_back(walk.measured_deg[t][j]);
     }
+    // A walk that hardly moves the joint says nothing about its model (and, without step tests
+    // to pool with, cannot be fitted): the joint keeps the one it has.
+    const auto [low, high] =
+        std::minmax_element(recording.request_deg.begin(), recording.request_deg.end());
+    if (*high - *low < kWalkFitMinSwingDeg) return;
     recordings.push_back(std::move(recording));
-    models[j] = IdentifyJointModel(recordings, config.identify.search).params;
+    try {
+      const JointModelParams fitted = IdentifyJointModel(recordings, config.identify.search).params;
+      ValidateJointModelParams(fitted);
+      models[j] = fitted;
+    } catch (const std::invalid_argument&) {
+      // Not identifiable from these recordings: the joint keeps the model it has.
+    }
   });
   return models;
 }

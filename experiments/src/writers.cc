@@ -294,15 +294,17 @@ void ModelCells(CsvWriter& csv, int joint, const IdentificationResult& fit) {
 
 void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   const int period = r.period;
+  // The mode's own context: its P and its model (the walk-fitted one for `model: walk`).
+  const ControllerContext& context = ContextFor(r, run.spec);
   std::array<std::vector<double>, kLegJoints> pwl;
-  for (int j = 0; j < kLegJoints; ++j) pwl[j] = r.context.approximations[j].Sample();
+  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.approximations[j].Sample();
   {
     const std::string mode(ModeOf(run.spec).name);
     std::array<std::vector<double>, kLegJoints> model;
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> cycle(period);
       for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
-      model[j] = ModelColumn(r.context.models[j], cycle);
+      model[j] = ModelColumn(context.models[j], cycle);
     }
     CsvWriter trace(out.Path("trace_" + mode + ".csv"),
                     {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",

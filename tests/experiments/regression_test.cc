@@ -278,9 +278,9 @@ TEST_F(PaperRegimeRegression, EveryMeanMatchesItsPin) {
 // foot objective) must put the foot nearer its path than the paper's method and the best time
 // shift do, over the shipped run (5 warm-up and 20 measured steps: on the slow sine ILC is
 // still gaining after 4). So must optimal (track.yaml's: foot objective, model fitted to the
-// walk), except against the time shift on the slow triangle, where it does not: 0.110 cm against
-// 0.102 (model_based 0.261), whichever optimal.objective or joint_weight; what is left there is
-// the walk-fitted model's mismatch with the plant (the README's table).
+// walk), except against the time shift on the slow triangle, where it does not: 0.113 cm against
+// 0.102 (model_based 0.261; with the joint objective 0.112, with the step-test model 0.234); what
+// is left there is the model's mismatch with the plant (the README's table).
 double Triangle(double phase) {
   const double x = phase / (2.0 * std::numbers::pi) - std::floor(phase / (2.0 * std::numbers::pi));
   return x < 0.25 ? 4.0 * x : (x < 0.75 ? 2.0 - 4.0 * x : 4.0 * x - 4.0);
@@ -319,7 +319,9 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       EXPECT_LT(foot("ilc"), foot("model_based")) << walk;
       EXPECT_LT(foot("ilc"), foot("time_shift")) << walk;
       EXPECT_LT(foot("optimal"), foot("model_based")) << walk;
-      if (!(triangle && period == 88)) EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
+      if (!(triangle && period == 88)) {
+        EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
+      }
     }
   }
   std::filesystem::remove_all(dir);

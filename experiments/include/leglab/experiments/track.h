@@ -20,6 +20,9 @@ namespace leglab::experiments {
 /// grows with them.
 inline constexpr int kWalkFitWarmupSteps = 5;
 inline constexpr int kWalkFitSteps = 16;
+/// A joint whose requests over that walk span less than this (deg) keeps the model it has: the
+/// walk says nothing about it (e.g. a joint held still).
+inline constexpr double kWalkFitMinSwingDeg = 1.0;
 
 /// One controller mode's run on the plant.
 struct ModeRun {
@@ -55,8 +58,9 @@ struct TrackResult {
   /// to the walk instead ("identification for control"): IdentifyJointModel on the plant's
   /// response to the paper's model-based requests (exact C_m, under `context`'s models;
   /// kWalkFitWarmupSteps steps, then kWalkFitSteps recorded, whatever the run's own step
-  /// counts), pooled with the step tests' recordings when the models were identified. Those
-  /// modes run with it.
+  /// counts), pooled with the step tests' recordings when the models were identified; a joint
+  /// the walk hardly moves (kWalkFitMinSwingDeg) or whose fit fails keeps `context`'s model.
+  /// Those modes run with it.
   std::optional<ControllerContext> walk_context;
   /// Each joint's floor (FloorTrajectory): the cyclic trajectory nearest the desired one within
   /// the model's speed and acceleration limits, deg, one step.
