@@ -28,8 +28,8 @@ double FootRmsErrorMm(const LegGeometry& geometry, const DesiredCycle& angles_de
   assert(angles_deg.size() == desired_foot_mm.size() && !angles_deg.empty());
   double sum = 0.0;
   for (size_t t = 0; t < angles_deg.size(); ++t) {
-    sum += (ForwardKinematics(geometry, AnglesRad(angles_deg[t])) - desired_foot_mm[t])
-               .squaredNorm();
+    sum +=
+        (ForwardKinematics(geometry, AnglesRad(angles_deg[t])) - desired_foot_mm[t]).squaredNorm();
   }
   return std::sqrt(sum / static_cast<double>(angles_deg.size()));
 }

@@ -95,7 +95,9 @@ DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double jo
   }
   // The joint optimum first: the memo's lock is not re-entrant.
   const DesiredCycle joint_optimal = OptimalRequestCycle(context);
-  auto compute = [&] { return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight); };
+  auto compute = [&] {
+    return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight);
+  };
   if (context.offline_cycles == nullptr) return compute();
   const std::string name = "optimal-foot " + std::to_string(joint_weight);
   return context.offline_cycles->GetOrCompute(name.c_str(), context, compute);

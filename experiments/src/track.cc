@@ -40,8 +40,8 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
   SetProgressPhase("identification for control: the walk");
   CyclePlayer player(ModelBasedRequestCycle(r.context, CmMethod::kExact));
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
-  const TrackingRun walk = RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps,
-                                       kWalkFitSteps);
+  const TrackingRun walk =
+      RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps, kWalkFitSteps);
   r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
   std::array<JointModelParams, kLegJoints> models = r.context.models;
   ParallelFor(kLegJoints, config.threads, [&](int j) {
@@ -200,9 +200,9 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (std::any_of(config.controllers.begin(), config.controllers.end(),
                   [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
     try {
-      r.walk_context = MakeControllerContext(r.desired.angles_deg,
-                                             FitModelsToWalk(config, r, step_tests),
-                                             r.robot.geometry, config.pwl_segments);
+      r.walk_context =
+          MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests),
+                                r.robot.geometry, config.pwl_segments);
     } catch (const std::invalid_argument& e) {
       throw InputError(e.what());
     }

@@ -267,8 +267,9 @@ TEST(OptimalController, FootObjectiveNeedsTheLegsGeometryAndValidOptions) {
 // FootObjectiveJointProblem's weighted problem is the foot objective linearised in one joint:
 // for every angle x of joint j at tick t, (mean w + lambda) w_t (x - target_t)^2 differs from
 // |r_t + K (x - a_t)|^2 + lambda (x - D_t)^2 by a constant (both are the same quadratic in x up
-// to its constant term; to 1e-3 mm^2 of terms of order 100 mm^2), with K the foot's derivative by central differences of
-// ForwardKinematics (not the code's FootJacobian) and lambda = joint_weight times the mean |K|^2.
+// to its constant term; to 1e-3 mm^2 of terms of order 100 mm^2), with K the foot's derivative by
+// central differences of ForwardKinematics (not the code's FootJacobian) and lambda = joint_weight
+// times the mean |K|^2.
 TEST(FootObjective, JointProblemIsTheLinearisedFootError) {
   const LegGeometry leg = testing::FrontLeftLeg();
   const DesiredCycle desired = FastCycle();
@@ -302,14 +303,13 @@ TEST(FootObjective, JointProblemIsTheLinearisedFootError) {
       auto difference = [&](double x) {
         const double weighted =
             (mean_k2 + lambda) * problem->weights[t] * std::pow(x - problem->target_deg[t], 2);
-        const double foot = (r + k[t] * (x - angles[t][j])).squaredNorm() +
-                            lambda * std::pow(x - desired[t][j], 2);
+        const double foot =
+            (r + k[t] * (x - angles[t][j])).squaredNorm() + lambda * std::pow(x - desired[t][j], 2);
         return weighted - foot;
       };
       const double at_angle = difference(angles[t][j]);
       for (double x : {angles[t][j] - 10.0, angles[t][j] + 5.0, desired[t][j]}) {
-        EXPECT_NEAR(difference(x), at_angle, 1e-3)
-            << kLegJointNames[j] << " tick " << t;
+        EXPECT_NEAR(difference(x), at_angle, 1e-3) << kLegJointNames[j] << " tick " << t;
       }
     }
   }

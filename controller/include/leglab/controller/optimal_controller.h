@@ -35,8 +35,8 @@ class OptimalController final : public JointController {
  public:
   /// The `optimal.*` keys.
   struct Spec {
-    std::string objective = "joint";  ///< optimal.objective: joint or foot
-    double joint_weight = 2.0;        ///< optimal.joint_weight: in [0, 100], foot objective
+    std::string objective = "joint";   ///< optimal.objective: joint or foot
+    double joint_weight = 2.0;         ///< optimal.joint_weight: in [0, 100], foot objective
     std::string model = "step_tests";  ///< optimal.model: step_tests or walk
     friend bool operator==(const Spec&, const Spec&) = default;
   };
