@@ -58,7 +58,14 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
     if (*high - *low < kWalkFitMinSwingDeg) return;
     recordings.push_back(std::move(recording));
     try {
-      const JointModelParams fitted = IdentifyJointModel(recordings, config.identify.search).params;
+      // The same servo: its lag on the walk is searched near the one it has (see
+      // kWalkFitLagRadiusTicks), the rest of the search as identify's.
+      IdentificationOptions search = config.identify.search;
+      const int lag = r.context.models[j].lag_ticks;
+      search.lag_min_ticks = std::max(search.lag_min_ticks, lag - kWalkFitLagRadiusTicks);
+      search.lag_max_ticks = std::min(search.lag_max_ticks, lag + kWalkFitLagRadiusTicks);
+      if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
+      const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
       ValidateJointModelParams(fitted);
       models[j] = fitted;
     } catch (const std::invalid_argument&) {
