@@ -5,14 +5,15 @@
 #include <array>
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include "leglab/controller/foot_objective.h"
 #include "leglab/controller/model_based_controller.h"
 #include "leglab/controller/optimal_controller.h"
 #include "leglab/core/units.h"
 #include "leglab/model/joint_model.h"
-#include "leglab/model/kinematics.h"
 #include "leglab/model/optimal_requests.h"
 
 namespace leglab {
@@ -81,10 +82,7 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
     if (!context_.geometry) {
       throw std::invalid_argument("ilc: the foot objective needs the leg's geometry");
     }
-    for (const LegAngles& d : context_.desired) {
-      desired_foot_mm_.push_back(ForwardKinematics(
-          *context_.geometry, Eigen::Vector3d(DegToRad(d[0]), DegToRad(d[1]), DegToRad(d[2]))));
-    }
+    desired_foot_mm_ = FootPathMm(*context_.geometry, context_.desired);
   }
   start_ = spec_.start == "model_based" ? ModelBasedRequestCycle(context_, CmMethod::kExact)
                                         : OptimalRequestCycle(context_);
@@ -169,41 +167,15 @@ void IlcController::EndOfStep(long step) {
     if (foot) {
       // Joint j's share of the foot's error, linearised at the angles the model and the
       // learned mismatch predict (the other joints' as updated so far this sweep).
-      std::vector<double> foot_weight(period);
-      std::vector<double> pulls(period);  // K_j . r, mm^2/deg
+      DesiredCycle angles(period);
       for (int t = 0; t < period; ++t) {
-        Eigen::Vector3d q_rad;
-        for (int k = 0; k < kLegJoints; ++k) {
-          q_rad[k] = DegToRad(predicted_[t][k] + disturbance[t][k]);
-        }
-        const Eigen::Vector3d column =
-            FootJacobian(*context_.geometry, q_rad).col(j) * DegToRad(1.0);  // mm/deg
-        const Eigen::Vector3d error =
-            ForwardKinematics(*context_.geometry, q_rad) - desired_foot_mm_[t];
-        foot_weight[t] = column.squaredNorm();
-        pulls[t] = column.dot(error);
+        for (int k = 0; k < kLegJoints; ++k) angles[t][k] = predicted_[t][k] + disturbance[t][k];
       }
-      double mean_weight = 0.0;
-      for (double w : foot_weight) mean_weight += w;
-      mean_weight /= period;
-      const double lambda = spec_.joint_weight * mean_weight;
-      weights.resize(period);
-      for (int t = 0; t < period; ++t) {
-        const double w = foot_weight[t] + lambda;
-        const double predicted_angle = predicted_[t][j] + disturbance[t][j];
-        const double angle_target =
-            w > 0.0
-                ? (foot_weight[t] * predicted_angle - pulls[t] + lambda * context_.desired[t][j]) /
-                      w
-                : context_.desired[t][j];
-        target[t] = angle_target - disturbance[t][j];
-        weights[t] = w;
-      }
-      if (!(mean_weight + lambda > 0.0) ||
-          !std::all_of(target.begin(), target.end(), [](double x) { return std::isfinite(x); })) {
-        continue;
-      }
-      for (double& w : weights) w /= mean_weight + lambda;
+      std::optional<FootJointProblem> problem = FootObjectiveJointProblem(
+          *context_.geometry, desired_foot_mm_, context_.desired, angles, j, spec_.joint_weight);
+      if (!problem) continue;
+      for (int t = 0; t < period; ++t) target[t] = problem->target_deg[t] - disturbance[t][j];
+      weights = std::move(problem->weights);
     }
     if (!Solve(j, target, std::move(weights), requests, steady_state)) continue;
     for (int t = 0; t < period; ++t) {

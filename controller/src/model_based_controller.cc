@@ -10,7 +10,12 @@ ModelBasedController::Spec ModelBasedController::ReadSpec(OptionReader& reader) 
   std::string cm = "exact";
   reader.Read("cm", cm);
   if (cm != "exact" && cm != "closed") reader.Fail("cm", "closed or exact, got '" + cm + "'");
-  return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact};
+  std::string model = "step_tests";
+  reader.Read("model", model);
+  if (model != "step_tests" && model != "walk") {
+    reader.Fail("model", "step_tests or walk, got '" + model + "'");
+  }
+  return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact, model};
 }
 
 DesiredCycle ModelBasedRequestCycle(const ControllerContext& context, CmMethod cm) {

@@ -1,10 +1,16 @@
 #include "leglab/controller/optimal_controller.h"
 
+#include <Eigen/Core>
+#include <optional>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "leglab/controller/foot_objective.h"
 #include "leglab/controller/model_based_controller.h"
 #include "leglab/core/units.h"
+#include "leglab/model/joint_model.h"
 #include "leglab/model/optimal_requests.h"
 
 namespace leglab {
@@ -30,6 +36,51 @@ DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context) {
   return requests;
 }
 
+// Joint j's column of a cycle.
+std::vector<double> Column(const DesiredCycle& cycle, int j) {
+  std::vector<double> column(cycle.size());
+  for (size_t t = 0; t < cycle.size(); ++t) column[t] = cycle[t][j];
+  return column;
+}
+
+DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
+                                            const DesiredCycle& joint_optimal,
+                                            double joint_weight) {
+  const auto period = static_cast<int>(context.desired.size());
+  const LegGeometry& geometry = *context.geometry;
+  const std::vector<Eigen::Vector3d> desired_foot = FootPathMm(geometry, context.desired);
+  DesiredCycle requests = joint_optimal;
+  DesiredCycle predicted(period);
+  for (int j = 0; j < kLegJoints; ++j) {
+    const std::vector<double> steady = CyclicSteadyState(context.models[j], Column(requests, j));
+    for (int t = 0; t < period; ++t) predicted[t][j] = steady[t];
+  }
+  double error_mm = FootRmsErrorMm(geometry, predicted, desired_foot);
+  for (int sweep = 0; sweep < OptimalController::kMaxFootSweeps; ++sweep) {
+    const double before_mm = error_mm;
+    for (int j = 0; j < kLegJoints; ++j) {
+      std::optional<FootJointProblem> problem = FootObjectiveJointProblem(
+          geometry, desired_foot, context.desired, predicted, j, joint_weight);
+      if (!problem) continue;
+      OptimalRequestsOptions options;
+      options.lower_deg = RadToDeg(context.limits[j].lower_rad);
+      options.upper_deg = RadToDeg(context.limits[j].upper_rad);
+      options.weights = std::move(problem->weights);
+      const OptimalRequests next =
+          OptimizeRequests(problem->target_deg, context.models[j], Column(requests, j), options);
+      DesiredCycle candidate = predicted;
+      for (int t = 0; t < period; ++t) candidate[t][j] = next.steady_state_deg[t];
+      const double candidate_mm = FootRmsErrorMm(geometry, candidate, desired_foot);
+      if (!(candidate_mm < error_mm)) continue;  // the linearisation misled: keep the cycle
+      error_mm = candidate_mm;
+      predicted = std::move(candidate);
+      for (int t = 0; t < period; ++t) requests[t][j] = next.requests_deg[t];
+    }
+    if (before_mm - error_mm < OptimalController::kFootToleranceMm) break;
+  }
+  return requests;
+}
+
 }  // namespace
 
 DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
@@ -38,11 +89,48 @@ DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
       "optimal", context, [&context] { return ComputeOptimalRequestCycle(context); });
 }
 
-OptimalController::OptimalController(const Spec& /*spec*/, const ControllerContext& context) {
+DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight) {
+  if (!context.geometry) {
+    throw std::invalid_argument("optimal: the foot objective needs the leg's geometry");
+  }
+  // The joint optimum first: the memo's lock is not re-entrant.
+  const DesiredCycle joint_optimal = OptimalRequestCycle(context);
+  auto compute = [&] {
+    return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight);
+  };
+  if (context.offline_cycles == nullptr) return compute();
+  const std::string name = "optimal-foot " + std::to_string(joint_weight);
+  return context.offline_cycles->GetOrCompute(name.c_str(), context, compute);
+}
+
+OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {
+  Spec spec;
+  reader.Read("objective", spec.objective);
+  reader.Read("joint_weight", spec.joint_weight);
+  reader.Read("model", spec.model);
+  if (spec.model != "step_tests" && spec.model != "walk") {
+    reader.Fail("model", "step_tests or walk, got '" + spec.model + "'");
+  }
+  if (spec.objective != "joint" && spec.objective != "foot") {
+    reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
+  }
+  if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
+    reader.Fail("joint_weight", "in [0, 100]");
+  }
+  return spec;
+}
+
+OptimalController::OptimalController(const Spec& spec, const ControllerContext& context) {
   if (context.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  requests_ = OptimalRequestCycle(context);
+  if ((spec.objective != "joint" && spec.objective != "foot") ||
+      (spec.model != "step_tests" && spec.model != "walk") ||
+      !(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
+    throw std::invalid_argument("optimal: invalid options");
+  }
+  requests_ = spec.objective == "foot" ? FootOptimalRequestCycle(context, spec.joint_weight)
+                                       : OptimalRequestCycle(context);
 }
 
 LegAngles OptimalController::Update(long tick, const LegAngles& /*measured_deg*/) {

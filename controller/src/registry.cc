@@ -113,6 +113,16 @@ std::optional<int> RequestLeadTicks(const ControllerSpec& spec) {
   });
 }
 
+bool UsesWalkModels(const ControllerSpec& spec) {
+  return Modes::Dispatch<bool>(spec.index(), [&]<typename Mode>() {
+    if constexpr (requires { Mode::ModelFittedToWalk(std::get<typename Mode::Spec>(spec)); }) {
+      return Mode::ModelFittedToWalk(std::get<typename Mode::Spec>(spec));
+    } else {
+      return false;
+    }
+  });
+}
+
 std::vector<std::pair<std::string_view, long>> ModeParameters(const ControllerSpec& spec) {
   return Modes::Dispatch<std::vector<std::pair<std::string_view, long>>>(
       spec.index(), [&]<typename Mode>() {

@@ -852,6 +852,7 @@ constexpr NumericRange kRanges[] = {
     {"model.accel_ticks", 1, 50, false, false, "ticks"},
     {"controller.shift_ticks", 0, 999, false, false, "ticks"},
     {"controller.pwl_segments", 1, 1000, false, false, ""},
+    {"optimal.joint_weight", 0, 100, false, false, ""},
     {"ilc.gain", 0, 1, true, false, ""},
     {"ilc.filter_ticks", 1, 999, false, false, "ticks"},
     {"ilc.solver_iterations", 1, 1000, false, false, ""},

@@ -60,6 +60,7 @@ Table2 BeginTable2(const TrackResult& r) {
   table.period = r.period;
   table.models = r.context.models;
   table.models_identified = r.models_identified;
+  if (r.walk_context) table.walk_models = r.walk_context->models;
   std::array<std::vector<double>, kLegJoints> desired;
   for (int j = 0; j < kLegJoints; ++j) {
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
@@ -95,7 +96,7 @@ Table2 BeginTable2(const TrackResult& r) {
 void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   std::array<std::vector<double>, kLegJoints> desired, pwl;
   for (int j = 0; j < kLegJoints; ++j) {
-    pwl[j] = r.context.approximations[j].Sample();
+    pwl[j] = ContextFor(r, run.spec).approximations[j].Sample();  // the mode's own P
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
   }
   auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle) {

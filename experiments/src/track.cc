@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cassert>
 #include <span>
+#include <utility>
 
 #include "leglab/experiments/parallel.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/model/floor.h"
+#include "leglab/model/identification.h"
 #include "leglab/model/metrics.h"
 
 namespace leglab::experiments {
@@ -16,8 +19,72 @@ long RunTicks(const ExperimentConfig& config, int period) {
   return static_cast<long>(config.track.warmup_steps + config.track.steps) * period;
 }
 
+// Plays a fixed request cycle (the walk that the walk-fitted models are fitted to).
+class CyclePlayer final : public JointController {
+ public:
+  explicit CyclePlayer(DesiredCycle cycle) : cycle_(std::move(cycle)) {}
+  LegAngles Update(long tick, const LegAngles& /*measured_deg*/) override {
+    return CycleAt(cycle_, tick);
+  }
+  std::string_view name() const override { return "walk_probe"; }
+
+ private:
+  DesiredCycle cycle_;
+};
+
+// Each joint's model fitted to the plant's response to the paper's model-based requests
+// (exact C_m) under r.context's models, pooled with `step_tests` (per joint; may be empty).
+std::array<JointModelParams, kLegJoints> FitModelsToWalk(
+    const ExperimentConfig& config, TrackResult& r,
+    const std::array<std::vector<JointRecording>, kLegJoints>& step_tests) {
+  SetProgressPhase("identification for control: the walk");
+  CyclePlayer player(ModelBasedRequestCycle(r.context, CmMethod::kExact));
+  const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
+  const TrackingRun walk =
+      RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps, kWalkFitSteps);
+  r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
+  std::array<JointModelParams, kLegJoints> models = r.context.models;
+  ParallelFor(kLegJoints, config.threads, [&](int j) {
+    std::vector<JointRecording> recordings = step_tests[j];
+    JointRecording recording;
+    for (size_t t = 0; t < walk.request_deg.size(); ++t) {
+      recording.request_deg.push_back(walk.request_deg[t][j]);
+      recording.measured_deg.push_back(walk.measured_deg[t][j]);
+    }
+    // A walk that hardly moves the joint says nothing about its model (and, without step tests
+    // to pool with, cannot be fitted): the joint keeps the one it has.
+    const auto [low, high] =
+        std::minmax_element(recording.request_deg.begin(), recording.request_deg.end());
+    if (*high - *low < kWalkFitMinSwingDeg) return;
+    recordings.push_back(std::move(recording));
+    try {
+      // The same servo: its lag on the walk is searched near the one it has (see
+      // kWalkFitLagRadiusTicks), the rest of the search as identify's.
+      IdentificationOptions search = config.identify.search;
+      const int lag = r.context.models[j].lag_ticks;
+      search.lag_min_ticks = std::max(search.lag_min_ticks, lag - kWalkFitLagRadiusTicks);
+      search.lag_max_ticks = std::min(search.lag_max_ticks, lag + kWalkFitLagRadiusTicks);
+      if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
+      const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
+      ValidateJointModelParams(fitted);
+      models[j] = fitted;
+    } catch (const std::invalid_argument&) {
+      // Not identifiable from these recordings: the joint keeps the model it has.
+    }
+  });
+  return models;
+}
+
+}  // namespace
+
+const ControllerContext& ContextFor(const TrackResult& r, const ControllerSpec& spec) {
+  return UsesWalkModels(spec) && r.walk_context ? *r.walk_context : r.context;
+}
+
+namespace {
+
 ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
-  const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
+  const std::unique_ptr<JointController> controller = MakeController(spec, ContextFor(r, spec));
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   ModeRun run{spec, {}, {}};
   run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
@@ -28,7 +95,7 @@ ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const Cont
 
 // A candidate's score alone: RunMode's foot L2 without keeping the run (memory O(steps)).
 double ScoreMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
-  const std::unique_ptr<JointController> controller = MakeController(spec, r.context);
+  const std::unique_ptr<JointController> controller = MakeController(spec, ContextFor(r, spec));
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   return TrackingFootL2Cm(*plant, *controller, r.desired, r.robot.geometry,
                           config.track.warmup_steps, config.track.steps, config.plant_changes);
@@ -52,7 +119,7 @@ std::vector<double> ScoreFromLeadZeroRun(const ExperimentConfig& config, TrackRe
   const auto base = std::find_if(search.candidates.begin(), search.candidates.end(),
                                  [](const ControllerSpec& c) { return RequestLeadTicks(c) == 0; });
   assert(base != search.candidates.end() && "a lead-searched mode has a lead-0 candidate");
-  const std::unique_ptr<JointController> controller = MakeController(*base, r.context);
+  const std::unique_ptr<JointController> controller = MakeController(*base, ContextFor(r, *base));
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   const std::vector<Eigen::Vector3d> foot_mm =
       TrackingFootPathMm(*plant, *controller, r.context.desired, r.robot.geometry,
@@ -97,12 +164,19 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   const bool compare_estimates =
       std::any_of(config.controllers.begin(), config.controllers.end(),
                   [](const ControllerSpec& spec) { return ModeOf(spec).estimates_model; });
+  // The step tests' recordings of the first identification (for the walk-fitted models).
+  std::array<std::vector<JointRecording>, kLegJoints> step_tests;
   auto identify = [&](const ExperimentConfig& plant, int from_step) {
     PlantIdentification p{from_step, {}};
     const auto identified = IdentifyLeg(plant, r.robot);
     r.plant_ticks += kLegJoints * static_cast<long>(plant.identify.theta_test_deg.size()) *
                      StepTestTicks(plant.identify);
-    for (int j = 0; j < kLegJoints; ++j) p.joints[j] = identified[j].fit;
+    for (int j = 0; j < kLegJoints; ++j) {
+      p.joints[j] = identified[j].fit;
+      if (from_step == -config.track.warmup_steps && step_tests[j].empty()) {
+        for (const StepTestRun& run : identified[j].runs) step_tests[j].push_back(run.recording);
+      }
+    }
     return p;
   };
   if (compare_estimates || !config.model) {
@@ -130,6 +204,17 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
     throw InputError(e.what());
   }
   r.context.warmup_steps = config.track.warmup_steps;
+  if (std::any_of(config.controllers.begin(), config.controllers.end(),
+                  [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
+    try {
+      r.walk_context =
+          MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests),
+                                r.robot.geometry, config.pwl_segments);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(e.what());
+    }
+    r.walk_context->warmup_steps = config.track.warmup_steps;
+  }
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);
     for (int t = 0; t < r.period; ++t) desired[t] = r.context.desired[t][j];

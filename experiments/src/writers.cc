@@ -203,15 +203,22 @@ std::string Table2Markdown(const Table2& table) {
          << Fixed(row.max_slip_mm, 3) << " |\n";
     }
   }
+  auto models = [&md](const std::array<JointModelParams, kLegJoints>& params) {
+    for (int j = 0; j < kLegJoints; ++j) {
+      const JointModelParams& p = params[j];
+      char buffer[160];
+      std::snprintf(buffer, sizeof buffer, "%s v_max %.2f, theta_0 %.2f, l %d, a %d%s",
+                    std::string(kLegJointNames[j]).c_str(), p.v_max_deg_per_tick, p.theta0_deg,
+                    p.lag_ticks, p.accel_ticks, j + 1 < kLegJoints ? "; " : ".\n");
+      md << buffer;
+    }
+  };
   md << "\nModel " << (table.models_identified ? "identified on the plant" : "from model.* keys")
      << ": ";
-  for (int j = 0; j < kLegJoints; ++j) {
-    const JointModelParams& p = table.models[j];
-    char buffer[160];
-    std::snprintf(buffer, sizeof buffer, "%s v_max %.2f, theta_0 %.2f, l %d, a %d%s",
-                  std::string(kLegJointNames[j]).c_str(), p.v_max_deg_per_tick, p.theta0_deg,
-                  p.lag_ticks, p.accel_ticks, j + 1 < kLegJoints ? "; " : ".\n");
-    md << buffer;
+  models(table.models);
+  if (table.walk_models) {
+    md << "Model fitted to the walk (the modes with `model: walk`): ";
+    models(*table.walk_models);
   }
   return md.str();
 }
@@ -236,6 +243,9 @@ std::string Table2Json(const Table2& table) {
     model["identified"] = table.models_identified;
     model["pwl_segments"] = table.pwl_segments[j];
     json["model"][std::string(kLegJointNames[j])] = model;
+    if (table.walk_models) {
+      json["walk_model"][std::string(kLegJointNames[j])] = ModelJson((*table.walk_models)[j]);
+    }
   }
   if (table.stand) {
     const StandTable& stand = *table.stand;
@@ -284,15 +294,17 @@ void ModelCells(CsvWriter& csv, int joint, const IdentificationResult& fit) {
 
 void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   const int period = r.period;
+  // The mode's own context: its P and its model (the walk-fitted one for `model: walk`).
+  const ControllerContext& context = ContextFor(r, run.spec);
   std::array<std::vector<double>, kLegJoints> pwl;
-  for (int j = 0; j < kLegJoints; ++j) pwl[j] = r.context.approximations[j].Sample();
+  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.approximations[j].Sample();
   {
     const std::string mode(ModeOf(run.spec).name);
     std::array<std::vector<double>, kLegJoints> model;
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> cycle(period);
       for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
-      model[j] = ModelColumn(r.context.models[j], cycle);
+      model[j] = ModelColumn(context.models[j], cycle);
     }
     CsvWriter trace(out.Path("trace_" + mode + ".csv"),
                     {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",

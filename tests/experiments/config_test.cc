@@ -85,7 +85,20 @@ TEST_F(ConfigTest, EachModeKeepsItsOwnOptions) {
   ASSERT_EQ(c.controllers.size(), 2u);
   EXPECT_EQ(std::get<TimeShiftController::Spec>(c.controllers[0]).shift_ticks, 9);
   EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).cm, CmMethod::kClosed);
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).model, "step_tests");
   EXPECT_EQ(c.pwl_segments, 12);
+  const ExperimentConfig o = LoadExperimentConfig(
+      Write(kRobot), {"controller.modes=[model_based, optimal]", "controller.model=walk",
+                      "optimal.objective=foot", "optimal.joint_weight=0.5", "optimal.model=walk"});
+  ASSERT_EQ(o.controllers.size(), 2u);
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(o.controllers[0]).model, "walk");
+  const auto& optimal = std::get<OptimalController::Spec>(o.controllers[1]);
+  EXPECT_EQ(optimal.objective, "foot");
+  EXPECT_EQ(optimal.joint_weight, 0.5);
+  EXPECT_EQ(optimal.model, "walk");
+  EXPECT_TRUE(UsesWalkModels(o.controllers[0]));
+  EXPECT_TRUE(UsesWalkModels(o.controllers[1]));
+  EXPECT_FALSE(UsesWalkModels(c.controllers[1]));
 }
 
 TEST_F(ConfigTest, PlantIsTheSimOrTheModel) {
@@ -130,6 +143,13 @@ TEST_F(ConfigTest, ErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"controller.cm=approximate"}).find("controller.cm"),
             std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"controller.model=paper"}).find("controller.model"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"optimal.objective=hand"}).find("optimal.objective"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"optimal.joint_weight=101"}).find("optimal.joint_weight"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kRobot, {"optimal.model=paper"}).find("optimal.model"), std::string::npos);
   EXPECT_NE(ErrorOf(kRobot + "model: {v_max_deg_per_tick: 2.4}\n").find("model.theta0_deg"),
             std::string::npos);
   EXPECT_NE(ErrorOf(kRobot, {"sensor.noise_deg=-1"}).find("sensor.noise_deg"), std::string::npos);

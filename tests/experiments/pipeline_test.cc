@@ -61,6 +61,31 @@ TEST(Pipeline, TrackOnTheModelPlantIsTheModelsSteadyState) {
   }
 }
 
+// The walk-fitted models (optimal.model: walk, as track.yaml ships) on the ideal plant: the walk's
+// data and the step tests' are the plant model's own, without noise, so the pooled fit must give
+// that model back, as identification does above; the modes that do not ask for it run with the
+// step tests' context.
+TEST(Pipeline, TheWalkFitOnTheModelPlantRecoversItsModel) {
+  const ExperimentConfig config = LoadExperimentConfig(
+      kConfigs + "track.yaml",
+      {"plant=model",
+       "plant_model={v_max_deg_per_tick: 3.0, theta0_deg: 5.0, lag_ticks: 5, accel_ticks: 4}",
+       "identify.record_cycles=2", "identify.settle_cycles=2", "controller.modes=[direct, optimal]",
+       "optimal.model=walk", "warmup_steps=1", "steps=1"});
+  const TrackResult r = RunTrackExperiment(config);
+  ASSERT_TRUE(r.walk_context.has_value());
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = r.walk_context->models[j];
+    EXPECT_EQ(p.lag_ticks, 5) << kLegJointNames[j];
+    EXPECT_EQ(p.accel_ticks, 4) << kLegJointNames[j];
+    EXPECT_NEAR(p.v_max_deg_per_tick, 3.0, 1e-4) << kLegJointNames[j];
+    EXPECT_NEAR(p.theta0_deg, 5.0, 1e-3) << kLegJointNames[j];
+  }
+  ASSERT_EQ(r.runs.size(), 2u);
+  EXPECT_EQ(&ContextFor(r, r.runs[0].spec), &r.context);
+  EXPECT_EQ(&ContextFor(r, r.runs[1].spec), &*r.walk_context);
+}
+
 // The two ways of searching the time shift, on a config small enough for a test.
 struct ShiftSearches {
   TrackResult shifted, exhaustive;

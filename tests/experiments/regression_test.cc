@@ -160,23 +160,24 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
       {"knee", "Linf(Pwl,MB)", 2.912, 0.300},
       // The floor, optimal and ilc rows (issue 9), by the same rule of three times the seed
       // spread, at least 0.02 deg. ILC's rows are those of the foot objective track.yaml ships
-      // (ilc.objective: foot, joint_weight 2), still learning in this short run.
+      // (ilc.objective: foot, joint_weight 2), still learning in this short run; optimal's those of
+      // track.yaml's optimal (objective foot, joint_weight 2, model walk).
       {"rotator", "L2(Des,Floor)", 0.671, 0.020},
       {"rotator", "Linf(Des,Floor)", 3.882, 0.020},
-      {"rotator", "L2(Des,Opt)", 1.524, 0.076},
-      {"rotator", "Linf(Des,Opt)", 4.714, 0.149},
+      {"rotator", "L2(Des,Opt)", 1.087, 0.023},
+      {"rotator", "Linf(Des,Opt)", 5.231, 0.289},
       {"rotator", "L2(Des,ILC)", 0.961, 0.174},
       {"rotator", "Linf(Des,ILC)", 4.410, 0.663},
       {"abductor", "L2(Des,Floor)", 0.000, 0.020},
       {"abductor", "Linf(Des,Floor)", 0.000, 0.020},
-      {"abductor", "L2(Des,Opt)", 1.099, 0.032},
-      {"abductor", "Linf(Des,Opt)", 2.218, 0.193},
+      {"abductor", "L2(Des,Opt)", 0.364, 0.038},
+      {"abductor", "Linf(Des,Opt)", 0.962, 0.298},
       {"abductor", "L2(Des,ILC)", 0.291, 0.039},
       {"abductor", "Linf(Des,ILC)", 0.853, 0.237},
       {"knee", "L2(Des,Floor)", 3.064, 0.020},
       {"knee", "Linf(Des,Floor)", 14.057, 0.020},
-      {"knee", "L2(Des,Opt)", 3.246, 0.176},
-      {"knee", "Linf(Des,Opt)", 12.193, 0.523},
+      {"knee", "L2(Des,Opt)", 3.170, 0.052},
+      {"knee", "Linf(Des,Opt)", 13.792, 0.744},
       {"knee", "L2(Des,ILC)", 3.236, 0.048},
       {"knee", "Linf(Des,ILC)", 14.460, 0.750},
   };
@@ -190,7 +191,7 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
   } foot[] = {
       {"direct", 1.407, 0.005, 2.301, 0.018},      {"time_shift", 0.373, 0.005, 1.283, 0.103},
       {"model_based", 0.360, 0.008, 0.915, 0.073}, {"floor", 0.296, 0.005, 0.964, 0.010},
-      {"optimal", 0.427, 0.012, 1.148, 0.111},     {"ilc", 0.303, 0.025, 0.980, 0.060},
+      {"optimal", 0.266, 0.007, 0.742, 0.087},     {"ilc", 0.303, 0.025, 0.980, 0.060},
   };
   for (const auto& f : foot) {
     EXPECT_NEAR(Foot(f.mode, "L2"), f.l2, f.l2_tolerance) << f.mode;
@@ -343,7 +344,10 @@ TEST_F(StandRegression, TheStanceCarriesTheWeightAndModelBasedBeatsDirect) {
 // knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; the README's table). On each, ILC (track.yaml's
 // foot objective) must put the foot nearer its path than the paper's method and the best time
 // shift do, over the shipped run (5 warm-up and 20 measured steps: on the slow sine ILC is
-// still gaining after 4).
+// still gaining after 4). So must optimal (track.yaml's: foot objective, model fitted to the
+// walk), except against the time shift on the slow triangle, where it does not: 0.113 cm against
+// 0.102 (model_based 0.261; with the joint objective 0.112, with the step-test model 0.234); what
+// is left there is the model's mismatch with the plant (the README's table).
 double Triangle(double phase) {
   const double x = phase / (2.0 * std::numbers::pi) - std::floor(phase / (2.0 * std::numbers::pi));
   return x < 0.25 ? 4.0 * x : (x < 0.75 ? 2.0 - 4.0 * x : 4.0 * x - 4.0);
@@ -372,7 +376,7 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       const Table2 table = ComputeTable2(RunTrackExperiment(LoadExperimentConfig(
           kConfigs + "track.yaml",
           {"desired.csv=" + csv.string(), "track.t_step_ticks=" + std::to_string(period),
-           "controller.modes=[time_shift, model_based, ilc]"})));
+           "controller.modes=[time_shift, model_based, optimal, ilc]"})));
       auto foot = [&](const char* mode) {
         const FootRow* row = table.FindFoot(mode);
         EXPECT_NE(row, nullptr) << mode;
@@ -381,6 +385,10 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       const std::string walk = csv.filename().string();
       EXPECT_LT(foot("ilc"), foot("model_based")) << walk;
       EXPECT_LT(foot("ilc"), foot("time_shift")) << walk;
+      EXPECT_LT(foot("optimal"), foot("model_based")) << walk;
+      if (!(triangle && period == 88)) {
+        EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
+      }
     }
   }
   std::filesystem::remove_all(dir);

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string>
+
 #include "leglab/controller/controller.h"
 #include "leglab/model/line_inverse.h"
 
@@ -12,8 +14,11 @@ namespace leglab {
 class ModelBasedController final : public JointController {
  public:
   /// `controller.cm`: the paper's closed-form C_m or the exact discrete root (default).
+  /// `controller.model`: `step_tests` (default), the context's models; or `walk`, models fitted
+  /// to the walk, as optimal.model (OptimalController), so that the two compare on one model.
   struct Spec {
     CmMethod cm = CmMethod::kExact;
+    std::string model = "step_tests";
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "model_based";
@@ -21,8 +26,11 @@ class ModelBasedController final : public JointController {
   static constexpr bool kFeedForward = true;
   /// It follows the approximation P, so Table 2 also compares it with P (L2(Pwl,MB)).
   static constexpr bool kFollowsApproximation = true;
-  /// Throws the reader's error unless controller.cm is `closed` or `exact`.
+  /// Throws the reader's error unless controller.cm is `closed` or `exact` and controller.model
+  /// `step_tests` or `walk`.
   static Spec ReadSpec(OptionReader& reader);
+  /// Whether the experiments must give this spec a context with models fitted to the walk.
+  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == "walk"; }
 
   /// Throws std::invalid_argument on an empty cycle or a slope over v_max, std::domain_error
   /// from the closed-form C_m outside eq. 13.

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string>
+
 #include "leglab/controller/controller.h"
 
 namespace leglab {
@@ -11,18 +13,48 @@ namespace leglab {
 /// is a table look-up. What remains of its error on a plant is the floor (what no trajectory
 /// within the model's speed and acceleration limits can avoid) plus the model's mismatch with
 /// the plant, which no offline inversion can remove.
+///
+/// Objective (`optimal.objective`): `joint` (the loader's default) is the above, each joint on
+/// its own. `foot` minimises what the experiment scores, the foot's distance from its path
+/// under the model's predicted steady state, plus `optimal.joint_weight` times each joint's own
+/// error: ILC's foot objective (FootObjectiveJointProblem, derivation in ilc_controller.h) with
+/// no learned mismatch, solved offline to convergence. Starting from the joint objective's
+/// optimum, it sweeps Gauss-Seidel over the joints, each joint's linearised problem solved by
+/// OptimizeRequests with the other joints at their predicted angles; a joint's new cycle is
+/// kept only if it lowers the predicted foot error (so the foot error never rises above the
+/// joint optimum's), and the sweeps stop when one lowers it by less than kFootToleranceMm or
+/// after kMaxFootSweeps.
+///
+/// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
+/// models, identified from the step tests (or given); `walk` under models fitted to the walk
+/// itself ("identification for control"): the experiments play the paper's model-based
+/// requests on the plant and fit each joint's model to those requests and the angles measured
+/// (pooled with the step tests' recordings when there are any), and hand this mode a context
+/// with those models (see ModelFittedToWalk; the controller never sees the plant).
 class OptimalController final : public JointController {
  public:
-  /// No options.
+  /// The `optimal.*` keys.
   struct Spec {
+    std::string objective = "joint";   ///< optimal.objective: joint or foot
+    double joint_weight = 2.0;         ///< optimal.joint_weight: in [0, 100], foot objective
+    std::string model = "step_tests";  ///< optimal.model: step_tests or walk
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "optimal";
   static constexpr std::string_view kLabel = "Opt";
+  static constexpr std::string_view kConfigSection = "optimal";
   static constexpr bool kFeedForward = true;
-  static Spec ReadSpec(OptionReader& /*reader*/) { return {}; }
+  /// The foot objective's stopping rules: a sweep that lowers the model's predicted foot RMS
+  /// error by less than this (mm) is the last, and there are at most kMaxFootSweeps.
+  static constexpr double kFootToleranceMm = 1e-3;
+  static constexpr int kMaxFootSweeps = 20;
+  /// Throws the reader's error naming the key for a value out of its range.
+  static Spec ReadSpec(OptionReader& reader);
+  /// Whether the experiments must give this spec a context with models fitted to the walk.
+  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == "walk"; }
 
-  /// Throws std::invalid_argument on an empty cycle.
+  /// Throws std::invalid_argument on an empty cycle, a bad spec, or the foot objective without
+  /// the context's geometry.
   OptimalController(const Spec& spec, const ControllerContext& context);
   LegAngles Update(long tick, const LegAngles& measured_deg) override;
   std::string_view name() const override { return kName; }
@@ -34,9 +66,14 @@ class OptimalController final : public JointController {
   DesiredCycle requests_;
 };
 
-/// The optimal request cycle of every joint for `context` (what OptimalController requests),
-/// requests[t][j]. Shared with the learning modes that start from it: computed once per
-/// context (its offline_cycles memo) for the same desired cycle, models and limits.
+/// The optimal request cycle of every joint for `context` under the joint objective (what
+/// OptimalController requests by default), requests[t][j]. Shared with the learning modes that
+/// start from it: computed once per context (its offline_cycles memo) for the same desired
+/// cycle, models and limits.
 DesiredCycle OptimalRequestCycle(const ControllerContext& context);
+
+/// The foot objective's request cycle (see OptimalController), from the joint objective's;
+/// memoised per context like it. Throws std::invalid_argument without the context's geometry.
+DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight);
 
 }  // namespace leglab

@@ -34,6 +34,9 @@ namespace leglab {
 ///   static constexpr std::string_view kConfigSection;  the config map of its keys (default
 ///                                                      "controller")
 ///   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&);
+///   static bool ModelFittedToWalk(const Spec&);  the experiments build it with models fitted to
+///                                                the walk, not the step tests' (see
+///                                                UsesWalkModels)
 ///   static int RequestLeadTicks(const Spec&);    a search candidate requests what the
 ///                                                candidate with lead 0 requests, this many
 ///                                                ticks earlier: R(t) = R_0(t + lead)
@@ -95,6 +98,11 @@ std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
 /// The mode's RequestLeadTicks(spec) when it has one: spec's requests are those of the same
 /// mode's lead-0 candidate `lead` ticks ahead. Empty for a mode without.
 std::optional<int> RequestLeadTicks(const ControllerSpec& spec);
+
+/// The mode's ModelFittedToWalk(spec) when it has one (false without): the experiments then give
+/// `spec` a context whose models were fitted to the plant's response to the walk (the paper's
+/// model-based requests) instead of the step tests' (or given) models.
+bool UsesWalkModels(const ControllerSpec& spec);
 
 /// Named integer parameters of `spec` worth reporting (e.g. time_shift's {"k", 8}); empty for a
 /// mode without Parameters.

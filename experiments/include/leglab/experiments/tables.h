@@ -91,6 +91,8 @@ struct Table2 {
   std::vector<FootRow> foot;  ///< the floor ("floor"), then per mode in run order
   std::array<JointModelParams, kLegJoints> models;
   bool models_identified = false;
+  /// The models fitted to the walk (TrackResult::walk_context), when a mode ran with them.
+  std::optional<std::array<JointModelParams, kLegJoints>> walk_models;
   std::array<int, kLegJoints> pwl_segments{};
   /// On the test stand: slip and floor force per mode; empty in the air.
   std::optional<StandTable> stand;

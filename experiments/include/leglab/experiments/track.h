@@ -1,6 +1,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,25 @@
 #include "leglab/experiments/robot.h"
 
 namespace leglab::experiments {
+
+/// The walk the walk-fitted models (TrackResult::walk_context) are fitted to: steps run first,
+/// then steps recorded. Measured with track.yaml's optimal, foot L2 (cm) on the shipped walk / the
+/// untuned slow sine and triangle (the README's): 4 recorded steps 0.33 / - / -, 8 0.27 / 0.091 /
+/// 0.118, 12 0.27 / 0.086 / 0.117, 16 0.27 / 0.083 / 0.113, 20 0.27 / 0.082 / 0.110 (the best time
+/// shift 0.37 / 0.085 / 0.102). The fit's cost, the most of what the walk model adds to a run,
+/// grows with them.
+inline constexpr int kWalkFitWarmupSteps = 5;
+inline constexpr int kWalkFitSteps = 16;
+/// The walk fit searches each joint's lag only within this many ticks of the lag of the model it
+/// has (within identify.lag_range_ticks; the whole range if that leaves none): the same servo.
+/// Measured: on the shipped walk the same (l, a) as over the whole range and the foot error 2e-6
+/// cm apart, for 0.95e9 fewer instructions of the run's 14.9e9; on every walk in the README the
+/// fitted lags came out 3-6 ticks, inside the radius round the step tests' 4.
+inline constexpr int kWalkFitLagRadiusTicks = 3;
+
+/// A joint whose requests over that walk span less than this (deg) keeps the model it has: the
+/// walk says nothing about it (e.g. a joint held still).
+inline constexpr double kWalkFitMinSwingDeg = 1.0;
 
 /// One controller mode's run on the plant.
 struct ModeRun {
@@ -41,6 +61,14 @@ struct TrackResult {
   Robot robot;
   DesiredMotion desired;
   ControllerContext context;  ///< desired angles, models, limits, approximations P
+  /// When a mode asks for it (UsesWalkModels): the same context with each joint's model fitted
+  /// to the walk instead ("identification for control"): IdentifyJointModel on the plant's
+  /// response to the paper's model-based requests (exact C_m, under `context`'s models;
+  /// kWalkFitWarmupSteps steps, then kWalkFitSteps recorded, whatever the run's own step
+  /// counts), pooled with the step tests' recordings when the models were identified; a joint
+  /// the walk hardly moves (kWalkFitMinSwingDeg) or whose fit fails keeps `context`'s model.
+  /// Those modes run with it.
+  std::optional<ControllerContext> walk_context;
   /// Each joint's floor (FloorTrajectory): the cyclic trajectory nearest the desired one within
   /// the model's speed and acceleration limits, deg, one step.
   std::array<std::vector<double>, kLegJoints> floor_deg;
@@ -59,6 +87,9 @@ struct TrackResult {
   /// physics the experiment cost, sim.physics_dt_ms steps each on the simulated leg.
   long plant_ticks = 0;
 };
+
+/// The context `spec` runs with: walk_context for a mode that UsesWalkModels, else context.
+const ControllerContext& ContextFor(const TrackResult& r, const ControllerSpec& spec);
 
 /// Takes each mode's run as it is done (`runs` of the TrackResult stays empty): a long run
 /// writes and reduces one mode at a time instead of holding them all.
