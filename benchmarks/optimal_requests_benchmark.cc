@@ -121,9 +121,7 @@ void ReportSideBySide(int rounds) {
   for (int round = 0; round < rounds; ++round) {
     double d = 0.0, s = 0.0;
     auto time_dense = [&] { d = MicrosecondsPerCall([&] { return DenseStep(c, gradient); }, 200); };
-    auto time_structured = [&] {
-      s = MicrosecondsPerCall([&] { return StructuredStep(c); }, 200);
-    };
+    auto time_structured = [&] { s = MicrosecondsPerCall([&] { return StructuredStep(c); }, 200); };
     if (round % 2 == 0) {
       time_dense(), time_structured();
     } else {

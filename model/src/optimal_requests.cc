@@ -311,7 +311,15 @@ class BandedStepSolver {
       if (!(w > 0.0)) return false;
     }
     auto inverse_weight = [&](int t) { return weights.empty() ? 1.0 : 1.0 / weights[t]; };
-    m_.setZero(n, n);
+    // Every write below stays inside the envelope: zeroing the last call's envelope zeroes
+    // the lower triangle (the whole matrix only when the size changes).
+    if (m_.rows() != n) {
+      m_.setZero(n, n);
+    } else {
+      for (int i = 0; i < n; ++i) {
+        std::fill(&m_(i, first_[i]), &m_(i, i) + 1, 0.0);
+      }
+    }
     first_.resize(n);
     for (int t = 0; t < n; ++t) first_[t] = t;
     auto add = [&](int r1, int r2, double value) {  // into the lower triangle
@@ -336,12 +344,14 @@ class BandedStepSolver {
         rows_[i] = (j + i + l + 1) % n;
         values_[i] = f.slopes(rows_[i], i);
       }
+      // Each unordered pair once (add puts it in the lower triangle), twice where two terms
+      // fall in the same row (a > T: the ordered pairs (i, k) and (k, i) both count there).
       for (int i = 0; i < a; ++i) {
         if (values_[i] == 0.0) continue;
-        for (int k = 0; k < a; ++k) {
-          if (rows_[k] <= rows_[i] && values_[k] != 0.0) {
-            add(rows_[i], rows_[k], values_[i] * values_[k]);
-          }
+        for (int k = 0; k <= i; ++k) {
+          if (values_[k] == 0.0) continue;
+          const double product = values_[i] * values_[k];
+          add(rows_[i], rows_[k], k != i && rows_[k] == rows_[i] ? 2.0 * product : product);
         }
       }
     }
