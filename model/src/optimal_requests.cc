@@ -86,13 +86,32 @@ class PeriodicModel {
     const int a = params_.accel_ticks;
     double angle = start_deg;
     double gain = 1.0;
+    // f exact with open kinks (every steady state): Response and ResponseSlope in one test,
+    // the same sums term by term (a saturated term adds 0 to the slope, which leaves it).
+    const bool exact_open = smoothing_ == 0.0 && !closed_kinks_;
+    const double th = params_.theta0_deg;
+    const double v_max = params_.v_max_deg_per_tick;
     for (int t = 0; t < period(); ++t) {
       double velocity = 0.0;
       double slope = 0.0;
-      for (int i = l + 1; i <= l + a; ++i) {
-        const double x = RequestBefore(t, i) - angle;
-        velocity += Response(x);
-        slope += ResponseSlope(x);
+      if (exact_open) {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = RequestBefore(t, i) - angle;
+          if (x >= th) {
+            velocity += v_max;
+          } else if (x <= -th) {
+            velocity += -v_max;
+          } else {
+            velocity += x * gain_;
+            if (x > -th && x < th) slope += gain_;  // false only for NaN
+          }
+        }
+      } else {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = RequestBefore(t, i) - angle;
+          velocity += Response(x);
+          slope += ResponseSlope(x);
+        }
       }
       gain *= 1.0 - slope / a;
       angle += velocity / a;
