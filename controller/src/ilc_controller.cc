@@ -125,6 +125,7 @@ bool IlcController::Solve(int joint, const std::vector<double>& target, std::vec
   options.tolerance_deg = spec_.solver_tolerance_deg;
   options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
   options.weights = std::move(weights);
+  options.structured_solve = true;  // no T x T factorisation per step (the same step)
   try {
     OptimalRequests next = OptimizeRequests(target, context_.models[joint], requests, options);
     requests = std::move(next.requests_deg);

@@ -25,6 +25,14 @@ constexpr double kLastSmoothingTheta0 = 1e-3;
 // A smoothed stage only warms up the next one: it stops once a step gains less than this.
 constexpr double kSmoothedStageToleranceDeg = 1e-6;
 
+// What the sensitivity S = d M_ss / d R is made of (see PeriodicModel::Sensitivity): S is the
+// cyclic solution of S(t) = alpha_t S(t-1) + u_t, u_t = sum_i slopes(t, i - l - 1) e_{t-i}.
+struct SensitivityFactors {
+  Eigen::VectorXd alphas;  // alpha_t
+  Eigen::MatrixXd slopes;  // f'(x_ti) / a, row t, column i - l - 1
+  double product = 1.0;    // alpha_0 ... alpha_{T-1}
+};
+
 // Eq. 3 run round a request cycle with f of eq. 2 (smoothing 0) or, for smoothing s > 0, the
 // surrogate f_s(x) = (k/2) (sqrt((x + theta_0)^2 + s^2) - sqrt((x - theta_0)^2 + s^2)),
 // k = v_max / theta_0: f itself at s = 0, odd, bounded by v_max, but increasing everywhere, so
@@ -78,13 +86,32 @@ class PeriodicModel {
     const int a = params_.accel_ticks;
     double angle = start_deg;
     double gain = 1.0;
+    // f exact with open kinks (every steady state): Response and ResponseSlope in one test,
+    // the same sums term by term (a saturated term adds 0 to the slope, which leaves it).
+    const bool exact_open = smoothing_ == 0.0 && !closed_kinks_;
+    const double th = params_.theta0_deg;
+    const double v_max = params_.v_max_deg_per_tick;
     for (int t = 0; t < period(); ++t) {
       double velocity = 0.0;
       double slope = 0.0;
-      for (int i = l + 1; i <= l + a; ++i) {
-        const double x = RequestBefore(t, i) - angle;
-        velocity += Response(x);
-        slope += ResponseSlope(x);
+      if (exact_open) {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = RequestBefore(t, i) - angle;
+          if (x >= th) {
+            velocity += v_max;
+          } else if (x <= -th) {
+            velocity += -v_max;
+          } else {
+            velocity += x * gain_;
+            if (x > -th && x < th) slope += gain_;  // false only for NaN
+          }
+        }
+      } else {
+        for (int i = l + 1; i <= l + a; ++i) {
+          const double x = RequestBefore(t, i) - angle;
+          velocity += Response(x);
+          slope += ResponseSlope(x);
+        }
       }
       gain *= 1.0 - slope / a;
       angle += velocity / a;
@@ -182,7 +209,8 @@ class PeriodicModel {
   // with v = S0^T W d.
   void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
                    const std::vector<char>* saturated = nullptr, Eigen::MatrixXd* normal = nullptr,
-                   std::span<const double> row_weights = {}) const {
+                   std::span<const double> row_weights = {},
+                   SensitivityFactors* factors = nullptr) const {
     const int l = params_.lag_ticks;
     const int a = params_.accel_ticks;
     const int n = period();
@@ -255,6 +283,11 @@ class PeriodicModel {
       g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
     }
     s.noalias() += decay * periodic_start;
+    if (factors != nullptr) {
+      factors->alphas = alphas;
+      factors->slopes = slopes;
+      factors->product = product;
+    }
   }
 
  private:
@@ -265,6 +298,127 @@ class PeriodicModel {
   std::span<const double> requests_;
   double smoothing_;
   bool closed_kinks_;
+};
+
+// The damped Gauss-Newton step of MinimiseStage without its T x T normal matrix:
+//   (S_F^T W S_F + c I) x = -S_F^T W e,
+// S_F the columns F (the free requests) of the sensitivity S, W = diag(w) > 0, e = M_ss - D.
+// S is the cyclic solution of S(t) = alpha_t S(t-1) + u_t, that is B S = U with B the cyclic
+// bidiagonal (B y)_t = y_t - alpha_t y_{t-1} (invertible when alpha_0 ... alpha_{T-1} != 1)
+// and U's row t holding u_t. x is the minimiser of (1/2)|W^1/2 (S_F x + e)|^2 + (c/2)|x|^2;
+// with y = S_F x, i.e. B y = U_F x, and a multiplier lambda for that constraint:
+//   W (y + e) + B^T lambda = 0,   c x = U_F^T lambda,   B y = U_F x.
+// Eliminating y = -e - W^-1 B^T lambda and x = U_F^T lambda / c, with mu = lambda / c:
+//   (c B W^-1 B^T + U_F U_F^T) mu = -B e,   x = U_F^T mu.
+// B W^-1 B^T is cyclic tridiagonal and U_F U_F^T cyclic banded (request j's column of U has
+// its a non-zeros in rows j + l + 1 .. j + l + a): the matrix's envelope (each row from its
+// first non-zero to the diagonal) holds the band and, from the cyclic corners, the last rows
+// whole, and a Cholesky factor stays inside the envelope. That is O(T a^2 + a T^2) work
+// instead of the dense matrix's O(T^2 a) and its factorisation's O(T^3).
+class BandedStepSolver {
+ public:
+  // False (x then undefined) where it does not apply: a weight not positive, B (nearly) singular,
+  // or the matrix not numerically positive definite; the caller then solves densely.
+  bool Solve(const JointModelParams& params, const SensitivityFactors& f,
+             std::span<const double> weights, std::span<const double> error,
+             std::span<const int> free, double c, Eigen::VectorXd& x) {
+    const auto n = static_cast<int>(error.size());
+    const int l = params.lag_ticks;
+    const int a = params.accel_ticks;
+    if (n < 3 || !(c > 0.0) || !(1.0 - f.product >= 1e-9)) return false;
+    for (double w : weights) {
+      if (!(w > 0.0)) return false;
+    }
+    auto inverse_weight = [&](int t) { return weights.empty() ? 1.0 : 1.0 / weights[t]; };
+    // Every write below stays inside the envelope: zeroing the last call's envelope zeroes
+    // the lower triangle (the whole matrix only when the size changes).
+    if (m_.rows() != n) {
+      m_.setZero(n, n);
+    } else {
+      for (int i = 0; i < n; ++i) {
+        std::fill(&m_(i, first_[i]), &m_(i, i) + 1, 0.0);
+      }
+    }
+    first_.resize(n);
+    for (int t = 0; t < n; ++t) first_[t] = t;
+    auto add = [&](int r1, int r2, double value) {  // into the lower triangle
+      const int row = std::max(r1, r2);
+      const int column = std::min(r1, r2);
+      m_(row, column) += value;
+      first_[row] = std::min(first_[row], column);
+    };
+    // c B W^-1 B^T: (t, t) c (1/w_t + alpha_t^2 / w_{t-1}); (t, t-1) -c alpha_t / w_{t-1}.
+    for (int t = 0; t < n; ++t) {
+      const int before = t == 0 ? n - 1 : t - 1;
+      const double alpha = f.alphas[t];
+      add(t, t, c * (inverse_weight(t) + alpha * alpha * inverse_weight(before)));
+      add(t, before, -c * alpha * inverse_weight(before));
+    }
+    // U_F U_F^T, column by column: request j enters row t = j + i + l + 1 (mod T) with
+    // slopes(t, i).
+    rows_.resize(a);
+    values_.resize(a);
+    for (const int j : free) {
+      for (int i = 0; i < a; ++i) {
+        rows_[i] = (j + i + l + 1) % n;
+        values_[i] = f.slopes(rows_[i], i);
+      }
+      // Each unordered pair once (add puts it in the lower triangle), twice where two terms
+      // fall in the same row (a > T: the ordered pairs (i, k) and (k, i) both count there).
+      for (int i = 0; i < a; ++i) {
+        if (values_[i] == 0.0) continue;
+        for (int k = 0; k <= i; ++k) {
+          if (values_[k] == 0.0) continue;
+          const double product = values_[i] * values_[k];
+          add(rows_[i], rows_[k], k != i && rows_[k] == rows_[i] ? 2.0 * product : product);
+        }
+      }
+    }
+    // Envelope Cholesky, in place (row-major: each row's envelope is contiguous).
+    for (int i = 0; i < n; ++i) {
+      for (int j = first_[i]; j < i; ++j) {
+        double sum = m_(i, j);
+        for (int k = std::max(first_[i], first_[j]); k < j; ++k) sum -= m_(i, k) * m_(j, k);
+        m_(i, j) = sum / m_(j, j);
+      }
+      double sum = m_(i, i);
+      for (int k = first_[i]; k < i; ++k) sum -= m_(i, k) * m_(i, k);
+      if (!(sum > 0.0)) return false;
+      m_(i, i) = std::sqrt(sum);
+    }
+    // mu = -(L L^T)^-1 B e.
+    mu_.resize(n);
+    for (int t = 0; t < n; ++t) {
+      mu_[t] = -(error[t] - f.alphas[t] * error[t == 0 ? n - 1 : t - 1]);
+    }
+    for (int i = 0; i < n; ++i) {
+      double sum = mu_[i];
+      for (int k = first_[i]; k < i; ++k) sum -= m_(i, k) * mu_[k];
+      mu_[i] = sum / m_(i, i);
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      mu_[i] /= m_(i, i);
+      for (int k = first_[i]; k < i; ++k) mu_[k] -= m_(i, k) * mu_[i];
+    }
+    // x = U_F^T mu.
+    x.resize(static_cast<Eigen::Index>(free.size()));
+    for (std::size_t q = 0; q < free.size(); ++q) {
+      double sum = 0.0;
+      for (int i = 0; i < a; ++i) {
+        const int t = (free[q] + i + l + 1) % n;
+        sum += f.slopes(t, i) * mu_[t];
+      }
+      x[static_cast<Eigen::Index>(q)] = sum;
+    }
+    return x.allFinite();
+  }
+
+ private:
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m_;
+  std::vector<int> first_;
+  std::vector<int> rows_;
+  std::vector<double> values_;
+  Eigen::VectorXd mu_;
 };
 
 void RequireFinite(std::span<const double> values, const char* what) {
@@ -398,6 +552,11 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   std::vector<int> free;
   free.reserve(n);
   std::vector<char> saturated_at_kink(static_cast<std::size_t>(n) * a, 0);
+  // options.structured_solve: each step from BandedStepSolver, no T x T normal matrix.
+  SensitivityFactors factors;
+  BandedStepSolver banded;
+  Eigen::VectorXd error(n);  // M_ss - D
+  bool banded_now = false;
 
   while (used < budget) {
     const PeriodicModel model(params, it.requests, stage.smoothing, /*closed_kinks=*/exact);
@@ -409,19 +568,42 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
     int m = 0;
     double scale = 0.0;
     std::fill(saturated_at_kink.begin(), saturated_at_kink.end(), 0);
+    // The dense normal matrix of the free requests (when the banded solve is not used).
+    auto form_normal = [&] {
+      normal.resize(m, m);
+      for (int k = 0; k < m; ++k) {
+        for (int q = 0; q < m; ++q) normal(q, k) = gauss_newton(free[q], free[k]);
+      }
+    };
     auto solve = [&] {
-      damped = normal;
-      damped.diagonal().array() += damping * scale;
-      factor.compute(damped);
-      step.resize(m);
-      step = -factor.solve(g_free);
+      if (banded_now &&
+          !banded.Solve(params, factors, weights, std::span<const double>(error.data(), n), free,
+                        damping * scale, step)) {
+        // Not applicable here: the dense normal matrix after all (the same S, bit for bit).
+        banded_now = false;
+        model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
+                          weights);
+        form_normal();
+      }
+      if (!banded_now) {
+        damped = normal;
+        damped.diagonal().array() += damping * scale;
+        factor.compute(damped);
+        step.resize(m);
+        step = -factor.solve(g_free);
+      }
       full_step.setZero();
       for (int k = 0; k < m; ++k) full_step[free[k]] = step[k];
       angle_step.noalias() = jacobian * full_step;
     };
     for (int pass = 0; pass < 2; ++pass) {
-      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
-                        weights);
+      banded_now = options.structured_solve;
+      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr,
+                        banded_now ? nullptr : &gauss_newton, weights,
+                        banded_now ? &factors : nullptr);
+      if (banded_now) {
+        for (int t = 0; t < n; ++t) error[t] = it.angles[t] - desired[t];
+      }
       // The weighted residual W (M - D): the gradient of the cost's half is S^T W (M - D).
       for (int t = 0; t < n; ++t) {
         residual[t] = (weights.empty() ? 1.0 : weights[t]) * (it.angles[t] - desired[t]);
@@ -444,12 +626,23 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       m = static_cast<int>(free.size());
       if (m == 0) break;
       g_free.resize(m);
-      normal.resize(m, m);
-      for (int k = 0; k < m; ++k) {
-        g_free[k] = gradient[free[k]];
-        for (int q = 0; q < m; ++q) normal(q, k) = gauss_newton(free[q], free[k]);
+      for (int k = 0; k < m; ++k) g_free[k] = gradient[free[k]];
+      if (banded_now) {
+        // The normal matrix's diagonal, sum_t w_t S(t, j)^2, from S's columns.
+        double largest = 0.0;
+        for (int k = 0; k < m; ++k) {
+          double sum = 0.0;
+          for (int t = 0; t < n; ++t) {
+            const double v = jacobian(t, free[k]);
+            sum += (weights.empty() ? 1.0 : weights[t]) * v * v;
+          }
+          largest = std::max(largest, sum);
+        }
+        scale = std::max(largest, 1e-12);
+      } else {
+        form_normal();
+        scale = std::max(normal.diagonal().maxCoeff(), 1e-12);
       }
-      scale = std::max(normal.diagonal().maxCoeff(), 1e-12);
       solve();
       if (!exact) break;
       // Terms on a kink that this step carries outward, into saturation: re-linearise them
@@ -501,7 +694,15 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
     bool improved = false;
     for (bool first = true;; first = false) {
       if (!first) solve();
-      const double predicted = -g_free.dot(step) - 0.5 * step.dot(normal * step);
+      double curvature = 0.0;  // step^T S_F^T W S_F step
+      if (banded_now) {
+        for (int t = 0; t < n; ++t) {
+          curvature += (weights.empty() ? 1.0 : weights[t]) * angle_step[t] * angle_step[t];
+        }
+      } else {
+        curvature = step.dot(normal * step);
+      }
+      const double predicted = -g_free.dot(step) - 0.5 * curvature;
       if (!(rms_gain(it.cost, it.cost - 2.0 * predicted) >= stage.tolerance_deg)) break;
       std::vector<double> trial = it.requests;
       for (int s = 0; s < n; ++s) {
@@ -668,6 +869,37 @@ Eigen::MatrixXd SensitivityAtSteadyState(const JointModelParams& params,
 Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
                                        std::span<const double> requests_deg) {
   return SensitivityAtSteadyState(params, requests_deg, nullptr);
+}
+
+Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
+                                     std::span<const double> requests_deg,
+                                     std::span<const double> desired_deg,
+                                     std::span<const double> weights, std::span<const int> free,
+                                     double damping) {
+  ValidateJointModelParams(params);
+  if (requests_deg.empty() || desired_deg.size() != requests_deg.size() ||
+      (!weights.empty() && weights.size() != requests_deg.size())) {
+    throw std::invalid_argument("optimal requests: sizes of the step's inputs differ");
+  }
+  RequireFinite(requests_deg, "requests_deg");
+  RequireFinite(desired_deg, "desired_deg");
+  for (const int j : free) {
+    if (j < 0 || j >= static_cast<int>(requests_deg.size())) {
+      throw std::invalid_argument("optimal requests: free request " + std::to_string(j) +
+                                  " is not in the cycle");
+    }
+  }
+  const PeriodicModel model(params, requests_deg, 0.0, false);
+  const std::vector<double> angles = model.SteadyState();
+  Eigen::MatrixXd sensitivity;
+  SensitivityFactors factors;
+  model.Sensitivity(angles, sensitivity, nullptr, nullptr, {}, &factors);
+  std::vector<double> error(angles.size());
+  for (std::size_t t = 0; t < angles.size(); ++t) error[t] = angles[t] - desired_deg[t];
+  Eigen::VectorXd step;
+  BandedStepSolver banded;
+  if (!banded.Solve(params, factors, weights, error, free, damping, step)) return {};
+  return step;
 }
 
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,

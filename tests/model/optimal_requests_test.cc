@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <random>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -203,6 +206,115 @@ TEST(SteadyStateNormalMatrix, WeightedIsTheProductWithTheWeightsBetween) {
                std::invalid_argument);
 }
 
+// --- The structured step -------------------------------------------------------------------
+
+// The damped Gauss-Newton step written out densely: x = -(S_F^T W S_F + c I)^-1 S_F^T W e,
+// S_F the columns `free` of SteadyStateSensitivity, e = M_ss - D.
+Eigen::VectorXd DenseDampedStep(const JointModelParams& p, std::span<const double> requests,
+                                std::span<const double> desired, std::span<const double> weights,
+                                std::span<const int> free, double damping) {
+  const auto n = static_cast<Eigen::Index>(requests.size());
+  const auto m = static_cast<Eigen::Index>(free.size());
+  const Eigen::MatrixXd s = SteadyStateSensitivity(p, requests);
+  Eigen::MatrixXd s_free(n, m);
+  for (Eigen::Index k = 0; k < m; ++k) s_free.col(k) = s.col(free[k]);
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(n);
+  if (!weights.empty()) w = Eigen::Map<const Eigen::VectorXd>(weights.data(), n);
+  const std::vector<double> m_ss = SteadyState(p, requests);
+  Eigen::VectorXd e(n);
+  for (Eigen::Index t = 0; t < n; ++t) e[t] = m_ss[t] - desired[t];
+  Eigen::MatrixXd h = s_free.transpose() * w.asDiagonal() * s_free;
+  h.diagonal().array() += damping;
+  return -h.fullPivLu().solve(s_free.transpose() * w.asDiagonal() * e);
+}
+
+// Structured against dense on one case: every request free, then every third held; damping
+// from 1e-6 to 10 times the normal matrix's largest diagonal entry; equal weights and unequal.
+void ExpectStructuredStepIsDense(const JointModelParams& p, const std::vector<double>& requests,
+                                 const std::vector<double>& desired) {
+  const auto n = static_cast<int>(requests.size());
+  std::vector<double> unequal(n);
+  for (int t = 0; t < n; ++t) unequal[t] = 0.2 + 0.37 * (t % 5) + 0.05 * (t % 3);
+  const Eigen::MatrixXd s = SteadyStateSensitivity(p, requests);
+  const double scale = std::max((s.transpose() * s).diagonal().maxCoeff(), 1e-12);
+  for (const std::vector<double>& weights : {std::vector<double>{}, unequal}) {
+    for (int held_every : {0, 3}) {
+      std::vector<int> free;
+      for (int j = 0; j < n; ++j) {
+        if (held_every == 0 || j % held_every != 1) free.push_back(j);
+      }
+      for (double damping : {1e-6, 1e-3, 1.0, 10.0}) {
+        const Eigen::VectorXd dense =
+            DenseDampedStep(p, requests, desired, weights, free, damping * scale);
+        const Eigen::VectorXd banded =
+            StructuredDampedStep(p, requests, desired, weights, free, damping * scale);
+        ASSERT_EQ(banded.size(), dense.size())
+            << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks;
+        // The dense solve's own rounding grows with the condition number, up to 1 / damping.
+        EXPECT_LT((banded - dense).norm(), 1e-11 / damping * (1.0 + dense.norm()))
+            << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks << " damping " << damping
+            << " weights " << (weights.empty() ? "equal" : "unequal") << " held every "
+            << held_every;
+      }
+    }
+  }
+}
+
+TEST(StructuredDampedStep, IsTheDenseStepOnTheSensitivityCases) {
+  // The sensitivity's cases (slow, square wave with most terms saturated, the walking cycle,
+  // a short irregular cycle), a cycle shorter than l + a, and v_max > theta_0 (negative alpha).
+  std::vector<SensitivityCase> cases = SensitivityCases();
+  cases.push_back({kPaper, {3.0, -4.0, 8.0, 1.0}});
+  cases.push_back({{9.0, 5.0, 1, 2}, {0.0, 3.0, 4.0, 2.0, -1.0, -2.5, -1.0, 0.5}});
+  for (const SensitivityCase& c : cases) {
+    const auto n = static_cast<int>(c.requests.size());
+    std::vector<double> desired(n);
+    for (int t = 0; t < n; ++t) desired[t] = c.requests[(t + 2) % n] + 0.5 * std::cos(t);
+    ExpectStructuredStepIsDense(c.params, c.requests, desired);
+  }
+}
+
+TEST(StructuredDampedStep, IsTheDenseStepOnRandomCycles) {
+  // 40 random models and cycles: T 5-90, l 0-5, a 1-8, v_max up to 1.2 theta_0, requests up
+  // to 4 theta_0 apart (some terms saturated, some not).
+  std::mt19937 rng(20261123);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 5 + static_cast<int>(unit(rng) * 86.0);
+    JointModelParams p;
+    p.theta0_deg = 2.0 + 8.0 * unit(rng);
+    p.v_max_deg_per_tick = p.theta0_deg * (0.1 + 1.1 * unit(rng));
+    p.lag_ticks = static_cast<int>(unit(rng) * 6.0);
+    p.accel_ticks = 1 + static_cast<int>(unit(rng) * 8.0);
+    std::vector<double> requests(n), desired(n);
+    for (int t = 0; t < n; ++t) {
+      requests[t] = 2.0 * p.theta0_deg * (2.0 * unit(rng) - 1.0) +
+                    20.0 * std::sin(2.0 * std::numbers::pi * t / n);
+      desired[t] = requests[t] + 3.0 * (2.0 * unit(rng) - 1.0);
+    }
+    ExpectStructuredStepIsDense(p, requests, desired);
+  }
+}
+
+TEST(StructuredDampedStep, DoesNotApplyToAZeroWeightOrACycleSaturatedThroughout) {
+  const SensitivityCase c = SensitivityCases()[0];
+  const std::vector<int> all = [&] {
+    std::vector<int> v(c.requests.size());
+    std::iota(v.begin(), v.end(), 0);
+    return v;
+  }();
+  std::vector<double> weights(c.requests.size(), 1.0);
+  weights[3] = 0.0;
+  EXPECT_EQ(StructuredDampedStep(kPaper, c.requests, c.requests, weights, all, 1.0).size(), 0);
+  // Bang-bang requests: every term saturated, alpha = 1 all round (B singular).
+  const std::vector<double> bang = {60.0, 60.0, -60.0, -60.0, 60.0, -60.0};
+  const std::vector<int> six = {0, 1, 2, 3, 4, 5};
+  EXPECT_EQ(StructuredDampedStep(kPaper, bang, bang, {}, six, 1.0).size(), 0);
+  const std::vector<int> outside = {0, 40};
+  EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, {}, outside, 1.0),
+               std::invalid_argument);
+}
+
 // --- Brute force on small cycles -----------------------------------------------------------
 
 // The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
@@ -294,6 +406,14 @@ TEST(OptimizeRequests, ReachesTheBruteForceOptimumOnSmallCycles) {
         << "T " << c.desired.size() << " l " << c.params.lag_ticks << " a " << c.params.accel_ticks
         << ": grid " << grid_best;
     EXPECT_NEAR(opt.rms_error_deg, RmsError(c.params, opt.requests_deg, c.desired), 1e-9);
+    // The structured (banded) solve of each step reaches it too.
+    OptimalRequestsOptions structured;
+    structured.structured_solve = true;
+    const OptimalRequests banded = OptimizeRequests(c.desired, c.params, c.desired, structured);
+    EXPECT_LT(banded.rms_error_deg, grid_best + 2e-6)
+        << "structured, T " << c.desired.size() << " l " << c.params.lag_ticks << " a "
+        << c.params.accel_ticks << ": grid " << grid_best;
+    EXPECT_NEAR(banded.rms_error_deg, RmsError(c.params, banded.requests_deg, c.desired), 1e-9);
   }
 }
 
@@ -325,6 +445,12 @@ TEST(OptimizeRequests, ReachesTheWeightedBruteForceOptimum) {
         << ": grid " << grid_best;
     EXPECT_NEAR(opt.rms_error_deg,
                 WeightedRmsError(c.params, opt.requests_deg, c.desired, c.weights), 1e-9);
+    // The structured solve (dense where a weight is 0) reaches it too.
+    options.structured_solve = true;
+    const OptimalRequests banded = OptimizeRequests(c.desired, c.params, c.desired, options);
+    EXPECT_LT(banded.rms_error_deg, grid_best + 2e-6)
+        << "structured, T " << c.desired.size() << " l " << c.params.lag_ticks << " a "
+        << c.params.accel_ticks << ": grid " << grid_best;
   }
 }
 

@@ -29,6 +29,12 @@ struct OptimalRequestsOptions {
   /// OptimalRequests::rms_error_deg) is sqrt of that over T. Used by ILC's foot-space
   /// objective, where w_t is how much the joint moves the foot at tick t.
   std::vector<double> weights;
+  /// Solve each damped Gauss-Newton step from the sensitivity's structure (a cyclic banded
+  /// system, O(T a^2 + a T^2)) instead of the dense T x T normal matrix and its factorisation
+  /// (O(T^2 a + T^3)); the same step up to rounding, so the iterates may differ in the last
+  /// digits. Falls back to the dense solve where it does not apply (a weight of 0, every term
+  /// of the cycle saturated). Off by default; ILC's per-step updates use it.
+  bool structured_solve = false;
 };
 
 /// The optimised request cycle and what the model does under it.
@@ -110,5 +116,18 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
 Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
                                         std::span<const double> requests_deg,
                                         std::span<const double> row_weights = {});
+
+/// The damped Gauss-Newton step of OptimizeRequests with structured_solve (exposed for tests):
+/// x (size |free|) minimising sum_t w_t (M_ss(t) - D(t) + (S_F x)(t))^2 + damping |x|^2, with
+/// M_ss the model's cyclic steady state under `requests_deg`, S_F the columns `free` of
+/// SteadyStateSensitivity there and w_t = `weights` (empty: 1), solved from the sensitivity's
+/// cyclic banded structure without forming S^T W S. Empty where that solve does not apply (a
+/// weight not positive, every term of the cycle saturated). Throws std::invalid_argument on
+/// bad parameters, sizes that differ, non-finite input or a free index outside the cycle.
+Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
+                                     std::span<const double> requests_deg,
+                                     std::span<const double> desired_deg,
+                                     std::span<const double> weights, std::span<const int> free,
+                                     double damping);
 
 }  // namespace leglab
