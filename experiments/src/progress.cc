@@ -63,8 +63,15 @@ void FinishProgress() {
 }
 
 ProgressDisplay::ProgressDisplay(std::string program, ProgressStyle style, long long planned_ticks)
-    : program_(std::move(program)), style_(style), planned_ticks_(std::max(1LL, planned_ticks)) {
-  if (style_ != ProgressStyle::kOff) thread_ = std::thread([this] { Loop(); });
+    : program_(std::move(program)),
+      style_(style),
+      planned_ticks_(std::max(1LL, planned_ticks)),
+      start_(Clock::now()) {
+  if (style_ == ProgressStyle::kOff) return;
+  // The first line before any work, on this thread: a run shorter than the redraw period still
+  // says what it plans, and the first line is always the 0 % one, however loaded the machine.
+  Draw();
+  thread_ = std::thread([this] { Loop(); });
 }
 
 ProgressDisplay::~ProgressDisplay() {
@@ -79,38 +86,39 @@ ProgressDisplay::~ProgressDisplay() {
 }
 
 void ProgressDisplay::Loop() {
-  const Clock::time_point start = Clock::now();
   const auto period = style_ == ProgressStyle::kBar ? std::chrono::milliseconds(250)
                                                     : std::chrono::milliseconds(2000);
   std::unique_lock<std::mutex> wait_lock(mutex_);
-  for (;;) {
-    {
-      const std::lock_guard<std::mutex> lock(State().mutex);
-      if (State().finished) return;
-      const long long done = std::min(State().ticks.load(), planned_ticks_);
-      const double share = static_cast<double>(done) / static_cast<double>(planned_ticks_);
-      const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-      const std::string left = done > 0 && elapsed > 1.0
-                                   ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
-                                   : "estimating the time left";
-      char line[256];
-      if (style_ == ProgressStyle::kBar) {
-        constexpr int kWidth = 30;
-        const int filled = static_cast<int>(share * kWidth);
-        const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, '.');
-        std::snprintf(line, sizeof line, "\r\033[K%s [%s] %3.0f%% %s, %s", program_.c_str(),
-                      bar.c_str(), 100.0 * share, left.c_str(), State().phase.c_str());
-        State().bar_drawn = true;
-      } else {
-        std::snprintf(line, sizeof line, "%s: %.0f%% of %lld ticks after %s, %s (%s)\n",
-                      program_.c_str(), 100.0 * share, planned_ticks_, Duration(elapsed).c_str(),
-                      left.c_str(), State().phase.c_str());
-      }
-      std::fputs(line, stderr);
-      std::fflush(stderr);
-    }
-    if (wake_.wait_for(wait_lock, period, [this] { return stop_; })) return;
+  while (!wake_.wait_for(wait_lock, period, [this] { return stop_; })) {
+    if (!Draw()) return;
   }
+}
+
+bool ProgressDisplay::Draw() {
+  const std::lock_guard<std::mutex> lock(State().mutex);
+  if (State().finished) return false;
+  const long long done = std::min(State().ticks.load(), planned_ticks_);
+  const double share = static_cast<double>(done) / static_cast<double>(planned_ticks_);
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+  const std::string left = done > 0 && elapsed > 1.0
+                               ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
+                               : "estimating the time left";
+  char line[256];
+  if (style_ == ProgressStyle::kBar) {
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(share * kWidth);
+    const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, '.');
+    std::snprintf(line, sizeof line, "\r\033[K%s [%s] %3.0f%% %s, %s", program_.c_str(),
+                  bar.c_str(), 100.0 * share, left.c_str(), State().phase.c_str());
+    State().bar_drawn = true;
+  } else {
+    std::snprintf(line, sizeof line, "%s: %.0f%% of %lld ticks after %s, %s (%s)\n",
+                  program_.c_str(), 100.0 * share, planned_ticks_, Duration(elapsed).c_str(),
+                  left.c_str(), State().phase.c_str());
+  }
+  std::fputs(line, stderr);
+  std::fflush(stderr);
+  return true;
 }
 
 }  // namespace leglab::experiments

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <mutex>
 #include <string>
@@ -39,10 +40,13 @@ class ProgressDisplay {
 
  private:
   void Loop();
+  // Draws one line (or redraws the bar); false once the run has finished.
+  bool Draw();
 
   std::string program_;
   ProgressStyle style_;
   long long planned_ticks_;
+  std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
