@@ -1,6 +1,7 @@
 #include "leglab/controller/optimal_controller.h"
 
 #include <Eigen/Core>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -99,8 +100,10 @@ DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double jo
     return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight);
   };
   if (context.offline_cycles == nullptr) return compute();
-  const std::string name = "optimal-foot " + std::to_string(joint_weight);
-  return context.offline_cycles->GetOrCompute(name.c_str(), context, compute);
+  // The weight's exact value (to_string's six decimals would give 1e-7 and 0 one entry).
+  char name[64];
+  std::snprintf(name, sizeof name, "optimal-foot %.17g", joint_weight);
+  return context.offline_cycles->GetOrCompute(name, context, compute);
 }
 
 OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {

@@ -883,6 +883,10 @@ Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
   }
   RequireFinite(requests_deg, "requests_deg");
   RequireFinite(desired_deg, "desired_deg");
+  RequireFinite(weights, "weights");
+  if (!(damping > 0.0 && std::isfinite(damping))) {
+    throw std::invalid_argument("optimal requests: the step's damping must be positive and finite");
+  }
   for (const int j : free) {
     if (j < 0 || j >= static_cast<int>(requests_deg.size())) {
       throw std::invalid_argument("optimal requests: free request " + std::to_string(j) +

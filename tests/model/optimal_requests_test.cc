@@ -313,6 +313,18 @@ TEST(StructuredDampedStep, DoesNotApplyToAZeroWeightOrACycleSaturatedThroughout)
   const std::vector<int> outside = {0, 40};
   EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, {}, outside, 1.0),
                std::invalid_argument);
+  // Non-finite weights and a damping that is not positive are refused, not an empty step.
+  weights[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, weights, all, 1.0),
+               std::invalid_argument);
+  weights[3] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, weights, all, 1.0),
+               std::invalid_argument);
+  for (const double damping : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, {}, all, damping),
+                 std::invalid_argument)
+        << damping;
+  }
 }
 
 // --- Brute force on small cycles -----------------------------------------------------------

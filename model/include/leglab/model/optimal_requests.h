@@ -123,7 +123,8 @@ Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
 /// SteadyStateSensitivity there and w_t = `weights` (empty: 1), solved from the sensitivity's
 /// cyclic banded structure without forming S^T W S. Empty where that solve does not apply (a
 /// weight not positive, every term of the cycle saturated). Throws std::invalid_argument on
-/// bad parameters, sizes that differ, non-finite input or a free index outside the cycle.
+/// bad parameters, sizes that differ, non-finite input (weights included), a damping that is not
+/// positive and finite, or a free index outside the cycle.
 Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
                                      std::span<const double> requests_deg,
                                      std::span<const double> desired_deg,
