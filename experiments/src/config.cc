@@ -15,6 +15,7 @@
 
 #include "leglab/experiments/data_dir.h"
 #include "leglab/experiments/output.h"
+#include "leglab/experiments/track.h"
 #include "leglab/model/joint_model_plant.h"
 
 namespace leglab::experiments {
@@ -780,14 +781,21 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   }
   if (tracks) {
     long long runs = 0;
+    bool walk_fit = false;
     for (const ControllerSpec& spec : config.controllers) {
       // A searched mode tries at most one candidate per tick of the step (time_shift's k).
       runs += ModeOf(spec).searchable && config.track.search_shift != ShiftSearch::kNone
                   ? config.track.t_step_ticks + 1
                   : 1;
+      walk_fit = walk_fit || UsesWalkModels(spec);
     }
     total += runs * (static_cast<long long>(config.track.warmup_steps) + config.track.steps) *
              config.track.t_step_ticks;
+    // The walk the walk-fitted models are fitted to, once for all the modes that use them.
+    if (walk_fit) {
+      total +=
+          static_cast<long long>(kWalkFitWarmupSteps + kWalkFitSteps) * config.track.t_step_ticks;
+    }
   }
   if (total > kMaxTotalTicks) {
     Fail("the run would simulate " + std::to_string(total) + " ticks (every mode and searched " +

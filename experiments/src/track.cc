@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cassert>
 #include <span>
+#include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
 #include "leglab/model/floor.h"
 #include "leglab/model/identification.h"
+#include "leglab/model/joint_model.h"
 #include "leglab/model/metrics.h"
 
 namespace leglab::experiments {
@@ -37,12 +40,12 @@ class CyclePlayer final : public JointController {
 std::array<JointModelParams, kLegJoints> FitModelsToWalk(
     const ExperimentConfig& config, TrackResult& r,
     const std::array<std::vector<JointRecording>, kLegJoints>& step_tests) {
-  SetProgressPhase("identification for control: the walk");
   CyclePlayer player(ModelBasedRequestCycle(r.context, CmMethod::kExact));
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
   const TrackingRun walk =
       RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps, kWalkFitSteps);
   r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
+  SetProgressPhase("identification for control: the walk");  // after the run's "walking"
   std::array<JointModelParams, kLegJoints> models = r.context.models;
   ParallelFor(kLegJoints, config.threads, [&](int j) {
     std::vector<JointRecording> recordings = step_tests[j];
@@ -67,9 +70,20 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
       if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
       const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
       ValidateJointModelParams(fitted);
+      // A fit with v_max above theta_0 may make eq. 3 oscillate instead of settling; the modes
+      // that use it need its cyclic steady state, under the requests it was fitted to and
+      // under the desired angles themselves.
+      std::vector<double> desired(r.context.desired.size());
+      for (size_t t = 0; t < desired.size(); ++t) desired[t] = r.context.desired[t][j];
+      std::vector<double> played(r.period);
+      for (int t = 0; t < r.period; ++t) played[t] = recordings.back().request_deg[t];
+      (void)CyclicSteadyState(fitted, desired);
+      (void)CyclicSteadyState(fitted, played);
       models[j] = fitted;
     } catch (const std::invalid_argument&) {
       // Not identifiable from these recordings: the joint keeps the model it has.
+    } catch (const std::runtime_error&) {
+      // The fitted model does not settle (CyclicSteadyState): the joint keeps the model it has.
     }
   });
   return models;
@@ -173,7 +187,9 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
                      StepTestTicks(plant.identify);
     for (int j = 0; j < kLegJoints; ++j) {
       p.joints[j] = identified[j].fit;
-      if (from_step == -config.track.warmup_steps && step_tests[j].empty()) {
+      // Pooled with the walk only when they gave the models (a model given as model.* has no
+      // step tests of its own; an estimating mode's identification is for comparison only).
+      if (!config.model && from_step == -config.track.warmup_steps && step_tests[j].empty()) {
         for (const StepTestRun& run : identified[j].runs) step_tests[j].push_back(run.recording);
       }
     }
@@ -232,7 +248,7 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
       continue;
     }
     ModeSearch search;
-    search.candidates = SearchCandidates(spec, r.context);
+    search.candidates = SearchCandidates(spec, ContextFor(r, spec));
     search.scored_from_one_run =
         config.track.search_shift == ShiftSearch::kShiftedRun && ModeOf(spec).searchable_by_lead &&
         config.plant_changes.empty();  // a plant that changes mid-run is not time-invariant
