@@ -63,6 +63,13 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
   return context;
 }
 
+void ReadModelSource(OptionReader& reader, std::string& source) {
+  reader.Read("model", source);
+  if (source != "step_tests" && source != "walk") {
+    reader.Fail("model", "step_tests or walk, got '" + source + "'");
+  }
+}
+
 LegAngles ClampToLimits(const LegAngles& request_deg,
                         const std::array<JointLimits, kLegJoints>& limits) {
   LegAngles clamped;

@@ -11,10 +11,7 @@ ModelBasedController::Spec ModelBasedController::ReadSpec(OptionReader& reader) 
   reader.Read("cm", cm);
   if (cm != "exact" && cm != "closed") reader.Fail("cm", "closed or exact, got '" + cm + "'");
   std::string model = "step_tests";
-  reader.Read("model", model);
-  if (model != "step_tests" && model != "walk") {
-    reader.Fail("model", "step_tests or walk, got '" + model + "'");
-  }
+  ReadModelSource(reader, model);
   return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact, model};
 }
 

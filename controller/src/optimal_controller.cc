@@ -110,10 +110,7 @@ OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {
   Spec spec;
   reader.Read("objective", spec.objective);
   reader.Read("joint_weight", spec.joint_weight);
-  reader.Read("model", spec.model);
-  if (spec.model != "step_tests" && spec.model != "walk") {
-    reader.Fail("model", "step_tests or walk, got '" + spec.model + "'");
-  }
+  ReadModelSource(reader, spec.model);
   if (spec.objective != "joint" && spec.objective != "foot") {
     reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
   }

@@ -132,6 +132,12 @@ class OptionReader {
   [[noreturn]] virtual void Fail(std::string_view key, const std::string& expectation) = 0;
 };
 
+/// Reads a mode's option `model` into `source` when the config gives it: which models the mode
+/// computes its requests from, "step_tests" (the models identified from the step tests, or
+/// given) or "walk" (fitted to the plant's walk, see ModelFittedToWalk in registry.h); fails
+/// naming the key on any other value.
+void ReadModelSource(OptionReader& reader, std::string& source);
+
 /// desired[tick mod T] (any integer tick).
 inline const LegAngles& CycleAt(const DesiredCycle& cycle, long tick) {
   const auto period = static_cast<long>(cycle.size());
