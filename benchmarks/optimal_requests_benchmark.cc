@@ -140,11 +140,5 @@ void ReportSideBySide(int rounds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int rounds = leglab::benchmarks::TakeRoundsFlag(argc, argv, 5);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  ReportSideBySide(rounds);
-  return 0;
+  return leglab::benchmarks::RunThenReport(argc, argv, 5, ReportSideBySide);
 }

@@ -1,5 +1,7 @@
 #pragma once
-// The side-by-side benchmarks' one own flag, shared by every benchmark program.
+// The side-by-side benchmarks' one own flag, and their main, shared by the benchmark programs.
+
+#include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -21,6 +23,20 @@ inline int TakeRoundsFlag(int& argc, char** argv, int fallback) {
   }
   argc = kept;
   return rounds;
+}
+
+/// A side-by-side benchmark's main: takes --rounds (default `fallback`), runs the registered
+/// Google Benchmark cases the other flags select, then `report(rounds)` (the interleaved rounds,
+/// printed as ratios). Returns main's status: 1 on an argument neither knows.
+template <typename Report>
+int RunThenReport(int argc, char** argv, int fallback, Report report) {
+  const int rounds = TakeRoundsFlag(argc, argv, fallback);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  report(rounds);
+  return 0;
 }
 
 }  // namespace leglab::benchmarks

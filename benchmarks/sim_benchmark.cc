@@ -220,14 +220,8 @@ void ReportStandRatio(int rounds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int rounds = leglab::benchmarks::TakeRoundsFlag(argc, argv, 41);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) {
-    return 1;
-  }
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  ReportSideBySideRatio(rounds);
-  ReportStandRatio(rounds);
-  return 0;
+  return leglab::benchmarks::RunThenReport(argc, argv, 41, [](int rounds) {
+    ReportSideBySideRatio(rounds);
+    ReportStandRatio(rounds);
+  });
 }
