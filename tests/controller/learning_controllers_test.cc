@@ -254,6 +254,17 @@ TEST(OptimalController, FootObjectiveBeatsTheJointObjectiveAtTheFootOnTheModelPl
   }
 }
 
+// The contract the EveryMode suite checks for the loader's default spec, for the foot objective
+// (which needs a context with the leg's geometry): the same spec and context give the same bits,
+// and every request is finite and within the limits (RunSteps checks those at every tick).
+TEST(OptimalController, FootObjectiveIsRepeatableFiniteAndWithinTheLimits) {
+  const ControllerContext context = FrontLegContext(FastCycle());
+  OptimalController first(OptimalFootSpec(2.0), context);
+  OptimalController second(OptimalFootSpec(2.0), context);
+  EXPECT_EQ(first.requests(), second.requests());
+  RunSteps(first, context, kPaperModels, 2);
+}
+
 TEST(OptimalController, FootObjectiveNeedsTheLegsGeometryAndValidOptions) {
   EXPECT_THROW(OptimalController(OptimalFootSpec(2.0), testing::PaperContext(FastCycle())),
                std::invalid_argument);
