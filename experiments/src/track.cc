@@ -4,9 +4,11 @@
 #include <cassert>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "leglab/experiments/output.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
 #include "leglab/model/floor.h"
@@ -207,6 +209,21 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   std::array<JointModelParams, kLegJoints> models;
   if (config.model) {
     models.fill(*config.model);
+    // A model the user gives is used as it is; one under which eq. 3 never settles on the walk
+    // (v_max well above theta_0 overshoots every tick) is no model of a joint: the user's error.
+    for (int j = 0; j < kLegJoints; ++j) {
+      std::vector<double> desired(r.period);
+      for (int t = 0; t < r.period; ++t) desired[t] = r.desired.angles_deg[t][j];
+      try {
+        (void)CyclicSteadyState(models[j], desired);
+      } catch (const std::runtime_error&) {
+        throw InputError("model: eq. 3 under this model never settles on the desired walk (" +
+                         std::string(kLegJointNames[j]) + "; v_max " +
+                         FormatDouble(config.model->v_max_deg_per_tick) +
+                         " deg/tick against theta0 " + FormatDouble(config.model->theta0_deg) +
+                         " deg)");
+      }
+    }
   } else {
     for (int j = 0; j < kLegJoints; ++j) models[j] = r.plant_models.front().joints[j].params;
     r.models_identified = true;

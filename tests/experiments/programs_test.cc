@@ -124,6 +124,11 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
       "warmup_steps=0";
   ExpectBadInput(kTrack, good + " --set controller.modes=[direct,pid]", "controller.modes");
   ExpectBadInput(kTrack, good + " --set controller.pwl_segments=200", "controller.pwl_segments");
+  // A model under which eq. 3 overshoots every tick never settles: no joint's, the user's error.
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set 'model={v_max_deg_per_tick: 8, "
+                 "theta0_deg: 2, lag_ticks: 4, accel_ticks: 3}' --set steps=1 --set warmup_steps=0",
+                 "model: eq. 3 under this model never settles");
   ExpectBadInput(kTrack,
                  good + " --set 'plant_changes=[{at_step: 0, set: {servo.max_speed_deg_s: -1}}]'",
                  "plant_changes[0].set.servo.max_speed_deg_s");
