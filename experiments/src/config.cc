@@ -707,6 +707,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     locus.Read("ground_below_shoulder_mm", t.locus.ground_below_shoulder_mm);
     locus.Read("skew", t.locus.shape.skew);
     locus.Read("swing_end_speed_fraction", t.locus.shape.swing_end_speed_fraction);
+    locus.Read("liftoff_ramp_mm", t.locus.shape.liftoff_ramp_mm);
+    locus.Read("liftoff_ramp_ticks", t.locus.shape.liftoff_ramp_ticks);
     locus.Read("body_pitch_deg", t.locus.body_pitch_deg);
     locus.Finish();
     desired.Finish();
@@ -888,6 +890,8 @@ constexpr NumericRange kRanges[] = {
     {"desired.locus.ground_below_shoulder_mm", -1000, 1000, false, false, "mm"},
     {"desired.locus.skew", -1, 1, false, false, ""},
     {"desired.locus.swing_end_speed_fraction", 0, 2, false, false, ""},
+    {"desired.locus.liftoff_ramp_mm", 0, 100, false, false, "mm"},
+    {"desired.locus.liftoff_ramp_ticks", 0, 100, false, false, "ticks"},
     {"desired.locus.body_pitch_deg", -45, 45, false, false, "deg"},
     {"track.t_step_ticks", 4, 1000, false, false, "ticks"},
     {"warmup_steps", 0, 1'000'000, false, false, ""},
