@@ -46,6 +46,13 @@ std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
     if (locus.liftoff_ramp_ticks < 1 || locus.liftoff_ramp_ticks >= period - ground_ticks) {
       return "liftoff_ramp_ticks must be >= 1 with a lift-off ramp, and shorter than the flight";
     }
+    // The line must stay under the arc's top (where the squeezed arc peaks, s = (1 + a) / 2),
+    // so that the arc overtakes it on its way up and z stays continuous.
+    const double a = static_cast<double>(locus.liftoff_ramp_ticks) / (period - ground_ticks);
+    if (locus.liftoff_ramp_mm * (1.0 + a) / (2.0 * a) > locus.height_mm) {
+      return "liftoff_ramp_mm must stay under the arc: liftoff_ramp_mm (1 + a) / (2 a) <= "
+             "height_mm, a = liftoff_ramp_ticks / flight ticks";
+    }
   }
   return {};
 }
@@ -77,7 +84,7 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
         const double a = static_cast<double>(locus.liftoff_ramp_ticks) / (period - ground_ticks);
         const double u = std::clamp((s - a) / (1.0 - a), 0.0, 1.0);
         offset.z() = locus.height_mm * std::sin(std::numbers::pi * u);
-        if (s <= 0.5) offset.z() = std::max(offset.z(), locus.liftoff_ramp_mm * s / a);
+        if (u <= 0.5) offset.z() = std::max(offset.z(), locus.liftoff_ramp_mm * s / a);
       }
       if (locus.swing_end_speed_fraction != 0.0) {
         // s - 3 s^2 + 2 s^3: 0 at both ends, slope 1 at both ends (0 off: the same bits).

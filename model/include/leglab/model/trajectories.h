@@ -42,10 +42,11 @@ struct HalfEllipseLocus {
   /// where the carriage sinks onto the rail's stop as the foot rises): with a height d > 0 the
   /// flight's first `liftoff_ramp_ticks` (m) ticks rise from the ground along a straight line,
   /// d / m mm per tick, instead of the half-ellipse's H pi / n, and the arc is the
-  /// half-ellipse's z squeezed into the rest of the flight; z is the larger of the two:
-  /// z(s) = max(H sin(pi clamp((s - a) / (1 - a), 0, 1)), d s / a) for s <= 1/2 (the arc alone
-  /// after), a = m / n, s in [0, 1] over the n flight ticks. x is unchanged. 0 (the default):
-  /// no ramp, the same bits.
+  /// half-ellipse's z squeezed into the rest of the flight; z is the larger of the two on the
+  /// arc's way up: z(s) = max(H sin(pi u), d s / a) for u <= 1/2, H sin(pi u) after, with u =
+  /// clamp((s - a) / (1 - a), 0, 1), a = m / n, s in [0, 1] over the n flight ticks. The line
+  /// must stay under the arc's top (d (1 + a) / (2 a) <= H), so the arc overtakes it once and z
+  /// is continuous. x is unchanged. 0 (the default): no ramp, the same bits.
   double liftoff_ramp_mm = 0.0;
   /// The ramp's length in ticks (>= 1 with a ramp, shorter than the flight).
   int liftoff_ramp_ticks = 0;
