@@ -707,11 +707,18 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     locus.Read("ground_below_shoulder_mm", t.locus.ground_below_shoulder_mm);
     locus.Read("skew", t.locus.shape.skew);
     locus.Read("swing_end_speed_fraction", t.locus.shape.swing_end_speed_fraction);
+    locus.Read("liftoff_ramp_mm", t.locus.shape.liftoff_ramp_mm);
+    locus.Read("liftoff_ramp_ticks", t.locus.shape.liftoff_ramp_ticks);
     locus.Read("body_pitch_deg", t.locus.body_pitch_deg);
     locus.Finish();
     desired.Finish();
-    if (const std::string problem = HalfEllipseLocusProblem(t.locus.shape); !problem.empty()) {
-      Fail(locus.Name(problem));
+    {
+      // The slow lift-off is checked below, once the walk's step (and so its flight) is known.
+      HalfEllipseLocus shape = t.locus.shape;
+      shape.liftoff_ramp_mm = 0.0;
+      if (const std::string problem = HalfEllipseLocusProblem(shape); !problem.empty()) {
+        Fail(locus.Name(problem));
+      }
     }
     for (const double v :
          {t.locus.forward_mm, t.locus.outward_mm, t.locus.ground_below_shoulder_mm}) {
@@ -743,6 +750,14 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
       t.search_shift = on ? ShiftSearch::kShiftedRun : ShiftSearch::kNone;
     }
     track.Finish();
+    {
+      // The whole locus, the slow lift-off's ticks against the walk's own flight.
+      HalfEllipseLocus shape = t.locus.shape;
+      shape.t_step_ticks = t.t_step_ticks;
+      if (const std::string problem = HalfEllipseLocusProblem(shape); !problem.empty()) {
+        Fail(locus.Name(problem));
+      }
+    }
     // The stand's treadmill moves with the walk's stance unless told otherwise: the locus's
     // flat bottom, length_mm, swept in ground_fraction of the step.
     if (config.sim.stand.enabled && !belt_given) {
@@ -888,6 +903,8 @@ constexpr NumericRange kRanges[] = {
     {"desired.locus.ground_below_shoulder_mm", -1000, 1000, false, false, "mm"},
     {"desired.locus.skew", -1, 1, false, false, ""},
     {"desired.locus.swing_end_speed_fraction", 0, 2, false, false, ""},
+    {"desired.locus.liftoff_ramp_mm", 0, 50, false, false, "mm"},
+    {"desired.locus.liftoff_ramp_ticks", 0, 100, false, false, "ticks"},
     {"desired.locus.body_pitch_deg", -45, 45, false, false, "deg"},
     {"track.t_step_ticks", 4, 1000, false, false, "ticks"},
     {"warmup_steps", 0, 1'000'000, false, false, ""},

@@ -35,6 +35,25 @@ std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
   if (!(locus.swing_end_speed_fraction >= 0.0 && std::isfinite(locus.swing_end_speed_fraction))) {
     return "swing_end_speed_fraction must be finite and >= 0";
   }
+  if (!(locus.liftoff_ramp_mm >= 0.0 && std::isfinite(locus.liftoff_ramp_mm))) {
+    return "liftoff_ramp_mm must be finite and >= 0";
+  }
+  if (locus.liftoff_ramp_ticks < 0) return "liftoff_ramp_ticks must be >= 0";
+  if (locus.liftoff_ramp_mm > 0.0) {
+    const int period = locus.t_step_ticks;
+    const int ground_ticks =
+        std::clamp(static_cast<int>(std::lround(locus.ground_fraction * period)), 1, period - 1);
+    if (locus.liftoff_ramp_ticks < 1 || locus.liftoff_ramp_ticks >= period - ground_ticks) {
+      return "liftoff_ramp_ticks must be >= 1 with a lift-off ramp, and shorter than the flight";
+    }
+    // The line must stay under the arc's top (where the squeezed arc peaks, s = (1 + a) / 2),
+    // so that the arc overtakes it on its way up and z stays continuous.
+    const double a = static_cast<double>(locus.liftoff_ramp_ticks) / (period - ground_ticks);
+    if (locus.liftoff_ramp_mm * (1.0 + a) / (2.0 * a) > locus.height_mm) {
+      return "liftoff_ramp_mm must stay under the arc: liftoff_ramp_mm (1 + a) / (2 a) <= "
+             "height_mm, a = liftoff_ramp_ticks / flight ticks";
+    }
+  }
   return {};
 }
 
@@ -59,6 +78,14 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
       const double angle = std::numbers::pi * (t - ground_ticks) / (period - ground_ticks);
       offset.x() = -half * std::cos(angle);
       offset.z() = locus.height_mm * std::sin(angle);
+      if (locus.liftoff_ramp_mm > 0.0) {
+        // The slow lift-off (0 off: the line above, the same bits).
+        const double s = static_cast<double>(t - ground_ticks) / (period - ground_ticks);
+        const double a = static_cast<double>(locus.liftoff_ramp_ticks) / (period - ground_ticks);
+        const double u = std::clamp((s - a) / (1.0 - a), 0.0, 1.0);
+        offset.z() = locus.height_mm * std::sin(std::numbers::pi * u);
+        if (u <= 0.5) offset.z() = std::max(offset.z(), locus.liftoff_ramp_mm * s / a);
+      }
       if (locus.swing_end_speed_fraction != 0.0) {
         // s - 3 s^2 + 2 s^3: 0 at both ends, slope 1 at both ends (0 off: the same bits).
         const double s = static_cast<double>(t - ground_ticks) / (period - ground_ticks);

@@ -316,6 +316,12 @@ TEST(ConfigRanges, ReadmeRangesAreTheLoaders) {
         overrides.emplace_back(o);
       }
     }
+    if (r.key == "desired.locus.liftoff_ramp_mm") {
+      // A ramp needs its ticks, and its line must stay under the arc's top: 50 mm over 40 of
+      // the 44 flight ticks reaches 50 (1 + a) / (2 a) = 52.5 mm there, under 100.
+      overrides.emplace_back("desired.locus.liftoff_ramp_ticks=40");
+      overrides.emplace_back("desired.locus.height_mm=100");
+    }
     if (r.key.rfind("model.", 0) == 0) {  // model.* needs all four keys
       overrides.emplace_back(
           "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}");

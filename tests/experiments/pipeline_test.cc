@@ -253,8 +253,11 @@ TEST(Pipeline, SkewAndPitchPlaceTheLocusAsWorkedByHand) {
 // the shipped step's speed. Every tick is reachable within the joint limits, at 88 ticks too.
 TEST(Pipeline, TheStandWalkMeetsTheBeltAtItsSpeed) {
   for (const int ticks : {88, 880}) {
+    // The slow lift-off's ramp is counted in ticks: ten times as many on the finer step.
     const ExperimentConfig config = LoadExperimentConfig(
-        kConfigs + "track_stand.yaml", {"track.t_step_ticks=" + std::to_string(ticks)});
+        kConfigs + "track_stand.yaml",
+        {"track.t_step_ticks=" + std::to_string(ticks),
+         "desired.locus.liftoff_ramp_ticks=" + std::to_string(ticks / 88 * 5)});
     EXPECT_EQ(config.track.locus.shape.swing_end_speed_fraction, 1.0);
     const Robot robot = LoadRobot(config.sim.urdf_path);
     const DesiredMotion d = LoadDesiredMotion(config.track, robot.geometry);
@@ -273,9 +276,10 @@ TEST(Pipeline, TheStandWalkMeetsTheBeltAtItsSpeed) {
     EXPECT_NEAR((d.foot_mm[440].x() - d.foot_mm[441].x()) / belt_mm_per_tick, 1.0, bound);
     EXPECT_NEAR((d.foot_mm[879].x() - d.foot_mm[0].x()) / belt_mm_per_tick, 1.0, bound);
     // The plain half-ellipse's speed there is near 0.
-    const ExperimentConfig plain = LoadExperimentConfig(
-        kConfigs + "track_stand.yaml",
-        {"track.t_step_ticks=880", "desired.locus.swing_end_speed_fraction=0"});
+    const ExperimentConfig plain =
+        LoadExperimentConfig(kConfigs + "track_stand.yaml",
+                             {"track.t_step_ticks=880", "desired.locus.swing_end_speed_fraction=0",
+                              "desired.locus.liftoff_ramp_mm=0"});
     const DesiredMotion p = LoadDesiredMotion(plain.track, robot.geometry);
     EXPECT_LT(std::abs(p.foot_mm[440].x() - p.foot_mm[441].x()) / belt_mm_per_tick, 0.01);
   }

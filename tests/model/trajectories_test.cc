@@ -159,6 +159,61 @@ TEST(HalfEllipse, MatchedSwingByHand) {
   EXPECT_THROW(HalfEllipseFootPath(zero), std::invalid_argument);
 }
 
+// The slow lift-off (issue 11's slip on the stand) worked by hand on the 88-tick step (44
+// flight ticks, L 40, H 30): a 4 mm ramp over 4 ticks, a = 4 / 44. Flight tick k (k = 0 at
+// lift-off) lies on the line at k mm while the squeezed arc 30 sin(pi (k - 4) / 40) is lower:
+// k = 5: 2.354 < 5, k = 6: 4.693 < 6; from k = 7 (7.003 > 7) the arc. Its top is at k = 24
+// (30 mm), the last flight tick (k = 43) at 30 sin(39 pi / 40) = 2.354 mm; x,
+// y and the stance are the half-ellipse's, and 0 mm is the half-ellipse bit for bit.
+TEST(HalfEllipse, SlowLiftOffByHand) {
+  HalfEllipseLocus plain;
+  plain.length_mm = 40.0;
+  plain.height_mm = 30.0;
+  plain.centre_mm = {10.0, 70.0, -110.0};
+  HalfEllipseLocus ramp = plain;
+  ramp.liftoff_ramp_mm = 4.0;
+  ramp.liftoff_ramp_ticks = 4;
+  const auto a = HalfEllipseFootPath(plain);
+  const auto b = HalfEllipseFootPath(ramp);
+  for (int t = 0; t <= 44; ++t) EXPECT_EQ(a[t], b[t]) << t;
+  for (int t = 0; t < 88; ++t) {
+    EXPECT_EQ(a[t].x(), b[t].x()) << t;
+    EXPECT_EQ(a[t].y(), b[t].y()) << t;
+  }
+  for (int k = 0; k <= 6; ++k) EXPECT_NEAR(b[44 + k].z() + 110.0, k, 1e-12) << k;
+  for (int k = 7; k < 44; ++k) {
+    EXPECT_NEAR(b[44 + k].z() + 110.0, 30.0 * std::sin(std::numbers::pi * (k - 4) / 40.0), 1e-12)
+        << k;
+  }
+  EXPECT_NEAR(b[44 + 24].z() + 110.0, 30.0, 1e-12);
+  EXPECT_NEAR(b[87].z() + 110.0, 2.354, 1e-3);
+  // Continuous: no flight tick rises or falls by more than the squeezed arc's top speed, 30 pi
+  // / 40 = 2.356 mm per tick (the line's 1 mm per tick is below it).
+  for (int t = 45; t < 88; ++t) {
+    EXPECT_LE(std::abs(b[t].z() - b[t - 1].z()), 30.0 * std::numbers::pi / 40.0 + 1e-12) << t;
+  }
+  HalfEllipseLocus zero = plain;
+  zero.liftoff_ramp_ticks = 4;  // no height: no ramp
+  EXPECT_EQ(HalfEllipseFootPath(zero), a);
+  // Refused: a ramp without ticks, one as long as the flight, a negative or NaN height, and a
+  // line that would overtop the arc: 8 mm over 4 ticks reaches 8 (1 + a) / (2 a) = 48 mm > 30
+  // at the arc's top, while 4.5 mm (27 mm) stays under it.
+  HalfEllipseLocus bad = ramp;
+  bad.liftoff_ramp_ticks = 0;
+  EXPECT_THROW(HalfEllipseFootPath(bad), std::invalid_argument);
+  bad.liftoff_ramp_ticks = 44;
+  EXPECT_THROW(HalfEllipseFootPath(bad), std::invalid_argument);
+  bad = ramp;
+  bad.liftoff_ramp_mm = -1.0;
+  EXPECT_THROW(HalfEllipseFootPath(bad), std::invalid_argument);
+  bad.liftoff_ramp_mm = std::nan("");
+  EXPECT_THROW(HalfEllipseFootPath(bad), std::invalid_argument);
+  bad.liftoff_ramp_mm = 8.0;
+  EXPECT_THROW(HalfEllipseFootPath(bad), std::invalid_argument);
+  bad.liftoff_ramp_mm = 4.5;
+  EXPECT_NO_THROW(HalfEllipseFootPath(bad));
+}
+
 TEST(PitchFootPath, TurnsLevelPointsIntoThePitchedBody) {
   const Eigen::Vector3d pivot(59.5, 59.2, 0.0);
   const std::vector<Eigen::Vector3d> level = {pivot + Eigen::Vector3d(0.0, 0.0, -100.0),

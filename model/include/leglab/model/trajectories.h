@@ -38,6 +38,18 @@ struct HalfEllipseLocus {
   /// position and speed around the whole step, at the price of overshooting the flat bottom by
   /// about 0.048 L at each end (at 0.30 of the arc's height; ground fraction 0.5).
   double swing_end_speed_fraction = 0.0;
+  /// A slow lift-off, for a foot that must hand its load over gently (the single-leg stand,
+  /// where the carriage sinks onto the rail's stop as the foot rises): with a height d > 0 the
+  /// flight's first `liftoff_ramp_ticks` (m) ticks rise from the ground along a straight line,
+  /// d / m mm per tick, instead of the half-ellipse's H pi / n, and the arc is the
+  /// half-ellipse's z squeezed into the rest of the flight; z is the larger of the two on the
+  /// arc's way up: z(s) = max(H sin(pi u), d s / a) for u <= 1/2, H sin(pi u) after, with u =
+  /// clamp((s - a) / (1 - a), 0, 1), a = m / n, s in [0, 1] over the n flight ticks. The line
+  /// must stay under the arc's top (d (1 + a) / (2 a) <= H), so the arc overtakes it once and z
+  /// is continuous. x is unchanged. 0 (the default): no ramp, the same bits.
+  double liftoff_ramp_mm = 0.0;
+  /// The ramp's length in ticks (>= 1 with a ramp, shorter than the flight).
+  int liftoff_ramp_ticks = 0;
 };
 
 /// Empty when the locus is valid; otherwise what is wrong, naming the field
