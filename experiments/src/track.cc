@@ -6,8 +6,10 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
+#include "leglab/controller/optimal_controller.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
@@ -37,31 +39,37 @@ class CyclePlayer final : public JointController {
   DesiredCycle cycle_;
 };
 
-// Each joint's model fitted to the plant's response to the paper's model-based requests
-// (exact C_m) under r.context's models, pooled with `step_tests` (per joint; may be empty).
+// Each joint's model fitted to the plant's response to each of `walks` (request cycles played
+// kWalkFitWarmupSteps steps, then kWalkFitSteps recorded and averaged into one cycle), pooled with
+// `step_tests` (per joint; may be empty). The lag is searched near r.context's models'.
 std::array<JointModelParams, kLegJoints> FitModelsToWalk(
     const ExperimentConfig& config, TrackResult& r,
-    const std::array<std::vector<JointRecording>, kLegJoints>& step_tests) {
-  CyclePlayer player(ModelBasedRequestCycle(r.context, CmMethod::kExact));
-  const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
-  const TrackingRun walk =
-      RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps, kWalkFitSteps);
-  r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
+    const std::array<std::vector<JointRecording>, kLegJoints>& step_tests,
+    const std::vector<DesiredCycle>& walks) {
+  std::vector<TrackingRun> runs;
+  for (const DesiredCycle& requests : walks) {
+    CyclePlayer player(requests);
+    const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
+    runs.push_back(
+        RunTracking(*plant, player, r.context.desired, kWalkFitWarmupSteps, kWalkFitSteps));
+    r.plant_ticks += static_cast<long>(kWalkFitWarmupSteps + kWalkFitSteps) * r.period;
+  }
   SetProgressPhase("identification for control: the walk");  // after the run's "walking"
   std::array<JointModelParams, kLegJoints> models = r.context.models;
   ParallelFor(kLegJoints, config.threads, [&](int j) {
     std::vector<JointRecording> recordings = step_tests[j];
-    JointRecording recording;
-    for (size_t t = 0; t < walk.request_deg.size(); ++t) {
-      recording.request_deg.push_back(walk.request_deg[t][j]);
-      recording.measured_deg.push_back(walk.measured_deg[t][j]);
+    std::vector<JointRecording> walked(runs.size());
+    for (size_t w = 0; w < runs.size(); ++w) {
+      for (size_t t = 0; t < runs[w].request_deg.size(); ++t) {
+        walked[w].request_deg.push_back(runs[w].request_deg[t][j]);
+        walked[w].measured_deg.push_back(runs[w].measured_deg[t][j]);
+      }
     }
     // A walk that hardly moves the joint says nothing about its model (and, without step tests
     // to pool with, cannot be fitted): the joint keeps the one it has.
-    const auto [low, high] =
-        std::minmax_element(recording.request_deg.begin(), recording.request_deg.end());
+    const std::vector<double>& first = walked.front().request_deg;
+    const auto [low, high] = std::minmax_element(first.begin(), first.end());
     if (*high - *low < kWalkFitMinSwingDeg) return;
-    recordings.push_back(std::move(recording));
     try {
       // The same servo: its lag on the walk is searched near the one it has (see
       // kWalkFitLagRadiusTicks), the rest of the search as identify's.
@@ -70,6 +78,12 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
       search.lag_min_ticks = std::max(search.lag_min_ticks, lag - kWalkFitLagRadiusTicks);
       search.lag_max_ticks = std::min(search.lag_max_ticks, lag + kWalkFitLagRadiusTicks);
       if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
+      // Synchronous averaging (kWalkFitPlayedCycles): each walk's recorded steps' mean cycle,
+      // played after the fit's warm-up, weighted by the steps over the cycles played.
+      for (const JointRecording& walk : walked) {
+        recordings.push_back(AverageCycles(
+            walk, r.period, search.lag_max_ticks + search.accel_max_ticks, kWalkFitPlayedCycles));
+      }
       const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
       ValidateJointModelParams(fitted);
       // A fit with v_max above theta_0 may make eq. 3 oscillate instead of settling; the modes
@@ -78,9 +92,11 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
       std::vector<double> desired(r.context.desired.size());
       for (size_t t = 0; t < desired.size(); ++t) desired[t] = r.context.desired[t][j];
       std::vector<double> played(r.period);
-      for (int t = 0; t < r.period; ++t) played[t] = recordings.back().request_deg[t];
       (void)CyclicSteadyState(fitted, desired);
-      (void)CyclicSteadyState(fitted, played);
+      for (const JointRecording& walk : walked) {
+        for (int t = 0; t < r.period; ++t) played[t] = walk.request_deg[t];
+        (void)CyclicSteadyState(fitted, played);
+      }
       models[j] = fitted;
     } catch (const std::invalid_argument&) {
       // Not identifiable from these recordings: the joint keeps the model it has.
@@ -240,9 +256,25 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (std::any_of(config.controllers.begin(), config.controllers.end(),
                   [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
     try {
+      std::vector<DesiredCycle> walks{ModelBasedRequestCycle(r.context, CmMethod::kExact)};
       r.walk_context =
-          MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests),
+          MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests, walks),
                                 r.robot.geometry, config.pwl_segments);
+      // Identification for control, iterated (kWalkFitOptimalRefits): the plant's response to
+      // optimal's own requests under the walk models joins the fit, which is redone.
+      const auto optimal = std::find_if(
+          config.controllers.begin(), config.controllers.end(), [](const ControllerSpec& spec) {
+            return std::holds_alternative<OptimalController::Spec>(spec) && UsesWalkModels(spec);
+          });
+      for (int i = 0; i < kWalkFitOptimalRefits && optimal != config.controllers.end(); ++i) {
+        r.walk_context->warmup_steps = config.track.warmup_steps;
+        const std::unique_ptr<JointController> controller =
+            MakeController(*optimal, *r.walk_context);
+        walks.push_back(dynamic_cast<const OptimalController&>(*controller).requests());
+        r.walk_context = MakeControllerContext(r.desired.angles_deg,
+                                               FitModelsToWalk(config, r, step_tests, walks),
+                                               r.robot.geometry, config.pwl_segments);
+      }
     } catch (const std::invalid_argument& e) {
       throw InputError(e.what());
     }

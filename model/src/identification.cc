@@ -194,12 +194,14 @@ class ContinuousFit {
       const long s = 2 + static_cast<long>(k);
       const NormalEquations q =
           fit_starts_ ? Accumulate<true>(p, k, x[s]) : Accumulate<false>(p, k, 0.0);
-      sum += q.squared_error;
-      jtj(0, 0) += q.vv, jtj(0, 1) += q.vt, jtj(1, 1) += q.tt;
-      jte(0) += q.ve, jte(1) += q.te;
+      // The recording's weight (exactly 1 by default: w * v == v, the same bits).
+      const double w = recordings_[k].recording->weight;
+      sum += w * q.squared_error;
+      jtj(0, 0) += w * q.vv, jtj(0, 1) += w * q.vt, jtj(1, 1) += w * q.tt;
+      jte(0) += w * q.ve, jte(1) += w * q.te;
       if (fit_starts_) {
-        jtj(0, s) = q.vs, jtj(1, s) = q.ts, jtj(s, s) = q.ss;
-        jte(s) = q.se;
+        jtj(0, s) = w * q.vs, jtj(1, s) = w * q.ts, jtj(s, s) = w * q.ss;
+        jte(s) = w * q.se;
       }
     }
     jtj.triangularView<Eigen::StrictlyLower>() = jtj.transpose();
@@ -215,11 +217,12 @@ class ContinuousFit {
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const JointRecording& r = *recordings_[k].recording;
       const double offset = fit_starts_ ? x[2 + k] : 0.0;
+      const double w = r.weight;
       SweepWithSensitivities(p, r.request_deg, recordings_[k].run_end, warmup_,
                              r.measured_deg[warmup_ - 1] + offset,
                              [&](long t, double angle, double, double, double) {
                                const double e = r.measured_deg[t] - angle;
-                               sum += e * e;
+                               sum += w * e * e;  // (w * e) * e: e * e itself when w is 1
                              });
     }
     return sum;
@@ -419,6 +422,45 @@ PredictionSensitivities PredictRecordingSensitivities(const JointModelParams& p,
   return s;
 }
 
+JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
+                             int played_cycles) {
+  if (period_ticks < 1) Fail("the period must be at least one tick");
+  if (warmup_ticks < 0) Fail("the warm-up must not be negative");
+  if (played_cycles < 1) Fail("at least one cycle must be played");
+  if (run.request_deg.size() != run.measured_deg.size()) {
+    Fail("request and measured lengths differ");
+  }
+  const size_t period = static_cast<size_t>(period_ticks);
+  if (run.request_deg.empty() || run.request_deg.size() % period != 0) {
+    Fail("the run is not whole cycles of " + std::to_string(period_ticks) + " ticks");
+  }
+  const size_t cycles = run.request_deg.size() / period;
+  std::vector<double> mean(period, 0.0);
+  for (size_t k = 0; k < cycles; ++k) {
+    for (size_t t = 0; t < period; ++t) {
+      if (run.request_deg[k * period + t] != run.request_deg[t]) {
+        Fail("the requests differ between cycles at tick " + std::to_string(k * period + t));
+      }
+      mean[t] += run.measured_deg[k * period + t];
+    }
+  }
+  for (double& m : mean) m /= static_cast<double>(cycles);
+  JointRecording averaged;
+  const size_t length =
+      static_cast<size_t>(warmup_ticks) + static_cast<size_t>(played_cycles) * period;
+  averaged.request_deg.resize(length);
+  averaged.measured_deg.resize(length);
+  // Tick i plays the cycle's tick (i - warmup) mod period.
+  const size_t shift = period - static_cast<size_t>(warmup_ticks) % period;
+  for (size_t i = 0; i < length; ++i) {
+    const size_t t = (i + shift) % period;
+    averaged.request_deg[i] = run.request_deg[t];
+    averaged.measured_deg[i] = mean[t];
+  }
+  averaged.weight = run.weight * static_cast<double>(cycles) / static_cast<double>(played_cycles);
+  return averaged;
+}
+
 IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
                                         const IdentificationOptions& o) {
   if (recordings.empty()) Fail("no recordings");
@@ -433,6 +475,9 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
     const JointRecording& r = recordings[k];
     if (r.request_deg.size() != r.measured_deg.size()) {
       Fail("recording " + std::to_string(k) + ": request and measured lengths differ");
+    }
+    if (!std::isfinite(r.weight) || !(r.weight > 0.0)) {
+      Fail("recording " + std::to_string(k) + " has a weight that is not finite and > 0");
     }
     if (static_cast<long>(r.request_deg.size()) <= warmup) {
       Fail("recording " + std::to_string(k) + " is shorter than the warm-up of " +
@@ -566,13 +611,14 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
       best.squared_error = error;
     }
   }
-  long count = 0;
+  // The scored ticks, each recording's counted `weight` times (integers: exact in a double).
+  double count = 0.0;
   for (const JointRecording& r : recordings) {
-    count += static_cast<long>(r.request_deg.size()) - warmup;
+    count += r.weight * static_cast<double>(static_cast<long>(r.request_deg.size()) - warmup);
   }
   IdentificationResult result;
   result.params = best.params;
-  result.rms_residual_deg = std::sqrt(best.squared_error / static_cast<double>(count));
+  result.rms_residual_deg = std::sqrt(best.squared_error / count);
   return result;
 }
 

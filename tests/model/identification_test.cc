@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -271,6 +272,127 @@ TEST(Identification, RejectsBadRecordings) {
   EXPECT_THROW(IdentifyJointModel(short_one), std::invalid_argument);
   std::vector<JointRecording> still{{std::vector<double>(100, 1.0), std::vector<double>(100, 1.0)}};
   EXPECT_THROW(IdentifyJointModel(still), std::invalid_argument);
+}
+
+TEST(AverageCycles, HandWorkedCase) {
+  // Period 3, two cycles: the mean cycle is (11, 21, 31). With a warm-up of 4 ticks the
+  // recording starts at the cycle's tick -4 mod 3 = 2, and 2 played cycles follow.
+  const JointRecording run{{1, 2, 3, 1, 2, 3}, {10, 20, 30, 12, 22, 32}};
+  const JointRecording averaged = AverageCycles(run, 3, 4, 2);
+  EXPECT_EQ(averaged.request_deg, (std::vector<double>{3, 1, 2, 3, 1, 2, 3, 1, 2, 3}));
+  EXPECT_EQ(averaged.measured_deg, (std::vector<double>{31, 11, 21, 31, 11, 21, 31, 11, 21, 31}));
+  EXPECT_EQ(averaged.weight, 1.0);  // 2 cycles averaged, 2 played
+  EXPECT_EQ(AverageCycles(run, 3, 0, 1).weight, 2.0);
+  EXPECT_EQ(AverageCycles(run, 3, 0, 1).request_deg, (std::vector<double>{1, 2, 3}));
+  EXPECT_THROW(AverageCycles(run, 4, 0, 1), std::invalid_argument);  // not whole cycles
+  EXPECT_THROW(AverageCycles(run, 0, 0, 1), std::invalid_argument);
+  EXPECT_THROW(AverageCycles(run, 3, -1, 1), std::invalid_argument);
+  EXPECT_THROW(AverageCycles(run, 3, 0, 0), std::invalid_argument);
+  const JointRecording changing{{1, 2, 3, 1, 2, 4}, {10, 20, 30, 12, 22, 32}};
+  EXPECT_THROW(AverageCycles(changing, 3, 0, 1), std::invalid_argument);
+}
+
+// A walk-like request cycle (a triangle wave with a plateau) of `period` ticks.
+std::vector<double> WalkCycle(int period) {
+  std::vector<double> cycle(period);
+  for (int t = 0; t < period; ++t) {
+    const double x = static_cast<double>(t) / period;
+    cycle[t] = x < 0.4 ? 30.0 + 100.0 * x : (x < 0.5 ? 70.0 : 70.0 - 80.0 * (x - 0.5));
+  }
+  return cycle;
+}
+
+// `steps` cycles of `cycle` through the model `truth` after `warmup` cycles, with Gaussian noise.
+JointRecording ModelWalk(const JointModelParams& truth, const std::vector<double>& cycle,
+                         int warmup, int steps, double noise_deg, unsigned seed) {
+  std::vector<double> requests;
+  for (int k = 0; k < warmup + steps; ++k)
+    requests.insert(requests.end(), cycle.begin(), cycle.end());
+  const std::vector<double> angles =
+      SimulateJointModel(truth, requests, RestState(truth, cycle[0]));
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_deg);
+  JointRecording r;
+  const size_t skip = static_cast<size_t>(warmup) * cycle.size();
+  r.request_deg.assign(requests.begin() + static_cast<long>(skip), requests.end());
+  r.measured_deg.assign(angles.begin() + static_cast<long>(skip), angles.end());
+  for (double& m : r.measured_deg) m += noise(rng);
+  return r;
+}
+
+TEST(AverageCycles, WeightedErrorIsThePooledOneUpToTheSpread) {
+  // Against any prediction y that repeats every cycle (here the model's cyclic steady state),
+  // by brute force: sum_k sum_t (m_k(t) - y(t))^2 = K sum_t (mean(t) - y(t))^2 + sum_k sum_t
+  // (m_k(t) - mean(t))^2; the averaged recording's weighted error over its played cycles is
+  // the first term on the right.
+  const JointModelParams truth{2.5, 7.0, 4, 6};
+  const std::vector<double> cycle = WalkCycle(40);
+  const JointRecording run = ModelWalk(truth, cycle, 5, 6, 0.3, 11);
+  const std::vector<double> y = CyclicSteadyState(JointModelParams{2.2, 5.0, 3, 5}, cycle);
+  const int warmup = 7;
+  const int played = 3;
+  const JointRecording averaged = AverageCycles(run, 40, warmup, played);
+  double pooled = 0.0;
+  for (size_t i = 0; i < run.measured_deg.size(); ++i) {
+    pooled += std::pow(run.measured_deg[i] - y[i % 40], 2);
+  }
+  double weighted = 0.0;
+  for (size_t i = warmup; i < averaged.measured_deg.size(); ++i) {
+    weighted += averaged.weight * std::pow(averaged.measured_deg[i] - y[(i - warmup) % 40], 2);
+  }
+  double spread = 0.0;
+  for (size_t i = 0; i < run.measured_deg.size(); ++i) {
+    spread += std::pow(run.measured_deg[i] - averaged.measured_deg[warmup + i % 40], 2);
+  }
+  EXPECT_NEAR(weighted + spread, pooled, 1e-9 * pooled);
+  EXPECT_GT(spread, 0.0);
+}
+
+TEST(Identification, AWeightCountsARecordingThatManyTimes) {
+  // A recording of weight 3 is the same objective as three copies of it: the same fit, up to
+  // the optimiser's tolerance, and the same residual.
+  const JointModelParams truth{2.5, 7.0, 4, 6};
+  std::vector<JointRecording> copies = ModelStepTests(truth, 0.2, 2, 5);
+  copies.push_back(copies[0]);
+  copies.push_back(copies[0]);
+  std::vector<JointRecording> weighted = ModelStepTests(truth, 0.2, 2, 5);
+  weighted[0].weight = 3.0;
+  const IdentificationResult a = IdentifyJointModel(copies);
+  const IdentificationResult b = IdentifyJointModel(weighted);
+  EXPECT_EQ(a.params.lag_ticks, b.params.lag_ticks);
+  EXPECT_EQ(a.params.accel_ticks, b.params.accel_ticks);
+  EXPECT_NEAR(a.params.v_max_deg_per_tick, b.params.v_max_deg_per_tick, 1e-4);
+  EXPECT_NEAR(a.params.theta0_deg, b.params.theta0_deg, 1e-3);
+  EXPECT_NEAR(a.rms_residual_deg, b.rms_residual_deg, 1e-6);
+  JointRecording bad = weighted[0];
+  for (const double w : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    bad.weight = w;
+    EXPECT_THROW(IdentifyJointModel(std::vector<JointRecording>{bad}), std::invalid_argument) << w;
+  }
+}
+
+TEST(Identification, AveragedWalkRecoversTheModel) {
+  // A model plant walked 16 noisy cycles, pooled with its step tests: the fit to the averaged
+  // cycle finds the model, as the fit to all 16 cycles does.
+  for (const JointModelParams& truth :
+       {JointModelParams{2.5, 7.0, 4, 6}, JointModelParams{3.2, 5.0, 6, 3}}) {
+    const IdentificationOptions options{2, 8, 1, 10};
+    const JointRecording walk = ModelWalk(truth, WalkCycle(88), 5, 16, 0.2, 3);
+    std::vector<JointRecording> pooled = ModelStepTests(truth, 0.2, 2, 9);
+    std::vector<JointRecording> averaged = pooled;
+    pooled.push_back(walk);
+    averaged.push_back(AverageCycles(walk, 88, 8 + 10, 2));
+    const IdentificationResult full = IdentifyJointModel(pooled, options);
+    const IdentificationResult fit = IdentifyJointModel(averaged, options);
+    EXPECT_EQ(fit.params.lag_ticks, truth.lag_ticks);
+    EXPECT_EQ(fit.params.accel_ticks, truth.accel_ticks);
+    EXPECT_NEAR(fit.params.v_max_deg_per_tick, truth.v_max_deg_per_tick, 0.05);
+    EXPECT_NEAR(fit.params.theta0_deg, truth.theta0_deg, 0.3);
+    EXPECT_EQ(fit.params.lag_ticks, full.params.lag_ticks);
+    EXPECT_EQ(fit.params.accel_ticks, full.params.accel_ticks);
+    EXPECT_NEAR(fit.params.v_max_deg_per_tick, full.params.v_max_deg_per_tick, 0.02);
+    EXPECT_NEAR(fit.params.theta0_deg, full.params.theta0_deg, 0.1);
+  }
 }
 
 }  // namespace

@@ -16,10 +16,22 @@ namespace leglab::experiments {
 /// then steps recorded. Measured with track.yaml's optimal, foot L2 (cm) on the shipped walk / the
 /// untuned slow sine and triangle (the README's): 4 recorded steps 0.33 / - / -, 8 0.27 / 0.091 /
 /// 0.118, 12 0.27 / 0.086 / 0.117, 16 0.27 / 0.083 / 0.113, 20 0.27 / 0.082 / 0.110 (the best time
-/// shift 0.37 / 0.085 / 0.102). The fit's cost, the most of what the walk model adds to a run,
-/// grows with them.
+/// shift 0.37 / 0.085 / 0.102). Those were the steps pooled as one recording; averaged
+/// (kWalkFitPlayedCycles), 16 steps give 0.266 / 0.084 / 0.113. Averaged, the fit's cost no
+/// longer grows with them, only the walk's physics: 64 steps 0.261 / 0.076 / 0.105 (but optimal
+/// then loses the rotator to model_based at 66 ticks, 2.894 against 2.827 deg), 128 - / - /
+/// 0.103.
 inline constexpr int kWalkFitWarmupSteps = 5;
 inline constexpr int kWalkFitSteps = 16;
+/// The walk fit averages the recorded steps into one cycle (AverageCycles: the requests repeat
+/// every step and the plant is time-invariant, so the steps differ only by the sensor noise)
+/// and scores the model's prediction over this many plays of it, after the fit's warm-up.
+inline constexpr int kWalkFitPlayedCycles = 2;
+/// Identification for control iterated: after the fit to the model-based walk, optimal's own
+/// requests under those models are walked the same way and the fit redone on both walks (and
+/// the step tests), this many times. 0: measured to win the untuned slow triangle but not
+/// every joint at every t_step (see the README's optimal section).
+inline constexpr int kWalkFitOptimalRefits = 0;
 /// The walk fit searches each joint's lag only within this many ticks of the lag of the model it
 /// has (within identify.lag_range_ticks; the whole range if that leaves none): the same servo.
 /// Measured: on the shipped walk the same (l, a) as over the whole range and the foot error 2e-6

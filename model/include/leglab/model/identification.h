@@ -12,7 +12,27 @@ namespace leglab {
 struct JointRecording {
   std::vector<double> request_deg;
   std::vector<double> measured_deg;
+  /// The weight of this recording's squared errors in IdentifyJointModel's objective (finite,
+  /// > 0). E.g. K for one cycle averaged over K recorded cycles of a periodic run (synchronous
+  /// averaging): sum_k sum_t (m_k(t) - M(t))^2 = K sum_t (mean_k m(t) - M(t))^2 + a constant
+  /// when the prediction M is the same every cycle. 1 (the default) leaves the fit's bits as
+  /// they were without it.
+  double weight = 1.0;
 };
+
+/// Synchronous averaging of a periodic run: `run` is whole cycles of `period_ticks` with the
+/// same requests every cycle, after any warm-up (a time-invariant plant then answers every cycle
+/// alike, up to noise). Returns one recording of `warmup_ticks` + `played_cycles` * period ticks
+/// that plays the cycle over and over from tick -warmup_ticks (mod period): at each tick the
+/// cycle's request and the mean over the K = size / period cycles of the measured angle there,
+/// with weight run.weight * K / played_cycles, so that its weighted squared error against a
+/// prediction that repeats every cycle is the run's own up to a constant (the spread of the
+/// cycles about their mean). For IdentifyJointModel with warm-up `warmup_ticks` = lag_max +
+/// accel_max: it scores the played cycles, each tick of the cycle `played_cycles` times. Throws
+/// std::invalid_argument on a run that is not whole cycles (at least one), requests that differ
+/// between cycles, mismatched lengths, a period < 1, warmup_ticks < 0 or played_cycles < 1.
+JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
+                             int played_cycles);
 
 /// The search space of the fit.
 struct IdentificationOptions {
