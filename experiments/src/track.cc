@@ -212,7 +212,8 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
     r.models_identified = true;
   }
   if (!compare_estimates) r.plant_models.clear();
-  // The approximations P, fitted once: model_based follows them, every trace shows them.
+  // The approximations P, fitted once on first use: model_based follows them, every trace shows
+  // them (a context whose modes follow none and whose traces are not written never fits them).
   try {
     r.context =
         MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry, config.pwl_segments);

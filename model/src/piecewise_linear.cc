@@ -288,6 +288,10 @@ PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max
   Fail(msg.str());
 }
 
+void ValidatePiecewiseLinearInput(std::span<const double> desired, double v_max) {
+  ValidateInput(desired, v_max);
+}
+
 double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired) {
   const std::vector<double> samples = pwl.Sample();
   return RmsDistance(samples, desired);

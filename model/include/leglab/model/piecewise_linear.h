@@ -55,6 +55,10 @@ PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired_deg, double
 PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired_deg, double v_max_deg_per_tick,
                                    const PwlFitOptions& options = {});
 
+/// Throws std::invalid_argument as the fits do on bad input (T < 2, a non-finite D, v_max not
+/// positive); the fits' own checks, for callers that fit later.
+void ValidatePiecewiseLinearInput(std::span<const double> desired_deg, double v_max_deg_per_tick);
+
 /// RMS distance between P and D over one period, deg.
 double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired_deg);
 
