@@ -27,9 +27,10 @@ using DesiredCycle = std::vector<LegAngles>;
 struct ControllerContext;
 
 /// Each joint's piecewise-linear approximation P of a desired cycle (section 4.1, with
-/// FitPiecewiseLinear), fitted on first use: only the modes that follow P and the outputs that
-/// show it need it (a run whose modes do not, e.g. a sweep's direct and time_shift or the
-/// walk-fitted context of optimal and ilc when no trace is written, never fits it). The inputs
+/// FitPiecewiseLinear), fitted on first use: only the modes that follow P (model_based, and
+/// optimal and ilc through their model-based start) and the outputs that show it need it (a
+/// run whose modes do not and which writes no trace, e.g. direct and time_shift alone, never
+/// fits it). The inputs
 /// are fixed at construction, so the result is the same bits whenever and by whichever thread
 /// it is first asked for. Thread-safe; shared by the copies of a context.
 class ApproximationMemo {
