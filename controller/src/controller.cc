@@ -33,10 +33,18 @@ const std::array<PiecewiseLinear, kLegJoints>& ApproximationMemo::Get() {
     std::vector<double> joint_desired(period);
     for (int j = 0; j < kLegJoints; ++j) {
       for (int t = 0; t < period; ++t) joint_desired[t] = desired_[t][j];
-      fits_[j] = FitPiecewiseLinear(joint_desired, v_max_deg_per_tick_[j], {.segments = segments_});
+      fits_[j] = FitPiecewiseLinear(joint_desired, v_max_deg_per_tick_[j], {.segments = segments_},
+                                    &(*caches_)[j]);
     }
   });
   return fits_;
+}
+
+std::shared_ptr<ApproximationMemo> ApproximationMemo::ForOtherModels(
+    const std::array<double, kLegJoints>& v_max_deg_per_tick) const {
+  auto other = std::make_shared<ApproximationMemo>(desired_, v_max_deg_per_tick, segments_);
+  other->caches_ = caches_;
+  return other;
 }
 
 const PiecewiseLinear& ControllerContext::Approximation(int joint) const {

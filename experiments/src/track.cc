@@ -231,6 +231,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
       throw InputError(e.what());
     }
     r.walk_context->warmup_steps = config.track.warmup_steps;
+    // The same desired cycle and segments: its P shares the first context's normal equations.
+    std::array<double, kLegJoints> walk_v_max{};
+    for (int j = 0; j < kLegJoints; ++j) {
+      walk_v_max[j] = r.walk_context->models[j].v_max_deg_per_tick;
+    }
+    r.walk_context->approximations = r.context.approximations->ForOtherModels(walk_v_max);
   }
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);

@@ -41,8 +41,15 @@ class ApproximationMemo {
   const std::array<PiecewiseLinear, kLegJoints>& Get();
   /// Segments of every fit (what num_segments() of each gives), without fitting.
   int segments() const { return segments_; }
+  /// The approximations of the same desired cycle and segments under other v_max (another
+  /// model's context), sharing this one's PwlFitCache: the fits of both form each breakpoint
+  /// set's normal equations once. The same bits as a memo of its own.
+  std::shared_ptr<ApproximationMemo> ForOtherModels(
+      const std::array<double, kLegJoints>& v_max_deg_per_tick) const;
 
  private:
+  std::shared_ptr<std::array<PwlFitCache, kLegJoints>> caches_ =
+      std::make_shared<std::array<PwlFitCache, kLegJoints>>();
   DesiredCycle desired_;
   std::array<double, kLegJoints> v_max_deg_per_tick_;
   int segments_;
