@@ -66,7 +66,7 @@ AdaptiveController::AdaptiveController(const Spec& spec, const ControllerContext
   if (const std::string problem = SpecProblem(spec_); !problem.empty()) {
     throw std::invalid_argument("adaptive: invalid " + problem);
   }
-  pwl_segments_ = std::max(1, context_.approximations[0].num_segments());
+  pwl_segments_ = std::max(1, context_.ApproximationSegments());
   Reset();
 }
 

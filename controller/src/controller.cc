@@ -22,6 +22,36 @@ DesiredCycle OfflineCycleMemo::GetOrCompute(const char* name, const ControllerCo
   return entries_.back().cycle;
 }
 
+ApproximationMemo::ApproximationMemo(DesiredCycle desired,
+                                     const std::array<double, kLegJoints>& v_max_deg_per_tick,
+                                     int segments)
+    : desired_(std::move(desired)), v_max_deg_per_tick_(v_max_deg_per_tick), segments_(segments) {}
+
+const std::array<PiecewiseLinear, kLegJoints>& ApproximationMemo::Get() {
+  std::call_once(once_, [this] {
+    const auto period = static_cast<int>(desired_.size());
+    std::vector<double> joint_desired(period);
+    for (int j = 0; j < kLegJoints; ++j) {
+      for (int t = 0; t < period; ++t) joint_desired[t] = desired_[t][j];
+      fits_[j] = FitPiecewiseLinear(joint_desired, v_max_deg_per_tick_[j], {.segments = segments_},
+                                    &(*caches_)[j]);
+    }
+  });
+  return fits_;
+}
+
+std::shared_ptr<ApproximationMemo> ApproximationMemo::ForOtherModels(
+    const std::array<double, kLegJoints>& v_max_deg_per_tick) const {
+  auto other = std::make_shared<ApproximationMemo>(desired_, v_max_deg_per_tick, segments_);
+  other->caches_ = caches_;
+  return other;
+}
+
+const PiecewiseLinear& ControllerContext::Approximation(int joint) const {
+  static const PiecewiseLinear kNone;
+  return approximations == nullptr ? kNone : approximations->Get()[joint];
+}
+
 ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointModelParams, kLegJoints>& models,
                                         const LegGeometry& geometry, int pwl_segments) {
@@ -43,7 +73,8 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
                                 std::to_string(period) + "] (the ticks of a step), got " +
                                 std::to_string(pwl_segments));
   }
-  ControllerContext context{std::move(desired), models, limits, {}};
+  ControllerContext context{std::move(desired), models, limits, {}, 0, {}};
+  std::array<double, kLegJoints> v_max{};
   for (int j = 0; j < kLegJoints; ++j) {
     const std::string joint(kLegJointNames[j]);
     try {
@@ -55,11 +86,14 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
       throw std::invalid_argument("controller: limits of the " + joint +
                                   " must have lower < upper");
     }
+    // The fit's own input checks now, so that a bad cycle fails here as before, not on use.
     std::vector<double> joint_desired(period);
     for (int t = 0; t < period; ++t) joint_desired[t] = context.desired[t][j];
-    context.approximations[j] =
-        FitPiecewiseLinear(joint_desired, models[j].v_max_deg_per_tick, {.segments = pwl_segments});
+    ValidatePiecewiseLinearInput(joint_desired, models[j].v_max_deg_per_tick);
+    v_max[j] = models[j].v_max_deg_per_tick;
   }
+  context.approximations =
+      std::make_shared<ApproximationMemo>(context.desired, v_max, pwl_segments);
   return context;
 }
 

@@ -23,7 +23,7 @@ DesiredCycle ModelBasedRequestCycle(const ControllerContext& context, CmMethod c
   DesiredCycle requests(period);
   for (int j = 0; j < kLegJoints; ++j) {
     const std::vector<double> joint_requests =
-        SynthesizeRequests(context.models[j], context.approximations[j], cm);
+        SynthesizeRequests(context.models[j], context.Approximation(j), cm);
     for (int t = 0; t < period; ++t) requests[t][j] = joint_requests[t];
   }
   // R = P + C_m may ask beyond a limit near the ends of the range: ask for what the servo

@@ -31,6 +31,7 @@ DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context) {
     OptimalRequestsOptions options;
     options.lower_deg = RadToDeg(context.limits[j].lower_rad);
     options.upper_deg = RadToDeg(context.limits[j].upper_rad);
+    options.structured_solve = true;  // the same steps up to rounding, no T x T factorisations
     const OptimalRequests best = OptimizeRequests(desired, context.models[j], initial, options);
     for (int t = 0; t < period; ++t) requests[t][j] = best.requests_deg[t];
   }
@@ -67,6 +68,7 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
       options.lower_deg = RadToDeg(context.limits[j].lower_rad);
       options.upper_deg = RadToDeg(context.limits[j].upper_rad);
       options.weights = std::move(problem->weights);
+      options.structured_solve = true;
       const OptimalRequests next =
           OptimizeRequests(problem->target_deg, context.models[j], Column(requests, j), options);
       DesiredCycle candidate = predicted;

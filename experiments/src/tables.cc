@@ -64,7 +64,7 @@ Table2 BeginTable2(const TrackResult& r) {
   std::array<std::vector<double>, kLegJoints> desired;
   for (int j = 0; j < kLegJoints; ++j) {
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
-    table.pwl_segments[j] = r.context.approximations[j].num_segments();
+    table.pwl_segments[j] = r.context.ApproximationSegments();
   }
   // The floor: the same trajectory every step, so one value and no spread.
   std::array<Table2Row, 2> floor_rows{Table2Row{"L2(Des,Floor)", {}},
@@ -95,8 +95,10 @@ Table2 BeginTable2(const TrackResult& r) {
 
 void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   std::array<std::vector<double>, kLegJoints> desired, pwl;
+  const bool follows = ModeOf(run.spec).follows_approximation;
   for (int j = 0; j < kLegJoints; ++j) {
-    pwl[j] = ContextFor(r, run.spec).approximations[j].Sample();  // the mode's own P
+    // The mode's own P, for a mode that follows one (P is fitted on first use).
+    if (follows) pwl[j] = ContextFor(r, run.spec).Approximation(j).Sample();
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
   }
   auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle) {
@@ -110,7 +112,7 @@ void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
     }
   };
   add_rows("Des", desired);
-  if (ModeOf(run.spec).follows_approximation) add_rows("Pwl", pwl);
+  if (follows) add_rows("Pwl", pwl);
   auto rms = [](std::span<const double> v) { return Rms(v); };
   auto max_abs = [](std::span<const double> v) { return MaxAbs(v); };
   table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),

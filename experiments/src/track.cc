@@ -245,7 +245,8 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
     r.models_identified = true;
   }
   if (!compare_estimates) r.plant_models.clear();
-  // The approximations P, fitted once: model_based follows them, every trace shows them.
+  // The approximations P, fitted once on first use: model_based follows them, every trace shows
+  // them (a context whose modes follow none and whose traces are not written never fits them).
   try {
     r.context =
         MakeControllerContext(r.desired.angles_deg, models, r.robot.geometry, config.pwl_segments);
@@ -279,6 +280,12 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
       throw InputError(e.what());
     }
     r.walk_context->warmup_steps = config.track.warmup_steps;
+    // The same desired cycle and segments: its P shares the first context's normal equations.
+    std::array<double, kLegJoints> walk_v_max{};
+    for (int j = 0; j < kLegJoints; ++j) {
+      walk_v_max[j] = r.walk_context->models[j].v_max_deg_per_tick;
+    }
+    r.walk_context->approximations = r.context.approximations->ForOtherModels(walk_v_max);
   }
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);

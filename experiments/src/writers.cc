@@ -297,7 +297,7 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir&
   // The mode's own context: its P and its model (the walk-fitted one for `model: walk`).
   const ControllerContext& context = ContextFor(r, run.spec);
   std::array<std::vector<double>, kLegJoints> pwl;
-  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.approximations[j].Sample();
+  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.Approximation(j).Sample();
   {
     const std::string mode(ModeOf(run.spec).name);
     std::array<std::vector<double>, kLegJoints> model;

@@ -90,6 +90,73 @@ Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::Vector
   throw std::logic_error("piecewise-linear fit: the slope QP did not converge");
 }
 
+}  // namespace
+
+struct PwlFitCache::NormalEquations {
+  Eigen::MatrixXd hessian;    // A^T A
+  Eigen::VectorXd gradient0;  // -A^T D
+};
+
+namespace {
+
+// The fit's checks of the breakpoints (FitPiecewiseLinearAt's contract).
+void ValidateBreakpoints(const std::vector<int>& breakpoints, int period) {
+  if (breakpoints.empty()) Fail("at least one breakpoint is needed");
+  for (size_t k = 0; k < breakpoints.size(); ++k) {
+    if (breakpoints[k] < 0 || breakpoints[k] >= period ||
+        (k > 0 && breakpoints[k] <= breakpoints[k - 1])) {
+      Fail("breakpoints must be strictly increasing ticks in [0, " + std::to_string(period) + ")");
+    }
+  }
+}
+
+// P = A p with A's rows the hat-function weights of each tick: A^T A and -A^T D.
+PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired,
+                                                 const PiecewiseLinear& pwl) {
+  const int period = pwl.period_ticks;
+  const int n = pwl.num_segments();
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(period, n);
+  for (int t = 0; t < period; ++t) {
+    const int k = pwl.SegmentAt(t);
+    long offset = t - pwl.breakpoints_tick[k];
+    if (offset < 0) offset += period;
+    const double lambda = static_cast<double>(offset) / pwl.SegmentLength(k);
+    basis(t, k) += 1.0 - lambda;
+    basis(t, (k + 1) % n) += lambda;
+  }
+  const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
+  return {basis.transpose() * basis, -basis.transpose() * d};
+}
+
+// FitPiecewiseLinearAt, with the normal equations from `cache` when given.
+PiecewiseLinear FitAt(std::span<const double> desired, double v_max, std::vector<int> breakpoints,
+                      PwlFitCache* cache) {
+  ValidateInput(desired, v_max);
+  const int period = static_cast<int>(desired.size());
+  ValidateBreakpoints(breakpoints, period);
+  std::shared_ptr<const PwlFitCache::NormalEquations> shared;
+  if (cache != nullptr) shared = cache->Get(desired, breakpoints);
+  PiecewiseLinear pwl{period, std::move(breakpoints), {}};
+  const int n = pwl.num_segments();
+  PwlFitCache::NormalEquations own;
+  if (shared == nullptr) own = FormNormalEquations(desired, pwl);
+  const PwlFitCache::NormalEquations& normal = shared != nullptr ? *shared : own;
+
+  std::vector<DifferenceBound> bounds;
+  if (n >= 2) {
+    for (int k = 0; k < n; ++k) {
+      const double bound = v_max * pwl.SegmentLength(k);
+      bounds.push_back({k, (k + 1) % n, bound});
+      bounds.push_back({(k + 1) % n, k, bound});
+    }
+  }
+  const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(n, d.mean());
+  const Eigen::VectorXd p = SolveSlopeQp(normal.hessian, normal.gradient0, bounds, start);
+  pwl.values_deg.assign(p.data(), p.data() + n);
+  return pwl;
+}
+
 // The positions of `breakpoints` taken modulo T, sorted; empty if two coincide.
 std::vector<int> Normalized(std::vector<int> breakpoints, int period) {
   for (int& b : breakpoints) b = ((b % period) + period) % period;
@@ -111,9 +178,10 @@ struct Candidate {
   double rms_deg = std::numeric_limits<double>::infinity();
 };
 
-Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<int> breakpoints) {
+Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<int> breakpoints,
+                   PwlFitCache* cache) {
   Candidate c;
-  c.pwl = FitPiecewiseLinearAt(desired, v_max, std::move(breakpoints));
+  c.pwl = FitAt(desired, v_max, std::move(breakpoints), cache);
   c.rms_deg = PwlRmsError(c.pwl, desired);
   return c;
 }
@@ -122,12 +190,12 @@ Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<in
 // (on the shipped walk most evaluations were repeats), and a fit depends on nothing else.
 class EvaluationMemo {
  public:
-  EvaluationMemo(std::span<const double> desired, double v_max)
-      : desired_(desired), v_max_(v_max) {}
+  EvaluationMemo(std::span<const double> desired, double v_max, PwlFitCache* cache)
+      : desired_(desired), v_max_(v_max), cache_(cache) {}
   const Candidate& operator()(const std::vector<int>& breakpoints) {
     auto it = fits_.find(breakpoints);
     if (it == fits_.end()) {
-      it = fits_.emplace(breakpoints, Evaluate(desired_, v_max_, breakpoints)).first;
+      it = fits_.emplace(breakpoints, Evaluate(desired_, v_max_, breakpoints, cache_)).first;
     }
     return it->second;
   }
@@ -135,6 +203,7 @@ class EvaluationMemo {
  private:
   std::span<const double> desired_;
   double v_max_;
+  PwlFitCache* cache_;
   std::map<std::vector<int>, Candidate> fits_;
 };
 
@@ -166,10 +235,11 @@ Candidate Descend(EvaluationMemo& evaluate, Candidate best, int spacing, int per
 }
 
 // The best of the descents that start from every phase of evenly spaced breakpoints.
-Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments) {
+Candidate FitWithSegments(std::span<const double> desired, double v_max, int segments,
+                          PwlFitCache* cache) {
   const int period = static_cast<int>(desired.size());
   const int spacing = std::max(1, period / segments);
-  EvaluationMemo evaluate(desired, v_max);
+  EvaluationMemo evaluate(desired, v_max, cache);
   Candidate best;
   for (int phase = 0; phase < spacing; ++phase) {
     Candidate start = evaluate(EvenlySpaced(segments, period, phase));
@@ -222,48 +292,27 @@ std::vector<double> PiecewiseLinear::Sample() const {
 
 PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired, double v_max,
                                      std::vector<int> breakpoints) {
-  ValidateInput(desired, v_max);
-  const int period = static_cast<int>(desired.size());
-  if (breakpoints.empty()) Fail("at least one breakpoint is needed");
-  for (size_t k = 0; k < breakpoints.size(); ++k) {
-    if (breakpoints[k] < 0 || breakpoints[k] >= period ||
-        (k > 0 && breakpoints[k] <= breakpoints[k - 1])) {
-      Fail("breakpoints must be strictly increasing ticks in [0, " + std::to_string(period) + ")");
-    }
-  }
-  PiecewiseLinear pwl{period, std::move(breakpoints), {}};
-  const int n = pwl.num_segments();
+  return FitAt(desired, v_max, std::move(breakpoints), nullptr);
+}
 
-  // P = A p with A's rows the hat-function weights of each tick.
-  Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(period, n);
-  for (int t = 0; t < period; ++t) {
-    const int k = pwl.SegmentAt(t);
-    long offset = t - pwl.breakpoints_tick[k];
-    if (offset < 0) offset += period;
-    const double lambda = static_cast<double>(offset) / pwl.SegmentLength(k);
-    basis(t, k) += 1.0 - lambda;
-    basis(t, (k + 1) % n) += lambda;
+std::shared_ptr<const PwlFitCache::NormalEquations> PwlFitCache::Get(
+    std::span<const double> desired, const std::vector<int>& breakpoints) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (desired_.empty()) desired_.assign(desired.begin(), desired.end());
+  if (!std::equal(desired_.begin(), desired_.end(), desired.begin(), desired.end())) return nullptr;
+  auto it = entries_.find(breakpoints);
+  if (it == entries_.end()) {
+    const PiecewiseLinear pwl{static_cast<int>(desired.size()), breakpoints, {}};
+    it = entries_
+             .emplace(breakpoints,
+                      std::make_shared<const NormalEquations>(FormNormalEquations(desired, pwl)))
+             .first;
   }
-  const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
-  const Eigen::MatrixXd hessian = basis.transpose() * basis;
-  const Eigen::VectorXd gradient0 = -basis.transpose() * d;
-
-  std::vector<DifferenceBound> bounds;
-  if (n >= 2) {
-    for (int k = 0; k < n; ++k) {
-      const double bound = v_max * pwl.SegmentLength(k);
-      bounds.push_back({k, (k + 1) % n, bound});
-      bounds.push_back({(k + 1) % n, k, bound});
-    }
-  }
-  const Eigen::VectorXd start = Eigen::VectorXd::Constant(n, d.mean());
-  const Eigen::VectorXd p = SolveSlopeQp(hessian, gradient0, bounds, start);
-  pwl.values_deg.assign(p.data(), p.data() + n);
-  return pwl;
+  return it->second;
 }
 
 PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max,
-                                   const PwlFitOptions& options) {
+                                   const PwlFitOptions& options, PwlFitCache* cache) {
   ValidateInput(desired, v_max);
   const int period = static_cast<int>(desired.size());
   if (options.segments != 0) {
@@ -271,14 +320,14 @@ PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max
       Fail("segments must be in [1, " + std::to_string(period) + "], got " +
            std::to_string(options.segments));
     }
-    return FitWithSegments(desired, v_max, options.segments).pwl;
+    return FitWithSegments(desired, v_max, options.segments, cache).pwl;
   }
   if (!(options.tolerance_deg > 0.0)) Fail("tolerance_deg must be positive");
   const int max_segments = std::min(options.max_segments, period);
   if (max_segments < 1) Fail("max_segments must be >= 1");
   double best_rms = std::numeric_limits<double>::infinity();
   for (int segments = 1; segments <= max_segments; ++segments) {
-    Candidate c = FitWithSegments(desired, v_max, segments);
+    Candidate c = FitWithSegments(desired, v_max, segments, cache);
     if (c.rms_deg <= options.tolerance_deg) return c.pwl;
     best_rms = std::min(best_rms, c.rms_deg);
   }
@@ -286,6 +335,10 @@ PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max
   msg << "no fit within " << options.tolerance_deg << " deg RMS with up to " << max_segments
       << " segments (best " << best_rms << " deg): the trajectory may be faster than v_max allows";
   Fail(msg.str());
+}
+
+void ValidatePiecewiseLinearInput(std::span<const double> desired, double v_max) {
+  ValidateInput(desired, v_max);
 }
 
 double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired) {

@@ -60,7 +60,7 @@ TEST(ModelBasedController, FollowsItsPiecewiseLinearTargetOnTheModelPlant) {
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> des(88);
       for (int t = 0; t < 88; ++t) des[t] = desired[t][j];
-      const std::vector<double> pwl = context.approximations[j].Sample();
+      const std::vector<double> pwl = context.Approximation(j).Sample();
       // The bound (the paper measured 2.7 deg on the real leg).
       EXPECT_LE(RmsDistance(pwl, with_model.actual[j]), 3.5) << "joint " << j;
       // And the paper's point: closer to the desired angles than requesting them directly.
@@ -73,10 +73,35 @@ TEST(ModelBasedController, FollowsItsPiecewiseLinearTargetOnTheModelPlant) {
 TEST(ModelBasedController, ApproximationsRespectVmax) {
   const ControllerContext context = testing::PaperContext(FastCycle());
   for (int j = 0; j < kLegJoints; ++j) {
-    for (int k = 0; k < context.approximations[j].num_segments(); ++k) {
-      EXPECT_LE(std::abs(context.approximations[j].Slope(k)), 2.5 + 1e-9);
+    for (int k = 0; k < context.Approximation(j).num_segments(); ++k) {
+      EXPECT_LE(std::abs(context.Approximation(j).Slope(k)), 2.5 + 1e-9);
     }
   }
+}
+
+// The approximations are fitted on first use: the same bits as fitting each joint directly, the
+// copies of a context share them, and their segment count is known without fitting; a bad
+// cycle still fails when the context is made.
+TEST(ModelBasedController, ApproximationsAreFittedOnFirstUseWithTheSameBits) {
+  const DesiredCycle desired = FastCycle();
+  const ControllerContext context = testing::PaperContext(desired);
+  ControllerContext copy = context;
+  copy.warmup_steps = 3;  // a copy, changed otherwise, still shares them
+  EXPECT_EQ(context.ApproximationSegments(), 8);
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> column(desired.size());
+    for (size_t t = 0; t < desired.size(); ++t) column[t] = desired[t][j];
+    const PiecewiseLinear direct = FitPiecewiseLinear(column, 2.5, {.segments = 8});
+    EXPECT_EQ(copy.Approximation(j).breakpoints_tick, direct.breakpoints_tick);
+    EXPECT_EQ(copy.Approximation(j).values_deg, direct.values_deg);
+    EXPECT_EQ(&copy.Approximation(j), &context.Approximation(j));
+    EXPECT_EQ(context.Approximation(j).num_segments(), context.ApproximationSegments());
+  }
+  EXPECT_EQ(ControllerContext{}.Approximation(0).num_segments(), 0);
+  DesiredCycle bad = desired;
+  bad[5][1] = std::nan("");
+  EXPECT_THROW(testing::PaperContext(bad), std::invalid_argument);
+  EXPECT_THROW(testing::PaperContext(DesiredCycle(1)), std::invalid_argument);
 }
 
 }  // namespace

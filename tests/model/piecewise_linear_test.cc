@@ -142,5 +142,26 @@ TEST(PiecewiseLinear, RejectsBadInput) {
   EXPECT_THROW(FitPiecewiseLinear(bad, 2.5), std::invalid_argument);
 }
 
+// A cache shared by the fits of one D under several v_max gives each the bits of a fit without
+// it (in either order, the second reusing the first's normal equations), and a fit of another
+// D does not use it.
+TEST(PiecewiseLinear, ASharedCacheGivesTheSameBits) {
+  std::vector<double> d = Sine(88, 60.0, 10.0);
+  for (int t = 0; t < 88; ++t) d[t] += 7.0 * std::sin(3.0 * t);
+  PwlFitCache cache;
+  for (const double v_max : {2.5, 1.7, 4.0}) {
+    const PiecewiseLinear alone = FitPiecewiseLinear(d, v_max, {.segments = 8});
+    const PiecewiseLinear cached = FitPiecewiseLinear(d, v_max, {.segments = 8}, &cache);
+    EXPECT_EQ(cached.breakpoints_tick, alone.breakpoints_tick) << v_max;
+    EXPECT_EQ(cached.values_deg, alone.values_deg) << v_max;
+  }
+  const std::vector<double> other = Sine(88, 40.0);
+  EXPECT_EQ(cache.Get(other, {0, 44}), nullptr);
+  const PiecewiseLinear cached = FitPiecewiseLinear(other, 2.5, {.segments = 6}, &cache);
+  const PiecewiseLinear alone = FitPiecewiseLinear(other, 2.5, {.segments = 6});
+  EXPECT_EQ(cached.values_deg, alone.values_deg);
+  EXPECT_NE(cache.Get(d, {0, 44}), nullptr);
+}
+
 }  // namespace
 }  // namespace leglab

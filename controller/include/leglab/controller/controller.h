@@ -23,8 +23,39 @@ using DesiredCycle = std::vector<LegAngles>;
 
 /// What every controller is built from besides its own options: what to follow, each joint's
 /// model and limits, and each joint's slope-limited piecewise-linear approximation of the
-/// desired cycle (fitted once per run, by MakeControllerContext).
+/// desired cycle (set up by MakeControllerContext, fitted on first use).
 struct ControllerContext;
+
+/// Each joint's piecewise-linear approximation P of a desired cycle (section 4.1, with
+/// FitPiecewiseLinear), fitted on first use: only the modes that follow P (model_based, and
+/// optimal and ilc through their model-based start) and the outputs that show it need it (a
+/// run whose modes do not and which writes no trace, e.g. direct and time_shift alone, never
+/// fits it). The inputs
+/// are fixed at construction, so the result is the same bits whenever and by whichever thread
+/// it is first asked for. Thread-safe; shared by the copies of a context.
+class ApproximationMemo {
+ public:
+  ApproximationMemo(DesiredCycle desired, const std::array<double, kLegJoints>& v_max_deg_per_tick,
+                    int segments);
+  /// The fits (once; later calls return the same).
+  const std::array<PiecewiseLinear, kLegJoints>& Get();
+  /// Segments of every fit (what num_segments() of each gives), without fitting.
+  int segments() const { return segments_; }
+  /// The approximations of the same desired cycle and segments under other v_max (another
+  /// model's context), sharing this one's PwlFitCache: the fits of both form each breakpoint
+  /// set's normal equations once. The same bits as a memo of its own.
+  std::shared_ptr<ApproximationMemo> ForOtherModels(
+      const std::array<double, kLegJoints>& v_max_deg_per_tick) const;
+
+ private:
+  std::shared_ptr<std::array<PwlFitCache, kLegJoints>> caches_ =
+      std::make_shared<std::array<PwlFitCache, kLegJoints>>();
+  DesiredCycle desired_;
+  std::array<double, kLegJoints> v_max_deg_per_tick_;
+  int segments_;
+  std::once_flag once_;
+  std::array<PiecewiseLinear, kLegJoints> fits_;
+};
 
 /// Request cycles computed offline from a context, kept so that the modes that start from the
 /// same one (optimal, and ilc started from it) compute it once a run. Shared by the copies of
@@ -51,10 +82,11 @@ class OfflineCycleMemo {
 };
 
 struct ControllerContext {
-  DesiredCycle desired;                                    ///< deg, one step
-  std::array<JointModelParams, kLegJoints> models;         ///< identified or given
-  std::array<JointLimits, kLegJoints> limits;              ///< rad, the plant's software limits
-  std::array<PiecewiseLinear, kLegJoints> approximations;  ///< P of each joint (section 4.1)
+  DesiredCycle desired;                             ///< deg, one step
+  std::array<JointModelParams, kLegJoints> models;  ///< identified or given
+  std::array<JointLimits, kLegJoints> limits;       ///< rad, the plant's software limits
+  /// P of each joint (section 4.1), fitted on first use: read it with Approximation.
+  std::shared_ptr<ApproximationMemo> approximations;
   /// Steps the experiment runs before it measures (learning modes may treat them apart).
   int warmup_steps = 0;
   /// The leg's geometry, for modes that weigh their errors at the foot (ILC's foot objective);
@@ -62,11 +94,18 @@ struct ControllerContext {
   std::optional<LegGeometry> geometry;
   /// Offline request cycles already computed for this run (see OfflineCycleMemo).
   std::shared_ptr<OfflineCycleMemo> offline_cycles = std::make_shared<OfflineCycleMemo>();
+
+  /// Joint `joint`'s approximation P (fitted now if no one has asked for it before); an empty
+  /// one (no segments) for a context not made by MakeControllerContext.
+  const PiecewiseLinear& Approximation(int joint) const;
+  /// The segments of every joint's P (Approximation(j).num_segments()) without fitting it.
+  int ApproximationSegments() const { return approximations ? approximations->segments() : 0; }
 };
 
-/// Builds the context: fits each joint's approximation with `pwl_segments` segments and its
-/// model's v_max. Throws std::invalid_argument on an empty cycle, an invalid model or limits,
-/// or pwl_segments outside [1, T] (the message names `controller.pwl_segments`).
+/// Builds the context: each joint's approximation with `pwl_segments` segments and its model's
+/// v_max, fitted on first use (ApproximationMemo). Throws std::invalid_argument on an empty cycle,
+/// an invalid model or limits, or pwl_segments outside [1, T] (the message names
+/// `controller.pwl_segments`).
 ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointModelParams, kLegJoints>& models,
                                         const std::array<JointLimits, kLegJoints>& limits,

@@ -33,7 +33,8 @@ struct OptimalRequestsOptions {
   /// system, O(T a^2 + a T^2)) instead of the dense T x T normal matrix and its factorisation
   /// (O(T^2 a + T^3)); the same step up to rounding, so the iterates may differ in the last
   /// digits. Falls back to the dense solve where it does not apply (a weight of 0, every term
-  /// of the cycle saturated). Off by default; ILC's per-step updates use it.
+  /// of the cycle saturated). Off by default; ILC's per-step updates and optimal's offline
+  /// cycles (the joint optimum and the foot objective's sweeps) use it.
   bool structured_solve = false;
 };
 

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <map>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -44,6 +47,25 @@ struct PwlFitOptions {
 PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired_deg, double v_max_deg_per_tick,
                                      std::vector<int> breakpoints_tick);
 
+/// What the fits of one desired cycle D share whatever v_max: each breakpoint set's
+/// least-squares normal equations (A^T A and A^T D, which do not depend on v_max). Passed to
+/// the fits of the same D under several v_max (the controller contexts of two models), they
+/// are formed once; every result is the same bits as without the cache. Thread-safe. A fit
+/// of another D than the first one it served does not use it.
+class PwlFitCache {
+ public:
+  struct NormalEquations;
+  /// The normal equations of `breakpoints` for `desired` (formed now unless already there);
+  /// null when the cache serves another D.
+  std::shared_ptr<const NormalEquations> Get(std::span<const double> desired_deg,
+                                             const std::vector<int>& breakpoints_tick);
+
+ private:
+  std::mutex mutex_;
+  std::vector<double> desired_;
+  std::map<std::vector<int>, std::shared_ptr<const NormalEquations>> entries_;
+};
+
 /// Automatic piecewise-linear approximation of a cyclic D (the paper drew its by hand):
 /// breakpoints chosen to reduce the RMS error to D, every slope within +-v_max, values
 /// optimal for them (FitPiecewiseLinearAt). The breakpoint search is a multi-start local
@@ -53,7 +75,11 @@ PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired_deg, double
 /// Throws std::invalid_argument on bad input, or in tolerance mode when no fit with up to
 /// max_segments segments reaches the tolerance (the message gives the best error found).
 PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired_deg, double v_max_deg_per_tick,
-                                   const PwlFitOptions& options = {});
+                                   const PwlFitOptions& options = {}, PwlFitCache* cache = nullptr);
+
+/// Throws std::invalid_argument as the fits do on bad input (T < 2, a non-finite D, v_max not
+/// positive); the fits' own checks, for callers that fit later.
+void ValidatePiecewiseLinearInput(std::span<const double> desired_deg, double v_max_deg_per_tick);
 
 /// RMS distance between P and D over one period, deg.
 double PwlRmsError(const PiecewiseLinear& pwl, std::span<const double> desired_deg);
