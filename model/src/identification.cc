@@ -101,11 +101,11 @@ double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>&
   std::vector<double> value(n + 1);
   for (size_t i = 0; i <= n; ++i) value[i] = f(simplex[i]);
   std::vector<size_t> order(n + 1);
-  std::vector<double> centroid(n), trial(n);
-  auto along = [&](double t, size_t worst) {
-    std::vector<double> point(n);
+  std::vector<double> centroid(n);
+  // The trial points' storage, reused (an accepted point is swapped into the simplex).
+  std::vector<double> reflected(n), other(n);
+  auto along = [&](double t, size_t worst, std::vector<double>& point) {
     for (size_t d = 0; d < n; ++d) point[d] = centroid[d] + t * (simplex[worst][d] - centroid[d]);
-    return point;
   };
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
     std::iota(order.begin(), order.end(), size_t{0});
@@ -122,24 +122,24 @@ double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>&
     for (size_t i = 0; i < n; ++i) {
       for (size_t d = 0; d < n; ++d) centroid[d] += simplex[order[i]][d] / static_cast<double>(n);
     }
-    const std::vector<double> reflected = along(-1.0, worst);
+    along(-1.0, worst, reflected);
     const double reflected_value = f(reflected);
     if (reflected_value < value[best]) {
-      std::vector<double> expanded = along(-2.0, worst);
-      const double expanded_value = f(expanded);
+      along(-2.0, worst, other);
+      const double expanded_value = f(other);
       if (expanded_value < reflected_value) {
-        simplex[worst] = std::move(expanded), value[worst] = expanded_value;
+        simplex[worst].swap(other), value[worst] = expanded_value;
       } else {
-        simplex[worst] = reflected, value[worst] = reflected_value;
+        simplex[worst].swap(reflected), value[worst] = reflected_value;
       }
     } else if (reflected_value < value[second_worst]) {
-      simplex[worst] = reflected, value[worst] = reflected_value;
+      simplex[worst].swap(reflected), value[worst] = reflected_value;
     } else {
       const bool outside = reflected_value < value[worst];
-      std::vector<double> contracted = along(outside ? -0.5 : 0.5, worst);
-      const double contracted_value = f(contracted);
+      along(outside ? -0.5 : 0.5, worst, other);
+      const double contracted_value = f(other);
       if (contracted_value < (outside ? reflected_value : value[worst])) {
-        simplex[worst] = std::move(contracted), value[worst] = contracted_value;
+        simplex[worst].swap(other), value[worst] = contracted_value;
       } else {  // shrink towards the best vertex
         for (size_t i = 1; i <= n; ++i) {
           for (size_t d = 0; d < n; ++d) {

@@ -44,29 +44,37 @@ Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::Vector
   const int n = static_cast<int>(p.size());
   const int num_bounds = static_cast<int>(bounds.size());
   std::vector<int> active;
-  auto row_times = [&](int j, const Eigen::VectorXd& x) {
-    return x[bounds[j].to] - x[bounds[j].from];
-  };
+  auto row_times = [&](int j, const auto& x) { return x[bounds[j].to] - x[bounds[j].from]; };
   const int max_iterations = 20 * (num_bounds + n) + 100;
+  // Work space kept across iterations (the KKT system changes size with the working set; the
+  // values put into it, and so the factorisation and its solution, are those of a fresh one).
+  Eigen::MatrixXd kkt;
+  Eigen::VectorXd rhs;
+  Eigen::VectorXd solution;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
     const int m = static_cast<int>(active.size());
-    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + m, n + m);
+    kkt.resize(n + m, n + m);
     kkt.topLeftCorner(n, n) = hessian;
+    kkt.bottomRows(m).setZero();
+    kkt.topRightCorner(n, m).setZero();
     for (int r = 0; r < m; ++r) {
       const DifferenceBound& b = bounds[active[r]];
       kkt(n + r, b.to) = kkt(b.to, n + r) = 1.0;
       kkt(n + r, b.from) = kkt(b.from, n + r) = -1.0;
     }
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + m);
+    rhs.resize(n + m);
     rhs.head(n) = -(hessian * p + gradient0);
-    const Eigen::VectorXd solution = kkt.partialPivLu().solve(rhs);
-    const Eigen::VectorXd step = solution.head(n);
+    rhs.tail(m).setZero();
+    lu.compute(kkt);
+    solution = lu.solve(rhs);
+    const auto step = solution.head(n);
 
     if (step.lpNorm<Eigen::Infinity>() <= 1e-13 * (1.0 + p.lpNorm<Eigen::Infinity>())) {
       // Stationary on the working set: optimal unless a multiplier is negative.
-      const Eigen::VectorXd multipliers = solution.tail(m);
+      const auto multipliers = solution.tail(m);
       if (m == 0 || multipliers.minCoeff() >= -1e-12) return p;
-      Eigen::Index worst;
+      Eigen::Index worst = 0;
       multipliers.minCoeff(&worst);
       active.erase(active.begin() + worst);
       continue;
@@ -129,9 +137,9 @@ PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired
 }
 
 // FitPiecewiseLinearAt, with the normal equations from `cache` when given.
+// The caller has validated `desired` and `v_max` (ValidateInput).
 PiecewiseLinear FitAt(std::span<const double> desired, double v_max, std::vector<int> breakpoints,
                       PwlFitCache* cache) {
-  ValidateInput(desired, v_max);
   const int period = static_cast<int>(desired.size());
   ValidateBreakpoints(breakpoints, period);
   std::shared_ptr<const PwlFitCache::NormalEquations> shared;
@@ -285,13 +293,29 @@ double PiecewiseLinear::At(long t) const {
 }
 
 std::vector<double> PiecewiseLinear::Sample() const {
+  // At(t) for t = 0 .. T-1, walking the segments in order instead of searching for each tick's
+  // (the same segment, offset and slope, so the same bits).
   std::vector<double> samples(period_ticks);
-  for (int t = 0; t < period_ticks; ++t) samples[t] = At(t);
+  if (period_ticks <= 0) return samples;
+  const int n = num_segments();
+  int k = n - 1;  // before the first breakpoint: the wrapping last segment
+  int next = 0;
+  double slope = Slope(k);
+  for (int t = 0; t < period_ticks; ++t) {
+    if (next < n && breakpoints_tick[next] <= t) {
+      while (next < n && breakpoints_tick[next] <= t) k = next++;
+      slope = Slope(k);
+    }
+    long offset = static_cast<long>(t) - breakpoints_tick[k];
+    if (offset < 0) offset += period_ticks;
+    samples[t] = values_deg[k] + slope * static_cast<double>(offset);
+  }
   return samples;
 }
 
 PiecewiseLinear FitPiecewiseLinearAt(std::span<const double> desired, double v_max,
                                      std::vector<int> breakpoints) {
+  ValidateInput(desired, v_max);
   return FitAt(desired, v_max, std::move(breakpoints), nullptr);
 }
 
