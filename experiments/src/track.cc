@@ -6,10 +6,8 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
-#include "leglab/controller/optimal_controller.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
@@ -257,25 +255,10 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (std::any_of(config.controllers.begin(), config.controllers.end(),
                   [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
     try {
-      std::vector<DesiredCycle> walks{ModelBasedRequestCycle(r.context, CmMethod::kExact)};
+      const std::vector<DesiredCycle> walks{ModelBasedRequestCycle(r.context, CmMethod::kExact)};
       r.walk_context =
           MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests, walks),
                                 r.robot.geometry, config.pwl_segments);
-      // Identification for control, iterated (kWalkFitOptimalRefits): the plant's response to
-      // optimal's own requests under the walk models joins the fit, which is redone.
-      const auto optimal = std::find_if(
-          config.controllers.begin(), config.controllers.end(), [](const ControllerSpec& spec) {
-            return std::holds_alternative<OptimalController::Spec>(spec) && UsesWalkModels(spec);
-          });
-      for (int i = 0; i < kWalkFitOptimalRefits && optimal != config.controllers.end(); ++i) {
-        r.walk_context->warmup_steps = config.track.warmup_steps;
-        const std::unique_ptr<JointController> controller =
-            MakeController(*optimal, *r.walk_context);
-        walks.push_back(dynamic_cast<const OptimalController&>(*controller).requests());
-        r.walk_context = MakeControllerContext(r.desired.angles_deg,
-                                               FitModelsToWalk(config, r, step_tests, walks),
-                                               r.robot.geometry, config.pwl_segments);
-      }
     } catch (const std::invalid_argument& e) {
       throw InputError(e.what());
     }

@@ -27,11 +27,6 @@ inline constexpr int kWalkFitSteps = 16;
 /// every step and the plant is time-invariant, so the steps differ only by the sensor noise)
 /// and scores the model's prediction over this many plays of it, after the fit's warm-up.
 inline constexpr int kWalkFitPlayedCycles = 2;
-/// Identification for control iterated: after the fit to the model-based walk, optimal's own
-/// requests under those models are walked the same way and the fit redone on both walks (and
-/// the step tests), this many times. 0: measured to win the untuned slow triangle but not
-/// every joint at every t_step (see the README's optimal section).
-inline constexpr int kWalkFitOptimalRefits = 0;
 /// The walk fit searches each joint's lag only within this many ticks of the lag of the model it
 /// has (within identify.lag_range_ticks; the whole range if that leaves none): the same servo.
 /// Measured: on the shipped walk the same (l, a) as over the whole range and the foot error 2e-6
