@@ -45,6 +45,7 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
   reader.Read("solver_tolerance_deg", spec.solver_tolerance_deg);
   reader.Read("objective", spec.objective);
   reader.Read("joint_weight", spec.joint_weight);
+  reader.Read("request_smoothing", spec.request_smoothing);
   if (!(spec.gain > 0.0 && spec.gain <= 1.0)) reader.Fail("gain", "in (0, 1]");
   if (spec.start != "optimal" && spec.start != "model_based") {
     reader.Fail("start", "optimal or model_based, got '" + spec.start + "'");
@@ -62,6 +63,9 @@ IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
   if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
     reader.Fail("joint_weight", "in [0, 100]");
   }
+  if (!(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
+    reader.Fail("request_smoothing", "in [0, 1e6]");
+  }
   return spec;
 }
 
@@ -75,7 +79,8 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
       !(spec_.solver_tolerance_deg >= 0.0 && spec_.solver_tolerance_deg <= 1.0) ||
       (spec_.start != "optimal" && spec_.start != "model_based") ||
       (spec_.objective != "joint" && spec_.objective != "foot") ||
-      !(spec_.joint_weight >= 0.0 && spec_.joint_weight <= 100.0)) {
+      !(spec_.joint_weight >= 0.0 && spec_.joint_weight <= 100.0) ||
+      !(spec_.request_smoothing >= 0.0 && spec_.request_smoothing <= 1e6)) {
     throw std::invalid_argument("ilc: invalid options");
   }
   if (spec_.objective == "foot") {
@@ -126,6 +131,7 @@ bool IlcController::Solve(int joint, const std::vector<double>& target, std::vec
   options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
   options.weights = std::move(weights);
   options.structured_solve = true;  // no T x T factorisation per step (the same step)
+  options.request_smoothing = spec_.request_smoothing;  // > 0: the dense solve
   try {
     OptimalRequests next = OptimizeRequests(target, context_.models[joint], requests, options);
     requests = std::move(next.requests_deg);

@@ -46,8 +46,8 @@ std::vector<double> Column(const DesiredCycle& cycle, int j) {
 }
 
 DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
-                                            const DesiredCycle& joint_optimal,
-                                            double joint_weight) {
+                                            const DesiredCycle& joint_optimal, double joint_weight,
+                                            double request_smoothing) {
   const auto period = static_cast<int>(context.desired.size());
   const LegGeometry& geometry = *context.geometry;
   const std::vector<Eigen::Vector3d> desired_foot = FootPathMm(geometry, context.desired);
@@ -69,6 +69,7 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
       options.upper_deg = RadToDeg(context.limits[j].upper_rad);
       options.weights = std::move(problem->weights);
       options.structured_solve = true;
+      options.request_smoothing = request_smoothing;
       const OptimalRequests next =
           OptimizeRequests(problem->target_deg, context.models[j], Column(requests, j), options);
       DesiredCycle candidate = predicted;
@@ -92,19 +93,25 @@ DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
       "optimal", context, [&context] { return ComputeOptimalRequestCycle(context); });
 }
 
-DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight) {
+DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight,
+                                     double request_smoothing) {
   if (!context.geometry) {
     throw std::invalid_argument("optimal: the foot objective needs the leg's geometry");
   }
   // The joint optimum first: the memo's lock is not re-entrant.
   const DesiredCycle joint_optimal = OptimalRequestCycle(context);
   auto compute = [&] {
-    return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight);
+    return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight, request_smoothing);
   };
   if (context.offline_cycles == nullptr) return compute();
   // The weight's exact value (to_string's six decimals would give 1e-7 and 0 one entry).
-  char name[64];
-  std::snprintf(name, sizeof name, "optimal-foot %.17g", joint_weight);
+  char name[96];
+  if (request_smoothing > 0.0) {
+    std::snprintf(name, sizeof name, "optimal-foot %.17g smoothing %.17g", joint_weight,
+                  request_smoothing);
+  } else {
+    std::snprintf(name, sizeof name, "optimal-foot %.17g", joint_weight);
+  }
   return context.offline_cycles->GetOrCompute(name, context, compute);
 }
 
@@ -112,12 +119,16 @@ OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {
   Spec spec;
   reader.Read("objective", spec.objective);
   reader.Read("joint_weight", spec.joint_weight);
+  reader.Read("request_smoothing", spec.request_smoothing);
   ReadModelSource(reader, spec.model);
   if (spec.objective != "joint" && spec.objective != "foot") {
     reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
   }
   if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
     reader.Fail("joint_weight", "in [0, 100]");
+  }
+  if (!(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
+    reader.Fail("request_smoothing", "in [0, 1e6]");
   }
   return spec;
 }
@@ -128,11 +139,13 @@ OptimalController::OptimalController(const Spec& spec, const ControllerContext& 
   }
   if ((spec.objective != "joint" && spec.objective != "foot") ||
       (spec.model != "step_tests" && spec.model != "walk") ||
-      !(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
+      !(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0) ||
+      !(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
     throw std::invalid_argument("optimal: invalid options");
   }
-  requests_ = spec.objective == "foot" ? FootOptimalRequestCycle(context, spec.joint_weight)
-                                       : OptimalRequestCycle(context);
+  requests_ = spec.objective == "foot"
+                  ? FootOptimalRequestCycle(context, spec.joint_weight, spec.request_smoothing)
+                  : OptimalRequestCycle(context);
 }
 
 LegAngles OptimalController::Update(long tick, const LegAngles& /*measured_deg*/) {

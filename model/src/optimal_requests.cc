@@ -444,14 +444,44 @@ double SumOfSquares(std::span<const double> angles, std::span<const double> desi
 struct Iterate {
   std::vector<double> requests;
   std::vector<double> angles;
-  double cost = 0.0;  // sum of (weighted) squared errors
+  double cost = 0.0;  // sum of (weighted) squared errors, plus the move suppression
 };
 
+// The move suppression's weight, lambda * mean(w) (see request_smoothing); 0 when it is off.
+double MoveSuppression(const OptimalRequestsOptions& options) {
+  if (!(options.request_smoothing > 0.0)) return 0.0;
+  double mean = 1.0;
+  if (!options.weights.empty()) {
+    double sum = 0.0;
+    for (double w : options.weights) sum += w;
+    mean = sum / static_cast<double>(options.weights.size());
+  }
+  return options.request_smoothing * mean;
+}
+
+// (R(t+1) - 2 R(t) + R(t-1)) round the cycle.
+double SecondDifference(std::span<const double> r, int t) {
+  const int n = static_cast<int>(r.size());
+  return r[Wrap(t + 1, n)] - 2.0 * r[t] + r[Wrap(t - 1, n)];
+}
+
+// sum_t (second difference of R at t)^2.
+double SumOfSquaredSecondDifferences(std::span<const double> r) {
+  double sum = 0.0;
+  for (int t = 0; t < static_cast<int>(r.size()); ++t) {
+    const double d = SecondDifference(r, t);
+    sum += d * d;
+  }
+  return sum;
+}
+
 Iterate Evaluate(const JointModelParams& params, std::vector<double> requests, double smoothing,
-                 std::span<const double> desired, std::span<const double> weights) {
+                 std::span<const double> desired, std::span<const double> weights,
+                 double suppression = 0.0) {
   Iterate it;
   it.angles = PeriodicModel(params, requests, smoothing, false).SteadyState();
   it.cost = SumOfSquares(it.angles, desired, weights);
+  if (suppression > 0.0) it.cost += suppression * SumOfSquaredSecondDifferences(requests);
   it.requests = std::move(requests);
   return it;
 }
@@ -526,6 +556,20 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   const int l = params.lag_ticks;
   const int a = params.accel_ticks;
   const std::span<const double> weights = options.weights;
+  // Move suppression: lambda' |L R|^2 with L the cyclic second difference adds lambda' L^T L
+  // to the Gauss-Newton matrix and lambda' L^T L R to the half gradient (dense solve only).
+  const double suppression = MoveSuppression(options);
+  Eigen::MatrixXd suppression_normal;  // lambda' L^T L
+  if (suppression > 0.0) {
+    Eigen::MatrixXd second(n, n);
+    second.setZero();
+    for (int t = 0; t < n; ++t) {
+      second(t, Wrap(t + 1, n)) += 1.0;
+      second(t, t) -= 2.0;
+      second(t, Wrap(t - 1, n)) += 1.0;
+    }
+    suppression_normal = suppression * (second.transpose() * second);
+  }
   const double rms_scale = std::sqrt(static_cast<double>(n));
   const double th = params.theta0_deg;
   const bool exact = stage.smoothing == 0.0;
@@ -583,6 +627,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
         banded_now = false;
         model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
                           weights);
+        if (suppression > 0.0) gauss_newton += suppression_normal;
         form_normal();
       }
       if (!banded_now) {
@@ -597,10 +642,11 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       angle_step.noalias() = jacobian * full_step;
     };
     for (int pass = 0; pass < 2; ++pass) {
-      banded_now = options.structured_solve;
+      banded_now = options.structured_solve && suppression == 0.0;
       model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr,
                         banded_now ? nullptr : &gauss_newton, weights,
                         banded_now ? &factors : nullptr);
+      if (suppression > 0.0) gauss_newton += suppression_normal;
       if (banded_now) {
         for (int t = 0; t < n; ++t) error[t] = it.angles[t] - desired[t];
       }
@@ -609,6 +655,10 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
         residual[t] = (weights.empty() ? 1.0 : weights[t]) * (it.angles[t] - desired[t]);
       }
       gradient.noalias() = jacobian.transpose() * residual;
+      if (suppression > 0.0) {
+        gradient.noalias() +=
+            suppression_normal * Eigen::Map<const Eigen::VectorXd>(it.requests.data(), n);
+      }
 
       // Each request's box: the joint limits, and the range where it acts at the current
       // trajectory (widened by the smoothing): beyond it a step would only waste its length.
@@ -708,7 +758,8 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       for (int s = 0; s < n; ++s) {
         trial[s] = std::clamp(trial[s] + full_step[s], box_lo[s], box_hi[s]);
       }
-      Iterate candidate = Evaluate(params, std::move(trial), stage.smoothing, desired, weights);
+      Iterate candidate =
+          Evaluate(params, std::move(trial), stage.smoothing, desired, weights, suppression);
       if (candidate.cost < it.cost) {
         improved = rms_gain(it.cost, candidate.cost) >= stage.tolerance_deg;
         it = std::move(candidate);
@@ -722,7 +773,8 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
           for (int s = 0; s < n; ++s) {
             pivot[s] = std::clamp(pivot[s] + fraction * full_step[s], box_lo[s], box_hi[s]);
           }
-          Iterate at_kink = Evaluate(params, std::move(pivot), stage.smoothing, desired, weights);
+          Iterate at_kink =
+              Evaluate(params, std::move(pivot), stage.smoothing, desired, weights, suppression);
           if (at_kink.cost < it.cost) {
             it = std::move(at_kink);
             improved = true;  // a pivot: the next piece may still go much further
@@ -776,6 +828,11 @@ void Validate(std::span<const double> desired, const JointModelParams& params,
       }
     }
   }
+  if (!(options.request_smoothing >= 0.0 && std::isfinite(options.request_smoothing))) {
+    throw std::invalid_argument(
+        "optimal requests: request_smoothing must be finite and >= 0, got " +
+        std::to_string(options.request_smoothing));
+  }
   if (!(options.smoothing_theta0 >= 0.0 && std::isfinite(options.smoothing_theta0))) {
     throw std::invalid_argument("optimal requests: smoothing_theta0 must be >= 0, got " +
                                 std::to_string(options.smoothing_theta0));
@@ -791,7 +848,8 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   Validate(desired_deg, params, initial_requests_deg, options);
   std::vector<double> start(initial_requests_deg.begin(), initial_requests_deg.end());
   for (double& r : start) r = std::clamp(r, options.lower_deg, options.upper_deg);
-  const Iterate initial = Evaluate(params, start, 0.0, desired_deg, options.weights);
+  const double suppression = MoveSuppression(options);
+  const Iterate initial = Evaluate(params, start, 0.0, desired_deg, options.weights, suppression);
 
   // Smoothed stages, each a quarter of the last, then eq. 2 exactly. (With v_max > theta_0
   // the steady state is CyclicSteadyState's iteration, for f exact only: no smoothing.)
@@ -815,7 +873,7 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
     // (Evaluate is deterministic: `it` is kept when it is already this evaluation.)
     if (stages[k].smoothing != evaluated_with || it.requests != initial.requests) {
       it = Evaluate(params, std::move(it.requests), stages[k].smoothing, desired_deg,
-                    options.weights);
+                    options.weights, suppression);
       evaluated_with = stages[k].smoothing;
     }
     used += MinimiseStage(params, desired_deg, options, stages[k],
@@ -824,14 +882,17 @@ OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
   // Scored with f exact (the last stage's model, unless the budget ran out before it), and
   // never worse than the start.
   if (evaluated_with != 0.0) {
-    it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights);
+    it = Evaluate(params, std::move(it.requests), 0.0, desired_deg, options.weights, suppression);
   }
   if (!(it.cost <= initial.cost)) it = initial;
 
+  // The tracking error alone (the cost also holds the move suppression when it is on).
+  const double tracking =
+      suppression > 0.0 ? SumOfSquares(it.angles, desired_deg, options.weights) : it.cost;
   OptimalRequests result;
   result.requests_deg = std::move(it.requests);
   result.steady_state_deg = std::move(it.angles);
-  result.rms_error_deg = std::sqrt(it.cost / static_cast<double>(desired_deg.size()));
+  result.rms_error_deg = std::sqrt(tracking / static_cast<double>(desired_deg.size()));
   result.iterations = used;
   return result;
 }

@@ -70,6 +70,9 @@ class IlcController final : public JointController {
     double solver_tolerance_deg = 1e-4;  ///< ilc.solver_tolerance_deg: in [0, 1]
     std::string objective = "joint";     ///< ilc.objective: joint or foot
     double joint_weight = 2.0;           ///< ilc.joint_weight: in [0, 100], foot objective
+    /// ilc.request_smoothing: in [0, 1e6]: each per-step solve's move suppression on the
+    /// requests' second difference (OptimizeRequests' request_smoothing); 0: none.
+    double request_smoothing = 0.0;
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "ilc";

@@ -35,8 +35,11 @@ class OptimalController final : public JointController {
  public:
   /// The `optimal.*` keys.
   struct Spec {
-    std::string objective = "joint";   ///< optimal.objective: joint or foot
-    double joint_weight = 2.0;         ///< optimal.joint_weight: in [0, 100], foot objective
+    std::string objective = "joint";  ///< optimal.objective: joint or foot
+    double joint_weight = 2.0;        ///< optimal.joint_weight: in [0, 100], foot objective
+    /// optimal.request_smoothing: in [0, 1e6], foot objective: OptimizeRequests'
+    /// request_smoothing (move suppression on the requests' second difference); 0: none.
+    double request_smoothing = 0.0;
     std::string model = "step_tests";  ///< optimal.model: step_tests or walk
     friend bool operator==(const Spec&, const Spec&) = default;
   };
@@ -74,6 +77,7 @@ DesiredCycle OptimalRequestCycle(const ControllerContext& context);
 
 /// The foot objective's request cycle (see OptimalController), from the joint objective's;
 /// memoised per context like it. Throws std::invalid_argument without the context's geometry.
-DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight);
+DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight,
+                                     double request_smoothing = 0.0);
 
 }  // namespace leglab

@@ -36,6 +36,15 @@ struct OptimalRequestsOptions {
   /// of the cycle saturated). Off by default; ILC's per-step updates and optimal's offline
   /// cycles (the joint optimum and the foot objective's sweeps) use it.
   bool structured_solve = false;
+  /// Move suppression on the requests' second difference, lambda >= 0: the objective gains
+  /// lambda * mean(w) * sum_t (R(t+1) - 2 R(t) + R(t-1))^2 (cyclic; mean(w) = 1 without
+  /// weights), as extra least-squares rows of every Gauss-Newton step and of the objective a
+  /// step must lower. It picks, among the many request cycles that track equally well (a
+  /// request deep in saturation has no effect), the one whose requests do not chatter tick to
+  /// tick. 0 (the default): the objective above, bit for bit. When > 0 every step is solved
+  /// densely (structured_solve is ignored), and OptimalRequests::rms_error_deg is still the
+  /// tracking error alone.
+  double request_smoothing = 0.0;
 };
 
 /// The optimised request cycle and what the model does under it.
