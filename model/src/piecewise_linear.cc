@@ -118,22 +118,44 @@ void ValidateBreakpoints(const std::vector<int>& breakpoints, int period) {
   }
 }
 
-// P = A p with A's rows the hat-function weights of each tick: A^T A and -A^T D.
+// P = A p with A's rows the hat-function weights of each tick: A^T A and -A^T D. A row of A has
+// its non-zeros in two adjacent columns (k and k + 1 mod n), so A^T A is summed tick by tick
+// from 2 x 2 pieces, O(T) instead of the dense product's O(T n^2) (in the same order, so the
+// same bits as the product: measured on every shipped config's outputs).
 PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired,
                                                  const PiecewiseLinear& pwl) {
   const int period = pwl.period_ticks;
   const int n = pwl.num_segments();
+  PwlFitCache::NormalEquations normal{Eigen::MatrixXd::Zero(n, n), {}};
   Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(period, n);
+  // The segment of each tick walked in order (as Sample): before the first breakpoint, the
+  // wrapping last one.
+  int k = n - 1;
+  int following = 0;
+  double length = pwl.SegmentLength(k);
   for (int t = 0; t < period; ++t) {
-    const int k = pwl.SegmentAt(t);
+    if (following < n && pwl.breakpoints_tick[following] <= t) {
+      while (following < n && pwl.breakpoints_tick[following] <= t) k = following++;
+      length = pwl.SegmentLength(k);
+    }
     long offset = t - pwl.breakpoints_tick[k];
     if (offset < 0) offset += period;
-    const double lambda = static_cast<double>(offset) / pwl.SegmentLength(k);
+    const double lambda = static_cast<double>(offset) / length;
+    const int next = (k + 1) % n;
     basis(t, k) += 1.0 - lambda;
-    basis(t, (k + 1) % n) += lambda;
+    basis(t, next) += lambda;
+    const double wk = basis(t, k);
+    const double wn = basis(t, next);
+    normal.hessian(k, k) += wk * wk;
+    if (next != k) {  // one segment: its single column holds both weights
+      normal.hessian(k, next) += wk * wn;
+      normal.hessian(next, k) += wn * wk;
+      normal.hessian(next, next) += wn * wn;
+    }
   }
   const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
-  return {basis.transpose() * basis, -basis.transpose() * d};
+  normal.gradient0 = -basis.transpose() * d;
+  return normal;
 }
 
 // FitPiecewiseLinearAt, with the normal equations from `cache` when given.
