@@ -643,6 +643,7 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
     id.Read("t_step_ticks", c.t_step_ticks);
     id.Read("settle_cycles", c.settle_cycles);
     id.Read("record_cycles", c.record_cycles);
+    id.Read("average_cycles", c.average_cycles);
     std::vector<double> hold(c.hold_deg.begin(), c.hold_deg.end());
     id.ReadList("hold_deg", hold);
     std::string joints;

@@ -55,6 +55,17 @@ StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
   return run;
 }
 
+std::vector<JointRecording> StepTestsForFit(std::span<const JointRecording> recordings,
+                                            const IdentifyConfig& identify, int warmup_ticks) {
+  if (!identify.average_cycles) return {recordings.begin(), recordings.end()};
+  std::vector<JointRecording> averaged;
+  for (const JointRecording& r : recordings) {
+    averaged.push_back(
+        AverageCycles(r, identify.t_step_ticks, warmup_ticks, kStepTestPlayedCycles));
+  }
+  return averaged;
+}
+
 std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config,
                                                         const Robot& robot) {
   // Build one plant first so that bad robot input fails before any thread starts.
@@ -70,7 +81,23 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
       result.runs.push_back(RunStepTest(*plant, config.identify, joint, theta));
       recordings.push_back(result.runs.back().recording);
     }
-    result.fit = IdentifyJointModel(recordings, config.identify.search);
+    const IdentificationOptions& search = config.identify.search;
+    result.fit = IdentifyJointModel(
+        StepTestsForFit(recordings, config.identify, search.lag_max_ticks + search.accel_max_ticks),
+        search);
+    if (config.identify.average_cycles) {
+      // The residual over every recorded tick, as the fit of the raw recordings reports it:
+      // the averaged fit's squared error (weighted to count each recorded cycle) plus the
+      // cycles' spread about their mean; over the same count of ticks, each recording's.
+      double count = 0.0;
+      double scatter = 0.0;
+      for (const JointRecording& r : recordings) {
+        count += static_cast<double>(r.request_deg.size());
+        scatter += CycleScatter(r, config.identify.t_step_ticks);
+      }
+      const double rms = result.fit.rms_residual_deg;
+      result.fit.rms_residual_deg = std::sqrt(rms * rms + scatter / count);
+    }
   });
   return joints;
 }

@@ -55,7 +55,14 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
   SetProgressPhase("identification for control: the walk");  // after the run's "walking"
   std::array<JointModelParams, kLegJoints> models = r.context.models;
   ParallelFor(kLegJoints, config.threads, [&](int j) {
-    std::vector<JointRecording> recordings = step_tests[j];
+    // The same servo: its lag on the walk is searched near the one it has (see
+    // kWalkFitLagRadiusTicks), the rest of the search as identify's.
+    IdentificationOptions search = config.identify.search;
+    const int lag = r.context.models[j].lag_ticks;
+    search.lag_min_ticks = std::max(search.lag_min_ticks, lag - kWalkFitLagRadiusTicks);
+    search.lag_max_ticks = std::min(search.lag_max_ticks, lag + kWalkFitLagRadiusTicks);
+    if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
+    const int warmup = search.lag_max_ticks + search.accel_max_ticks;
     std::vector<JointRecording> walked(runs.size());
     for (size_t w = 0; w < runs.size(); ++w) {
       for (size_t t = 0; t < runs[w].request_deg.size(); ++t) {
@@ -69,18 +76,12 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
     const auto [low, high] = std::minmax_element(first.begin(), first.end());
     if (*high - *low < kWalkFitMinSwingDeg) return;
     try {
-      // The same servo: its lag on the walk is searched near the one it has (see
-      // kWalkFitLagRadiusTicks), the rest of the search as identify's.
-      IdentificationOptions search = config.identify.search;
-      const int lag = r.context.models[j].lag_ticks;
-      search.lag_min_ticks = std::max(search.lag_min_ticks, lag - kWalkFitLagRadiusTicks);
-      search.lag_max_ticks = std::min(search.lag_max_ticks, lag + kWalkFitLagRadiusTicks);
-      if (search.lag_min_ticks > search.lag_max_ticks) search = config.identify.search;
+      std::vector<JointRecording> recordings =
+          StepTestsForFit(step_tests[j], config.identify, warmup);
       // Synchronous averaging (kWalkFitPlayedCycles): each walk's recorded steps' mean cycle,
       // played after the fit's warm-up, weighted by the steps over the cycles played.
       for (const JointRecording& walk : walked) {
-        recordings.push_back(AverageCycles(
-            walk, r.period, search.lag_max_ticks + search.accel_max_ticks, kWalkFitPlayedCycles));
+        recordings.push_back(AverageCycles(walk, r.period, warmup, kWalkFitPlayedCycles));
       }
       const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
       ValidateJointModelParams(fitted);

@@ -156,6 +156,13 @@ double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>&
   return value[best];
 }
 
+// Whether exp of the fit's logarithms gave a model at all: a joint that hardly moves drives
+// ln v_max towards -infinity (or ln theta_0 towards +infinity), where exp underflows to 0 or
+// overflows. Such a point scores +infinity: no step or polish takes the fit there.
+bool Representable(const JointModelParams& p) {
+  return std::isnormal(p.v_max_deg_per_tick) && std::isnormal(p.theta0_deg);
+}
+
 // One recording, ready for the fit.
 struct Prepared {
   const JointRecording* recording;
@@ -189,6 +196,7 @@ class ContinuousFit {
     p.theta0_deg = std::exp(x[1]);
     jtj.setZero();
     jte.setZero();
+    if (!Representable(p)) return std::numeric_limits<double>::infinity();
     double sum = 0.0;
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const long s = 2 + static_cast<long>(k);
@@ -213,6 +221,7 @@ class ContinuousFit {
     JointModelParams p = lag_accel;
     p.v_max_deg_per_tick = std::exp(x[0]);
     p.theta0_deg = std::exp(x[1]);
+    if (!Representable(p)) return std::numeric_limits<double>::infinity();
     double sum = 0.0;
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const JointRecording& r = *recordings_[k].recording;
@@ -422,11 +431,12 @@ PredictionSensitivities PredictRecordingSensitivities(const JointModelParams& p,
   return s;
 }
 
-JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
-                             int played_cycles) {
+namespace {
+
+// The mean over the cycles of `run`'s measured angle at each tick of the cycle (AverageCycles'
+// checks of the run).
+std::vector<double> CycleMean(const JointRecording& run, int period_ticks) {
   if (period_ticks < 1) Fail("the period must be at least one tick");
-  if (warmup_ticks < 0) Fail("the warm-up must not be negative");
-  if (played_cycles < 1) Fail("at least one cycle must be played");
   if (run.request_deg.size() != run.measured_deg.size()) {
     Fail("request and measured lengths differ");
   }
@@ -445,6 +455,28 @@ JointRecording AverageCycles(const JointRecording& run, int period_ticks, int wa
     }
   }
   for (double& m : mean) m /= static_cast<double>(cycles);
+  return mean;
+}
+
+}  // namespace
+
+double CycleScatter(const JointRecording& run, int period_ticks) {
+  const std::vector<double> mean = CycleMean(run, period_ticks);
+  double sum = 0.0;
+  for (size_t i = 0; i < run.measured_deg.size(); ++i) {
+    const double d = run.measured_deg[i] - mean[i % mean.size()];
+    sum += d * d;
+  }
+  return run.weight * sum;
+}
+
+JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
+                             int played_cycles) {
+  if (warmup_ticks < 0) Fail("the warm-up must not be negative");
+  if (played_cycles < 1) Fail("at least one cycle must be played");
+  const std::vector<double> mean = CycleMean(run, period_ticks);
+  const size_t period = mean.size();
+  const size_t cycles = run.request_deg.size() / period;
   JointRecording averaged;
   const size_t length =
       static_cast<size_t>(warmup_ticks) + static_cast<size_t>(played_cycles) * period;

@@ -290,6 +290,13 @@ TEST(AverageCycles, HandWorkedCase) {
   EXPECT_THROW(AverageCycles(run, 3, 0, 0), std::invalid_argument);
   const JointRecording changing{{1, 2, 3, 1, 2, 4}, {10, 20, 30, 12, 22, 32}};
   EXPECT_THROW(AverageCycles(changing, 3, 0, 1), std::invalid_argument);
+  // The spread about the mean cycle: every sample 1 away from its tick's mean, 6 samples.
+  EXPECT_EQ(CycleScatter(run, 3), 6.0);
+  JointRecording weighted = run;
+  weighted.weight = 2.5;
+  EXPECT_EQ(CycleScatter(weighted, 3), 15.0);
+  EXPECT_THROW(CycleScatter(run, 4), std::invalid_argument);
+  EXPECT_THROW(CycleScatter(changing, 3), std::invalid_argument);
 }
 
 // A walk-like request cycle (a triangle wave with a plateau) of `period` ticks.
@@ -346,6 +353,7 @@ TEST(AverageCycles, WeightedErrorIsThePooledOneUpToTheSpread) {
   }
   EXPECT_NEAR(weighted + spread, pooled, 1e-9 * pooled);
   EXPECT_GT(spread, 0.0);
+  EXPECT_NEAR(CycleScatter(run, 40), spread, 1e-9 * spread);
 }
 
 TEST(Identification, AWeightCountsARecordingThatManyTimes) {

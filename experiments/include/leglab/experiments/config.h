@@ -65,6 +65,9 @@ struct IdentifyConfig {
   int record_cycles = 8;  ///< cycles recorded and fitted (fewer lets noise pick among near-ties)
   LegAngles hold_deg{0.0, 0.0, 0.0};  ///< where the joints not under test are held
   IdentificationOptions search;       ///< lag_range_ticks, accel_range_ticks
+  /// true: each recording's cycles are averaged into one before the fit (StepTestsForFit);
+  /// false: the fit scores every recorded tick, as the paper's procedure reads.
+  bool average_cycles = true;
 };
 
 /// `desired.locus.*`: the half-elliptical foot locus (its shape, the model's HalfEllipseLocus

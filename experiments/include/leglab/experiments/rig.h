@@ -36,6 +36,19 @@ StepTestRun RunStepTest(Plant& plant, const IdentifyConfig& identify, int joint,
 /// Plant ticks of one step test (settle and record cycles of t_step_ticks).
 long StepTestTicks(const IdentifyConfig& identify);
 
+/// With identify.average_cycles, the fit takes each step test's recorded cycles averaged into
+/// one (synchronous averaging, AverageCycles: the requests repeat every cycle and the plant is
+/// time-invariant, so the cycles differ only by the sensor noise) and scores the model's
+/// prediction over this many plays of it after the fit's warm-up: the least-squares objective
+/// of every recorded tick up to a constant and the model's start-up, for 1/4 of the ticks at 8
+/// recorded cycles. The walk fit averages its walk the same way (kWalkFitPlayedCycles).
+inline constexpr int kStepTestPlayedCycles = 2;
+
+/// The step tests' `recordings` as a fit with warm-up `warmup_ticks` takes them: averaged (see
+/// kStepTestPlayedCycles) with identify.average_cycles, else as they are.
+std::vector<JointRecording> StepTestsForFit(std::span<const JointRecording> recordings,
+                                            const IdentifyConfig& identify, int warmup_ticks);
+
 /// The model identified for one joint, with the recordings it was fitted to.
 struct JointIdentification {
   IdentificationResult fit;

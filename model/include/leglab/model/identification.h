@@ -34,6 +34,13 @@ struct JointRecording {
 JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
                              int played_cycles);
 
+/// What AverageCycles leaves out: run.weight * sum over the run's ticks of (measured - the mean
+/// of the cycles' measured angles at that tick of the cycle)^2, the cycles' spread about their
+/// mean. Added to the squared error of a prediction that repeats every cycle against the
+/// averaged recording, it gives that prediction's squared error against the whole run. Throws
+/// as AverageCycles on a run that is not whole cycles of the same requests.
+double CycleScatter(const JointRecording& run, int period_ticks);
+
 /// The search space of the fit.
 struct IdentificationOptions {
   int lag_min_ticks = 0;  ///< l is searched exhaustively over [lag_min, lag_max]
