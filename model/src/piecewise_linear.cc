@@ -38,51 +38,68 @@ struct DifferenceBound {
 // Minimises 0.5 p'Hp + g'p subject to the difference bounds, by the primal active-set method
 // (Nocedal & Wright, Algorithm 16.3) from the feasible start `p` (all differences zero). The
 // bounds are positive, so that start is strictly feasible; a blocking bound is never a
-// combination of the active ones, so the KKT systems stay non-singular.
-Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::VectorXd& gradient0,
+// combination of the active ones, so the working set's rows stay independent.
+//
+// Each iteration's equality-constrained step solves the KKT system [H A'; A 0] [s; mu] =
+// [-(Hp + g); 0] (A the working set's rows, e_to - e_from) by its Schur complement: H is
+// symmetric positive definite (a breakpoint's own tick weighs only its value), so with H^-1,
+// formed with the normal equations (once a breakpoint set, PwlFitCache), u = H^-1 (Hp + g), (A H^-1
+// A') mu = -A u and s = -(u + H^-1 A' mu). A H^-1 A' is m x m and its entries are four of H^-1's
+// each: O(n^2 + n m + m^3) an iteration instead of a dense (n + m) x (n + m) factorisation. The
+// same iterates as that factorisation in exact arithmetic.
+Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::MatrixXd& inverse,
+                             const Eigen::VectorXd& gradient0,
                              const std::vector<DifferenceBound>& bounds, Eigen::VectorXd p) {
   const int n = static_cast<int>(p.size());
   const int num_bounds = static_cast<int>(bounds.size());
   std::vector<int> active;
+  std::vector<char> is_active(bounds.size(), 0);
   auto row_times = [&](int j, const auto& x) { return x[bounds[j].to] - x[bounds[j].from]; };
   const int max_iterations = 20 * (num_bounds + n) + 100;
-  // Work space kept across iterations (the KKT system changes size with the working set; the
-  // values put into it, and so the factorisation and its solution, are those of a fresh one).
-  Eigen::MatrixXd kkt;
-  Eigen::VectorXd rhs;
-  Eigen::VectorXd solution;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  // Work space kept across iterations.
+  Eigen::VectorXd u(n), step(n), residual(n);
+  Eigen::MatrixXd schur;
+  Eigen::VectorXd multipliers;
+  Eigen::LLT<Eigen::MatrixXd> llt;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
     const int m = static_cast<int>(active.size());
-    kkt.resize(n + m, n + m);
-    kkt.topLeftCorner(n, n) = hessian;
-    kkt.bottomRows(m).setZero();
-    kkt.topRightCorner(n, m).setZero();
-    for (int r = 0; r < m; ++r) {
-      const DifferenceBound& b = bounds[active[r]];
-      kkt(n + r, b.to) = kkt(b.to, n + r) = 1.0;
-      kkt(n + r, b.from) = kkt(b.from, n + r) = -1.0;
+    residual.noalias() = hessian * p;
+    residual += gradient0;
+    u.noalias() = inverse * residual;
+    step = -u;
+    multipliers.resize(m);
+    if (m > 0) {
+      schur.resize(m, m);
+      for (int r = 0; r < m; ++r) {
+        const DifferenceBound& a = bounds[active[r]];
+        for (int c = 0; c <= r; ++c) {
+          const DifferenceBound& b = bounds[active[c]];
+          schur(r, c) = schur(c, r) = inverse(a.to, b.to) - inverse(a.to, b.from) -
+                                      inverse(a.from, b.to) + inverse(a.from, b.from);
+        }
+        multipliers[r] = -row_times(active[r], u);
+      }
+      llt.compute(schur);
+      multipliers = llt.solve(multipliers);
+      for (int r = 0; r < m; ++r) {  // s -= H^-1 A' mu, A's row r being e_to - e_from
+        const DifferenceBound& a = bounds[active[r]];
+        step -= multipliers[r] * (inverse.col(a.to) - inverse.col(a.from));
+      }
     }
-    rhs.resize(n + m);
-    rhs.head(n) = -(hessian * p + gradient0);
-    rhs.tail(m).setZero();
-    lu.compute(kkt);
-    solution = lu.solve(rhs);
-    const auto step = solution.head(n);
 
     if (step.lpNorm<Eigen::Infinity>() <= 1e-13 * (1.0 + p.lpNorm<Eigen::Infinity>())) {
       // Stationary on the working set: optimal unless a multiplier is negative.
-      const auto multipliers = solution.tail(m);
       if (m == 0 || multipliers.minCoeff() >= -1e-12) return p;
       Eigen::Index worst = 0;
       multipliers.minCoeff(&worst);
+      is_active[active[worst]] = 0;
       active.erase(active.begin() + worst);
       continue;
     }
     double alpha = 1.0;
     int blocking = -1;
     for (int j = 0; j < num_bounds; ++j) {
-      if (std::find(active.begin(), active.end(), j) != active.end()) continue;
+      if (is_active[j]) continue;
       const double rate = row_times(j, step);
       if (rate <= 0.0) continue;
       const double room = std::max(0.0, bounds[j].bound - row_times(j, p));
@@ -92,7 +109,10 @@ Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::Vector
       }
     }
     p += alpha * step;
-    if (blocking >= 0) active.push_back(blocking);
+    if (blocking >= 0) {
+      active.push_back(blocking);
+      is_active[blocking] = 1;
+    }
   }
   // Each iteration adds or drops one bound and the objective never rises, so this is a bug.
   throw std::logic_error("piecewise-linear fit: the slope QP did not converge");
@@ -102,6 +122,7 @@ Eigen::VectorXd SolveSlopeQp(const Eigen::MatrixXd& hessian, const Eigen::Vector
 
 struct PwlFitCache::NormalEquations {
   Eigen::MatrixXd hessian;    // A^T A
+  Eigen::MatrixXd inverse;    // (A^T A)^-1, for the slope QP's steps
   Eigen::VectorXd gradient0;  // -A^T D
 };
 
@@ -126,7 +147,7 @@ PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired
                                                  const PiecewiseLinear& pwl) {
   const int period = pwl.period_ticks;
   const int n = pwl.num_segments();
-  PwlFitCache::NormalEquations normal{Eigen::MatrixXd::Zero(n, n), {}};
+  PwlFitCache::NormalEquations normal{Eigen::MatrixXd::Zero(n, n), {}, {}};
   Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(period, n);
   // The segment of each tick walked in order (as Sample): before the first breakpoint, the
   // wrapping last one.
@@ -155,6 +176,7 @@ PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired
   }
   const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
   normal.gradient0 = -basis.transpose() * d;
+  normal.inverse = normal.hessian.llt().solve(Eigen::MatrixXd::Identity(n, n));
   return normal;
 }
 
@@ -182,7 +204,8 @@ PiecewiseLinear FitAt(std::span<const double> desired, double v_max, std::vector
   }
   const Eigen::Map<const Eigen::VectorXd> d(desired.data(), period);
   const Eigen::VectorXd start = Eigen::VectorXd::Constant(n, d.mean());
-  const Eigen::VectorXd p = SolveSlopeQp(normal.hessian, normal.gradient0, bounds, start);
+  const Eigen::VectorXd p =
+      SolveSlopeQp(normal.hessian, normal.inverse, normal.gradient0, bounds, start);
   pwl.values_deg.assign(p.data(), p.data() + n);
   return pwl;
 }
