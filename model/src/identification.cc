@@ -632,7 +632,7 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
   ContinuousFit refine_fit(prepared, warmup, true);
   struct Refined {
     std::vector<double> point;
-    double error = 0.0;  // after LM, then after the polish
+    double error = 0.0;  // where LM stopped (orders the polish)
   };
   std::vector<Refined> refined_fits(refined);
   Eigen::VectorXd with_starts = Eigen::VectorXd::Zero(2 + static_cast<long>(recordings.size()));
