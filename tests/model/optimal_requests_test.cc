@@ -329,26 +329,13 @@ TEST(StructuredDampedStep, DoesNotApplyToAZeroWeightOrACycleSaturatedThroughout)
 
 // --- Brute force on small cycles -----------------------------------------------------------
 
-// The best RMS error over an exhaustive grid on a box of requests (21^4 or 11^5 points), each
-// of the 40 best grid points refined by compass search (halving the step down to 1e-8 deg).
-double BruteForceBest(const JointModelParams& p, std::span<const double> d,
-                      std::vector<double>* best_requests, std::span<const double> weights = {}) {
-  const int n = static_cast<int>(d.size());
-  const auto [dmin, dmax] = std::minmax_element(d.begin(), d.end());
-  // Past theta_0 + (l + a) v_max beyond D a request is saturated for any nearby angle.
-  const double reach = p.theta0_deg + p.v_max_deg_per_tick * (p.lag_ticks + p.accel_ticks) + 2.0;
-  const double lo = *dmin - reach;
-  const double hi = *dmax + reach;
-  const int points = n == 4 ? 21 : 11;
+// The least `score` over an exhaustive grid of `points`^n request cycles on the box [lo, hi]^n,
+// each of the 40 best grid points refined by compass search (halving the step from the grid's
+// spacing down to 1e-8 deg). Writes the best cycle into `best_requests` when given.
+template <typename Score>
+double GridThenCompassSearch(const Score& score, int n, double lo, double hi, int points,
+                             std::vector<double>* best_requests = nullptr) {
   const double spacing = (hi - lo) / (points - 1);
-  auto score = [&](const std::vector<double>& r) {
-    try {
-      return weights.empty() ? RmsError(p, r, d) : WeightedRmsError(p, r, d, weights);
-    } catch (const std::runtime_error&) {  // no settled steady state: not a candidate
-      return std::numeric_limits<double>::infinity();
-    }
-  };
-
   std::vector<std::pair<double, std::vector<double>>> grid;
   std::vector<int> index(n, 0);
   std::vector<double> r(n);
@@ -384,10 +371,31 @@ double BruteForceBest(const JointModelParams& p, std::span<const double> d,
     }
     if (fx < best) {
       best = fx;
-      *best_requests = x;
+      if (best_requests != nullptr) *best_requests = x;
     }
   }
   return best;
+}
+
+// The best RMS error over a grid of 21^4 or 11^5 request cycles round D, refined
+// (GridThenCompassSearch).
+double BruteForceBest(const JointModelParams& p, std::span<const double> d,
+                      std::vector<double>* best_requests, std::span<const double> weights = {}) {
+  const int n = static_cast<int>(d.size());
+  const auto [dmin, dmax] = std::minmax_element(d.begin(), d.end());
+  // Past theta_0 + (l + a) v_max beyond D a request is saturated for any nearby angle.
+  const double reach = p.theta0_deg + p.v_max_deg_per_tick * (p.lag_ticks + p.accel_ticks) + 2.0;
+  const double lo = *dmin - reach;
+  const double hi = *dmax + reach;
+  const int points = n == 4 ? 21 : 11;
+  auto score = [&](const std::vector<double>& r) {
+    try {
+      return weights.empty() ? RmsError(p, r, d) : WeightedRmsError(p, r, d, weights);
+    } catch (const std::runtime_error&) {  // no settled steady state: not a candidate
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+  return GridThenCompassSearch(score, n, lo, hi, points, best_requests);
 }
 
 struct SmallCase {
@@ -504,41 +512,9 @@ TEST(OptimizeRequests, ReachesThePenalisedBruteForceOptimum) {
       const double reach = p.theta0_deg + p.v_max_deg_per_tick * (p.lag_ticks + p.accel_ticks);
       const double lo = *std::min_element(d.begin(), d.end()) - reach;
       const double hi = *std::max_element(d.begin(), d.end()) + reach;
-      const int points = 21;
-      const double spacing = (hi - lo) / (points - 1);
-      std::vector<std::pair<double, std::vector<double>>> grid;
-      std::vector<int> index(n, 0);
-      std::vector<double> r(n);
-      while (true) {
-        for (int s = 0; s < n; ++s) r[s] = lo + spacing * index[s];
-        grid.emplace_back(PenalisedCost(p, r, d, lambda), r);
-        int k = 0;
-        while (k < n && ++index[k] == points) index[k++] = 0;
-        if (k == n) break;
-      }
-      std::partial_sort(grid.begin(), grid.begin() + 40, grid.end());
-      double best = std::numeric_limits<double>::infinity();
-      for (int g = 0; g < 40; ++g) {
-        std::vector<double> x = grid[g].second;
-        double fx = grid[g].first;
-        for (double step = spacing; step > 1e-8;) {
-          bool moved = false;
-          for (int s = 0; s < n; ++s) {
-            for (double sign : {-1.0, 1.0}) {
-              std::vector<double> y = x;
-              y[s] += sign * step;
-              const double fy = PenalisedCost(p, y, d, lambda);
-              if (fy < fx) {
-                fx = fy;
-                x = std::move(y);
-                moved = true;
-              }
-            }
-          }
-          if (!moved) step /= 2.0;
-        }
-        best = std::min(best, fx);
-      }
+      const double best = GridThenCompassSearch(
+          [&](const std::vector<double>& r) { return PenalisedCost(p, r, d, lambda); }, n, lo, hi,
+          21);
       OptimalRequestsOptions options;
       options.request_smoothing = lambda;
       const OptimalRequests opt = OptimizeRequests(d, p, d, options);
