@@ -89,8 +89,10 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
     }
     desired_foot_mm_ = FootPathMm(*context_.geometry, context_.desired);
   }
-  start_ = spec_.start == "model_based" ? ModelBasedRequestCycle(context_, CmMethod::kExact)
-                                        : OptimalRequestCycle(context_);
+  // The joint optimum as a start: learning moves on from it at its first update.
+  start_ = spec_.start == "model_based"
+               ? ModelBasedRequestCycle(context_, CmMethod::kExact)
+               : OptimalRequestCycle(context_, OptimalController::kStartToleranceDeg);
   Reset();
 }
 

@@ -18,7 +18,7 @@ namespace leglab {
 
 namespace {
 
-DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context) {
+DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context, double tolerance_deg) {
   const auto period = static_cast<int>(context.desired.size());
   const DesiredCycle start = ModelBasedRequestCycle(context, CmMethod::kExact);
   DesiredCycle requests(period);
@@ -32,6 +32,7 @@ DesiredCycle ComputeOptimalRequestCycle(const ControllerContext& context) {
     options.lower_deg = RadToDeg(context.limits[j].lower_rad);
     options.upper_deg = RadToDeg(context.limits[j].upper_rad);
     options.structured_solve = true;  // the same steps up to rounding, no T x T factorisations
+    options.tolerance_deg = tolerance_deg;
     const OptimalRequests best = OptimizeRequests(desired, context.models[j], initial, options);
     for (int t = 0; t < period; ++t) requests[t][j] = best.requests_deg[t];
   }
@@ -70,6 +71,8 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
       options.weights = std::move(problem->weights);
       options.structured_solve = true;
       options.request_smoothing = request_smoothing;
+      // Re-linearised at the next sweep: solved as far as a start (kStartToleranceDeg).
+      options.tolerance_deg = OptimalController::kStartToleranceDeg;
       const OptimalRequests next =
           OptimizeRequests(problem->target_deg, context.models[j], Column(requests, j), options);
       DesiredCycle candidate = predicted;
@@ -87,10 +90,19 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
 
 }  // namespace
 
-DesiredCycle OptimalRequestCycle(const ControllerContext& context) {
-  if (context.offline_cycles == nullptr) return ComputeOptimalRequestCycle(context);
-  return context.offline_cycles->GetOrCompute(
-      "optimal", context, [&context] { return ComputeOptimalRequestCycle(context); });
+DesiredCycle OptimalRequestCycle(const ControllerContext& context, double tolerance_deg) {
+  if (!(tolerance_deg >= 0.0)) {
+    throw std::invalid_argument("optimal: the joint optimum's tolerance must be >= 0");
+  }
+  auto compute = [&context, tolerance_deg] {
+    return ComputeOptimalRequestCycle(context, tolerance_deg);
+  };
+  if (context.offline_cycles == nullptr) return compute();
+  // One entry per tolerance, never another's (a run's bits must not depend on which modes ran
+  // before); the tolerance's exact value in the name.
+  char name[64];
+  std::snprintf(name, sizeof name, "optimal tolerance %.17g", tolerance_deg);
+  return context.offline_cycles->GetOrCompute(name, context, compute);
 }
 
 DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double joint_weight,
@@ -98,8 +110,10 @@ DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double jo
   if (!context.geometry) {
     throw std::invalid_argument("optimal: the foot objective needs the leg's geometry");
   }
-  // The joint optimum first: the memo's lock is not re-entrant.
-  const DesiredCycle joint_optimal = OptimalRequestCycle(context);
+  // The joint optimum first (the memo's lock is not re-entrant), as a start: the sweeps move
+  // on from it at once.
+  const DesiredCycle joint_optimal =
+      OptimalRequestCycle(context, OptimalController::kStartToleranceDeg);
   auto compute = [&] {
     return ComputeFootOptimalRequestCycle(context, joint_optimal, joint_weight, request_smoothing);
   };

@@ -15,8 +15,9 @@ namespace leglab {
 ///   d <- d + gain * (Q[y - M_ss(R)] - d)       what the model got wrong about this step
 ///   R <- argmin_R' RMS(M_ss(R') + d - D)        OptimizeRequests, warm-started at R,
 /// where M_ss is the model's cyclic steady state (eqs. 2-3) and the new R stays within the
-/// limits. It starts from the best offline requests it has (`ilc.start`: optimal or
-/// model_based) with d = 0.
+/// limits. It starts from the best offline requests it has (`ilc.start`: optimal, the joint
+/// optimum solved as far as a start, OptimalController::kStartToleranceDeg; or model_based)
+/// with d = 0.
 ///  - Learning filter: the model's own inverse, by optimisation rather than by a linearised
 ///    gain. It carries the lead (a request at s first moves the joint at s + l + 1, so the
 ///    correction for an error at t lands l + 1 ticks earlier, the classic P-type lead of

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "leglab/controller/controller.h"
+#include "leglab/model/optimal_requests.h"
 
 namespace leglab {
 
@@ -51,6 +52,13 @@ class OptimalController final : public JointController {
   /// error by less than this (mm) is the last, and there are at most kMaxFootSweeps.
   static constexpr double kFootToleranceMm = 1e-3;
   static constexpr int kMaxFootSweeps = 20;
+  /// How far a solve that only starts another iteration is taken (deg of RMS error a step
+  /// must still gain): the joint optimum the foot objective's sweeps start from, each sweep's
+  /// per-joint solve (re-linearised at the next sweep), and ILC's start (ILC's own per-step
+  /// solves stop at ilc.solver_tolerance_deg, 1e-4 by default, for the same reason). Solving
+  /// these to OptimizeRequests' 1e-9 took 3-4 times the iterations and moved the shipped
+  /// results by less than their spread over seeds (the README's "What a run costs").
+  static constexpr double kStartToleranceDeg = 1e-4;
   /// Throws the reader's error naming the key for a value out of its range.
   static Spec ReadSpec(OptionReader& reader);
   /// Whether the experiments must give this spec a context with models fitted to the walk.
@@ -70,10 +78,14 @@ class OptimalController final : public JointController {
 };
 
 /// The optimal request cycle of every joint for `context` under the joint objective (what
-/// OptimalController requests by default), requests[t][j]. Shared with the learning modes that
-/// start from it: computed once per context (its offline_cycles memo) for the same desired
-/// cycle, models and limits.
-DesiredCycle OptimalRequestCycle(const ControllerContext& context);
+/// OptimalController requests by default), requests[t][j], solved until a step gains less than
+/// `tolerance_deg` of RMS error (OptimizeRequests' tolerance; the default is its default, what
+/// the joint objective requests; a cycle that only starts another iteration takes
+/// OptimalController::kStartToleranceDeg). Shared with the modes that start from it: computed
+/// once per context (its offline_cycles memo) and tolerance for the same desired cycle, models
+/// and limits. Throws std::invalid_argument on a negative or NaN tolerance.
+DesiredCycle OptimalRequestCycle(const ControllerContext& context,
+                                 double tolerance_deg = OptimalRequestsOptions{}.tolerance_deg);
 
 /// The foot objective's request cycle (see OptimalController), from the joint objective's;
 /// memoised per context like it. Throws std::invalid_argument without the context's geometry.
