@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "leglab/controller/registry.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/sweep.h"
@@ -86,10 +87,13 @@ double Median(std::vector<double> values) {
 void ReportSideBySide(int rounds) {
   const ExperimentConfig config = Config();
   const TrackResult shape = RunTrackExperiment(config);
-  // Plants a default track builds: identification's (joints x step heights), the search's
-  // lead-0 run and every mode's run.
+  // Plants a default track ticks: identification's (joints x step heights), the walk fit's
+  // (when a mode uses the walk-fitted models), the search's lead-0 run and every mode's run.
+  const bool walk_fit =
+      std::any_of(config.controllers.begin(), config.controllers.end(),
+                  [](const leglab::ControllerSpec& spec) { return leglab::UsesWalkModels(spec); });
   const int plants = leglab::kLegJoints * static_cast<int>(config.identify.theta_test_deg.size()) +
-                     static_cast<int>(config.controllers.size()) + 1;
+                     (walk_fit ? 1 : 0) + static_cast<int>(config.controllers.size()) + 1;
   const int steps_per_tick = leglab::sim::PhysicsStepsPerTick(config.sim.physics_dt_ms);
   std::vector<double> track_s, physics_s, ratios;
   for (int round = 0; round < rounds; ++round) {
