@@ -379,7 +379,7 @@ TEST_F(StandRegression, TheStanceCarriesTheWeightAndModelBasedBeatsDirect) {
 // foot objective) must put the foot nearer its path than the paper's method and the best time
 // shift do, over the shipped run (5 warm-up and 20 measured steps: on the slow sine ILC is
 // still gaining after 4). So must optimal (track.yaml's: foot objective, model fitted to the
-// walk), except against the time shift on the slow triangle, where it does not: 0.113 cm against
+// walk), except against the time shift on the slow triangle, where it does not: 0.112 cm against
 // 0.102 (model_based 0.261; with the joint objective 0.112, with the step-test model 0.234); what
 // is left there is the model's mismatch with the plant (the README's table).
 double Triangle(double phase) {

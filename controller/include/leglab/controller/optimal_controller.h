@@ -20,8 +20,9 @@ namespace leglab {
 /// under the model's predicted steady state, plus `optimal.joint_weight` times each joint's own
 /// error: ILC's foot objective (FootObjectiveJointProblem, derivation in ilc_controller.h) with
 /// no learned mismatch, solved offline to convergence. Starting from the joint objective's
-/// optimum, it sweeps Gauss-Seidel over the joints, each joint's linearised problem solved by
-/// OptimizeRequests with the other joints at their predicted angles; a joint's new cycle is
+/// optimum (solved as far as a start, kStartToleranceDeg), it sweeps Gauss-Seidel over the
+/// joints, each joint's linearised problem solved by OptimizeRequests (to kStartToleranceDeg)
+/// with the other joints at their predicted angles; a joint's new cycle is
 /// kept only if it lowers the predicted foot error (so the foot error never rises above the
 /// joint optimum's), and the sweeps stop when one lowers it by less than kFootToleranceMm or
 /// after kMaxFootSweeps.
