@@ -1,6 +1,7 @@
 #include "leglab/controller/controller.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -101,6 +102,19 @@ void ReadModelSource(OptionReader& reader, std::string& source) {
   reader.Read("model", source);
   if (source != "step_tests" && source != "walk") {
     reader.Fail("model", "step_tests or walk, got '" + source + "'");
+  }
+}
+
+void RequireSettlingModels(const ControllerContext& context, std::string_view mode) {
+  for (int j = 0; j < kLegJoints; ++j) {
+    const JointModelParams& p = context.models[j];
+    if (SettlesOnEveryCycle(p)) continue;
+    char numbers[128];
+    std::snprintf(numbers, sizeof numbers, "v_max %.6g deg/tick is at least 2 theta_0, %.6g deg",
+                  p.v_max_deg_per_tick, 2.0 * p.theta0_deg);
+    throw std::invalid_argument(std::string(mode) + ": the " + std::string(kLegJointNames[j]) +
+                                "'s model has no cyclic steady state (" + numbers +
+                                ": eq. 3 swings about a request for ever)");
   }
 }
 

@@ -83,6 +83,7 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
       !(spec_.request_smoothing >= 0.0 && spec_.request_smoothing <= 1e6)) {
     throw std::invalid_argument("ilc: invalid options");
   }
+  RequireSettlingModels(context_, kName);
   if (spec_.objective == "foot") {
     if (!context_.geometry) {
       throw std::invalid_argument("ilc: the foot objective needs the leg's geometry");

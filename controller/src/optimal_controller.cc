@@ -157,6 +157,7 @@ OptimalController::OptimalController(const Spec& spec, const ControllerContext& 
       !(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
     throw std::invalid_argument("optimal: invalid options");
   }
+  RequireSettlingModels(context, kName);
   requests_ = spec.objective == "foot"
                   ? FootOptimalRequestCycle(context, spec.joint_weight, spec.request_smoothing)
                   : OptimalRequestCycle(context);

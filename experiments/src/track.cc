@@ -85,9 +85,11 @@ std::array<JointModelParams, kLegJoints> FitModelsToWalk(
       }
       const JointModelParams fitted = IdentifyJointModel(recordings, search).params;
       ValidateJointModelParams(fitted);
-      // A fit with v_max above theta_0 may make eq. 3 oscillate instead of settling; the modes
-      // that use it need its cyclic steady state, under the requests it was fitted to and
-      // under the desired angles themselves.
+      // The fit keeps v_max <= kMaxFittedSpeedRatio theta_0, so eq. 3 settles under every
+      // cycle (SettlesOnEveryCycle); the modes that use it need its cyclic steady state under
+      // the requests it was fitted to and under the desired angles, reached within
+      // CyclicSteadyState's cycles (a contraction too slow for them throws: the joint keeps its
+      // model).
       std::vector<double> desired(r.context.desired.size());
       for (size_t t = 0; t < desired.size(); ++t) desired[t] = r.context.desired[t][j];
       std::vector<double> played(r.period);
@@ -225,7 +227,8 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (config.model) {
     models.fill(*config.model);
     // A model the user gives is used as it is; one under which eq. 3 never settles on the walk
-    // (v_max well above theta_0 overshoots every tick) is no model of a joint: the user's error.
+    // (v_max at least 2 theta_0 can overshoot every tick, SettlesOnEveryCycle) is no model of a
+    // joint: the user's error. (Identified models always settle, kMaxFittedSpeedRatio.)
     for (int j = 0; j < kLegJoints; ++j) {
       std::vector<double> desired(r.period);
       for (int t = 0; t < r.period; ++t) desired[t] = r.desired.angles_deg[t][j];

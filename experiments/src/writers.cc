@@ -17,9 +17,9 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 // The model_deg column: the model's cyclic steady state under a request cycle, or NaN ("nan"
-// in the CSV) on every tick when the model has none (with v_max > theta_0 eq. 3 can
-// oscillate for ever, as a model fitted to a sagging loaded leg does): a diagnostic column
-// that cannot be computed is marked, not an error that loses the run.
+// in the CSV) on every tick when the model has none (with v_max >= 2 theta_0 eq. 3 can swing
+// for ever, SettlesOnEveryCycle; identified models never do, kMaxFittedSpeedRatio): a diagnostic
+// column that cannot be computed is marked, not an error that loses the run.
 std::vector<double> ModelColumn(const JointModelParams& params, const std::vector<double>& cycle) {
   try {
     return CyclicSteadyState(params, cycle);

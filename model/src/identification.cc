@@ -156,11 +156,14 @@ double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>&
   return value[best];
 }
 
-// Whether exp of the fit's logarithms gave a model at all: a joint that hardly moves drives
-// ln v_max towards -infinity (or ln theta_0 towards +infinity), where exp underflows to 0 or
-// overflows. Such a point scores +infinity: no step or polish takes the fit there.
-bool Representable(const JointModelParams& p) {
-  return std::isnormal(p.v_max_deg_per_tick) && std::isnormal(p.theta0_deg);
+// Whether the fit may go to a point: exp of the fit's logarithms gave a model at all (a joint
+// that hardly moves drives ln v_max towards -infinity, or ln theta_0 towards +infinity, where
+// exp underflows to 0 or overflows), and one that settles with a margin (v_max <=
+// kMaxFittedSpeedRatio theta_0). Any other point scores +infinity: no step or polish takes the
+// fit there, and where the unconstrained optimum lies beyond the ratio the fit stops at it.
+bool Admissible(const JointModelParams& p) {
+  return std::isnormal(p.v_max_deg_per_tick) && std::isnormal(p.theta0_deg) &&
+         p.v_max_deg_per_tick <= kMaxFittedSpeedRatio * p.theta0_deg;
 }
 
 // One recording, ready for the fit.
@@ -196,7 +199,7 @@ class ContinuousFit {
     p.theta0_deg = std::exp(x[1]);
     jtj.setZero();
     jte.setZero();
-    if (!Representable(p)) return std::numeric_limits<double>::infinity();
+    if (!Admissible(p)) return std::numeric_limits<double>::infinity();
     double sum = 0.0;
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const long s = 2 + static_cast<long>(k);
@@ -221,7 +224,7 @@ class ContinuousFit {
     JointModelParams p = lag_accel;
     p.v_max_deg_per_tick = std::exp(x[0]);
     p.theta0_deg = std::exp(x[1]);
-    if (!Representable(p)) return std::numeric_limits<double>::infinity();
+    if (!Admissible(p)) return std::numeric_limits<double>::infinity();
     double sum = 0.0;
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const JointRecording& r = *recordings_[k].recording;

@@ -35,6 +35,10 @@ std::string JointModelParamsProblem(const JointModelParams& p) {
   return {};
 }
 
+bool SettlesOnEveryCycle(const JointModelParams& p) {
+  return p.v_max_deg_per_tick < 2.0 * p.theta0_deg;
+}
+
 void ValidateJointModelParams(const JointModelParams& p) {
   if (const std::string problem = JointModelParamsProblem(p); !problem.empty()) {
     throw std::invalid_argument("joint model: " + problem);

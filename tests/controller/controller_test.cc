@@ -16,6 +16,7 @@
 #include "leglab/model/joint_model.h"
 #include "leglab/model/joint_model_plant.h"
 #include "leglab/model/metrics.h"
+#include "leglab/model/paper.h"
 #include "test_context.h"
 
 namespace leglab {
@@ -269,6 +270,30 @@ TEST(Controllers, TheOptimumAsAStartIsItsOwnEntryAndNearTheOptimum) {
   }
   EXPECT_THROW(OptimalRequestCycle(context, -1.0), std::invalid_argument);
   EXPECT_THROW(OptimalRequestCycle(context, std::nan("")), std::invalid_argument);
+}
+
+// The modes that optimise the model's steady state refuse a model that has none (v_max at least
+// 2 theta_0, SettlesOnEveryCycle) with a one-line error naming the mode and the joint, before any
+// solve; the paper's modes still run on it.
+TEST(Controllers, OptimalAndIlcRefuseAModelWithoutASteadyState) {
+  const JointModelParams swings{2.5, 1.25, 4, 1};  // exactly 2 theta_0
+  const std::array<JointModelParams, kLegJoints> models = {paper::kTable1, swings, paper::kTable1};
+  const ControllerContext context =
+      MakeControllerContext(Walkish(), models, testing::Ers210aLimits(), 8);
+  for (const std::string mode : {"optimal", "ilc"}) {
+    try {
+      (void)MakeController(SpecOf(mode), context);
+      ADD_FAILURE() << mode << " accepted the model";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()),
+                mode +
+                    ": the abductor's model has no cyclic steady state (v_max 2.5 deg/tick is "
+                    "at least 2 theta_0, 2.5 deg: eq. 3 swings about a request for ever)");
+    }
+  }
+  for (const std::string mode : {"direct", "time_shift", "model_based"}) {
+    EXPECT_NO_THROW((void)MakeController(SpecOf(mode), context)) << mode;
+  }
 }
 
 }  // namespace

@@ -176,31 +176,13 @@ double IndependentSquaredError(const JointModelParams& p, const JointRecording& 
   return sum;
 }
 
-TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
-  // One step-test cycle (after one to settle) of the model {2.5, 7, 2, 3} with 0.2 deg noise;
-  // l and a fixed, so the fit is over v_max, theta_0 and the start offset only.
-  const JointModelParams truth{2.5, 7.0, 2, 3};
-  JointRecording r = ModelStepTests(truth, 0.2, 2, 3)[0];
-  r.request_deg.erase(r.request_deg.begin(), r.request_deg.begin() + 88);
-  r.measured_deg.erase(r.measured_deg.begin(), r.measured_deg.begin() + 88);
-  IdentificationOptions options;
-  options.lag_min_ticks = options.lag_max_ticks = 2;
-  options.accel_min_ticks = options.accel_max_ticks = 3;
-  const int warmup = 5;
-  const IdentificationResult fit = IdentifyJointModel(std::vector<JointRecording>{r}, options);
-  ASSERT_EQ(fit.params.lag_ticks, 2);
-  ASSERT_EQ(fit.params.accel_ticks, 3);
-
-  // Brute force: a 31^3 grid over ln v_max in [ln 1, ln 5], ln theta_0 in [ln 1, ln 20] and the
-  // offset in [-1, 1] deg, then 20 zooms, each 21^3 points spanning +-5 spacings of the
-  // previous grid around its best point (halving the spacing: a narrower zoom loses the
-  // minimum among the kinks of f), down to spacings of about 1e-7.
-  auto error_at = [&](const double* y) {
-    return IndependentSquaredError({std::exp(y[0]), std::exp(y[1]), 2, 3}, r, warmup, y[2]);
-  };
-  double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 0.0};
-  double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 1.0};
-  double best[3] = {center[0], center[1], center[2]};
+// Brute force over y = (ln v_max, ln theta_0, start offset): a 31^3 grid over center +- half,
+// then 20 zooms, each 21^3 points spanning +-5 spacings of the previous grid around its best
+// point (halving the spacing: a narrower zoom loses the minimum among the kinks of f), down to
+// spacings of about 1e-7. Returns the best error, its point in `best`.
+template <typename ErrorAt>
+double GridZoomMinimum(const ErrorAt& error_at, double center[3], double half[3], double best[3]) {
+  std::copy(center, center + 3, best);
   double best_error = error_at(best);
   const int kLevels = 20;
   const int kPoints = 21;
@@ -225,10 +207,76 @@ TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
       center[d] = best[d];
     }
   }
+  return best_error;
+}
+
+TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
+  // One step-test cycle (after one to settle) of the model {2.5, 7, 2, 3} with 0.2 deg noise;
+  // l and a fixed, so the fit is over v_max, theta_0 and the start offset only.
+  const JointModelParams truth{2.5, 7.0, 2, 3};
+  JointRecording r = ModelStepTests(truth, 0.2, 2, 3)[0];
+  r.request_deg.erase(r.request_deg.begin(), r.request_deg.begin() + 88);
+  r.measured_deg.erase(r.measured_deg.begin(), r.measured_deg.begin() + 88);
+  IdentificationOptions options;
+  options.lag_min_ticks = options.lag_max_ticks = 2;
+  options.accel_min_ticks = options.accel_max_ticks = 3;
+  const int warmup = 5;
+  const IdentificationResult fit = IdentifyJointModel(std::vector<JointRecording>{r}, options);
+  ASSERT_EQ(fit.params.lag_ticks, 2);
+  ASSERT_EQ(fit.params.accel_ticks, 3);
+
+  // ln v_max in [ln 1, ln 5], ln theta_0 in [ln 1, ln 20], the offset in [-1, 1] deg.
+  auto error_at = [&](const double* y) {
+    return IndependentSquaredError({std::exp(y[0]), std::exp(y[1]), 2, 3}, r, warmup, y[2]);
+  };
+  double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 0.0};
+  double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 1.0};
+  double best[3];
+  const double best_error = GridZoomMinimum(error_at, center, half, best);
   const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
                            static_cast<double>(r.request_deg.size() - warmup);
   // The fit is at least as low as the grid (they differ by about 1e-12 relative), at the same
   // point (about 1e-7 apart in the logarithms).
+  EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
+  EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
+  EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);
+}
+
+// A servo that runs at top speed until within a fraction of a degree of its request: one
+// step-test cycle (after one to settle) of the model {2.5, 1.2, 3, 1} (v_max 2.08 theta_0, which
+// swings about a request for ever) with 0.1 deg of noise. The fit keeps v_max <=
+// kMaxFittedSpeedRatio theta_0, so its model settles; here the bound binds (the data ask for a
+// sharper f), and the fit is the best model within it: the brute force of the test above over
+// the same bounded set (a point beyond the ratio scores +infinity there too).
+TEST(Identification, KeepsItsModelsSettlingAndIsTheBestThatDoes) {
+  const JointModelParams truth{2.5, 1.2, 3, 1};
+  ASSERT_FALSE(SettlesOnEveryCycle(truth));
+  JointRecording r = ModelStepTests(truth, 0.1, 2, 5)[0];
+  r.request_deg.erase(r.request_deg.begin(), r.request_deg.begin() + 88);
+  r.measured_deg.erase(r.measured_deg.begin(), r.measured_deg.begin() + 88);
+  IdentificationOptions options;
+  options.lag_min_ticks = options.lag_max_ticks = truth.lag_ticks;
+  options.accel_min_ticks = options.accel_max_ticks = truth.accel_ticks;
+  const int warmup = truth.lag_ticks + truth.accel_ticks;
+  const IdentificationResult fit = IdentifyJointModel(std::vector<JointRecording>{r}, options);
+  EXPECT_TRUE(SettlesOnEveryCycle(fit.params));
+  EXPECT_LE(fit.params.v_max_deg_per_tick, kMaxFittedSpeedRatio * fit.params.theta0_deg);
+  EXPECT_GT(fit.params.v_max_deg_per_tick, (kMaxFittedSpeedRatio - 1e-4) * fit.params.theta0_deg);
+
+  auto error_at = [&](const double* y) {
+    const JointModelParams p{std::exp(y[0]), std::exp(y[1]), truth.lag_ticks, truth.accel_ticks};
+    if (p.v_max_deg_per_tick > kMaxFittedSpeedRatio * p.theta0_deg) {
+      return std::numeric_limits<double>::infinity();
+    }
+    return IndependentSquaredError(p, r, warmup, y[2]);
+  };
+  // ln v_max in [ln 1, ln 5], ln theta_0 in [ln 0.5, ln 8], which the ratio's line crosses.
+  double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(4.0), 0.0};
+  double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(16.0), 1.0};
+  double best[3];
+  const double best_error = GridZoomMinimum(error_at, center, half, best);
+  const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
+                           static_cast<double>(r.request_deg.size() - warmup);
   EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
   EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
   EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);

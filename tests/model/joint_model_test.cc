@@ -88,6 +88,64 @@ TEST(JointModel, CyclicSteadyStateOfAConstantIsThatConstant) {
   for (double angle : CyclicSteadyState(kPaper, cycle)) EXPECT_NEAR(angle, -33.0, 1e-12);
 }
 
+TEST(JointModel, SettlesOnEveryCycleIsVmaxBelowTwiceTheta0) {
+  EXPECT_TRUE(SettlesOnEveryCycle(kPaper));  // 2.5 against 14
+  EXPECT_TRUE(SettlesOnEveryCycle({1.999, 1.0, 4, 1}));
+  EXPECT_FALSE(SettlesOnEveryCycle({2.0, 1.0, 4, 1}));
+  EXPECT_FALSE(SettlesOnEveryCycle({3.0, 1.0, 0, 6}));
+}
+
+// Below the bound: the steady state CyclicSteadyState returns is a fixed point of the cycle
+// (one more cycle of eq. 3 from it, by SimulateJointModel, gives it back), for every window
+// and for request cycles that keep f linear, saturate it, or both.
+TEST(JointModel, ModelsBelowTheBoundSettleOnRandomCycles) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-30.0, 30.0);
+  for (const double ratio : {0.3, 1.0, 1.5, 1.9}) {
+    for (const int accel : {1, 3, 6}) {
+      for (const double spread : {0.5, 30.0}) {
+        const JointModelParams p{2.0, 2.0 / ratio, 2, accel};
+        std::vector<double> cycle(23);
+        for (double& r : cycle) r = spread / 30.0 * angle(rng);
+        const std::vector<double> steady = CyclicSteadyState(p, cycle);
+        // The model's memory at the end of a cycle: the angle and the last l + a requests.
+        JointModelState state{steady.back(), {}};
+        for (int i = 1; i <= p.lag_ticks + p.accel_ticks; ++i) {
+          state.past_requests_deg.push_back(cycle[(cycle.size() * 4 - i) % cycle.size()]);
+        }
+        const std::vector<double> again = SimulateJointModel(p, cycle, state);
+        for (size_t t = 0; t < cycle.size(); ++t) {
+          ASSERT_NEAR(again[t], steady[t], 1e-8)
+              << "ratio " << ratio << " a " << accel << " spread " << spread << " t " << t;
+        }
+      }
+    }
+  }
+}
+
+// At and above it a request the model nears is overshot by as much as it was missed, or more:
+// started 0.1 deg off a constant request (inside f's linear range), the model is no nearer it
+// 200 ticks later, where below the bound it has arrived. Under a square wave of small steps
+// such a model (v_max 2.5 theta_0) swings out of step with the cycle, and CyclicSteadyState
+// says so.
+TEST(JointModel, ModelsAtOrAboveTheBoundSwingForEver) {
+  for (const double ratio : {1.0, 1.9, 2.0, 2.5, 4.0}) {
+    const JointModelParams p{2.0, 2.0 / ratio, 0, 1};
+    JointModelState state = RestState(p, 0.0);
+    state.angle_deg = 0.1;
+    double angle = 0.0;
+    for (int t = 0; t < 200; ++t) angle = StepJointModel(p, state, 0.0);
+    if (ratio < 2.0) {
+      EXPECT_LT(std::abs(angle), 1e-6) << ratio;
+    } else {
+      EXPECT_GE(std::abs(angle), 0.1 - 1e-12) << ratio;
+    }
+  }
+  std::vector<double> square(10, 0.0);
+  for (int t = 0; t < 5; ++t) square[t] = 0.4;
+  EXPECT_THROW(CyclicSteadyState({2.0, 0.8, 1, 1}, square, 1e-10, 2000), std::runtime_error);
+}
+
 TEST(JointModel, RejectsBadParameters) {
   EXPECT_THROW(RestState({0.0, 7.0, 4, 6}, 0.0), std::invalid_argument);
   EXPECT_THROW(RestState({2.5, -1.0, 4, 6}, 0.0), std::invalid_argument);

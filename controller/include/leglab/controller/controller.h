@@ -177,6 +177,13 @@ class OptionReader {
 /// naming the key on any other value.
 void ReadModelSource(OptionReader& reader, std::string& source);
 
+/// Throws std::invalid_argument "<mode>: the <joint>'s model has no cyclic steady state ..."
+/// naming the first joint whose model does not settle under every request cycle
+/// (SettlesOnEveryCycle: v_max >= 2 theta_0), for the modes that optimise the model's steady
+/// state (optimal, ilc). Identified models always settle (kMaxFittedSpeedRatio); a given one
+/// may not.
+void RequireSettlingModels(const ControllerContext& context, std::string_view mode);
+
 /// desired[tick mod T] (any integer tick).
 inline const LegAngles& CycleAt(const DesiredCycle& cycle, long tick) {
   const auto period = static_cast<long>(cycle.size());

@@ -95,8 +95,8 @@ struct OptimalRequests {
 ///
 /// Throws std::invalid_argument on bad parameters, an empty or non-finite D or start, sizes
 /// that differ, lower_deg > upper_deg, max_iterations < 1, or a negative tolerance or
-/// smoothing; std::runtime_error as CyclicSteadyState when v_max > theta_0 and the model
-/// does not settle.
+/// smoothing; std::runtime_error as CyclicSteadyState when the model does not settle (v_max at
+/// least 2 theta_0 can swing for ever, SettlesOnEveryCycle).
 OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
                                  const JointModelParams& params,
                                  std::span<const double> initial_requests_deg,
