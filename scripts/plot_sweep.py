@@ -4,6 +4,9 @@
 - one swept key: every mode's foot L2 (and the floor's) against the key;
 - two swept keys on a grid: heatmaps of model_based's foot L2 over direct's and over the best
   time shift's (below 1: the paper's method wins);
+- three or more swept keys on a grid, with the time shift among the modes: each mode's (and the
+  floor's) foot L2 over the best time shift's at every point, a strip per mode (below 1: the
+  mode wins there), the median marked;
 - otherwise: each mode's foot L2 against each swept key, one panel per key.
 
 Usage: /usr/bin/python3 scripts/plot_sweep.py results/sweeps/walk_speed/sweep.csv [--out F.png]
@@ -83,6 +86,34 @@ def heatmap(ax, fig, keys, rows, numerator, denominator):
     bar.minorticks_off()
 
 
+def strips(ax, modes, rows, baseline):
+    names = [m for m in modes if m != baseline] + ["floor"]
+    labels = []
+    low, high = 1.0, 1.0
+    for i, mode in enumerate(names):
+        ratios = [number(r[f"{mode}_foot_l2_cm"]) / number(r[f"{baseline}_foot_l2_cm"])
+                  for r in rows]
+        ratios = sorted(v for v in ratios if math.isfinite(v) and v > 0)
+        if not ratios:
+            labels.append(mode)
+            continue
+        low, high = min(low, ratios[0]), max(high, ratios[-1])
+        # A fixed spread across the strip (no random jitter: the same csv, the same figure).
+        x = [i + 0.3 * ((k * 0.618034) % 1.0 - 0.5) for k in range(len(ratios))]
+        ax.scatter(x, ratios, s=9, alpha=0.6, **(dict(color="black") if mode == "floor" else {}))
+        n = len(ratios)
+        median = ratios[n // 2] if n % 2 else 0.5 * (ratios[n // 2 - 1] + ratios[n // 2])
+        ax.plot([i - 0.25, i + 0.25], [median, median], color="red", linewidth=2)
+        wins = sum(v < 1 for v in ratios)
+        labels.append(f"{mode}\nmedian {median:.2f}\nbelow 1: {wins}/{n}")
+    ax.axhline(1.0, color="gray", linestyle="--", linewidth=1)
+    ax.set_yscale("log")
+    ax.set_ylim(low / 1.2, high * 1.2)
+    ax.set_xticks(range(len(names)), labels, fontsize=8)
+    ax.set_ylabel(f"foot L2 / {baseline}'s (log)")
+    ax.grid(alpha=0.3, axis="y")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv")
@@ -100,6 +131,9 @@ def main():
                                  squeeze=False)
         for ax, baseline in zip(axes[0], baselines):
             heatmap(ax, fig, keys, rows, "model_based", baseline)
+    elif len(keys) >= 3 and "time_shift" in modes:
+        fig, ax = plt.subplots(figsize=(1.8 * len(modes) + 3, 5))
+        strips(ax, modes, rows, "time_shift")
     else:
         fig, axes = plt.subplots(1, len(keys), figsize=(7 * len(keys), 4.5), squeeze=False)
         for ax, key in zip(axes[0], keys):

@@ -61,7 +61,7 @@ if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
 fi
 # The shipped sweeps, each with its figure, into results/sweeps/<name>/.
 if [ -x build/bin/sweep ]; then
-  for sweep in model_mismatch walk_speed stand_load; do
+  for sweep in model_mismatch walk_speed stand_load servo_firmware; do
     build/bin/sweep --config "experiments/sweeps/$sweep.yaml" --out "$out/sweeps/$sweep"
     /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
   done
