@@ -315,13 +315,27 @@ class PeriodicModel {
 // first non-zero to the diagonal) holds the band and, from the cyclic corners, the last rows
 // whole, and a Cholesky factor stays inside the envelope. That is O(T a^2 + a T^2) work
 // instead of the dense matrix's O(T^2 a) and its factorisation's O(T^3).
+//
+// With move suppression lambda' |L (R + P_F x)|^2 (L the cyclic second difference, P_F placing
+// x at the free requests; see request_smoothing) the step minimises that too. A second
+// auxiliary z = L_F x with its multiplier nu (eta = nu / c) keeps the regulariser of x at c I:
+//   c x = U_F^T lambda + L_F^T nu,   lambda' (L R + z) + nu = 0,
+// and the system in (mu, eta), interleaved (mu_0, eta_0, mu_1, eta_1, ...), is
+//   [c B W^-1 B^T + U_F U_F^T,  U_F L_F^T         ] [mu ]   [-B e]
+//   [L_F U_F^T,                 (c/lambda') I + L_F L_F^T] [eta] = [-L R],   x = U_F^T mu + L_F^T
+//   eta:
+// diag(c B W^-1 B^T, (c/lambda') I) plus the sum over free requests j of v_j v_j^T, v_j holding
+// U's column j (at the mu indices) and L's (1, -2, 1 at the eta indices of j - 1, j, j + 1):
+// positive definite, cyclic banded, and the same envelope Cholesky solves it.
 class BandedStepSolver {
  public:
   // False (x then undefined) where it does not apply: a weight not positive, B (nearly) singular,
   // or the matrix not numerically positive definite; the caller then solves densely.
+  // `suppression` is lambda' (0: none); `requests` R, needed only with it.
   bool Solve(const JointModelParams& params, const SensitivityFactors& f,
              std::span<const double> weights, std::span<const double> error,
-             std::span<const int> free, double c, Eigen::VectorXd& x) {
+             std::span<const int> free, double c, Eigen::VectorXd& x, double suppression = 0.0,
+             std::span<const double> requests = {}) {
     const auto n = static_cast<int>(error.size());
     const int l = params.lag_ticks;
     const int a = params.accel_ticks;
@@ -329,18 +343,23 @@ class BandedStepSolver {
     for (double w : weights) {
       if (!(w > 0.0)) return false;
     }
+    const bool smooth = suppression > 0.0;
+    assert(!smooth || requests.size() == error.size());
+    const int size = smooth ? 2 * n : n;
+    auto mu_at = [smooth](int t) { return smooth ? 2 * t : t; };
+    auto eta_at = [](int t) { return 2 * t + 1; };
     auto inverse_weight = [&](int t) { return weights.empty() ? 1.0 : 1.0 / weights[t]; };
     // Every write below stays inside the envelope: zeroing the last call's envelope zeroes
     // the lower triangle (the whole matrix only when the size changes).
-    if (m_.rows() != n) {
-      m_.setZero(n, n);
+    if (m_.rows() != size) {
+      m_.setZero(size, size);
     } else {
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < size; ++i) {
         std::fill(&m_(i, first_[i]), &m_(i, i) + 1, 0.0);
       }
     }
-    first_.resize(n);
-    for (int t = 0; t < n; ++t) first_[t] = t;
+    first_.resize(size);
+    for (int t = 0; t < size; ++t) first_[t] = t;
     auto add = [&](int r1, int r2, double value) {  // into the lower triangle
       const int row = std::max(r1, r2);
       const int column = std::min(r1, r2);
@@ -351,21 +370,29 @@ class BandedStepSolver {
     for (int t = 0; t < n; ++t) {
       const int before = t == 0 ? n - 1 : t - 1;
       const double alpha = f.alphas[t];
-      add(t, t, c * (inverse_weight(t) + alpha * alpha * inverse_weight(before)));
-      add(t, before, -c * alpha * inverse_weight(before));
+      add(mu_at(t), mu_at(t), c * (inverse_weight(t) + alpha * alpha * inverse_weight(before)));
+      add(mu_at(t), mu_at(before), -c * alpha * inverse_weight(before));
+      if (smooth) add(eta_at(t), eta_at(t), c / suppression);
     }
-    // U_F U_F^T, column by column: request j enters row t = j + i + l + 1 (mod T) with
-    // slopes(t, i).
-    rows_.resize(a);
-    values_.resize(a);
+    // The v_j v_j^T, column by column: request j enters row t = j + i + l + 1 (mod T) of U with
+    // slopes(t, i), and rows j - 1, j, j + 1 of L with 1, -2, 1.
+    const int entries = smooth ? a + 3 : a;
+    rows_.resize(entries);
+    values_.resize(entries);
     for (const int j : free) {
       for (int i = 0; i < a; ++i) {
-        rows_[i] = (j + i + l + 1) % n;
-        values_[i] = f.slopes(rows_[i], i);
+        const int t = (j + i + l + 1) % n;
+        rows_[i] = mu_at(t);
+        values_[i] = f.slopes(t, i);
+      }
+      if (smooth) {
+        rows_[a] = eta_at(j == 0 ? n - 1 : j - 1), values_[a] = 1.0;
+        rows_[a + 1] = eta_at(j), values_[a + 1] = -2.0;
+        rows_[a + 2] = eta_at(j == n - 1 ? 0 : j + 1), values_[a + 2] = 1.0;
       }
       // Each unordered pair once (add puts it in the lower triangle), twice where two terms
       // fall in the same row (a > T: the ordered pairs (i, k) and (k, i) both count there).
-      for (int i = 0; i < a; ++i) {
+      for (int i = 0; i < entries; ++i) {
         if (values_[i] == 0.0) continue;
         for (int k = 0; k <= i; ++k) {
           if (values_[k] == 0.0) continue;
@@ -375,7 +402,7 @@ class BandedStepSolver {
       }
     }
     // Envelope Cholesky, in place (row-major: each row's envelope is contiguous).
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < size; ++i) {
       for (int j = first_[i]; j < i; ++j) {
         double sum = m_(i, j);
         for (int k = std::max(first_[i], first_[j]); k < j; ++k) sum -= m_(i, k) * m_(j, k);
@@ -386,27 +413,36 @@ class BandedStepSolver {
       if (!(sum > 0.0)) return false;
       m_(i, i) = std::sqrt(sum);
     }
-    // mu = -(L L^T)^-1 B e.
-    mu_.resize(n);
+    // (mu, eta) = -(L L^T)^-1 (B e, L R).
+    mu_.resize(size);
     for (int t = 0; t < n; ++t) {
-      mu_[t] = -(error[t] - f.alphas[t] * error[t == 0 ? n - 1 : t - 1]);
+      mu_[mu_at(t)] = -(error[t] - f.alphas[t] * error[t == 0 ? n - 1 : t - 1]);
+      if (smooth) {
+        mu_[eta_at(t)] = -(requests[t == n - 1 ? 0 : t + 1] - 2.0 * requests[t] +
+                           requests[t == 0 ? n - 1 : t - 1]);
+      }
     }
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < size; ++i) {
       double sum = mu_[i];
       for (int k = first_[i]; k < i; ++k) sum -= m_(i, k) * mu_[k];
       mu_[i] = sum / m_(i, i);
     }
-    for (int i = n - 1; i >= 0; --i) {
+    for (int i = size - 1; i >= 0; --i) {
       mu_[i] /= m_(i, i);
       for (int k = first_[i]; k < i; ++k) mu_[k] -= m_(i, k) * mu_[i];
     }
-    // x = U_F^T mu.
+    // x = U_F^T mu (+ L_F^T eta).
     x.resize(static_cast<Eigen::Index>(free.size()));
     for (std::size_t q = 0; q < free.size(); ++q) {
+      const int j = free[q];
       double sum = 0.0;
       for (int i = 0; i < a; ++i) {
-        const int t = (free[q] + i + l + 1) % n;
-        sum += f.slopes(t, i) * mu_[t];
+        const int t = (j + i + l + 1) % n;
+        sum += f.slopes(t, i) * mu_[mu_at(t)];
+      }
+      if (smooth) {
+        sum += mu_[eta_at(j == 0 ? n - 1 : j - 1)] - 2.0 * mu_[eta_at(j)] +
+               mu_[eta_at(j == n - 1 ? 0 : j + 1)];
       }
       x[static_cast<Eigen::Index>(q)] = sum;
     }
@@ -557,7 +593,8 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
   const int a = params.accel_ticks;
   const std::span<const double> weights = options.weights;
   // Move suppression: lambda' |L R|^2 with L the cyclic second difference adds lambda' L^T L
-  // to the Gauss-Newton matrix and lambda' L^T L R to the half gradient (dense solve only).
+  // to the Gauss-Newton matrix and lambda' L^T L R to the half gradient (the banded solve keeps
+  // them as rows of its own, see BandedStepSolver).
   const double suppression = MoveSuppression(options);
   Eigen::MatrixXd suppression_normal;  // lambda' L^T L
   if (suppression > 0.0) {
@@ -622,7 +659,7 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
     auto solve = [&] {
       if (banded_now &&
           !banded.Solve(params, factors, weights, std::span<const double>(error.data(), n), free,
-                        damping * scale, step)) {
+                        damping * scale, step, suppression, it.requests)) {
         // Not applicable here: the dense normal matrix after all (the same S, bit for bit).
         banded_now = false;
         model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
@@ -642,11 +679,11 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       angle_step.noalias() = jacobian * full_step;
     };
     for (int pass = 0; pass < 2; ++pass) {
-      banded_now = options.structured_solve && suppression == 0.0;
+      banded_now = options.structured_solve;
       model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr,
                         banded_now ? nullptr : &gauss_newton, weights,
                         banded_now ? &factors : nullptr);
-      if (suppression > 0.0) gauss_newton += suppression_normal;
+      if (!banded_now && suppression > 0.0) gauss_newton += suppression_normal;
       if (banded_now) {
         for (int t = 0; t < n; ++t) error[t] = it.angles[t] - desired[t];
       }
@@ -678,10 +715,11 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       g_free.resize(m);
       for (int k = 0; k < m; ++k) g_free[k] = gradient[free[k]];
       if (banded_now) {
-        // The normal matrix's diagonal, sum_t w_t S(t, j)^2, from S's columns.
+        // The normal matrix's diagonal, sum_t w_t S(t, j)^2 (+ lambda' (L^T L)_jj = 6 lambda'),
+        // from S's columns.
         double largest = 0.0;
         for (int k = 0; k < m; ++k) {
-          double sum = 0.0;
+          double sum = 6.0 * suppression;
           for (int t = 0; t < n; ++t) {
             const double v = jacobian(t, free[k]);
             sum += (weights.empty() ? 1.0 : weights[t]) * v * v;
@@ -748,6 +786,13 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       if (banded_now) {
         for (int t = 0; t < n; ++t) {
           curvature += (weights.empty() ? 1.0 : weights[t]) * angle_step[t] * angle_step[t];
+        }
+        if (suppression > 0.0) {
+          const std::span<const double> moved(full_step.data(), n);
+          for (int t = 0; t < n; ++t) {
+            const double d = SecondDifference(moved, t);
+            curvature += suppression * d * d;
+          }
         }
       } else {
         curvature = step.dot(normal * step);
@@ -936,7 +981,7 @@ Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
                                      std::span<const double> requests_deg,
                                      std::span<const double> desired_deg,
                                      std::span<const double> weights, std::span<const int> free,
-                                     double damping) {
+                                     double damping, double suppression) {
   ValidateJointModelParams(params);
   if (requests_deg.empty() || desired_deg.size() != requests_deg.size() ||
       (!weights.empty() && weights.size() != requests_deg.size())) {
@@ -947,6 +992,9 @@ Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
   RequireFinite(weights, "weights");
   if (!(damping > 0.0 && std::isfinite(damping))) {
     throw std::invalid_argument("optimal requests: the step's damping must be positive and finite");
+  }
+  if (!(suppression >= 0.0 && std::isfinite(suppression))) {
+    throw std::invalid_argument("optimal requests: the step's suppression must be finite and >= 0");
   }
   for (const int j : free) {
     if (j < 0 || j >= static_cast<int>(requests_deg.size())) {
@@ -963,7 +1011,10 @@ Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
   for (std::size_t t = 0; t < angles.size(); ++t) error[t] = angles[t] - desired_deg[t];
   Eigen::VectorXd step;
   BandedStepSolver banded;
-  if (!banded.Solve(params, factors, weights, error, free, damping, step)) return {};
+  if (!banded.Solve(params, factors, weights, error, free, damping, step, suppression,
+                    requests_deg)) {
+    return {};
+  }
   return step;
 }
 

@@ -208,11 +208,13 @@ TEST(SteadyStateNormalMatrix, WeightedIsTheProductWithTheWeightsBetween) {
 
 // --- The structured step -------------------------------------------------------------------
 
-// The damped Gauss-Newton step written out densely: x = -(S_F^T W S_F + c I)^-1 S_F^T W e,
-// S_F the columns `free` of SteadyStateSensitivity, e = M_ss - D.
+// The damped Gauss-Newton step written out densely: x = -(S_F^T W S_F + c I + s L_F^T L_F)^-1
+// (S_F^T W e + s L_F^T L R), S_F and L_F the columns `free` of SteadyStateSensitivity and of
+// the cyclic second difference L, e = M_ss - D, s the move suppression.
 Eigen::VectorXd DenseDampedStep(const JointModelParams& p, std::span<const double> requests,
                                 std::span<const double> desired, std::span<const double> weights,
-                                std::span<const int> free, double damping) {
+                                std::span<const int> free, double damping,
+                                double suppression = 0.0) {
   const auto n = static_cast<Eigen::Index>(requests.size());
   const auto m = static_cast<Eigen::Index>(free.size());
   const Eigen::MatrixXd s = SteadyStateSensitivity(p, requests);
@@ -225,11 +227,25 @@ Eigen::VectorXd DenseDampedStep(const JointModelParams& p, std::span<const doubl
   for (Eigen::Index t = 0; t < n; ++t) e[t] = m_ss[t] - desired[t];
   Eigen::MatrixXd h = s_free.transpose() * w.asDiagonal() * s_free;
   h.diagonal().array() += damping;
-  return -h.fullPivLu().solve(s_free.transpose() * w.asDiagonal() * e);
+  Eigen::VectorXd g = s_free.transpose() * w.asDiagonal() * e;
+  // The move suppression: suppression |L (R + P_F x)|^2, L the cyclic second difference.
+  Eigen::MatrixXd second = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    second(t, (t + 1) % n) += 1.0;
+    second(t, t) -= 2.0;
+    second(t, (t + n - 1) % n) += 1.0;
+  }
+  Eigen::MatrixXd second_free(n, m);
+  for (Eigen::Index k = 0; k < m; ++k) second_free.col(k) = second.col(free[k]);
+  h += suppression * second_free.transpose() * second_free;
+  g += suppression * second_free.transpose() *
+       (second * Eigen::Map<const Eigen::VectorXd>(requests.data(), n));
+  return -h.fullPivLu().solve(g);
 }
 
 // Structured against dense on one case: every request free, then every third held; damping
-// from 1e-6 to 10 times the normal matrix's largest diagonal entry; equal weights and unequal.
+// from 1e-6 to 10 times the normal matrix's largest diagonal entry; equal weights and unequal;
+// no move suppression, request_smoothing's 0.3 and 10 (the cycle at least 3 ticks long).
 void ExpectStructuredStepIsDense(const JointModelParams& p, const std::vector<double>& requests,
                                  const std::vector<double>& desired) {
   const auto n = static_cast<int>(requests.size());
@@ -243,18 +259,21 @@ void ExpectStructuredStepIsDense(const JointModelParams& p, const std::vector<do
       for (int j = 0; j < n; ++j) {
         if (held_every == 0 || j % held_every != 1) free.push_back(j);
       }
-      for (double damping : {1e-6, 1e-3, 1.0, 10.0}) {
-        const Eigen::VectorXd dense =
-            DenseDampedStep(p, requests, desired, weights, free, damping * scale);
-        const Eigen::VectorXd banded =
-            StructuredDampedStep(p, requests, desired, weights, free, damping * scale);
-        ASSERT_EQ(banded.size(), dense.size())
-            << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks;
-        // The dense solve's own rounding grows with the condition number, up to 1 / damping.
-        EXPECT_LT((banded - dense).norm(), 1e-11 / damping * (1.0 + dense.norm()))
-            << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks << " damping " << damping
-            << " weights " << (weights.empty() ? "equal" : "unequal") << " held every "
-            << held_every;
+      for (double suppression : {0.0, 0.3, 10.0}) {
+        if (suppression > 0.0 && n < 3) continue;
+        for (double damping : {1e-6, 1e-3, 1.0, 10.0}) {
+          const Eigen::VectorXd dense =
+              DenseDampedStep(p, requests, desired, weights, free, damping * scale, suppression);
+          const Eigen::VectorXd banded = StructuredDampedStep(p, requests, desired, weights, free,
+                                                              damping * scale, suppression);
+          ASSERT_EQ(banded.size(), dense.size())
+              << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks;
+          // The dense solve's own rounding grows with the condition number, up to 1 / damping.
+          EXPECT_LT((banded - dense).norm(), 1e-11 / damping * (1.0 + dense.norm()))
+              << "T " << n << " l " << p.lag_ticks << " a " << p.accel_ticks << " damping "
+              << damping << " weights " << (weights.empty() ? "equal" : "unequal") << " held every "
+              << held_every << " suppression " << suppression;
+        }
       }
     }
   }
@@ -311,6 +330,8 @@ TEST(StructuredDampedStep, DoesNotApplyToAZeroWeightOrACycleSaturatedThroughout)
   const std::vector<int> six = {0, 1, 2, 3, 4, 5};
   EXPECT_EQ(StructuredDampedStep(kPaper, bang, bang, {}, six, 1.0).size(), 0);
   const std::vector<int> outside = {0, 40};
+  EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, {}, all, 1.0, -0.1),
+               std::invalid_argument);
   EXPECT_THROW(StructuredDampedStep(kPaper, c.requests, c.requests, {}, outside, 1.0),
                std::invalid_argument);
   // Non-finite weights and a damping that is not positive are refused, not an empty step.
@@ -527,9 +548,11 @@ TEST(OptimizeRequests, ReachesThePenalisedBruteForceOptimum) {
           << "l " << p.lag_ticks << " a " << p.accel_ticks << " lambda " << lambda;
       // rms_error_deg stays the tracking error alone.
       EXPECT_NEAR(opt.rms_error_deg, RmsError(p, opt.requests_deg, d), 1e-9);
-      // The structured option is ignored (a dense solve): the same bits.
+      // The structured solve (the same steps up to rounding) reaches it too.
       options.structured_solve = true;
-      EXPECT_EQ(OptimizeRequests(d, p, d, options).requests_deg, opt.requests_deg);
+      const OptimalRequests banded = OptimizeRequests(d, p, d, options);
+      EXPECT_LT(rms(PenalisedCost(p, banded.requests_deg, d, lambda)), rms(best) + 1e-4)
+          << "structured, l " << p.lag_ticks << " a " << p.accel_ticks << " lambda " << lambda;
     }
   }
 }

@@ -32,18 +32,18 @@ struct OptimalRequestsOptions {
   /// Solve each damped Gauss-Newton step from the sensitivity's structure (a cyclic banded
   /// system, O(T a^2 + a T^2)) instead of the dense T x T normal matrix and its factorisation
   /// (O(T^2 a + T^3)); the same step up to rounding, so the iterates may differ in the last
-  /// digits. Falls back to the dense solve where it does not apply (a weight of 0, every term
-  /// of the cycle saturated). Off by default; ILC's per-step updates and optimal's offline
-  /// cycles (the joint optimum and the foot objective's sweeps) use it.
+  /// digits. With request_smoothing too (a system twice the size, still banded). Falls back to
+  /// the dense solve where it does not apply (a weight of 0, every term of the cycle
+  /// saturated). Off by default; ILC's per-step updates and optimal's offline cycles (the joint
+  /// optimum and the foot objective's sweeps) use it.
   bool structured_solve = false;
   /// Move suppression on the requests' second difference, lambda >= 0: the objective gains
   /// lambda * mean(w) * sum_t (R(t+1) - 2 R(t) + R(t-1))^2 (cyclic; mean(w) = 1 without
   /// weights), as extra least-squares rows of every Gauss-Newton step and of the objective a
   /// step must lower. It picks, among the many request cycles that track equally well (a
   /// request deep in saturation has no effect), the one whose requests do not chatter tick to
-  /// tick. 0 (the default): the objective above, bit for bit. When > 0 every step is solved
-  /// densely (structured_solve is ignored), and OptimalRequests::rms_error_deg is still the
-  /// tracking error alone.
+  /// tick. 0 (the default): the objective above, bit for bit. OptimalRequests::rms_error_deg is
+  /// still the tracking error alone.
   double request_smoothing = 0.0;
 };
 
@@ -128,17 +128,20 @@ Eigen::MatrixXd SteadyStateNormalMatrix(const JointModelParams& params,
                                         std::span<const double> row_weights = {});
 
 /// The damped Gauss-Newton step of OptimizeRequests with structured_solve (exposed for tests):
-/// x (size |free|) minimising sum_t w_t (M_ss(t) - D(t) + (S_F x)(t))^2 + damping |x|^2, with
-/// M_ss the model's cyclic steady state under `requests_deg`, S_F the columns `free` of
-/// SteadyStateSensitivity there and w_t = `weights` (empty: 1), solved from the sensitivity's
-/// cyclic banded structure without forming S^T W S. Empty where that solve does not apply (a
-/// weight not positive, every term of the cycle saturated). Throws std::invalid_argument on
-/// bad parameters, sizes that differ, non-finite input (weights included), a damping that is not
-/// positive and finite, or a free index outside the cycle.
+/// x (size |free|) minimising sum_t w_t (M_ss(t) - D(t) + (S_F x)(t))^2 + damping |x|^2 +
+/// suppression |L (R + P_F x)|^2, with M_ss the model's cyclic steady state under R =
+/// `requests_deg`, S_F the columns `free` of SteadyStateSensitivity there, w_t = `weights`
+/// (empty: 1), L the cyclic second difference and P_F x the step placed at the free requests
+/// (the move suppression, lambda * mean(w) for request_smoothing lambda; 0: none), solved from
+/// the sensitivity's cyclic banded structure without forming S^T W S. Empty where that solve
+/// does not apply (a weight not positive, every term of the cycle saturated). Throws
+/// std::invalid_argument on bad parameters, sizes that differ, non-finite input (weights
+/// included), a damping that is not positive and finite, a suppression that is negative or not
+/// finite, or a free index outside the cycle.
 Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
                                      std::span<const double> requests_deg,
                                      std::span<const double> desired_deg,
                                      std::span<const double> weights, std::span<const int> free,
-                                     double damping);
+                                     double damping, double suppression = 0.0);
 
 }  // namespace leglab
