@@ -51,7 +51,7 @@ class OptimalController final : public JointController {
   static constexpr bool kFeedForward = true;
   /// The foot objective's stopping rules: a sweep that lowers the model's predicted foot RMS
   /// error by less than this (mm) is the last, and there are at most kMaxFootSweeps.
-  static constexpr double kFootToleranceMm = 1e-3;
+  static constexpr double kFootToleranceMm = 1e-2;
   static constexpr int kMaxFootSweeps = 20;
   /// How far a solve that only starts another iteration is taken (deg of RMS error a step
   /// must still gain): the joint optimum the foot objective's sweeps start from, each sweep's
