@@ -210,6 +210,21 @@ double GridZoomMinimum(const ErrorAt& error_at, double center[3], double half[3]
   return best_error;
 }
 
+// The fit of recording `r` (one, scored after `warmup`) is at least as low as the brute force's
+// minimum of `error_at` from center +- half (they differ by about 1e-12 relative), at the same
+// point (about 1e-7 apart in the logarithms).
+template <typename ErrorAt>
+void ExpectTheGridsMinimum(const IdentificationResult& fit, const JointRecording& r, int warmup,
+                           const ErrorAt& error_at, double center[3], double half[3]) {
+  double best[3];
+  const double best_error = GridZoomMinimum(error_at, center, half, best);
+  const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
+                           static_cast<double>(r.request_deg.size() - warmup);
+  EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
+  EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
+  EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);
+}
+
 TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
   // One step-test cycle (after one to settle) of the model {2.5, 7, 2, 3} with 0.2 deg noise;
   // l and a fixed, so the fit is over v_max, theta_0 and the start offset only.
@@ -231,15 +246,7 @@ TEST(Identification, AgreesWithABruteForceGridOnASmallCase) {
   };
   double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 0.0};
   double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(20.0), 1.0};
-  double best[3];
-  const double best_error = GridZoomMinimum(error_at, center, half, best);
-  const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
-                           static_cast<double>(r.request_deg.size() - warmup);
-  // The fit is at least as low as the grid (they differ by about 1e-12 relative), at the same
-  // point (about 1e-7 apart in the logarithms).
-  EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
-  EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
-  EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);
+  ExpectTheGridsMinimum(fit, r, warmup, error_at, center, half);
 }
 
 // A servo that runs at top speed until within a fraction of a degree of its request: one
@@ -273,13 +280,7 @@ TEST(Identification, KeepsItsModelsSettlingAndIsTheBestThatDoes) {
   // ln v_max in [ln 1, ln 5], ln theta_0 in [ln 0.5, ln 8], which the ratio's line crosses.
   double center[3] = {0.5 * std::log(5.0), 0.5 * std::log(4.0), 0.0};
   double half[3] = {0.5 * std::log(5.0), 0.5 * std::log(16.0), 1.0};
-  double best[3];
-  const double best_error = GridZoomMinimum(error_at, center, half, best);
-  const double fit_error = fit.rms_residual_deg * fit.rms_residual_deg *
-                           static_cast<double>(r.request_deg.size() - warmup);
-  EXPECT_LE(fit_error, best_error * (1.0 + 1e-9));
-  EXPECT_NEAR(std::log(fit.params.v_max_deg_per_tick), best[0], 1e-5);
-  EXPECT_NEAR(std::log(fit.params.theta0_deg), best[1], 1e-5);
+  ExpectTheGridsMinimum(fit, r, warmup, error_at, center, half);
 }
 
 TEST(Identification, FindsThePreviousFitsOptimum) {
