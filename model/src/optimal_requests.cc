@@ -300,6 +300,12 @@ class PeriodicModel {
   bool closed_kinks_;
 };
 
+// (R(t+1) - 2 R(t) + R(t-1)) round the cycle.
+double SecondDifference(std::span<const double> r, int t) {
+  const int n = static_cast<int>(r.size());
+  return r[Wrap(t + 1, n)] - 2.0 * r[t] + r[Wrap(t - 1, n)];
+}
+
 // The damped Gauss-Newton step of MinimiseStage without its T x T normal matrix:
 //   (S_F^T W S_F + c I) x = -S_F^T W e,
 // S_F the columns F (the free requests) of the sensitivity S, W = diag(w) > 0, e = M_ss - D.
@@ -318,12 +324,12 @@ class PeriodicModel {
 //
 // With move suppression lambda' |L (R + P_F x)|^2 (L the cyclic second difference, P_F placing
 // x at the free requests; see request_smoothing) the step minimises that too. A second
-// auxiliary z = L_F x with its multiplier nu (eta = nu / c) keeps the regulariser of x at c I:
+// auxiliary z = L_F x with its multiplier nu keeps the regulariser of x at c I:
 //   c x = U_F^T lambda + L_F^T nu,   lambda' (L R + z) + nu = 0,
-// and the system in (mu, eta), interleaved (mu_0, eta_0, mu_1, eta_1, ...), is
-//   [c B W^-1 B^T + U_F U_F^T,  U_F L_F^T         ] [mu ]   [-B e]
-//   [L_F U_F^T,                 (c/lambda') I + L_F L_F^T] [eta] = [-L R],   x = U_F^T mu + L_F^T
-//   eta:
+// and with mu = lambda / c, eta = nu / c the system in (mu, eta) is
+//   (c B W^-1 B^T + U_F U_F^T) mu + U_F L_F^T eta = -B e,
+//   L_F U_F^T mu + ((c / lambda') I + L_F L_F^T) eta = -L R,   x = U_F^T mu + L_F^T eta.
+// Interleaved (mu_0, eta_0, mu_1, eta_1, ...), its matrix is
 // diag(c B W^-1 B^T, (c/lambda') I) plus the sum over free requests j of v_j v_j^T, v_j holding
 // U's column j (at the mu indices) and L's (1, -2, 1 at the eta indices of j - 1, j, j + 1):
 // positive definite, cyclic banded, and the same envelope Cholesky solves it.
@@ -417,10 +423,7 @@ class BandedStepSolver {
     mu_.resize(size);
     for (int t = 0; t < n; ++t) {
       mu_[mu_at(t)] = -(error[t] - f.alphas[t] * error[t == 0 ? n - 1 : t - 1]);
-      if (smooth) {
-        mu_[eta_at(t)] = -(requests[t == n - 1 ? 0 : t + 1] - 2.0 * requests[t] +
-                           requests[t == 0 ? n - 1 : t - 1]);
-      }
+      if (smooth) mu_[eta_at(t)] = -SecondDifference(requests, t);
     }
     for (int i = 0; i < size; ++i) {
       double sum = mu_[i];
@@ -493,12 +496,6 @@ double MoveSuppression(const OptimalRequestsOptions& options) {
     mean = sum / static_cast<double>(options.weights.size());
   }
   return options.request_smoothing * mean;
-}
-
-// (R(t+1) - 2 R(t) + R(t-1)) round the cycle.
-double SecondDifference(std::span<const double> r, int t) {
-  const int n = static_cast<int>(r.size());
-  return r[Wrap(t + 1, n)] - 2.0 * r[t] + r[Wrap(t - 1, n)];
 }
 
 // sum_t (second difference of R at t)^2.

@@ -55,10 +55,11 @@ std::vector<double> SimulateJointModel(const JointModelParams& params,
 /// M -> g(M) = M + (1/a) sum_i f(R_i - M), whose slope 1 - (1/a) sum_i f'(R_i - M) lies in
 /// [1 - v_max / theta_0, 1] (f' is v_max / theta_0 on f's linear piece, 0 where it saturates).
 /// With v_max < 2 theta_0 every step is non-expanding and contracts wherever a term is linear,
-/// so a repeated cycle is drawn to one steady state; with v_max >= 2 theta_0 a step near a
-/// constant request overshoots it by as much as it started off (or more), and eq. 3 swings
-/// about the request for ever. A servo that is fitted so (a near bang-bang one) has no steady
-/// state for the modes that need one.
+/// so a repeated cycle is drawn to a steady state (one of an interval of them only where every
+/// term of the cycle saturates, see CyclicSteadyState's start); with v_max >= 2 theta_0 a step near
+/// a constant request overshoots it by as much as it started off (or more), and eq. 3 swings about
+/// the request for ever. A servo that is fitted so (a near bang-bang one) has no steady state for
+/// the modes that need one.
 bool SettlesOnEveryCycle(const JointModelParams& params);
 
 /// The cyclic steady state of eq. 3 under a request cycle R(0..T-1) repeated forever (the
