@@ -54,7 +54,8 @@ std::optional<FootJointProblem> FootObjectiveJointProblem(
   mean_weight /= period;
   const double lambda = joint_weight * mean_weight;
   if (!(mean_weight + lambda > 0.0)) return std::nullopt;
-  FootJointProblem problem{std::vector<double>(period), std::vector<double>(period)};
+  FootJointProblem problem{std::vector<double>(period), std::vector<double>(period),
+                           mean_weight + lambda};
   for (int t = 0; t < period; ++t) {
     const double w = foot_weight[t] + lambda;
     const double angle = angles_deg[t][joint];

@@ -1,8 +1,11 @@
 #include "leglab/controller/optimal_controller.h"
 
 #include <Eigen/Core>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -46,6 +49,23 @@ std::vector<double> Column(const DesiredCycle& cycle, int j) {
   return column;
 }
 
+// The foot objective the sweeps lower, as a root mean square, mm: sqrt(mean_t |FK(M(t)) -
+// p(t)|^2 + sum_j suppression_j mean_t (L R_j)(t)^2), M the predicted steady state, p the
+// desired foot path, L the cyclic second difference; suppression_j in mm^2/deg^2.
+double FootObjectiveMm(const LegGeometry& geometry, const DesiredCycle& predicted,
+                       std::span<const Eigen::Vector3d> desired_foot, const DesiredCycle& requests,
+                       const std::array<double, kLegJoints>& suppression) {
+  const double foot_mm = FootRmsErrorMm(geometry, predicted, desired_foot);
+  double sum = foot_mm * foot_mm;
+  for (int j = 0; j < kLegJoints; ++j) {
+    if (suppression[j] > 0.0) {
+      sum += suppression[j] * SumOfSquaredSecondDifferences(Column(requests, j)) /
+             static_cast<double>(requests.size());
+    }
+  }
+  return std::sqrt(sum);
+}
+
 DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
                                             const DesiredCycle& joint_optimal, double joint_weight,
                                             double request_smoothing) {
@@ -58,7 +78,16 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
     const std::vector<double> steady = CyclicSteadyState(context.models[j], Column(requests, j));
     for (int t = 0; t < period; ++t) predicted[t][j] = steady[t];
   }
-  double error_mm = FootRmsErrorMm(geometry, predicted, desired_foot);
+  // The move suppression in the objective's units: request_smoothing times joint j's mean
+  // weight on the desired cycle (FootJointProblem::weight_scale there), fixed for the whole
+  // descent so that every acceptance below compares one function.
+  std::array<double, kLegJoints> suppression{};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const std::optional<FootJointProblem> at_desired = FootObjectiveJointProblem(
+        geometry, desired_foot, context.desired, context.desired, j, joint_weight);
+    if (at_desired) suppression[j] = request_smoothing * at_desired->weight_scale;
+  }
+  double error_mm = FootObjectiveMm(geometry, predicted, desired_foot, requests, suppression);
   for (int sweep = 0; sweep < OptimalController::kMaxFootSweeps; ++sweep) {
     const double before_mm = error_mm;
     for (int j = 0; j < kLegJoints; ++j) {
@@ -70,18 +99,24 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
       options.upper_deg = RadToDeg(context.limits[j].upper_rad);
       options.weights = std::move(problem->weights);
       options.structured_solve = true;
-      options.request_smoothing = request_smoothing;
+      // The problem's weights are scaled to mean 1: the same suppression in its units.
+      options.request_smoothing = suppression[j] / problem->weight_scale;
       // Re-linearised at the next sweep: solved as far as a start (kStartToleranceDeg).
       options.tolerance_deg = OptimalController::kStartToleranceDeg;
       const OptimalRequests next =
           OptimizeRequests(problem->target_deg, context.models[j], Column(requests, j), options);
       DesiredCycle candidate = predicted;
-      for (int t = 0; t < period; ++t) candidate[t][j] = next.steady_state_deg[t];
-      const double candidate_mm = FootRmsErrorMm(geometry, candidate, desired_foot);
+      DesiredCycle candidate_requests = requests;
+      for (int t = 0; t < period; ++t) {
+        candidate[t][j] = next.steady_state_deg[t];
+        candidate_requests[t][j] = next.requests_deg[t];
+      }
+      const double candidate_mm =
+          FootObjectiveMm(geometry, candidate, desired_foot, candidate_requests, suppression);
       if (!(candidate_mm < error_mm)) continue;  // the linearisation misled: keep the cycle
       error_mm = candidate_mm;
       predicted = std::move(candidate);
-      for (int t = 0; t < period; ++t) requests[t][j] = next.requests_deg[t];
+      requests = std::move(candidate_requests);
     }
     if (before_mm - error_mm < OptimalController::kFootToleranceMm) break;
   }

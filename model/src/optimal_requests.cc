@@ -498,16 +498,6 @@ double MoveSuppression(const OptimalRequestsOptions& options) {
   return options.request_smoothing * mean;
 }
 
-// sum_t (second difference of R at t)^2.
-double SumOfSquaredSecondDifferences(std::span<const double> r) {
-  double sum = 0.0;
-  for (int t = 0; t < static_cast<int>(r.size()); ++t) {
-    const double d = SecondDifference(r, t);
-    sum += d * d;
-  }
-  return sum;
-}
-
 Iterate Evaluate(const JointModelParams& params, std::vector<double> requests, double smoothing,
                  std::span<const double> desired, std::span<const double> weights,
                  double suppression = 0.0) {
@@ -882,6 +872,15 @@ void Validate(std::span<const double> desired, const JointModelParams& params,
 }
 
 }  // namespace
+
+double SumOfSquaredSecondDifferences(std::span<const double> cycle) {
+  double sum = 0.0;
+  for (int t = 0; t < static_cast<int>(cycle.size()); ++t) {
+    const double d = SecondDifference(cycle, t);
+    sum += d * d;
+  }
+  return sum;
+}
 
 OptimalRequests OptimizeRequests(std::span<const double> desired_deg,
                                  const JointModelParams& params,

@@ -378,16 +378,16 @@ TEST_F(StandRegression, TheStanceCarriesTheWeightAndModelBasedBeatsDirect) {
 // knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; the README's table). On each, ILC (track.yaml's
 // foot objective) must put the foot nearer its path than the paper's method and the best time
 // shift do, over the shipped run (5 warm-up and 20 measured steps: on the slow sine ILC is
-// still gaining after 4). So must optimal (track.yaml's: foot objective, model fitted to the
-// walk), except against the time shift on the slow triangle, where it does not: 0.112 cm against
-// 0.102 (model_based 0.261; with the joint objective 0.112, with the step-test model 0.234); what
-// is left there is the model's mismatch with the plant (the README's table).
+// still gaining after 4). So must optimal (track.yaml's: foot objective with move suppression,
+// model fitted to the walk); on the slow triangle only since its sweeps lower the suppression
+// too (0.093 cm against the time shift's 0.102; before, 0.112: requests chattering at the
+// model's averaging period from the corners on, the README's "Walks nobody tuned for").
 double Triangle(double phase) {
   const double x = phase / (2.0 * std::numbers::pi) - std::floor(phase / (2.0 * std::numbers::pi));
   return x < 0.25 ? 4.0 * x : (x < 0.75 ? 2.0 - 4.0 * x : 4.0 * x - 4.0);
 }
 
-TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
+TEST(UntunedWalks, IlcAndOptimalBeatModelBasedAndTheBestTimeShiftAtTheFoot) {
   // Per process: two test runs at once (say a release and a sanitizer build) must not share it.
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("leglab_untuned_" + std::to_string(::getpid()));
@@ -420,9 +420,7 @@ TEST(UntunedWalks, IlcBeatsModelBasedAndTheBestTimeShiftAtTheFoot) {
       EXPECT_LT(foot("ilc"), foot("model_based")) << walk;
       EXPECT_LT(foot("ilc"), foot("time_shift")) << walk;
       EXPECT_LT(foot("optimal"), foot("model_based")) << walk;
-      if (!(triangle && period == 88)) {
-        EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
-      }
+      EXPECT_LT(foot("optimal"), foot("time_shift")) << walk;
     }
   }
   std::filesystem::remove_all(dir);

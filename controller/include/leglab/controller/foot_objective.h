@@ -22,6 +22,10 @@ double FootRmsErrorMm(const LegGeometry& geometry, const DesiredCycle& angles_de
 struct FootJointProblem {
   std::vector<double> target_deg;  ///< per tick, deg
   std::vector<double> weights;     ///< per tick, >= 0, scaled to mean 1
+  /// The weights' mean before that scaling, (1 + joint_weight) mean_t |K_j|^2, mm^2/deg^2:
+  /// a term c sum_t (...)^2 of this problem is (weight_scale c) sum_t (...)^2 in the foot
+  /// objective's units.
+  double weight_scale = 0.0;
 };
 
 /// One Gauss-Newton linearisation of the foot objective in joint `joint` at `angles_deg` (the

@@ -22,10 +22,16 @@ namespace leglab {
 /// no learned mismatch, solved offline to convergence. Starting from the joint objective's
 /// optimum (solved as far as a start, kStartToleranceDeg), it sweeps Gauss-Seidel over the
 /// joints, each joint's linearised problem solved by OptimizeRequests (to kStartToleranceDeg)
-/// with the other joints at their predicted angles; a joint's new cycle is
-/// kept only if it lowers the predicted foot error (so the foot error never rises above the
-/// joint optimum's), and the sweeps stop when one lowers it by less than kFootToleranceMm or
-/// after kMaxFootSweeps.
+/// with the other joints at their predicted angles; a joint's new cycle is kept only if it
+/// lowers the objective the sweeps descend, and they stop when one lowers it by less than
+/// kFootToleranceMm or after kMaxFootSweeps. That objective is the predicted foot error's mean
+/// square plus, with `optimal.request_smoothing` rho > 0, the move suppression rho sum_j m_j
+/// mean_t (R_j(t+1) - 2 R_j(t) + R_j(t-1))^2, m_j joint j's mean weight in
+/// FootObjectiveJointProblem on the desired cycle (mm^2/deg^2); each joint's solve carries the
+/// same term. Without rho the foot error never rises above the joint optimum's; with it the
+/// requests need not chatter: the model follows a corner of the desired cycle exactly only with
+/// requests that swing at its averaging period a ever after (eq. 3's moving average of a terms
+/// inverted), which a servo unlike the model turns into error (the README's untuned triangle).
 ///
 /// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
 /// models, identified from the step tests (or given); `walk` under models fitted to the walk
@@ -39,8 +45,8 @@ class OptimalController final : public JointController {
   struct Spec {
     std::string objective = "joint";  ///< optimal.objective: joint or foot
     double joint_weight = 2.0;        ///< optimal.joint_weight: in [0, 100], foot objective
-    /// optimal.request_smoothing: in [0, 1e6], foot objective: OptimizeRequests'
-    /// request_smoothing (move suppression on the requests' second difference); 0: none.
+    /// optimal.request_smoothing: in [0, 1e6], foot objective: the weight rho of the move
+    /// suppression on the requests' second difference (see the class); 0: none.
     double request_smoothing = 0.0;
     std::string model = "step_tests";  ///< optimal.model: step_tests or walk
     friend bool operator==(const Spec&, const Spec&) = default;
@@ -49,8 +55,9 @@ class OptimalController final : public JointController {
   static constexpr std::string_view kLabel = "Opt";
   static constexpr std::string_view kConfigSection = "optimal";
   static constexpr bool kFeedForward = true;
-  /// The foot objective's stopping rules: a sweep that lowers the model's predicted foot RMS
-  /// error by less than this (mm) is the last, and there are at most kMaxFootSweeps.
+  /// The foot objective's stopping rules: a sweep that lowers the objective's root (the
+  /// model's predicted foot RMS error with the move suppression, mm) by less than this is the
+  /// last, and there are at most kMaxFootSweeps.
   static constexpr double kFootToleranceMm = 1e-2;
   static constexpr int kMaxFootSweeps = 20;
   /// How far a solve that only starts another iteration is taken (deg of RMS error a step

@@ -47,6 +47,10 @@ struct OptimalRequestsOptions {
   double request_smoothing = 0.0;
 };
 
+/// sum_t (R(t+1) - 2 R(t) + R(t-1))^2 over the cycle R(0..T-1) (indices mod T): what
+/// request_smoothing suppresses, deg^2.
+double SumOfSquaredSecondDifferences(std::span<const double> cycle);
+
 /// The optimised request cycle and what the model does under it.
 struct OptimalRequests {
   std::vector<double> requests_deg;      ///< R(0..T-1)
