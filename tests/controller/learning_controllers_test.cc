@@ -3,6 +3,7 @@
 // plant unlike the model that must not make the learning diverge.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -328,10 +329,12 @@ double SmoothedFootObjective(const ControllerContext& context, const DesiredCycl
 
 // With request_smoothing, the move suppression is part of what the foot objective's sweeps
 // lower, not only of each joint's solve: from the joint optimum, whose requests chatter on the
-// triangle, they end below it in the objective, and below every time shift of the desired
-// cycle (a brute force over all 88; the time shift's requests do not chatter). Sweeps that
-// kept a joint's cycle only when the foot error alone fell never let the chatter go (their
-// objective ended at 223 mm^2 from the joint optimum's 250, the best time shift's 2.1; now 0.48).
+// triangle, they end below it in the objective (a descent; here the optimum solved to the end,
+// the sweeps start from it solved as far as a start) and below every time shift of the desired
+// cycle (a brute force over all 88; the time shift's requests do not chatter). Only the second
+// tells the fix: sweeps that kept a joint's cycle only when the foot error alone fell never let
+// the chatter go (their objective ended at 223 mm^2 from the joint optimum's 250, the best time
+// shift's 2.1; now 0.48).
 TEST(OptimalController, MoveSuppressionIsPartOfWhatTheFootSweepsLower) {
   const ControllerContext context = FrontLegContext(TriangleCycle());
   const double joint_weight = 2.0, rho = 0.3;

@@ -23,15 +23,17 @@ namespace leglab {
 /// optimum (solved as far as a start, kStartToleranceDeg), it sweeps Gauss-Seidel over the
 /// joints, each joint's linearised problem solved by OptimizeRequests (to kStartToleranceDeg)
 /// with the other joints at their predicted angles; a joint's new cycle is kept only if it
-/// lowers the objective the sweeps descend, and they stop when one lowers it by less than
+/// lowers the sweeps' acceptance objective, and they stop when one lowers it by less than
 /// kFootToleranceMm or after kMaxFootSweeps. That objective is the predicted foot error's mean
 /// square plus, with `optimal.request_smoothing` rho > 0, the move suppression rho sum_j m_j
-/// mean_t (R_j(t+1) - 2 R_j(t) + R_j(t-1))^2, m_j joint j's mean weight in
-/// FootObjectiveJointProblem on the desired cycle (mm^2/deg^2); each joint's solve carries the
-/// same term. Without rho the foot error never rises above the joint optimum's; with it the
-/// requests need not chatter: the model follows a corner of the desired cycle exactly only with
-/// requests that swing at its averaging period a ever after (eq. 3's moving average of a terms
-/// inverted), which a servo unlike the model turns into error (the README's untuned triangle).
+/// mean_t (R_j(t+1) - 2 R_j(t) + R_j(t-1))^2, m_j = FootJointProblem::weight_scale of joint j on
+/// the desired cycle (mm^2/deg^2; 0 for a joint that does not move the foot there); each
+/// joint's solve carries the same suppression term, in the same units. The joint_weight term
+/// only guides the solves (as ILC's does) and is not part of what is accepted. Without rho the
+/// foot error never rises above the joint optimum's; with it the requests need not chatter: the
+/// model follows a corner of the desired cycle exactly only with requests that swing at its
+/// averaging period a ever after (eq. 3's moving average of a terms inverted), which a servo
+/// unlike the model turns into error (the README's untuned triangle).
 ///
 /// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
 /// models, identified from the step tests (or given); `walk` under models fitted to the walk
