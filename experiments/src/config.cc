@@ -1047,30 +1047,53 @@ SweepConfig LoadSweepConfigUnguarded(const std::string& path) {
   }
   if (seed < 0) fail("sample.seed must be non-negative");
   const YAML::Node keys = sample["keys"];
-  if (!keys.IsMap() || keys.size() == 0) fail("sample.keys: expected {<key>: {min: a, max: b}}");
+  if (!keys.IsMap() || keys.size() == 0) {
+    fail("sample.keys: expected {<key>: {min: a, max: b[, step: s]}}");
+  }
   struct Range {
     double min, max;
     bool integer;
+    double step = 0.0;  // > 0: only min + k step, k = 0..steps
+    long long steps = 0;
   };
   std::vector<Range> ranges;
   for (const auto& item : keys) {
     const std::string key = item.first.as<std::string>();
     const std::string name = "sample.keys." + key;
     const YAML::Node r = item.second;
-    if (!r.IsMap() || r.size() != 2 || !r["min"] || !r["max"]) {
-      fail(name + ": expected {min: a, max: b}");
+    const bool stepped = r.IsMap() && r["step"];
+    if (!r.IsMap() || r.size() != (stepped ? 3U : 2U) || !r["min"] || !r["max"]) {
+      fail(name + ": expected {min: a, max: b[, step: s]}");
     }
     Range range{};
     try {
       range = {r["min"].as<double>(), r["max"].as<double>(),
                WrittenAsInteger(r["min"]) && WrittenAsInteger(r["max"])};
+      if (stepped) {
+        range.step = r["step"].as<double>();
+        range.integer = WrittenAsInteger(r["min"]) && WrittenAsInteger(r["step"]);
+      }
     } catch (const YAML::Exception&) {
-      fail(name + ": min and max must be numbers");
+      fail(name + ": min, max and step must be numbers");
     }
     if (!std::isfinite(range.min) || !std::isfinite(range.max) || range.min > range.max) {
       fail(name + ": expected finite min <= max");
     }
-    if (range.integer && range.max - range.min >= 0x1.0p53) fail(name + ": range too wide");
+    if (stepped) {
+      if (!(std::isfinite(range.step) && range.step > 0.0)) {
+        fail(name + ".step must be positive and finite");
+      }
+      // max counts when it is min plus a whole number of steps up to rounding (0.1 .. 0.5 by
+      // 0.1: (0.5 - 0.1) / 0.1 is 3.9999999999999996).
+      const double steps = std::floor((range.max - range.min) / range.step + 1e-9);
+      if (steps >= 0x1.0p53 ||
+          (range.integer && std::max(std::fabs(range.min), std::fabs(range.max)) >= 0x1.0p53)) {
+        fail(name + ": range too wide");
+      }
+      range.steps = static_cast<long long>(steps);
+    } else if (range.integer && range.max - range.min >= 0x1.0p53) {
+      fail(name + ": range too wide");
+    }
     sweep.keys.push_back(key);
     ranges.push_back(range);
   }
@@ -1079,7 +1102,22 @@ SweepConfig LoadSweepConfigUnguarded(const std::string& path) {
     SweepPoint p{index, {}};
     for (const Range& r : ranges) {
       const double u = Uniform01(random);
-      if (r.integer) {
+      if (r.step > 0.0) {
+        const long long k = std::min(
+            r.steps, static_cast<long long>(std::floor(u * static_cast<double>(r.steps + 1))));
+        if (r.integer) {
+          p.values.push_back(
+              std::to_string(static_cast<long long>(r.min) + k * static_cast<long long>(r.step)));
+        } else {
+          // 15 significant digits: the lattice as written (0.1 + 2 * 0.1 is 0.3, not
+          // 0.30000000000000004).
+          char text[32];
+          const auto end =
+              std::to_chars(text, text + sizeof text, r.min + static_cast<double>(k) * r.step,
+                            std::chars_format::general, 15);
+          p.values.emplace_back(text, end.ptr);
+        }
+      } else if (r.integer) {
         const double n = r.max - r.min + 1.0;
         p.values.push_back(std::to_string(static_cast<long long>(r.min + std::floor(u * n))));
       } else {

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -127,6 +129,48 @@ TEST_F(SweepTest, ASampleIsSeededAndInsideItsRanges) {
   int same = 0;
   for (size_t i = 0; i < a.points.size(); ++i) same += a.points[i].values == c.points[i].values;
   EXPECT_LT(same, 5);
+}
+
+// A sampled key with step: only min + k step (k = 0, 1, ...; max too when it is on that
+// lattice, to rounding), drawn uniformly: servo.delay_ms by the control tick's 8 ms, written as
+// integers, and a decimal step whose max is off by rounding ((0.5 - 0.1) / 0.1 = 3.999...). Over
+// 700 draws each of 7 delays is expected 100 times (binomial sd 9.3): each within 60..140, and
+// each of 5 fractions 140 times (sd 10.6): within 90..190.
+TEST_F(SweepTest, ASteppedSampleDrawsOnlyItsLattice) {
+  const SweepConfig sweep = LoadSweepConfig(Write(
+      "stepped.yaml", kFastBase +
+                          "sample:\n  count: 700\n  seed: 3\n  keys:\n"
+                          "    servo.delay_ms: {min: 24, max: 72, step: 8}\n"
+                          "    optimal.request_smoothing: {min: 0.1, max: 0.5, step: 0.1}\n"));
+  ASSERT_EQ(sweep.points.size(), 700u);
+  std::map<std::string, int> delays, fractions;
+  for (const SweepPoint& p : sweep.points) {
+    ++delays[p.values[0]];
+    ++fractions[p.values[1]];
+  }
+  const std::map<std::string, int> expected_delays = {{"24", 0}, {"32", 0}, {"40", 0}, {"48", 0},
+                                                      {"56", 0}, {"64", 0}, {"72", 0}};
+  ASSERT_EQ(delays.size(), expected_delays.size());
+  for (const auto& [value, count] : delays) {
+    EXPECT_TRUE(expected_delays.count(value)) << value;
+    EXPECT_GT(count, 60) << value;
+    EXPECT_LT(count, 140) << value;
+  }
+  ASSERT_EQ(fractions.size(), 5u);
+  for (const auto& [value, count] : fractions) {
+    EXPECT_TRUE(value == "0.1" || value == "0.2" || value == "0.3" || value == "0.4" ||
+                value == "0.5")
+        << value;  // as written, not 0.30000000000000004
+    EXPECT_GT(count, 90) << value;
+    EXPECT_LT(count, 190) << value;
+  }
+  // Without step the same file draws other values: step is what makes the lattice.
+  const SweepConfig plain =
+      LoadSweepConfig(Write("plain.yaml", kFastBase + "sample:\n  count: 700\n  seed: 3\n  keys:\n"
+                                                      "    servo.delay_ms: {min: 24, max: 72}\n"));
+  std::set<std::string> plain_delays;
+  for (const SweepPoint& p : plain.points) plain_delays.insert(p.values[0]);
+  EXPECT_GT(plain_delays.size(), 7u);
 }
 
 TEST(Shard, ParsesIOfNAndRejectsTheRest) {
@@ -258,6 +302,15 @@ TEST_F(SweepTest, BadSweepFilesAreExitTwoWithNothingWritten) {
   bad("count.yaml", kFastBase + "sample: {count: 0, seed: 1, keys: {steps: {min: 1, max: 2}}}\n",
       "sample.count");
   bad("range.yaml", kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 5, max: 2}}}\n",
+      "sample.keys.steps");
+  for (const char* step : {"0", "-8", "nan", "x", ".inf"}) {
+    bad("step.yaml",
+        kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 1, max: 2, step: " + step +
+            "}}}\n",
+        "sample.keys.steps");
+  }
+  bad("extra.yaml",
+      kFastBase + "sample: {count: 3, seed: 1, keys: {steps: {min: 1, max: 2, stpe: 1}}}\n",
       "sample.keys.steps");
   const std::string good = kFastBase + "grid:\n  servo.delay_ms: [32]\n";
   bad("shard1.yaml", good, "--shard '3/2'", " --shard 3/2");
