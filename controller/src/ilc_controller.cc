@@ -134,7 +134,7 @@ bool IlcController::Solve(int joint, const std::vector<double>& target, std::vec
   options.smoothing_theta0 = 0.0;  // warm-started next to the optimum: exact f at once
   options.weights = std::move(weights);
   options.structured_solve = true;  // no T x T factorisation per step (the same step)
-  options.request_smoothing = spec_.request_smoothing;  // > 0: the dense solve
+  options.request_smoothing = spec_.request_smoothing;  // banded too (BandedStepSolver)
   try {
     OptimalRequests next = OptimizeRequests(target, context_.models[joint], requests, options);
     requests = std::move(next.requests_deg);
