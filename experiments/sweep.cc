@@ -11,6 +11,7 @@
 
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/output.h"
+#include "leglab/experiments/program.h"
 #include "leglab/experiments/sweep.h"
 
 namespace {
@@ -41,6 +42,11 @@ int Run(int argc, char** argv) {
                  "points run at once (default: one per core); rows do not depend on it")
       ->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  AddListKeysFlag(app, [] {
+    return KeyTableMarkdown(SweepKeys()) +
+           "\nEvery other key of a sweep file is a key of its base experiment (track "
+           "--list-keys), merged over the base.\n";
+  });
   CLI::App* merge = app.add_subcommand(
       "merge", "join sweep.shard-I-of-N.csv files from the folders given into --out/sweep.csv");
   std::vector<std::string> merge_dirs;
@@ -55,6 +61,8 @@ int Run(int argc, char** argv) {
     if (!merge->parsed() && (config_path.empty() || out_dir.empty())) {
       throw CLI::ValidationError("--config and --out", "are required (or use `sweep merge`)");
     }
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --list-keys printed the keys
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {

@@ -17,6 +17,8 @@ namespace {
 
 constexpr double kNoFit = std::numeric_limits<double>::quiet_NaN();
 
+// The constructor's precondition, wider than the config's ranges (any positive model, e.g. an
+// estimate far off): empty, or the first key that breaks it.
 std::string SpecProblem(const AdaptiveController::Spec& spec) {
   const JointModelParams& m = spec.initial_model;
   if (!(std::isfinite(m.v_max_deg_per_tick) && m.v_max_deg_per_tick > 0.0)) {
@@ -35,27 +37,26 @@ std::string SpecProblem(const AdaptiveController::Spec& spec) {
 
 }  // namespace
 
-AdaptiveController::Spec AdaptiveController::ReadSpec(OptionReader& reader) {
-  Spec spec;
-  reader.Read("initial_model.v_max_deg_per_tick", spec.initial_model.v_max_deg_per_tick);
-  reader.Read("initial_model.theta0_deg", spec.initial_model.theta0_deg);
-  reader.Read("initial_model.lag_ticks", spec.initial_model.lag_ticks);
-  reader.Read("initial_model.accel_ticks", spec.initial_model.accel_ticks);
-  reader.Read("window_steps", spec.window_steps);
-  reader.Read("probe_deg", spec.probe_deg);
-  reader.Read("probe_ticks", spec.probe_ticks);
-  const std::string problem = SpecProblem(spec);
-  if (problem == "initial_model.v_max_deg_per_tick" || problem == "initial_model.theta0_deg") {
-    reader.Fail(problem, "a finite number > 0");
-  }
-  if (problem == "initial_model.lag_ticks") reader.Fail(problem, "in [0, 12] (ticks)");
-  if (problem == "initial_model.accel_ticks") reader.Fail(problem, "in [1, 12] (ticks)");
-  if (problem == "window_steps") reader.Fail(problem, "in [1, 50] (steps)");
-  if (problem == "probe_deg") reader.Fail(problem, "in [0, 45] (deg; 0: no probing)");
-  if (problem == "probe_ticks") {
-    reader.Fail(problem, "in [0, 64] (ticks; 0: pulses of l + a ticks, > 0: excursions)");
-  }
-  return spec;
+void AdaptiveController::VisitKeys(KeyVisitor& v, Spec& spec) {
+  // Any positive speed and width; l and a within the window fit's search range, the
+  // identification's default.
+  v.Section("initial_model", [&] {
+    leglab::VisitKeys(v, spec.initial_model,
+                      {.min_slope_deg = 0, .min_open = true, .max_ticks = 12});
+  });
+  v.Key("window_steps", spec.window_steps,
+        {.min = 1, .max = 50, .description = "steps of data each estimate is fitted to"});
+  v.Key("probe_deg", spec.probe_deg,
+        {.min = 0,
+         .max = 45,
+         .unit = "deg",
+         .description = "pulse added for a joint its window never saturates; 0: no probing"});
+  v.Key("probe_ticks", spec.probe_ticks,
+        {.min = 0,
+         .max = 64,
+         .unit = "ticks",
+         .description = "how long a probe is held: 0, a pulse of l + a ticks; > 0, a "
+                        "step-test-like excursion while the model is uncertain"});
 }
 
 AdaptiveController::AdaptiveController(const Spec& spec, const ControllerContext& context)

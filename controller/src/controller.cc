@@ -98,11 +98,30 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
   return context;
 }
 
-void ReadModelSource(OptionReader& reader, std::string& source) {
-  reader.Read("model", source);
-  if (source != "step_tests" && source != "walk") {
-    reader.Fail("model", "step_tests or walk, got '" + source + "'");
-  }
+void VisitModelSourceKey(KeyVisitor& v, ModelSource& source) {
+  v.Key("model", source, kModelSourceNames,
+        {.description = "the models it inverts: step_tests (identified, or given) or walk (each "
+                        "joint's fitted to the plant's response to the paper's requests on the "
+                        "walk, pooled with the step tests)"});
+}
+
+void VisitObjectiveKeys(KeyVisitor& v, Objective& objective, double& joint_weight,
+                        double& request_smoothing) {
+  v.Key("objective", objective, kObjectiveNames,
+        {.description = "what it minimises under the model: joint (each joint's RMS error, the "
+                        "code's default) or foot (the foot's distance from its path, what "
+                        "track.yaml ships)"});
+  v.Key("joint_weight", joint_weight,
+        {.min = 0,
+         .max = 100,
+         .description = "foot objective: weight of the joints' own errors, relative to their "
+                        "mean effect at the foot (0: the foot alone)"});
+  v.Key("request_smoothing", request_smoothing,
+        {.min = 0,
+         .max = 1e6,
+         .description = "move suppression on the request cycle's second difference, relative to "
+                        "the objective's mean weight; 0: none (track.yaml ships 0.3 for optimal, "
+                        "track_stand.yaml 10 for both)"});
 }
 
 void RequireSettlingModels(const ControllerContext& context, std::string_view mode) {

@@ -35,38 +35,32 @@ Eigen::VectorXd CyclicMovingAverage(const Eigen::VectorXd& x, int window) {
 
 }  // namespace
 
-IlcController::Spec IlcController::ReadSpec(OptionReader& reader) {
-  Spec spec;
-  reader.Read("gain", spec.gain);
-  reader.Read("start", spec.start);
-  reader.Read("freeze_after_warmup", spec.freeze_after_warmup);
-  reader.Read("filter_ticks", spec.filter_ticks);
-  reader.Read("solver_iterations", spec.solver_iterations);
-  reader.Read("solver_tolerance_deg", spec.solver_tolerance_deg);
-  reader.Read("objective", spec.objective);
-  reader.Read("joint_weight", spec.joint_weight);
-  reader.Read("request_smoothing", spec.request_smoothing);
-  if (!(spec.gain > 0.0 && spec.gain <= 1.0)) reader.Fail("gain", "in (0, 1]");
-  if (spec.start != "optimal" && spec.start != "model_based") {
-    reader.Fail("start", "optimal or model_based, got '" + spec.start + "'");
-  }
-  if (spec.filter_ticks < 1 || spec.filter_ticks % 2 == 0) {
-    reader.Fail("filter_ticks", "an odd number >= 1");
-  }
-  if (spec.solver_iterations < 1) reader.Fail("solver_iterations", "at least 1");
-  if (!(spec.solver_tolerance_deg >= 0.0 && spec.solver_tolerance_deg <= 1.0)) {
-    reader.Fail("solver_tolerance_deg", "in [0, 1] deg");
-  }
-  if (spec.objective != "joint" && spec.objective != "foot") {
-    reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
-  }
-  if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
-    reader.Fail("joint_weight", "in [0, 100]");
-  }
-  if (!(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
-    reader.Fail("request_smoothing", "in [0, 1e6]");
-  }
-  return spec;
+void IlcController::VisitKeys(KeyVisitor& v, Spec& spec) {
+  v.Key("gain", spec.gain,
+        {.min = 0,
+         .max = 1,
+         .min_open = true,
+         .description = "share of each step's newly seen model-plant mismatch learned"});
+  v.Key("start", spec.start, kStartNames, {.description = "the offline requests it learns from"});
+  v.Key("freeze_after_warmup", spec.freeze_after_warmup,
+        {.description = "true: learn during the warm-up steps only"});
+  v.Key("filter_ticks", spec.filter_ticks,
+        {.min = 1,
+         .max = 999,
+         .unit = "ticks",
+         .description = "width of the zero-phase moving average (Q-filter) of the mismatch "
+                        "learned; odd, 1: off"});
+  if (spec.filter_ticks % 2 == 0) v.Fail("filter_ticks", "an odd number >= 1");
+  v.Key("solver_iterations", spec.solver_iterations,
+        {.min = 1,
+         .max = 1000,
+         .description = "effort of each update: the solver's linearisations at most"});
+  v.Key("solver_tolerance_deg", spec.solver_tolerance_deg,
+        {.min = 0,
+         .max = 1,
+         .unit = "deg",
+         .description = "each update's solve stops once a step gains less than this (RMS)"});
+  VisitObjectiveKeys(v, spec.objective, spec.joint_weight, spec.request_smoothing);
 }
 
 IlcController::IlcController(const Spec& spec, const ControllerContext& context)
@@ -74,24 +68,16 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
   if (context_.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  if (!(spec_.gain > 0.0 && spec_.gain <= 1.0) || spec_.filter_ticks < 1 ||
-      spec_.filter_ticks % 2 == 0 || spec_.solver_iterations < 1 ||
-      !(spec_.solver_tolerance_deg >= 0.0 && spec_.solver_tolerance_deg <= 1.0) ||
-      (spec_.start != "optimal" && spec_.start != "model_based") ||
-      (spec_.objective != "joint" && spec_.objective != "foot") ||
-      !(spec_.joint_weight >= 0.0 && spec_.joint_weight <= 100.0) ||
-      !(spec_.request_smoothing >= 0.0 && spec_.request_smoothing <= 1e6)) {
-    throw std::invalid_argument("ilc: invalid options");
-  }
+  CheckKeys(std::string(kConfigSection) + ".", spec_, &VisitKeys);
   RequireSettlingModels(context_, kName);
-  if (spec_.objective == "foot") {
+  if (spec_.objective == Objective::kFoot) {
     if (!context_.geometry) {
       throw std::invalid_argument("ilc: the foot objective needs the leg's geometry");
     }
     desired_foot_mm_ = FootPathMm(*context_.geometry, context_.desired);
   }
   // The joint optimum as a start: learning moves on from it at its first update.
-  start_ = spec_.start == "model_based"
+  start_ = spec_.start == Start::kModelBased
                ? ModelBasedRequestCycle(context_, CmMethod::kExact)
                : OptimalRequestCycle(context_, OptimalController::kStartToleranceDeg);
   Reset();
@@ -164,7 +150,7 @@ void IlcController::EndOfStep(long step) {
       disturbance[t][j] = disturbance_[t][j] + spec_.gain * (mismatch[t] - disturbance_[t][j]);
     }
   }
-  const bool foot = spec_.objective == "foot";
+  const bool foot = spec_.objective == Objective::kFoot;
   for (int j = 0; j < kLegJoints; ++j) {
     // The joint objective has nothing new to solve for a joint it learned nothing about; the
     // foot objective does when the other joints moved.

@@ -6,13 +6,11 @@
 
 namespace leglab {
 
-ModelBasedController::Spec ModelBasedController::ReadSpec(OptionReader& reader) {
-  std::string cm = "exact";
-  reader.Read("cm", cm);
-  if (cm != "exact" && cm != "closed") reader.Fail("cm", "closed or exact, got '" + cm + "'");
-  std::string model = "step_tests";
-  ReadModelSource(reader, model);
-  return {cm == "closed" ? CmMethod::kClosed : CmMethod::kExact, model};
+void ModelBasedController::VisitKeys(KeyVisitor& v, Spec& spec) {
+  v.Key("cm", spec.cm, kCmNames,
+        {.description = "model_based's C_m: exact (the discrete root of eq. 6) or closed (the "
+                        "paper's eqs. 10-12)"});
+  VisitModelSourceKey(v, spec.model);
 }
 
 DesiredCycle ModelBasedRequestCycle(const ControllerContext& context, CmMethod cm) {

@@ -164,36 +164,18 @@ DesiredCycle FootOptimalRequestCycle(const ControllerContext& context, double jo
   return context.offline_cycles->GetOrCompute(name, context, compute);
 }
 
-OptimalController::Spec OptimalController::ReadSpec(OptionReader& reader) {
-  Spec spec;
-  reader.Read("objective", spec.objective);
-  reader.Read("joint_weight", spec.joint_weight);
-  reader.Read("request_smoothing", spec.request_smoothing);
-  ReadModelSource(reader, spec.model);
-  if (spec.objective != "joint" && spec.objective != "foot") {
-    reader.Fail("objective", "joint or foot, got '" + spec.objective + "'");
-  }
-  if (!(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0)) {
-    reader.Fail("joint_weight", "in [0, 100]");
-  }
-  if (!(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
-    reader.Fail("request_smoothing", "in [0, 1e6]");
-  }
-  return spec;
+void OptimalController::VisitKeys(KeyVisitor& v, Spec& spec) {
+  VisitObjectiveKeys(v, spec.objective, spec.joint_weight, spec.request_smoothing);
+  VisitModelSourceKey(v, spec.model);
 }
 
 OptimalController::OptimalController(const Spec& spec, const ControllerContext& context) {
   if (context.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  if ((spec.objective != "joint" && spec.objective != "foot") ||
-      (spec.model != "step_tests" && spec.model != "walk") ||
-      !(spec.joint_weight >= 0.0 && spec.joint_weight <= 100.0) ||
-      !(spec.request_smoothing >= 0.0 && spec.request_smoothing <= 1e6)) {
-    throw std::invalid_argument("optimal: invalid options");
-  }
+  CheckKeys(std::string(kConfigSection) + ".", spec, &VisitKeys);
   RequireSettlingModels(context, kName);
-  requests_ = spec.objective == "foot"
+  requests_ = spec.objective == Objective::kFoot
                   ? FootOptimalRequestCycle(context, spec.joint_weight, spec.request_smoothing)
                   : OptimalRequestCycle(context);
 }

@@ -73,9 +73,11 @@ const ControllerModeInfo& FindControllerMode(std::string_view name) {
 
 const ControllerModeInfo& ModeOf(const ControllerSpec& spec) { return Modes::kInfo[spec.index()]; }
 
-ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader) {
+ControllerSpec ReadControllerSpec(std::string_view name, KeyVisitor& visitor) {
   return Modes::Dispatch<ControllerSpec>(IndexOf(name), [&]<typename Mode>() {
-    return ControllerSpec(std::in_place_type<typename Mode::Spec>, Mode::ReadSpec(reader));
+    typename Mode::Spec spec{};
+    Mode::VisitKeys(visitor, spec);
+    return ControllerSpec(std::in_place_type<typename Mode::Spec>, spec);
   });
 }
 

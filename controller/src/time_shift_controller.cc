@@ -5,11 +5,13 @@
 
 namespace leglab {
 
-TimeShiftController::Spec TimeShiftController::ReadSpec(OptionReader& reader) {
-  Spec spec;
-  reader.Read("shift_ticks", spec.shift_ticks);
-  if (spec.shift_ticks < 0) reader.Fail("shift_ticks", "non-negative");
-  return spec;
+void TimeShiftController::VisitKeys(KeyVisitor& v, Spec& spec) {
+  v.Key("shift_ticks", spec.shift_ticks,
+        {.min = 0,
+         .max = 999,
+         .unit = "ticks",
+         .description = "time_shift's k when it is not searched (track.search_shift: false), "
+                        "taken modulo the step"});
 }
 
 std::vector<TimeShiftController::Spec> TimeShiftController::SearchCandidates(

@@ -14,6 +14,17 @@
 
 namespace leglab::experiments {
 
+void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table) {
+  app.add_flag_callback(
+      "--list-keys",
+      [table] {
+        std::cout << table();
+        throw CLI::Success();
+      },
+      "print the config keys this program reads (a Markdown table: key, type, default, range, "
+      "unit, description) and exit");
+}
+
 int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
                int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
@@ -30,8 +41,11 @@ int RunProgram(const std::string& program, const std::string& description, const
   app.add_flag("--quiet", args.quiet, "no progress on stderr")->excludes(progress);
   app.add_option("--set", args.overrides,
                  "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
+  AddListKeysFlag(app, [&scope] { return KeyTableMarkdown(ExperimentKeys(scope)); });
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --list-keys printed the keys
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {

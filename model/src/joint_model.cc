@@ -35,6 +35,32 @@ std::string JointModelParamsProblem(const JointModelParams& p) {
   return {};
 }
 
+void VisitKeys(KeyVisitor& v, JointModelParams& params, const JointModelKeyRanges& ranges) {
+  const auto ticks = static_cast<double>(ranges.max_ticks);
+  v.Key("v_max_deg_per_tick", params.v_max_deg_per_tick,
+        {.min = ranges.min_slope_deg,
+         .max = 45,
+         .min_open = ranges.min_open,
+         .unit = "deg/tick",
+         .description = "v_max: the joint's top speed (45 deg/tick is 5600 deg/s)"});
+  v.Key("theta0_deg", params.theta0_deg,
+        {.min = ranges.min_slope_deg,
+         .max = 180,
+         .min_open = ranges.min_open,
+         .unit = "deg",
+         .description = "theta_0: the request-actual difference that gives the top speed"});
+  v.Key("lag_ticks", params.lag_ticks,
+        {.min = 0,
+         .max = ticks,
+         .unit = "ticks",
+         .description = "l: ticks before a request starts to act (eq. 3)"});
+  v.Key("accel_ticks", params.accel_ticks,
+        {.min = 1,
+         .max = ticks,
+         .unit = "ticks",
+         .description = "a: ticks over which the speed response is averaged (eq. 3)"});
+}
+
 bool SettlesOnEveryCycle(const JointModelParams& p) {
   return p.v_max_deg_per_tick < 2.0 * p.theta0_deg;
 }

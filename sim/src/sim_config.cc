@@ -1,7 +1,6 @@
 #include "leglab/sim/sim_config.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
@@ -10,16 +9,9 @@
 namespace leglab::sim {
 namespace {
 
-// Shortest text that reads back as `value` ("30", "2.5", "-1e-07").
-std::string Format(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
 [[noreturn]] void Reject(std::string_view key, std::string_view expectation, double got) {
   throw std::invalid_argument(std::string(key) + " must be " + std::string(expectation) + ", got " +
-                              Format(got));
+                              FormatNumber(got));
 }
 
 // True when value / unit is a whole number, up to rounding of decimal inputs such as 0.1.
@@ -34,7 +26,136 @@ void RequirePositive(std::string_view key, double value) {
   }
 }
 
+// A servo time that is a whole number of the firmware's 8 ms frames.
+std::string_view WholeFrames(double ms) {
+  return IsWholeMultiple(ms, kTickMs) ? "" : "a non-negative multiple of 8 ms";
+}
+
+// A physics step that divides the 8 ms tick.
+std::string_view DividesTick(double ms) {
+  return IsWholeMultiple(kTickMs, ms) ? ""
+                                      : "> 0 and divide the 8 ms tick into a whole number of steps";
+}
+
 }  // namespace
+
+void VisitKeys(KeyVisitor& v, SimConfig& config) {
+  v.Key("urdf", config.urdf_path,
+        {.description = "the leg's URDF, relative to the robot file (required in a robot file)"});
+  v.Section("sim", [&] {
+    v.Key("physics_dt_ms", config.physics_dt_ms,
+          {.min = 0.1,
+           .max = 8,
+           .unit = "ms",
+           .description = "ODE's physics step; divides the 8 ms tick (below 0.1 ms a run takes "
+                          "minutes for nothing ODE needs)",
+           .rule = DividesTick});
+  });
+  v.Section("servo", [&] {
+    ServoConfig& s = config.servo;
+    v.Key("delay_ms", s.delay_ms,
+          {.min = 0,
+           .max = 400,
+           .unit = "ms",
+           .description = "how long the firmware holds a request back; a multiple of 8 ms, up "
+                          "to 50 ticks (beyond the identification's lag range)",
+           .rule = WholeFrames});
+    v.Key("max_speed_deg_s", s.max_speed_deg_s,
+          {.min = 30,
+           .max = 3600,
+           .unit = "deg/s",
+           .description = "top joint speed, from 0.24 deg a tick to 10 turns a second"});
+    v.Key("gain_per_s", s.gain_per_s,
+          {.min = 1,
+           .max = 1000,
+           .unit = "1/s",
+           .description = "the speed law's gain: commanded speed = gain (target - angle) - "
+                          "damping rate, capped at the top speed"});
+    v.Key("damping", s.damping,
+          {.min = 0,
+           .max = 10,
+           .description = "the speed law's velocity feedback (the D of the PD loop); beyond 10 "
+                          "the joint stalls far from its target"});
+    v.Key("smoothing_ms", s.smoothing_ms,
+          {.min = 0,
+           .max = 400,
+           .unit = "ms",
+           .description = "moving average of the commanded speed (the motor cannot change speed "
+                          "at once); a multiple of 8 ms, 0 or 8: none",
+           .rule = WholeFrames});
+    v.Key("max_torque_nm", s.max_torque_nm,
+          {.min = 0.1,
+           .max = 100,
+           .unit = "N m",
+           .description = "most torque the motor may use; capped per joint by the URDF's effort "
+                          "limit"});
+  });
+  v.Section("sensor", [&] {
+    v.Key("noise_deg", config.sensor.noise_deg,
+          {.min = 0,
+           .max = 2,
+           .unit = "deg",
+           .description = "standard deviation of the Gaussian noise on each measured angle (20 "
+                          "times the Aibo's at most: beyond it the fit of l and a is noise)"});
+  });
+  config.stand.enabled = v.Given("stand");
+  v.Section("stand", [&] {
+    StandConfig& s = config.stand;
+    v.Key("load_kg", s.load_kg,
+          {.min = 0,
+           .max = 10,
+           .min_open = true,
+           .unit = "kg",
+           .description = "mass the carriage carries besides the leg (a quarter of an ERS-210A); "
+                          "a stand: section builds the single-leg test stand"});
+    v.Key("stop_below_shoulder_mm", s.stop_below_shoulder_mm,
+          {.min = 0,
+           .max = 50,
+           .unit = "mm",
+           .description = "how far below its walking height the rail's lower stop holds the "
+                          "shoulder"});
+    v.Key("friction", s.friction,
+          {.min = 0,
+           .max = 5,
+           .description = "Coulomb coefficient of foot on floor; 0 frictionless"});
+    v.Key("contact_stiffness_n_per_m", s.contact_stiffness_n_per_m,
+          {.min = 100,
+           .max = 1e6,
+           .unit = "N/m",
+           .description = "foot-floor contact stiffness k, from a sponge to a hard floor (ERP = "
+                          "h k / (h k + c), CFM = 1 / (h k + c))"});
+    v.Key("contact_damping_n_s_per_m", s.contact_damping_n_s_per_m,
+          {.min = 0, .max = 1000, .unit = "N s/m", .description = "foot-floor contact damping c"});
+    v.Key("foot_radius_mm", s.foot_radius_mm,
+          {.min = 0,
+           .max = 50,
+           .min_open = true,
+           .unit = "mm",
+           .description = "radius of the contact sphere at the foot (the ball of the foot)"});
+    s.belt_follows_walk = !v.Given("belt_speed_mm_per_s");
+    v.Key("belt_speed_mm_per_s", s.belt_speed_mm_per_s,
+          {.min = -2000,
+           .max = 2000,
+           .unit = "mm/s",
+           .description = "the treadmill's speed backward; not given: the walk's stance speed, "
+                          "length_mm / (ground_fraction x t_step x 8 ms)"});
+    v.Key("sled_stiffness_n_per_m", s.sled_stiffness_n_per_m,
+          {.min = 0,
+           .max = 1e5,
+           .unit = "N/m",
+           .description = "the spring of the horizontal sled under the rail; 0: no sled, the "
+                          "rigid rail (track_stand.yaml ships 200)"});
+    v.Key("sled_damping_n_s_per_m", s.sled_damping_n_s_per_m,
+          {.min = 0,
+           .max = 1000,
+           .unit = "N s/m",
+           .description = "the sled's damper (track_stand.yaml ships 16)"});
+  });
+  v.Key("seed", config.seed,
+        {.min = 0,
+         .max = 9.2e18,
+         .description = "seed of every random draw: the same seed gives the same bits"});
+}
 
 void ValidateSimConfig(const SimConfig& config) {
   if (config.urdf_path.empty()) {

@@ -147,13 +147,14 @@ TEST(IlcController, DoesNotDivergeOnAPlantUnlikeItsModel) {
         JointModelParams{2.0, 7.0, 4, 6}, JointModelParams{3.0, 7.0, 4, 6},
         JointModelParams{2.0, 7.0, 5, 6}}) {
     const std::array<JointModelParams, kLegJoints> plants = {plant, plant, plant};
-    for (const std::string start : {"optimal", "model_based"}) {
+    for (const IlcController::Start start :
+         {IlcController::Start::kOptimal, IlcController::Start::kModelBased}) {
       IlcController::Spec spec;
       spec.start = start;
       IlcController ilc(spec, context);
       const std::vector<LegAngles> errors = ErrorPerStep(ilc, context, plants, 40);
       std::unique_ptr<JointController> offline;
-      if (start == "optimal") {
+      if (start == IlcController::Start::kOptimal) {
         offline = std::make_unique<OptimalController>(OptimalController::Spec{}, context);
       } else {
         offline = std::make_unique<ModelBasedController>(ModelBasedController::Spec{}, context);
@@ -162,7 +163,8 @@ TEST(IlcController, DoesNotDivergeOnAPlantUnlikeItsModel) {
       for (int j = 0; j < kLegJoints; ++j) {
         const std::string where = std::string(kLegJointNames[j]) + " plant l " +
                                   std::to_string(plant.lag_ticks) + " v_max " +
-                                  std::to_string(plant.v_max_deg_per_tick) + " start " + start;
+                                  std::to_string(plant.v_max_deg_per_tick) + " start " +
+                                  std::string(IlcController::kStartNames[static_cast<int>(start)]);
         EXPECT_LE(errors.back()[j], without[j] + 0.5) << where;
         for (int s = 30; s < 40; ++s) EXPECT_NEAR(errors[s][j], errors[39][j], 0.05) << where;
       }
@@ -180,7 +182,7 @@ ControllerContext FrontLegContext(const DesiredCycle& desired) {
 
 IlcController::Spec FootSpec(double joint_weight) {
   IlcController::Spec spec;
-  spec.objective = "foot";
+  spec.objective = Objective::kFoot;
   spec.joint_weight = joint_weight;
   return spec;
 }
@@ -227,14 +229,14 @@ TEST(IlcController, FootObjectiveNeedsTheLegsGeometry) {
   EXPECT_THROW(IlcController(FootSpec(2.0), context), std::invalid_argument);
   IlcController::Spec bad = FootSpec(-1.0);
   EXPECT_THROW(IlcController(bad, FrontLegContext(FastCycle())), std::invalid_argument);
-  bad.objective = "hand";
+  bad.objective = static_cast<Objective>(2);  // no such objective
   bad.joint_weight = 2.0;
   EXPECT_THROW(IlcController(bad, FrontLegContext(FastCycle())), std::invalid_argument);
 }
 
 OptimalController::Spec OptimalFootSpec(double joint_weight) {
   OptimalController::Spec spec;
-  spec.objective = "foot";
+  spec.objective = Objective::kFoot;
   spec.joint_weight = joint_weight;
   return spec;
 }
@@ -271,7 +273,7 @@ TEST(OptimalController, FootObjectiveNeedsTheLegsGeometryAndValidOptions) {
                std::invalid_argument);
   OptimalController::Spec bad = OptimalFootSpec(100.5);
   EXPECT_THROW(OptimalController(bad, FrontLegContext(FastCycle())), std::invalid_argument);
-  bad.objective = "hand";
+  bad.objective = static_cast<Objective>(2);  // no such objective
   bad.joint_weight = 2.0;
   EXPECT_THROW(OptimalController(bad, FrontLegContext(FastCycle())), std::invalid_argument);
 }
@@ -410,7 +412,7 @@ TEST(FootObjective, JointProblemIsTheLinearisedFootError) {
 // objective its cycle stays as it was, while the other joints learn; with the foot objective
 // every request stays finite and within the limits.
 TEST(IlcController, ANonFiniteMeasurementLeavesThatJointAlone) {
-  for (const char* objective : {"joint", "foot"}) {
+  for (const Objective objective : {Objective::kJoint, Objective::kFoot}) {
     const ControllerContext context = FrontLegContext(FastCycle());
     IlcController::Spec spec;
     spec.objective = objective;
@@ -429,15 +431,15 @@ TEST(IlcController, ANonFiniteMeasurementLeavesThatJointAlone) {
     for (long t = 0; t < period; ++t) {
       for (int j = 0; j < kLegJoints; ++j) {
         const double r = ilc.requests()[t][j];
-        ASSERT_TRUE(std::isfinite(r)) << objective << " t " << t;
+        ASSERT_TRUE(std::isfinite(r)) << static_cast<int>(objective) << " t " << t;
         EXPECT_GE(r, RadToDeg(context.limits[j].lower_rad) - 1e-9);
         EXPECT_LE(r, RadToDeg(context.limits[j].upper_rad) + 1e-9);
       }
-      if (std::string(objective) == "joint") {
+      if (objective == Objective::kJoint) {
         EXPECT_EQ(ilc.requests()[t][kKnee], start[t][kKnee]) << "t " << t;
       }
     }
-    if (std::string(objective) == "joint") {
+    if (objective == Objective::kJoint) {
       EXPECT_NE(ilc.requests(), start);  // the rotator and abductor learned
     }
   }

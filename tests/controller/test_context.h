@@ -43,36 +43,86 @@ struct OptionError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// Options from a map of key -> text; every key read is remembered.
-class MapOptions final : public OptionReader {
+/// Options from a map of key -> text (a dotted key for a nested section's, as
+/// "initial_model.lag_ticks"); every key visited is remembered. Values are range-checked as the
+/// loader checks them (KeyValueProblem), so a test sees the declaration's rules.
+class MapOptions final : public KeyVisitor {
  public:
   explicit MapOptions(std::map<std::string, std::string> values = {})
       : values_(std::move(values)) {}
-  void Read(std::string_view key, int& value) override {
+  void Key(std::string_view key, int& value, const KeyDoc& doc) override {
     if (const std::string* text = Find(key)) value = std::stoi(*text);
+    Check(key, value, doc);
   }
-  void Read(std::string_view key, double& value) override {
+  void Key(std::string_view key, std::uint64_t& value, const KeyDoc& doc) override {
+    if (const std::string* text = Find(key)) value = std::stoull(*text);
+    Check(key, static_cast<double>(value), doc);
+  }
+  void Key(std::string_view key, double& value, const KeyDoc& doc) override {
     if (const std::string* text = Find(key)) value = std::stod(*text);
+    Check(key, value, doc);
   }
-  void Read(std::string_view key, bool& value) override {
+  void Key(std::string_view key, bool& value, const KeyDoc& /*doc*/) override {
     if (const std::string* text = Find(key)) value = *text == "true";
   }
-  void Read(std::string_view key, std::string& value) override {
+  void Key(std::string_view key, std::string& value, const KeyDoc& /*doc*/) override {
     if (const std::string* text = Find(key)) value = *text;
   }
-  [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
-    throw OptionError("controller." + std::string(key) + " must be " + expectation);
+  void Key(std::string_view key, std::vector<double>& /*value*/, const KeyDoc& /*doc*/) override {
+    Find(key);
   }
+  void Key(std::string_view key, std::vector<int>& /*value*/, const KeyDoc& /*doc*/) override {
+    Find(key);
+  }
+  void Structured(std::string_view key, std::string_view /*type*/,
+                  std::string_view /*default_text*/, const KeyDoc& /*doc*/) override {
+    Find(key);
+  }
+  bool Given(std::string_view key) const override { return values_.count(FullName(key)) > 0; }
+  [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
+    throw OptionError("controller." + FullName(key) + " must be " + expectation);
+  }
+  std::string FullName(std::string_view key) const override { return prefix_ + std::string(key); }
   const std::map<std::string, int>& read_keys() const { return read_; }
 
+ protected:
+  void Choice(std::string_view key, int& index, std::span<const std::string_view> names,
+              const KeyDoc& /*doc*/) override {
+    const std::string* text = Find(key);
+    if (text == nullptr) return;
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == *text) {
+        index = static_cast<int>(i);
+        return;
+      }
+    }
+    Fail(key, "one of its names, got '" + *text + "'");
+  }
+  void Enter(std::string_view name) override {
+    sections_.push_back(prefix_.size());
+    prefix_ += std::string(name) + ".";
+  }
+  void Leave() override {
+    prefix_.resize(sections_.back());
+    sections_.pop_back();
+  }
+
  private:
+  void Check(std::string_view key, double value, const KeyDoc& doc) {
+    if (const std::string problem = KeyValueProblem(value, doc); !problem.empty()) {
+      Fail(key, problem);
+    }
+  }
   const std::string* Find(std::string_view key) {
-    ++read_[std::string(key)];
-    const auto it = values_.find(std::string(key));
+    const std::string name = FullName(key);
+    ++read_[name];
+    const auto it = values_.find(name);
     return it == values_.end() ? nullptr : &it->second;
   }
   std::map<std::string, std::string> values_;
   std::map<std::string, int> read_;
+  std::string prefix_;
+  std::vector<size_t> sections_;
 };
 
 /// Mode `name` with its default options.

@@ -85,17 +85,17 @@ TEST_F(ConfigTest, EachModeKeepsItsOwnOptions) {
   ASSERT_EQ(c.controllers.size(), 2u);
   EXPECT_EQ(std::get<TimeShiftController::Spec>(c.controllers[0]).shift_ticks, 9);
   EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).cm, CmMethod::kClosed);
-  EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).model, "step_tests");
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(c.controllers[1]).model, ModelSource::kStepTests);
   EXPECT_EQ(c.pwl_segments, 12);
   const ExperimentConfig o = LoadExperimentConfig(
       Write(kRobot), {"controller.modes=[model_based, optimal]", "controller.model=walk",
                       "optimal.objective=foot", "optimal.joint_weight=0.5", "optimal.model=walk"});
   ASSERT_EQ(o.controllers.size(), 2u);
-  EXPECT_EQ(std::get<ModelBasedController::Spec>(o.controllers[0]).model, "walk");
+  EXPECT_EQ(std::get<ModelBasedController::Spec>(o.controllers[0]).model, ModelSource::kWalk);
   const auto& optimal = std::get<OptimalController::Spec>(o.controllers[1]);
-  EXPECT_EQ(optimal.objective, "foot");
+  EXPECT_EQ(optimal.objective, Objective::kFoot);
   EXPECT_EQ(optimal.joint_weight, 0.5);
-  EXPECT_EQ(optimal.model, "walk");
+  EXPECT_EQ(optimal.model, ModelSource::kWalk);
   EXPECT_TRUE(UsesWalkModels(o.controllers[0]));
   EXPECT_TRUE(UsesWalkModels(o.controllers[1]));
   EXPECT_FALSE(UsesWalkModels(c.controllers[1]));
@@ -252,23 +252,23 @@ TEST_F(ConfigTest, ExtendsMergesTheBaseFileBeneath) {
   EXPECT_NE(ErrorOf("extends: loop.yaml\n").find("cycle"), std::string::npos);
 }
 
-// One row of the README's range table: `key` | [min, max] unit.
-struct ReadmeRange {
+// A numeric key's declared range, as the loader must enforce it.
+struct DeclaredRange {
   std::string key;
-  std::string text;  // "[0, 400] ms", as the README writes it
+  std::string text;  // "[0, 400] ms", as messages and docs/configuration.md write it
   double min, max;
   bool min_open, max_open;
 };
 
-std::vector<ReadmeRange> ReadmeRanges() {
-  std::ifstream in(std::string(LEGLAB_SOURCE_DIR) + "/README.md");
-  const std::regex row(
-      R"(^\| `([a-z0-9_.]+)` \| (([\[(])([-0-9.e+]+), ([-0-9.e+]+)([\])])( [^|]*[^ |])?) \|)");
-  std::vector<ReadmeRange> ranges;
-  for (std::string line; std::getline(in, line);) {
-    std::smatch m;
-    if (!std::regex_search(line, m, row)) continue;
-    ranges.push_back({m[1], m[2], std::stod(m[4]), std::stod(m[5]), m[3] == "(", m[6] == ")"});
+std::vector<DeclaredRange> NumericKeys() {
+  std::vector<DeclaredRange> ranges;
+  for (const KeyRow& row : ExperimentKeys({})) {
+    if (row.type != "number" && row.type != "integer" && row.type.rfind("list of", 0) != 0) {
+      continue;
+    }
+    if (row.type == "list of {at_step, set}" || row.type == "list of modes") continue;
+    ranges.push_back({row.key, RangeText(row.doc), row.doc.min, row.doc.max, row.doc.min_open,
+                      row.doc.max_open});
   }
   return ranges;
 }
@@ -293,19 +293,19 @@ std::string Assign(const std::string& key, const std::string& x) {
   return key + "=" + x;
 }
 
-TEST(ConfigRanges, ReadmeRangesAreTheLoaders) {
-  const std::vector<ReadmeRange> readme = ReadmeRanges();
-  // Every numeric key the loader checks is in the README, and nothing else is.
-  std::set<std::string> documented, checked;
-  for (const ReadmeRange& r : readme) documented.insert(r.key);
-  for (const NumericRange& r : NumericKeyRanges()) checked.emplace(r.key);
-  EXPECT_EQ(documented, checked);
-
+// Every numeric key has a finite range, and the loader holds every value to it: just outside
+// each end is rejected naming the key and the range, at (or just inside an open) end accepted.
+TEST(ConfigRanges, EveryNumericKeyHasARangeTheLoaderEnforces) {
+  const std::vector<DeclaredRange> declared = NumericKeys();
+  EXPECT_GE(declared.size(), 60u);
+  for (const DeclaredRange& r : declared) {
+    EXPECT_TRUE(std::isfinite(r.min) && std::isfinite(r.max)) << r.key;
+  }
   const std::string track = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/track.yaml";
   // One mode, so that the largest steps stay inside the run's size limits; what some keys need
   // beside them to be in range at all.
   const std::vector<std::string> base = {"controller.modes=[direct]"};
-  for (const ReadmeRange& r : readme) {
+  for (const DeclaredRange& r : declared) {
     std::vector<std::string> overrides = base;
     if (r.key == "controller.pwl_segments") overrides.emplace_back("track.t_step_ticks=1000");
     if (r.key == "track.t_step_ticks") overrides.emplace_back("controller.pwl_segments=1");

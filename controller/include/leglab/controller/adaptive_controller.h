@@ -63,9 +63,9 @@ class AdaptiveController final : public JointController {
   /// The `adaptive.*` keys.
   struct Spec {
     JointModelParams initial_model = {2.5, 7.0, 4, 6};  ///< adaptive.initial_model (Table 1)
-    int window_steps = 2;                               ///< adaptive.window_steps, >= 1
-    double probe_deg = 0.0;                             ///< adaptive.probe_deg, >= 0
-    int probe_ticks = 0;  ///< adaptive.probe_ticks, [0, 64]; 0: pulses, > 0: excursions
+    int window_steps = 2;                               ///< adaptive.window_steps
+    double probe_deg = 0.0;                             ///< adaptive.probe_deg
+    int probe_ticks = 0;  ///< adaptive.probe_ticks; 0: pulses, > 0: excursions
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "adaptive";
@@ -90,8 +90,8 @@ class AdaptiveController final : public JointController {
   /// Excursion probing: the residual the change test compares against is at least this, deg,
   /// so that an exact model (residual 0 up to rounding) is not taken for a changed one.
   static constexpr double kResidualFloorDeg = 0.1;
-  /// Throws the reader's error naming the key for a value out of its range.
-  static Spec ReadSpec(OptionReader& reader);
+  /// Its keys, declared once (see KeyVisitor).
+  static void VisitKeys(KeyVisitor& visitor, Spec& spec);
 
   /// Throws std::invalid_argument on an empty cycle or a bad spec.
   AdaptiveController(const Spec& spec, const ControllerContext& context);

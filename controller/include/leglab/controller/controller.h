@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/core/leg.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
@@ -155,27 +156,27 @@ class JointController {
   virtual std::string_view name() const = 0;
 };
 
-/// Reads a mode's options (its `controller.*` keys) for the registry. The config loader
-/// implements it over YAML, so controllers never see the config format; tests implement it
-/// over a map.
-class OptionReader {
- public:
-  virtual ~OptionReader() = default;
-  /// Sets `value` to key `key` when the config gives it (else leaves it); throws the loader's
-  /// bad-input error naming the key when it has the wrong type.
-  virtual void Read(std::string_view key, int& value) = 0;
-  virtual void Read(std::string_view key, double& value) = 0;
-  virtual void Read(std::string_view key, bool& value) = 0;
-  virtual void Read(std::string_view key, std::string& value) = 0;
-  /// Throws the loader's bad-input error: "<key as the user wrote it> must be <expectation>".
-  [[noreturn]] virtual void Fail(std::string_view key, const std::string& expectation) = 0;
+/// Which models a mode computes its requests from.
+enum class ModelSource {
+  kStepTests,  ///< `step_tests`: the models identified from the step tests (or given)
+  kWalk,       ///< `walk`: fitted to the plant's walk (see ModelFittedToWalk in registry.h)
 };
+inline constexpr std::array<std::string_view, 2> kModelSourceNames = {"step_tests", "walk"};
 
-/// Reads a mode's option `model` into `source` when the config gives it: which models the mode
-/// computes its requests from, "step_tests" (the models identified from the step tests, or
-/// given) or "walk" (fitted to the plant's walk, see ModelFittedToWalk in registry.h); fails
-/// naming the key on any other value.
-void ReadModelSource(OptionReader& reader, std::string& source);
+/// Declares a mode's key `model` (a ModelSource), shared by the modes that invert a model.
+void VisitModelSourceKey(KeyVisitor& visitor, ModelSource& source);
+
+/// What an optimising mode (optimal, ilc) minimises under the model.
+enum class Objective {
+  kJoint,  ///< `joint`: each joint's RMS error on its own
+  kFoot,   ///< `foot`: the foot's distance from its path plus joint_weight times the joints'
+};
+inline constexpr std::array<std::string_view, 2> kObjectiveNames = {"joint", "foot"};
+
+/// Declares the keys `objective`, `joint_weight` and `request_smoothing` that optimal and ilc
+/// share.
+void VisitObjectiveKeys(KeyVisitor& visitor, Objective& objective, double& joint_weight,
+                        double& request_smoothing);
 
 /// Throws std::invalid_argument "<mode>: the <joint>'s model has no cyclic steady state ..."
 /// naming the first joint whose model does not settle under every request cycle

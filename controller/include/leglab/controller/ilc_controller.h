@@ -61,26 +61,29 @@ namespace leglab {
 /// cycle too), and a failed solve leaves the joint's cycle as it was.
 class IlcController final : public JointController {
  public:
+  /// The offline requests learning starts from (`ilc.start`).
+  enum class Start { kOptimal, kModelBased };
+  static constexpr std::array<std::string_view, 2> kStartNames = {"optimal", "model_based"};
   /// The `ilc.*` keys.
   struct Spec {
-    double gain = 0.5;                   ///< ilc.gain, in (0, 1]
-    std::string start = "optimal";       ///< ilc.start: optimal or model_based
-    bool freeze_after_warmup = false;    ///< ilc.freeze_after_warmup
-    int filter_ticks = 7;                ///< ilc.filter_ticks: odd, >= 1 (1: no Q-filter)
-    int solver_iterations = 30;          ///< ilc.solver_iterations: >= 1
-    double solver_tolerance_deg = 1e-4;  ///< ilc.solver_tolerance_deg: in [0, 1]
-    std::string objective = "joint";     ///< ilc.objective: joint or foot
-    double joint_weight = 2.0;           ///< ilc.joint_weight: in [0, 100], foot objective
-    /// ilc.request_smoothing: in [0, 1e6]: each per-step solve's move suppression on the
-    /// requests' second difference (OptimizeRequests' request_smoothing); 0: none.
+    double gain = 0.5;                        ///< ilc.gain
+    Start start = Start::kOptimal;            ///< ilc.start
+    bool freeze_after_warmup = false;         ///< ilc.freeze_after_warmup
+    int filter_ticks = 7;                     ///< ilc.filter_ticks: odd (1: no Q-filter)
+    int solver_iterations = 30;               ///< ilc.solver_iterations
+    double solver_tolerance_deg = 1e-4;       ///< ilc.solver_tolerance_deg
+    Objective objective = Objective::kJoint;  ///< ilc.objective
+    double joint_weight = 2.0;                ///< ilc.joint_weight: foot objective
+    /// ilc.request_smoothing: each per-step solve's move suppression on the requests' second
+    /// difference (OptimizeRequests' request_smoothing); 0: none.
     double request_smoothing = 0.0;
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "ilc";
   static constexpr std::string_view kLabel = "ILC";
   static constexpr std::string_view kConfigSection = "ilc";
-  /// Throws the reader's error naming the key for a value out of its range.
-  static Spec ReadSpec(OptionReader& reader);
+  /// Its keys, declared once (see KeyVisitor).
+  static void VisitKeys(KeyVisitor& visitor, Spec& spec);
 
   /// Throws std::invalid_argument on an empty cycle, a bad spec, or the foot objective without
   /// the context's geometry.

@@ -18,7 +18,7 @@ class ModelBasedController final : public JointController {
   /// to the walk, as optimal.model (OptimalController), so that the two compare on one model.
   struct Spec {
     CmMethod cm = CmMethod::kExact;
-    std::string model = "step_tests";
+    ModelSource model = ModelSource::kStepTests;
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "model_based";
@@ -26,11 +26,12 @@ class ModelBasedController final : public JointController {
   static constexpr bool kFeedForward = true;
   /// It follows the approximation P, so Table 2 also compares it with P (L2(Pwl,MB)).
   static constexpr bool kFollowsApproximation = true;
-  /// Throws the reader's error unless controller.cm is `closed` or `exact` and controller.model
-  /// `step_tests` or `walk`.
-  static Spec ReadSpec(OptionReader& reader);
+  /// The names of CmMethod's values in the config.
+  static constexpr std::array<std::string_view, 2> kCmNames = {"closed", "exact"};
+  /// Its keys, declared once (see KeyVisitor).
+  static void VisitKeys(KeyVisitor& visitor, Spec& spec);
   /// Whether the experiments must give this spec a context with models fitted to the walk.
-  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == "walk"; }
+  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == ModelSource::kWalk; }
 
   /// Throws std::invalid_argument on an empty cycle or a slope over v_max, std::domain_error
   /// from the closed-form C_m outside eq. 13.

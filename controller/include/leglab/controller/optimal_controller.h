@@ -45,12 +45,12 @@ class OptimalController final : public JointController {
  public:
   /// The `optimal.*` keys.
   struct Spec {
-    std::string objective = "joint";  ///< optimal.objective: joint or foot
-    double joint_weight = 2.0;        ///< optimal.joint_weight: in [0, 100], foot objective
-    /// optimal.request_smoothing: in [0, 1e6], foot objective: the weight rho of the move
-    /// suppression on the requests' second difference (see the class); 0: none.
+    Objective objective = Objective::kJoint;  ///< optimal.objective
+    double joint_weight = 2.0;                ///< optimal.joint_weight: foot objective
+    /// optimal.request_smoothing, foot objective: the weight rho of the move suppression on
+    /// the requests' second difference (see the class); 0: none.
     double request_smoothing = 0.0;
-    std::string model = "step_tests";  ///< optimal.model: step_tests or walk
+    ModelSource model = ModelSource::kStepTests;  ///< optimal.model
     friend bool operator==(const Spec&, const Spec&) = default;
   };
   static constexpr std::string_view kName = "optimal";
@@ -69,10 +69,10 @@ class OptimalController final : public JointController {
   /// these to OptimizeRequests' 1e-9 took 3-4 times the iterations and moved the shipped
   /// results by less than their spread over seeds (the README's "What a run costs").
   static constexpr double kStartToleranceDeg = 1e-4;
-  /// Throws the reader's error naming the key for a value out of its range.
-  static Spec ReadSpec(OptionReader& reader);
+  /// Its keys, declared once (see KeyVisitor).
+  static void VisitKeys(KeyVisitor& visitor, Spec& spec);
   /// Whether the experiments must give this spec a context with models fitted to the walk.
-  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == "walk"; }
+  static bool ModelFittedToWalk(const Spec& spec) { return spec.model == ModelSource::kWalk; }
 
   /// Throws std::invalid_argument on an empty cycle, a bad spec, or the foot objective without
   /// the context's geometry.

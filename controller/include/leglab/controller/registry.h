@@ -23,7 +23,7 @@ namespace leglab {
 ///   struct Spec;                                  its options (a value type with ==)
 ///   static constexpr std::string_view kName;      its name in configs and file names
 ///   static constexpr std::string_view kLabel;     its short label in Table 2's keys
-///   static Spec ReadSpec(OptionReader&);          its `controller.*` keys, validated
+///   static void VisitKeys(KeyVisitor&, Spec&);    its config keys, declared once
 ///   Mode(const Spec&, const ControllerContext&);  its factory
 /// and optionally
 ///   static constexpr bool kFeedForward = true;    requests periodic, independent of measurements
@@ -45,11 +45,20 @@ struct ControllerModeList {
   using Spec = std::variant<typename Modes::Spec...>;
 };
 
+#ifdef LEGLAB_EXTRA_MODES_HEADER
+// A build of the libraries with modes of its own after the registered ones (the test that
+// proves docs/extending.md): the header declares them and defines LEGLAB_EXTRA_MODES as
+// ", ModeA, ModeB".
+#include LEGLAB_EXTRA_MODES_HEADER
+#else
+#define LEGLAB_EXTRA_MODES
+#endif
+
 /// THE registry: every controller mode, in the order tables list them. A new mode is its own
-/// file pair plus its class here.
+/// file pair, its class here and its source in controller/CMakeLists.txt (docs/extending.md).
 using RegisteredControllerModes =
     ControllerModeList<DirectController, TimeShiftController, ModelBasedController,
-                       OptimalController, IlcController, AdaptiveController>;
+                       OptimalController, IlcController, AdaptiveController LEGLAB_EXTRA_MODES>;
 
 /// One mode's options: the variant alternative of its class's Spec.
 using ControllerSpec = RegisteredControllerModes::Spec;
@@ -82,9 +91,10 @@ const ControllerModeInfo& FindControllerMode(std::string_view name);
 /// The mode of `spec`.
 const ControllerModeInfo& ModeOf(const ControllerSpec& spec);
 
-/// Mode `name`'s options read through `reader` (its ReadSpec); throws as FindControllerMode
-/// for an unknown name, and what the mode's ReadSpec throws.
-ControllerSpec ReadControllerSpec(std::string_view name, OptionReader& reader);
+/// Mode `name`'s options: its Spec's defaults, visited by `visitor` (its VisitKeys: a loader
+/// reads them, a lister lists them); throws as FindControllerMode for an unknown name, and
+/// what the visitor throws.
+ControllerSpec ReadControllerSpec(std::string_view name, KeyVisitor& visitor);
 
 /// Builds the controller of `spec` for `context`; throws what the mode's constructor throws.
 std::unique_ptr<JointController> MakeController(const ControllerSpec& spec,

@@ -20,8 +20,8 @@ class TimeShiftController final : public JointController {
   static constexpr std::string_view kLabel = "TS";
   static constexpr bool kFeedForward = true;
   static constexpr std::string_view kSearchFile = "shift_search";
-  /// Throws the reader's error for a negative shift.
-  static Spec ReadSpec(OptionReader& reader);
+  /// Its keys, declared once (see KeyVisitor).
+  static void VisitKeys(KeyVisitor& visitor, Spec& spec);
   /// The shifts an experiment may search (`track.search_shift`): k = 0..T-1, every distinct
   /// shift of a cycle of T ticks.
   static std::vector<Spec> SearchCandidates(const Spec& spec, const ControllerContext& context);

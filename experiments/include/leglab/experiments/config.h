@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "leglab/controller/registry.h"
+#include "leglab/core/config_keys.h"
 #include "leglab/core/plant.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
@@ -30,22 +31,6 @@ class UnknownKeyError : public InputError {
  public:
   using InputError::InputError;
 };
-
-/// The documented range of a numeric config key (the README's config reference lists the same):
-/// a value must lie in [min, max], an end excluded when `min_open` / `max_open`. A list key's range
-/// holds for each element. Keys are named as the user writes them ("servo.delay_ms", "steps").
-struct NumericRange {
-  std::string_view key;
-  double min;
-  double max;
-  bool min_open;
-  bool max_open;
-  std::string_view unit;  ///< "ms", "deg", "" for a count
-};
-
-/// Every numeric key's range. LoadExperimentConfig checks each value read against it, before
-/// anything runs; a numeric key read without a range here is a bug (std::logic_error).
-std::span<const NumericRange> NumericKeyRanges();
 
 /// The most ticks one tracking run (warmup_steps + steps, times track.t_step_ticks) may
 /// simulate: its recorded trace is what track writes, so this also bounds memory and output.
@@ -161,13 +146,32 @@ struct ConfigScope {
   std::vector<std::string> sections;  ///< top-level keys, e.g. "servo", "identify", "seed"
 };
 
+/// Whether top-level key `section` ("servo", "steps") is in `scope`.
+bool InScope(const ConfigScope& scope, const std::string& section);
+
+/// Every key an experiment config may set (the robot file's, the experiment's, each registered
+/// mode's), each declared once beside the code that owns it, in the reference's order; only
+/// the keys of `scope`'s sections when it names any. What `--list-keys` prints and
+/// docs/configuration.md holds.
+const std::vector<KeyRow>& ExperimentKeys(const ConfigScope& scope);
+
+/// The experiment key `key` as the user writes it ("servo.delay_ms"), or null.
+const KeyRow* FindKey(std::string_view key);
+
+/// The sweep file's own keys (`sweep --list-keys`); its other keys are experiment keys.
+std::vector<KeyRow> SweepKeys();
+
+/// `rows` as a Markdown table with the columns key | type | default | range | unit |
+/// description.
+std::string KeyTableMarkdown(const std::vector<KeyRow>& rows);
+
 /// Loads `config_path` (with the file its `extends:` key names, relative to it, merged beneath
 /// it, recursively), merges the robot it names (`robot:` a name under robots/ or a path to
 /// a robot.yaml, default ers210a; a robot file may `extends:` another) beneath it, applies
 /// `overrides` ("key.path=value", value in YAML syntax) last and in order, and converts the result
 /// into structs with defaults. Throws InputError naming the file or key for a missing or malformed
 /// file, a duplicate key, an unknown key, a key outside `scope`, a value of the wrong type or
-/// out of its range (NumericKeyRanges), a run larger than kMaxTicksPerRun, kMaxTotalTicks or
+/// out of its declared range (ExperimentKeys), a run larger than kMaxTicksPerRun, kMaxTotalTicks or
 /// kMaxIdentificationWork, or a missing URDF.
 ExperimentConfig LoadExperimentConfig(const std::string& config_path,
                                       const std::vector<std::string>& overrides = {},

@@ -6,10 +6,19 @@
 
 #include "leglab/experiments/config.h"
 
+namespace CLI {
+class App;
+}
+
 namespace leglab::experiments {
 
+/// Adds `--list-keys` to `app`: prints `table()` (KeyTableMarkdown of the keys the program
+/// reads) on stdout and exits with status 0 before any other flag is checked.
+void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table);
+
 /// What every experiment program takes: `--config FILE`, `--out DIR`, `--threads N`,
-/// `--progress` or `--quiet`, and any number of `--set key=value` applied last.
+/// `--progress` or `--quiet`, `--list-keys`, and any number of `--set key=value` applied
+/// last.
 struct ProgramArgs {
   std::string config_path;
   std::string out_dir;

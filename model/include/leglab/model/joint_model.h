@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
+
 namespace leglab {
 
 /// Parameters of the paper's joint model (its Table 1): what identification fits.
@@ -21,6 +23,18 @@ struct JointModelParams {
 /// Empty when v_max > 0, theta_0 > 0 (both finite), l >= 0 and a >= 1; otherwise what is
 /// wrong, naming the field ("theta0_deg must be positive, got -1").
 std::string JointModelParamsProblem(const JointModelParams& params);
+
+/// The ranges of a joint model's config keys where its users differ.
+struct JointModelKeyRanges {
+  double min_slope_deg = 0.01;  ///< least v_max (deg/tick) and theta_0 (deg)
+  bool min_open = false;        ///< ... excluded: any value above it
+  int max_ticks = 50;           ///< most l and a (a narrower search range than identify's)
+};
+
+/// The four config keys of a joint model (`model.*`, `plant_model.*`,
+/// `adaptive.initial_model.*`), declared once (see KeyVisitor).
+void VisitKeys(KeyVisitor& visitor, JointModelParams& params,
+               const JointModelKeyRanges& ranges = {});
 
 /// Throws std::invalid_argument "joint model: <problem>" unless JointModelParamsProblem is
 /// empty.

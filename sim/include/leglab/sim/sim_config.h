@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/core/leg.h"
 
 namespace leglab::sim {
@@ -38,7 +39,7 @@ struct SensorConfig {
   double noise_deg = 0.1;
 };
 
-/// The single-leg test stand (robot.yaml `stand.*`, issue 11): the leg's root link mounted on
+/// The single-leg test stand (robot.yaml `stand.*`): the leg's root link mounted on
 /// a carriage that slides on a vertical rail (an ODE slider joint), carrying its share of the
 /// body, with a lower stop on the rail and a floor under the foot. Off (`enabled` false, no
 /// `stand:` section) the leg hangs in the air, fixed to the world, exactly as without it.
@@ -88,8 +89,11 @@ struct StandConfig {
   /// The sled's damper, N s/m (>= 0); used only with a sled (sled_stiffness_n_per_m > 0).
   double sled_damping_n_s_per_m = 0.0;
   /// Where the walk's ground is: the foot centre's depth below the shoulder on the ground, mm
-  /// (the experiments set it from desired.locus.ground_below_shoulder_mm).
+  /// (the experiments set it from the walk's locus).
   double ground_below_shoulder_mm = 100.0;
+  /// The config gives no belt speed: the experiments set belt_speed_mm_per_s to the walk's
+  /// stance speed.
+  bool belt_follows_walk = true;
 };
 
 /// Everything the simulated plant needs (robot.yaml, with `urdf` resolved to a path).
@@ -107,6 +111,11 @@ struct SimConfig {
   /// The test stand; off by default (the leg in the air).
   StandConfig stand{};
 };
+
+/// The robot.yaml keys of the plant, declared once (see KeyVisitor): `urdf` (as written, not
+/// yet resolved to a path), `sim.*`, `servo.*`, `sensor.*`, `stand.*` (a `stand` section given
+/// builds the stand) and `seed`.
+void VisitKeys(KeyVisitor& visitor, SimConfig& config);
 
 /// Checks every value of `config` against its documented range.
 /// Throws std::invalid_argument naming the offending key as in robot.yaml (e.g.

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <charconv>
+#include <cmath>
+#include <string>
+
+namespace leglab {
+
+/// How FormatNumber writes a number.
+enum class NumberStyle {
+  /// The shortest text that reads back as the same double ("0.1", "1e+06", "-7.5e-05"): what
+  /// the result files hold, so that a value read back is bit for bit the one computed.
+  kShortest,
+  /// For people (messages, the configuration reference): a whole number below 10^15 written
+  /// out ("1000000"), anything else as kShortest.
+  kReadable,
+};
+
+/// `value` as text in `style`; "nan", "inf" and "-inf" for the non-finite values.
+inline std::string FormatNumber(double value, NumberStyle style = NumberStyle::kShortest) {
+  if (style == NumberStyle::kReadable && value == std::round(value) && std::abs(value) < 1e15) {
+    return std::to_string(static_cast<long long>(value));
+  }
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return {buffer, result.ptr};
+}
+
+/// `value` to `significant_digits` significant digits (printf's %g without trailing zeros),
+/// e.g. a lattice point min + k * step written as the user wrote min and step: 0.1 + 2 * 0.1
+/// to 15 digits is "0.3", not 0.30000000000000004.
+inline std::string FormatNumber(double value, int significant_digits) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value,
+                                    std::chars_format::general, significant_digits);
+  return {buffer, result.ptr};
+}
+
+}  // namespace leglab
