@@ -60,6 +60,35 @@ def foot_figure(out, name, title, modes):
     save(fig, out, name)
 
 
+# The paper's and leglab's modes keep their colours from figure to figure; any other mode (one
+# a user registers) gets the next of the rest.
+MODE_STYLES = {"direct": "r--", "time_shift": "g-.", "model_based": "b-", "optimal": "m-",
+               "ilc": "c-", "adaptive": "C1-"}
+OTHER_STYLES = ["C5-", "C7-", "C8-", "C9-", "y-", "C4-"]
+
+
+def mode_style(mode):
+    if mode not in MODE_STYLES:
+        MODE_STYLES[mode] = OTHER_STYLES[(len(MODE_STYLES) - 6) % len(OTHER_STYLES)]
+    return MODE_STYLES[mode]
+
+
+def mode_color(mode):
+    return mode_style(mode).rstrip("-.:")
+
+
+def modes_present(out):
+    """Every mode with a foot_<mode>.csv in `out`, in table2.json's order when it has one."""
+    present = sorted(f[len("foot_"):-len(".csv")] for f in os.listdir(out)
+                     if f.startswith("foot_") and f.endswith(".csv"))
+    try:
+        with open(os.path.join(out, "table2.json")) as f:
+            order = [m for m in json.load(f)["foot_cm"] if m in present]
+    except (OSError, KeyError, ValueError):
+        order = []
+    return order + [m for m in present if m not in order]
+
+
 def main(out):
     have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
     # Figure 1: desired and actual foot path under the direct method (x forward, z up).
@@ -179,10 +208,8 @@ def main(out):
         foot_ax.legend()
         save(fig, out, "fig10_ilc_learning.png")
 
-    # Figure 11: the foot path of every mode that ran.
-    styles = {"direct": "r--", "time_shift": "g-.", "model_based": "b-", "optimal": "m-",
-              "ilc": "c-"}
-    modes = [(m, m, st) for m, st in styles.items() if have(f"foot_{m}.csv")]
+    # Figure 11: the foot path of every mode that ran (its foot_<mode>.csv), in table 2's order.
+    modes = [(m, m, mode_style(m)) for m in modes_present(out)]
     if len(modes) > 1:
         foot_figure(out, "fig11_foot_every_mode.png", "Foot trajectories, every mode", modes)
 
@@ -217,11 +244,9 @@ def main(out):
     if have("per_step.csv") and have("model_estimates.csv"):
         rows = read_csv(os.path.join(out, "per_step.csv"))
         fig, ax = plt.subplots(figsize=(8, 4))
-        styles = {"direct": "r", "time_shift": "g", "model_based": "b", "optimal": "m",
-                  "ilc": "c", "adaptive": "k"}
         for mode in dict.fromkeys(r["mode"] for r in rows):
             ax.plot(column(rows, "step", mode=mode), column(rows, "foot_l2_cm", mode=mode), "o-",
-                    color=styles.get(mode), ms=2.5, lw=1, label=mode)
+                    color=mode_color(mode), ms=2.5, lw=1, label=mode)
         # model_based with a model identified on the changed plant, when reproduce.sh ran it.
         worn = os.path.join(out, "worn_model", "per_step.csv")
         if os.path.exists(worn):
@@ -237,7 +262,7 @@ def main(out):
         ax.legend(fontsize=8)
         save(fig, out, "fig13_foot_per_step.png")
 
-    # Figures 14-16 (the single-leg test stand, issue 11): drawn when the foot CSVs carry the
+    # Figures 14-16 (the single-leg test stand): drawn when the foot CSVs carry the
     # stand's instruments (a run on robots/ers210a_stand; zeros in the air).
     stand_modes = [(m, label, st) for m, label, st in
                    (("direct", "direct", "r--"), ("model_based", "model_based", "b-"))

@@ -17,6 +17,15 @@
 #include "leglab/controller/optimal_controller.h"
 #include "leglab/controller/time_shift_controller.h"
 
+#ifdef LEGLAB_EXTRA_MODES_HEADER
+// A build of the libraries with modes of its own after the registered ones (the test that
+// proves docs/extending.md): the header declares them and defines LEGLAB_EXTRA_MODES as
+// ", ModeA, ModeB".
+#include LEGLAB_EXTRA_MODES_HEADER
+#else
+#define LEGLAB_EXTRA_MODES
+#endif
+
 namespace leglab {
 
 /// A list of controller mode classes. Each is a JointController with
@@ -44,15 +53,6 @@ template <typename... Modes>
 struct ControllerModeList {
   using Spec = std::variant<typename Modes::Spec...>;
 };
-
-#ifdef LEGLAB_EXTRA_MODES_HEADER
-// A build of the libraries with modes of its own after the registered ones (the test that
-// proves docs/extending.md): the header declares them and defines LEGLAB_EXTRA_MODES as
-// ", ModeA, ModeB".
-#include LEGLAB_EXTRA_MODES_HEADER
-#else
-#define LEGLAB_EXTRA_MODES
-#endif
 
 /// THE registry: every controller mode, in the order tables list them. A new mode is its own
 /// file pair, its class here and its source in controller/CMakeLists.txt (docs/extending.md).
