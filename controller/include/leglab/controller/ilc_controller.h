@@ -22,8 +22,8 @@ namespace leglab {
 ///    gain. It carries the lead (a request at s first moves the joint at s + l + 1, so the
 ///    correction for an error at t lands l + 1 ticks earlier, the classic P-type lead of
 ///    Arimoto 1984) and the saturation: where the joint already runs at top speed the solver
-///    does not push harder, where a linear learning law would (and diverges on the knee; see
-///    docs/design/ilc.md).
+///    does not push harder, as a linear learning law would (one tried diverged on the knee;
+///    see docs/design/ilc.md).
 ///  - Gain (`ilc.gain`, in (0, 1]): how much of the newly seen mismatch enters d per step.
 ///    With an exact model d stays 0 and R stays optimal; below 1 it averages the 0.1 deg sensor
 ///    noise over about 1/gain steps and damps the learning when the model misjudges the plant.
