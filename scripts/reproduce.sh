@@ -23,7 +23,7 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
     --out "$out/hind"
   build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
 fi
-# Table 2 in the paper's regime (issue 12): the walk fitted to the paper's direct-method row
+# Table 2 in the paper's regime: the walk fitted to the paper's direct-method row
 # (walk_fit.json, walk_fit.md), then every mode on it (track_paper_regime.yaml: that walk).
 if [ -x build/bin/fit_walk ]; then
   build/bin/fit_walk --config experiments/configs/track.yaml --out "$out/walk_fit"
@@ -32,7 +32,7 @@ if [ -x build/bin/track ]; then
   build/bin/track --config experiments/configs/track_paper_regime.yaml \
     --out "$out/track_paper_regime"
 fi
-# The front leg on the single-leg test stand (issue 11): Table 1 with the foot free of the floor
+# The front leg on the single-leg test stand: Table 1 with the foot free of the floor
 # (and the same tests in the air, air70/), the loaded step test (loaded/), Table 2 on the stand.
 if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
   build/bin/identify --config experiments/configs/identify_stand.yaml --out "$out/stand"

@@ -1,14 +1,12 @@
 #include "leglab/experiments/rig.h"
 
-#include <charconv>
 #include <cmath>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "leglab/core/units.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
+#include "leglab/experiments/trajectory_csv.h"
 #include "leglab/model/joint_model_plant.h"
 #include "leglab/model/metrics.h"
 #include "leglab/model/trajectories.h"
@@ -107,88 +105,12 @@ Eigen::Vector3d FootMm(const LegGeometry& geometry, const LegAngles& q_deg) {
       geometry, Eigen::Vector3d(DegToRad(q_deg[0]), DegToRad(q_deg[1]), DegToRad(q_deg[2])));
 }
 
-namespace {
-
-DesiredMotion DesiredFromCsv(const std::string& path, int period, const LegGeometry& geometry) {
-  std::ifstream in(path);
-  if (!in) throw InputError("desired.csv: cannot read '" + path + "'");
-  auto fail = [&](const std::string& what) {
-    throw InputError("desired.csv '" + path + "': " + what);
-  };
-  std::string header = "tick";
-  for (std::string_view joint : kLegJointNames) {
-    header += ',';  // appended piecewise: GCC 12 misfires -Wrestrict on "," + ...
-    header += joint;
-    header += "_deg";
-  }
-  std::string line;
-  if (!std::getline(in, line)) fail("is empty");
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line != header) fail("header must be '" + header + "', got '" + line + "'");
-  DesiredMotion d;
-  for (int row = 1; std::getline(in, line); ++row) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    constexpr size_t columns = kLegJoints + 1;
-    if (cells.size() != columns) {
-      fail("row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
-           " columns, expected " + std::to_string(columns));
-    }
-    std::array<double, kLegJoints + 1> values{};
-    for (size_t c = 0; c < columns; ++c) {
-      const std::string name = c == 0 ? "tick" : std::string(kLegJointNames[c - 1]) + "_deg";
-      // Plain decimal only: the tick a whole number of digits, an angle as from_chars reads it
-      // (no hex such as 0x7, no sign '+', no spaces), the whole cell used.
-      const std::string& cell = cells[c];
-      const char* end = cell.data() + cell.size();
-      std::from_chars_result parsed{};
-      if (c == 0) {
-        long tick = -1;
-        parsed = std::from_chars(cell.data(), end, tick);
-        if (cell.empty() || cell.find_first_not_of("0123456789") != std::string::npos) {
-          parsed.ec = std::errc::invalid_argument;
-        }
-        values[c] = static_cast<double>(tick);
-      } else {
-        parsed = std::from_chars(cell.data(), end, values[c]);
-      }
-      if (parsed.ec != std::errc() || parsed.ptr != end) {
-        fail("row " + std::to_string(row) + ", " + name + ": '" + cell + "' is not a " +
-             (c == 0 ? "tick (digits only)" : "decimal number"));
-      }
-      if (!std::isfinite(values[c]))
-        fail("row " + std::to_string(row) + ", " + name + " is not finite");
-      if (c > 0) {
-        const JointLimits& lim = geometry.limits[c - 1];
-        if (DegToRad(values[c]) < lim.lower_rad - 1e-9 ||
-            DegToRad(values[c]) > lim.upper_rad + 1e-9) {
-          fail("row " + std::to_string(row) + ", " + name + " = " + cells[c] +
-               " is outside the joint limits");
-        }
-      }
-    }
-    if (values[0] != static_cast<double>(d.angles_deg.size())) {
-      fail("row " + std::to_string(row) + ": tick must be " + std::to_string(d.angles_deg.size()) +
-           ", got " + cells[0]);
-    }
-    d.angles_deg.push_back({values[1], values[2], values[3]});
-  }
-  if (static_cast<int>(d.angles_deg.size()) != period) {
-    fail("has " + std::to_string(d.angles_deg.size()) +
-         " rows, expected one cycle of track.t_step_ticks = " + std::to_string(period));
-  }
-  for (const LegAngles& q : d.angles_deg) d.foot_mm.push_back(FootMm(geometry, q));
-  return d;
-}
-
-}  // namespace
-
 DesiredMotion LoadDesiredMotion(const TrackConfig& track, const LegGeometry& geometry) {
   if (!track.desired_csv.empty()) {
-    return DesiredFromCsv(track.desired_csv, track.t_step_ticks, geometry);
+    DesiredMotion d;
+    d.angles_deg = ReadDesiredCsv(track.desired_csv, track.t_step_ticks, geometry.limits);
+    for (const LegAngles& q : d.angles_deg) d.foot_mm.push_back(FootMm(geometry, q));
+    return d;
   }
   HalfEllipseLocus locus = track.locus.shape;
   locus.t_step_ticks = track.t_step_ticks;

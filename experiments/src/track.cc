@@ -182,7 +182,12 @@ double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period) {
   return MeanAndStd(per_step).mean;
 }
 
-TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink) {
+namespace {
+
+using StepTests = std::array<std::vector<JointRecording>, kLegJoints>;
+
+// The run's robot, desired cycle and sizes; bad plant input fails here, before any run.
+TrackResult PrepareTrack(const ExperimentConfig& config) {
   TrackResult r;
   r.robot = LoadRobot(config.sim.urdf_path);
   r.desired = LoadDesiredMotion(config.track, r.robot.geometry);
@@ -191,62 +196,84 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   if (config.sim.stand.enabled && config.plant == PlantKind::kSim) {
     r.stand_weight_n = (config.sim.stand.load_kg + r.robot.leg_mass_kg) * 9.81;
   }
-  MakePlant(config, r.robot);  // bad plant input fails here, before any run
-  // A mode that estimates the model is compared with what identify finds on the plant before
-  // and after each change.
-  const bool compare_estimates =
-      std::any_of(config.controllers.begin(), config.controllers.end(),
-                  [](const ControllerSpec& spec) { return ModeOf(spec).estimates_model; });
-  // The step tests' recordings of the first identification (for the walk-fitted models).
-  std::array<std::vector<JointRecording>, kLegJoints> step_tests;
-  auto identify = [&](const ExperimentConfig& plant, int from_step) {
-    PlantIdentification p{from_step, {}};
-    const auto identified = IdentifyLeg(plant, r.robot);
-    r.plant_ticks += kLegJoints * static_cast<long>(plant.identify.theta_test_deg.size()) *
-                     StepTestTicks(plant.identify);
-    for (int j = 0; j < kLegJoints; ++j) {
-      p.joints[j] = identified[j].fit;
-      // Pooled with the walk only when they gave the models (a model given as model.* has no
-      // step tests of its own; an estimating mode's identification is for comparison only).
-      if (!config.model && from_step == -config.track.warmup_steps && step_tests[j].empty()) {
-        for (const StepTestRun& run : identified[j].runs) step_tests[j].push_back(run.recording);
-      }
+  MakePlant(config, r.robot);
+  return r;
+}
+
+// What identify finds on `plant` (the config, or the config after some of its changes) from
+// measured step `from_step` on. The first identification's step-test recordings go to
+// `step_tests` (for the walk-fitted models).
+PlantIdentification IdentifyPlant(const ExperimentConfig& config, const ExperimentConfig& plant,
+                                  int from_step, TrackResult& r, StepTests& step_tests) {
+  PlantIdentification p{from_step, {}};
+  const auto identified = IdentifyLeg(plant, r.robot);
+  r.plant_ticks += kLegJoints * static_cast<long>(plant.identify.theta_test_deg.size()) *
+                   StepTestTicks(plant.identify);
+  for (int j = 0; j < kLegJoints; ++j) {
+    p.joints[j] = identified[j].fit;
+    // Pooled with the walk only when they gave the models (a model given as model.* has no
+    // step tests of its own; an estimating mode's identification is for comparison only).
+    if (!config.model && from_step == -config.track.warmup_steps && step_tests[j].empty()) {
+      for (const StepTestRun& run : identified[j].runs) step_tests[j].push_back(run.recording);
     }
-    return p;
-  };
+  }
+  return p;
+}
+
+// r.plant_models: the plant identified before any change when the models are to be identified
+// or an estimating mode is compared, and after each change for the comparison.
+void IdentifyPlants(const ExperimentConfig& config, bool compare_estimates, TrackResult& r,
+                    StepTests& step_tests) {
   if (compare_estimates || !config.model) {
-    r.plant_models.push_back(identify(config, -config.track.warmup_steps));
+    r.plant_models.push_back(
+        IdentifyPlant(config, config, -config.track.warmup_steps, r, step_tests));
   }
   if (compare_estimates) {
     for (size_t i = 0; i < config.plant_changes.size(); ++i) {
-      r.plant_models.push_back(
-          identify(ConfigAfterChanges(config, i + 1), config.plant_changes[i].at_step));
+      r.plant_models.push_back(IdentifyPlant(config, ConfigAfterChanges(config, i + 1),
+                                             config.plant_changes[i].at_step, r, step_tests));
     }
   }
+}
+
+// A model the user gives is used as it is; one under which eq. 3 never settles on the walk
+// (v_max at least 2 theta_0 can overshoot every tick, SettlesOnEveryCycle) is no model of a
+// joint: the user's error. (Identified models always settle, kMaxFittedSpeedRatio.)
+void CheckGivenModelSettles(const ExperimentConfig& config, const TrackResult& r) {
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> desired(r.period);
+    for (int t = 0; t < r.period; ++t) desired[t] = r.desired.angles_deg[t][j];
+    try {
+      (void)CyclicSteadyState(*config.model, desired);
+    } catch (const std::runtime_error&) {
+      throw InputError("model: eq. 3 under this model never settles on the desired walk (" +
+                       std::string(kLegJointNames[j]) + "; v_max " +
+                       FormatDouble(config.model->v_max_deg_per_tick) +
+                       " deg/tick against theta0 " + FormatDouble(config.model->theta0_deg) +
+                       " deg)");
+    }
+  }
+}
+
+// Each joint's model: the config's model.* when given, else the one identified on the plant
+// (r.plant_models' first).
+std::array<JointModelParams, kLegJoints> TrackModels(const ExperimentConfig& config,
+                                                     TrackResult& r) {
   std::array<JointModelParams, kLegJoints> models;
   if (config.model) {
     models.fill(*config.model);
-    // A model the user gives is used as it is; one under which eq. 3 never settles on the walk
-    // (v_max at least 2 theta_0 can overshoot every tick, SettlesOnEveryCycle) is no model of a
-    // joint: the user's error. (Identified models always settle, kMaxFittedSpeedRatio.)
-    for (int j = 0; j < kLegJoints; ++j) {
-      std::vector<double> desired(r.period);
-      for (int t = 0; t < r.period; ++t) desired[t] = r.desired.angles_deg[t][j];
-      try {
-        (void)CyclicSteadyState(models[j], desired);
-      } catch (const std::runtime_error&) {
-        throw InputError("model: eq. 3 under this model never settles on the desired walk (" +
-                         std::string(kLegJointNames[j]) + "; v_max " +
-                         FormatDouble(config.model->v_max_deg_per_tick) +
-                         " deg/tick against theta0 " + FormatDouble(config.model->theta0_deg) +
-                         " deg)");
-      }
-    }
+    CheckGivenModelSettles(config, r);
   } else {
     for (int j = 0; j < kLegJoints; ++j) models[j] = r.plant_models.front().joints[j].params;
     r.models_identified = true;
   }
-  if (!compare_estimates) r.plant_models.clear();
+  return models;
+}
+
+// r.context, and r.walk_context when a mode UsesWalkModels.
+void MakeContexts(const ExperimentConfig& config,
+                  const std::array<JointModelParams, kLegJoints>& models,
+                  const StepTests& step_tests, TrackResult& r) {
   // The approximations P, fitted once on first use: model_based follows them, every trace shows
   // them (a context whose modes follow none and whose traces are not written never fits them).
   try {
@@ -256,30 +283,53 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
     throw InputError(e.what());
   }
   r.context.warmup_steps = config.track.warmup_steps;
-  if (std::any_of(config.controllers.begin(), config.controllers.end(),
-                  [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
-    try {
-      const std::vector<DesiredCycle> walks{ModelBasedRequestCycle(r.context, CmMethod::kExact)};
-      r.walk_context =
-          MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests, walks),
-                                r.robot.geometry, config.pwl_segments);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(e.what());
-    }
-    r.walk_context->warmup_steps = config.track.warmup_steps;
-    // The same desired cycle and segments: its P shares the first context's normal equations.
-    std::array<double, kLegJoints> walk_v_max{};
-    for (int j = 0; j < kLegJoints; ++j) {
-      walk_v_max[j] = r.walk_context->models[j].v_max_deg_per_tick;
-    }
-    r.walk_context->approximations = r.context.approximations->ForOtherModels(walk_v_max);
+  if (std::none_of(config.controllers.begin(), config.controllers.end(),
+                   [](const ControllerSpec& spec) { return UsesWalkModels(spec); })) {
+    return;
   }
+  try {
+    const std::vector<DesiredCycle> walks{ModelBasedRequestCycle(r.context, CmMethod::kExact)};
+    r.walk_context =
+        MakeControllerContext(r.desired.angles_deg, FitModelsToWalk(config, r, step_tests, walks),
+                              r.robot.geometry, config.pwl_segments);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+  r.walk_context->warmup_steps = config.track.warmup_steps;
+  // The same desired cycle and segments: its P shares the first context's normal equations.
+  std::array<double, kLegJoints> walk_v_max{};
+  for (int j = 0; j < kLegJoints; ++j) {
+    walk_v_max[j] = r.walk_context->models[j].v_max_deg_per_tick;
+  }
+  r.walk_context->approximations = r.context.approximations->ForOtherModels(walk_v_max);
+}
+
+// r.floor_deg: each joint's floor under its model.
+void FloorTrajectories(const std::array<JointModelParams, kLegJoints>& models, TrackResult& r) {
   for (int j = 0; j < kLegJoints; ++j) {
     std::vector<double> desired(r.period);
     for (int t = 0; t < r.period; ++t) desired[t] = r.context.desired[t][j];
     r.floor_deg[j] = FloorTrajectory(desired, models[j]);
   }
+}
 
+// A searchable mode's candidates, each scored as track.search_shift says; the best by foot L2.
+ModeSearch SearchMode(const ExperimentConfig& config, TrackResult& r, const ControllerSpec& spec) {
+  ModeSearch search;
+  search.candidates = SearchCandidates(spec, ContextFor(r, spec));
+  search.scored_from_one_run =
+      config.track.search_shift == ShiftSearch::kShiftedRun && ModeOf(spec).searchable_by_lead &&
+      config.plant_changes.empty();  // a plant that changes mid-run is not time-invariant
+  search.foot_l2_cm = search.scored_from_one_run ? ScoreFromLeadZeroRun(config, r, search)
+                                                 : ScoreEveryCandidate(config, r, search);
+  const auto best = std::min_element(search.foot_l2_cm.begin(), search.foot_l2_cm.end()) -
+                    search.foot_l2_cm.begin();
+  search.best = search.candidates[best];
+  return search;
+}
+
+// Every configured mode's run, in the config's order (a searched mode's best candidate's).
+void RunModes(const ExperimentConfig& config, const ModeRunSink& sink, TrackResult& r) {
   for (const ControllerSpec& spec : config.controllers) {
     // Each run to the sink when there is one, so that only one is held at a time.
     auto keep = [&](ModeRun run) {
@@ -290,21 +340,30 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
       keep(RunMode(config, r, spec));
       continue;
     }
-    ModeSearch search;
-    search.candidates = SearchCandidates(spec, ContextFor(r, spec));
-    search.scored_from_one_run =
-        config.track.search_shift == ShiftSearch::kShiftedRun && ModeOf(spec).searchable_by_lead &&
-        config.plant_changes.empty();  // a plant that changes mid-run is not time-invariant
-    search.foot_l2_cm = search.scored_from_one_run ? ScoreFromLeadZeroRun(config, r, search)
-                                                   : ScoreEveryCandidate(config, r, search);
-    const auto best = std::min_element(search.foot_l2_cm.begin(), search.foot_l2_cm.end()) -
-                      search.foot_l2_cm.begin();
-    search.best = search.candidates[best];
+    ModeSearch search = SearchMode(config, r, spec);
     // The best candidate is run on its own (same bits: a run depends only on its spec and the
     // seed), so its row in Table 2 is a real run whichever way it was found.
     keep(RunMode(config, r, search.best));
     r.searches.push_back(std::move(search));
   }
+}
+
+}  // namespace
+
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink) {
+  TrackResult r = PrepareTrack(config);
+  // A mode that estimates the model is compared with what identify finds on the plant before
+  // and after each change.
+  const bool compare_estimates =
+      std::any_of(config.controllers.begin(), config.controllers.end(),
+                  [](const ControllerSpec& spec) { return ModeOf(spec).estimates_model; });
+  StepTests step_tests;
+  IdentifyPlants(config, compare_estimates, r, step_tests);
+  const std::array<JointModelParams, kLegJoints> models = TrackModels(config, r);
+  if (!compare_estimates) r.plant_models.clear();
+  MakeContexts(config, models, step_tests, r);
+  FloorTrajectories(models, r);
+  RunModes(config, sink, r);
   return r;
 }
 

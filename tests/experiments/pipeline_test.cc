@@ -240,7 +240,7 @@ TEST(Pipeline, PlantChangesMakeTheShiftSearchExhaustive) {
 
 // A searched candidate's score kept without its run is the score of the kept run, bit for bit,
 // on the noisy sim plant, for a feed-forward, a model-based and a learning mode.
-// desired.locus.skew and body_pitch_deg (issue 12) place the locus as worked out by hand: the
+// desired.locus.skew and body_pitch_deg place the locus as worked out by hand: the
 // touch-down point (t = 0, the front end of the flat bottom, 24.465 mm ahead of the centre) in
 // the level frame at the left front shoulder (59.5, 59.2, 0) is (49 + 24.465, 28 + 0.5 *
 // 24.465, -90) mm; a body pitched 10 deg nose down sees a level (x, z) at (x cos 10 - z sin

@@ -162,7 +162,7 @@ TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kTrack, good + " --set desired.csv=" + Write("limit.csv", limit), "limits");
 }
 
-// fit_walk (issue 12) refuses bad input like every program, before its fit starts.
+// fit_walk refuses bad input like every program, before its fit starts.
 TEST_F(ProgramsTest, FitWalkRejectsBadInputWithOneLineAndStatus2) {
   const std::string good = "--config experiments/configs/track.yaml";
   ExpectBadInput(kFitWalk, "--config " + (dir_ / "absent.yaml").string(), "absent.yaml");
@@ -188,7 +188,7 @@ TEST_F(ProgramsTest, FitWalkRejectsBadInputWithOneLineAndStatus2) {
   EXPECT_EQ(kept, "keep");
 }
 
-// The test stand's values (issue 11): a negative load, negative friction or a stop above the
+// The test stand's values: a negative load, negative friction or a stop above the
 // shoulder's walking height is bad input, for identify and track alike.
 TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
   const std::string id = "--config experiments/configs/identify_stand.yaml";
@@ -206,7 +206,7 @@ TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
   }
 }
 
-// Issue 14's table, rows 1-6 and 8: every value that crashed, overflowed, ran silent or
+// Hostile numbers: every value that once crashed, overflowed, ran silent or
 // produced non-finite results is refused before anything runs, naming the key as written.
 TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
   const std::string id = "--config experiments/configs/identify.yaml";
@@ -358,7 +358,7 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   EXPECT_EQ(header, "step,tick,joint,desired_deg,pwl_deg,request_deg,actual_deg,model_deg");
   std::ifstream foot(out_ / "foot_direct.csv");
   std::getline(foot, header);
-  // The first eight columns as before; the test stand's four appended (issue 11), zeros in the
+  // The first eight columns as before; the test stand's four appended, zeros in the
   // air.
   EXPECT_EQ(header,
             "step,tick,desired_x_cm,desired_y_cm,desired_z_cm,actual_x_cm,actual_y_cm,actual_z_cm,"
@@ -397,7 +397,7 @@ std::map<std::string, std::string> FilesOf(const fs::path& dir) {
 TEST_F(ProgramsTest, AnyThreadCountGivesTheSameBytes) {
   const std::string short_identification =
       " --set identify.record_cycles=2 --set identify.settle_cycles=1";
-  // The stand's (issue 11) too: ODE's contacts are made the same way on any thread.
+  // The stand's too: ODE's contacts are made the same way on any thread.
   for (const char* config :
        {"identify.yaml", "track.yaml", "identify_stand_loaded.yaml", "track_stand.yaml"}) {
     const bool track = std::string(config).starts_with("track");

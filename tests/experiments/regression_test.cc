@@ -60,7 +60,7 @@ TEST(Regression, IdentifyFindsTable1OnTheDefaultRobot) {
   }
 }
 
-// Issue 13 made the fit ~20 times cheaper without moving its optimum: on the shipped config,
+// The fit, made about 20 times cheaper, keeps its optimum: on the shipped config,
 // both legs (bit for bit the same Table 1), the same (l, a) and v_max, theta_0 and the residual
 // of the previous fit (Nelder-Mead throughout, main at baec711), all digits, to well within
 // that optimiser's own convergence on this kinked objective (about 1e-8). The fit of every
@@ -87,7 +87,7 @@ TEST(Regression, IdentifyFindsThePreviousFitsOptimum) {
   }
 }
 
-// The shipped fit of the step tests' averaged cycles (identify.average_cycles, issue 13) against
+// The shipped fit of the step tests' averaged cycles (identify.average_cycles) against
 // the fit of every recorded tick on the same recordings: the same (l, a), v_max and theta_0
 // well inside what a change of seed moves them (0.01 deg/tick, 0.1 deg: the pins above), and
 // the residual over every recorded tick within 0.005 deg (the averaged fit scores from the
@@ -183,7 +183,7 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
       {"knee", "Linf(Des,MB)", 11.748, 0.776},
       {"knee", "L2(Pwl,MB)", 1.496, 0.050},
       {"knee", "Linf(Pwl,MB)", 2.912, 0.300},
-      // The floor, optimal and ilc rows (issue 9), by the same rule of three times the seed
+      // The floor, optimal and ilc rows, by the same rule of three times the seed
       // spread, at least 0.02 deg. ILC's rows are those of the foot objective track.yaml ships
       // (ilc.objective: foot, joint_weight 2), still learning in this short run; optimal's those of
       // track.yaml's optimal (objective foot, joint_weight 2, model walk, request_smoothing 0.3).
@@ -239,7 +239,7 @@ TEST_F(TrackRegression, ModelBasedHalvesTheDirectErrors) {
   EXPECT_LE(Foot("time_shift", "L2"), Foot("direct", "L2"));
 }
 
-// Table 2 in the paper's regime (issue 12): track_paper_regime.yaml, the walk fit_walk fitted
+// Table 2 in the paper's regime: track_paper_regime.yaml, the walk fit_walk fitted
 // to the paper's direct row, with the three modes of the paper's tables, 2 warm-up and 4
 // measured steps. Pins are seed 1's; tolerances three times the spread over seeds 1-5, at least
 // 0.02 deg, 0.005 cm (foot L2) and 0.01 cm (foot L-infinity).
@@ -297,7 +297,7 @@ TEST_F(PaperRegimeRegression, EveryMeanMatchesItsPin) {
       << "12 for every seed";
 }
 
-// The walk on the single-leg test stand (issue 11): track_stand.yaml, every mode, the matched
+// The walk on the single-leg test stand: track_stand.yaml, every mode, the matched
 // swing and the slow lift-off it ships (desired.locus.swing_end_speed_fraction 1,
 // liftoff_ramp_mm 8 over liftoff_ramp_ticks 5), 2 warm-up and 4 measured steps.
 // Pins are seed 1's; tolerances three times the spread over seeds 1-5, at least 0.05 mm of
@@ -347,7 +347,7 @@ TEST_F(StandRegression, SlipForceAndFootMatchTheirPins) {
   }
 }
 
-// Issue 11's targets that the shipped stand meets, as bounds independent of the pins: the
+// The stand's targets that the shipped stand meets, as bounds independent of the pins: the
 // stance carries the weight within 10 % for direct and model-based (and, with the slow
 // lift-off, for every mode), the foot slips less than 2 mm per stance for every mode (optimal
 // and ILC with their requests smoothed), and model-based keeps the foot at most 0.6 x direct's
@@ -374,7 +374,7 @@ TEST_F(StandRegression, TheStanceCarriesTheWeightAndModelBasedBeatsDirect) {
   EXPECT_LE(model_based->l2_cm.mean, 0.6 * direct->l2_cm.mean);
 }
 
-// Walks nobody tuned for (issue 9): a sine and a triangle wave per joint through desired.csv,
+// Walks nobody tuned for: a sine and a triangle wave per joint through desired.csv,
 // at the paper's step time and at half of it (rotator 65 + 20 w(p), abductor 21 + 8 w(p + 1),
 // knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; the README's table), and a trapezoid (the
 // triangle times 1.6, clipped to +-1) at the paper's step time, one of the README's held-out

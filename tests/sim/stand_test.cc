@@ -1,4 +1,4 @@
-// The single-leg test stand (issue 11) against hand-worked statics and physical bounds: the
+// The single-leg test stand against hand-worked statics and physical bounds: the
 // carriage resting on its stop, the foot carrying the supported weight, no interpenetration at
 // rest, no energy gained in a passive drop, bad stand values rejected, and the air leg unchanged.
 #include <gtest/gtest.h>

@@ -10,7 +10,7 @@
 
 namespace leglab {
 
-/// What a plant measures besides the joint angles: the test stand's instruments (issue 11).
+/// What a plant measures besides the joint angles: the test stand's instruments.
 /// For reporting only: the experiments record it, no controller is given it. All zero for a
 /// plant without a stand (the leg in the air, the model plant).
 struct PlantTelemetry {

@@ -66,8 +66,9 @@ struct DesiredMotion {
   std::vector<Eigen::Vector3d> foot_mm;
 };
 
-/// The desired cycle: `desired.csv` when given (columns tick,rotator_deg,abductor_deg,knee_deg,
-/// t = 0..T-1, one row a tick, angles within the joint limits), else the half-elliptical locus
+/// The desired cycle: `desired.csv` when given (ReadDesiredCsv: columns
+/// tick,rotator_deg,abductor_deg,knee_deg, t = 0..T-1, one row a tick, angles within the joint
+/// limits; the foot path by forward kinematics), else the half-elliptical locus
 /// placed relative to the leg's shoulder (outward meaning away from the body, whichever side
 /// the leg is on) through closed-form inverse kinematics. Throws InputError naming the file,
 /// row and column, or the unreachable tick and point.

@@ -13,14 +13,9 @@
 namespace leglab::experiments {
 
 /// The walk the walk-fitted models (TrackResult::walk_context) are fitted to: steps run first,
-/// then steps recorded. Measured with track.yaml's optimal, foot L2 (cm) on the shipped walk / the
-/// untuned slow sine and triangle (the README's): 4 recorded steps 0.33 / - / -, 8 0.27 / 0.091 /
-/// 0.118, 12 0.27 / 0.086 / 0.117, 16 0.27 / 0.083 / 0.113, 20 0.27 / 0.082 / 0.110 (the best time
-/// shift 0.37 / 0.085 / 0.102). Those were the steps pooled as one recording; averaged
-/// (kWalkFitPlayedCycles), 16 steps give 0.266 / 0.084 / 0.113. Averaged, the fit's cost no
-/// longer grows with them, only the walk's physics: 64 steps 0.261 / 0.076 / 0.105 (but optimal
-/// then loses the rotator to model_based at 66 ticks, 2.894 against 2.827 deg), 128 - / - /
-/// 0.103.
+/// then steps recorded, averaged into one cycle (kWalkFitPlayedCycles). 16 recorded steps: fewer
+/// lose an untuned walk (8 lose the slow sine), more cost a walk's worth of physics each and do
+/// not win every walk either (64 lose the rotator at 66 ticks); see docs/design/walk-fit.md.
 inline constexpr int kWalkFitWarmupSteps = 5;
 inline constexpr int kWalkFitSteps = 16;
 /// The walk fit averages the recorded steps into one cycle (AverageCycles: the requests repeat
@@ -28,10 +23,9 @@ inline constexpr int kWalkFitSteps = 16;
 /// and scores the model's prediction over this many plays of it, after the fit's warm-up.
 inline constexpr int kWalkFitPlayedCycles = 2;
 /// The walk fit searches each joint's lag only within this many ticks of the lag of the model it
-/// has (within identify.lag_range_ticks; the whole range if that leaves none): the same servo.
-/// Measured: on the shipped walk the same (l, a) as over the whole range and the foot error 2e-6
-/// cm apart, for 0.95e9 fewer instructions of the run's 14.9e9; on every walk in the README the
-/// fitted lags came out 3-6 ticks, inside the radius round the step tests' 4.
+/// has (within identify.lag_range_ticks; the whole range if that leaves none): it is the same
+/// servo, so the walk's lag lies near the step tests', and the narrower search finds the same fit
+/// for less work; see docs/design/walk-fit.md.
 inline constexpr int kWalkFitLagRadiusTicks = 3;
 
 /// A joint whose requests over that walk span less than this (deg) keeps the model it has: the
