@@ -198,17 +198,8 @@ class PeriodicModel {
   // x_ti = R(t-i) - M(t-1). Run from S(-1) = 0 it gives S0; the periodic solution is
   // S(t) = S0(t) + (alpha_0 ... alpha_t) X, X = S(T-1) = S0(T-1) / (1 - alpha_0 ... alpha_{T-1}).
   // Written to `s` (resized to T x T). Terms (t, i) with saturated[t * a + i - l - 1] set take
-  // f' = 0 (the side of a kink a step moves them to).
-  //
-  // With `normal`, also the Gauss-Newton matrix S^T W S (T x T, W = diag(omega), the rows'
-  // weights; empty `row_weights`: all 1), in O(T^2 a) instead of the O(T^3) of the product.
-  // Write S = S0 + d p^T (d = decay, p = X). Then
-  //   S0^T W S0 = sum_t omega_t S0(t)^T S0(t) = sum_t w_t B_t,
-  //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
-  //   w_t = omega_t + alpha_{t+1}^2 w_{t+1}, w_{T-1} = omega_{T-1},
-  // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
-  // the a columns and rows of u_t; and S^T W S = S0^T W S0 + v p^T + p v^T + (d.W d) p p^T
-  // with v = S0^T W d.
+  // f' = 0 (the side of a kink a step moves them to). With `normal`, also the Gauss-Newton
+  // matrix S^T W S (see NormalMatrix); with `factors`, alpha_t, f'/a and their product.
   void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
                    const std::vector<char>* saturated = nullptr, Eigen::MatrixXd* normal = nullptr,
                    std::span<const double> row_weights = {},
@@ -253,36 +244,7 @@ class PeriodicModel {
       periodic_start = Eigen::RowVectorXd::Constant(n, 1.0 / n);
     }
     if (normal != nullptr) {
-      // s holds S0 here.
-      Eigen::MatrixXd& g = *normal;
-      g.setZero(n, n);
-      auto omega = [&](int t) { return row_weights.empty() ? 1.0 : row_weights[t]; };
-      double weight = omega(n - 1);  // w_t, from t = T-1 down
-      for (int t = n - 1; t >= 0; --t) {
-        if (t < n - 1) weight = omega(t) + alphas[t + 1] * alphas[t + 1] * weight;
-        for (int i = 0; i < a; ++i) {
-          const double ui = slopes(t, i);
-          if (ui == 0.0) continue;
-          const int ci = IndexBefore(t, i + l + 1);
-          // One half of the cross term (the other is its transpose, added below).
-          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
-          for (int k = 0; k < a; ++k) {
-            g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
-          }
-        }
-      }
-      // g + g^T in place (a + b is b + a, bit for bit).
-      for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
-        g(j, j) += g(j, j);
-      }
-      Eigen::VectorXd weighted_decay = decay;
-      for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
-      const Eigen::VectorXd v = s.transpose() * weighted_decay;
-      const Eigen::VectorXd p = periodic_start.transpose();
-      g.noalias() += v * p.transpose();
-      g.noalias() += p * v.transpose();
-      g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
+      NormalMatrix(s, rows_t, alphas, slopes, decay, periodic_start, row_weights, *normal);
     }
     s.noalias() += decay * periodic_start;
     if (factors != nullptr) {
@@ -293,6 +255,53 @@ class PeriodicModel {
   }
 
  private:
+  // The Gauss-Newton matrix S^T W S (T x T, W = diag(omega), the rows' weights; empty
+  // `row_weights`: all 1) into g, from Sensitivity's S0 (`s0`, and its rows as the columns of
+  // `rows_t`), alpha_t, the slopes f'(x_ti) / a, the decay d(t) = alpha_0 ... alpha_t and the
+  // periodic start p = X: O(T^2 a) instead of the O(T^3) of the product. With S = S0 + d p^T,
+  //   S0^T W S0 = sum_t omega_t S0(t)^T S0(t) = sum_t w_t B_t,
+  //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
+  //   w_t = omega_t + alpha_{t+1}^2 w_{t+1}, w_{T-1} = omega_{T-1},
+  // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
+  // the a columns and rows of u_t; and S^T W S = S0^T W S0 + v p^T + p v^T + (d.W d) p p^T
+  // with v = S0^T W d.
+  void NormalMatrix(const Eigen::MatrixXd& s0, const Eigen::MatrixXd& rows_t,
+                    const Eigen::VectorXd& alphas, const Eigen::MatrixXd& slopes,
+                    const Eigen::VectorXd& decay, const Eigen::RowVectorXd& periodic_start,
+                    std::span<const double> row_weights, Eigen::MatrixXd& g) const {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    const int n = period();
+    g.setZero(n, n);
+    auto omega = [&](int t) { return row_weights.empty() ? 1.0 : row_weights[t]; };
+    double weight = omega(n - 1);  // w_t, from t = T-1 down
+    for (int t = n - 1; t >= 0; --t) {
+      if (t < n - 1) weight = omega(t) + alphas[t + 1] * alphas[t + 1] * weight;
+      for (int i = 0; i < a; ++i) {
+        const double ui = slopes(t, i);
+        if (ui == 0.0) continue;
+        const int ci = IndexBefore(t, i + l + 1);
+        // One half of the cross term (the other is its transpose, added below).
+        if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
+        for (int k = 0; k < a; ++k) {
+          g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
+        }
+      }
+    }
+    // g + g^T in place (a + b is b + a, bit for bit).
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
+      g(j, j) += g(j, j);
+    }
+    Eigen::VectorXd weighted_decay = decay;
+    for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
+    const Eigen::VectorXd v = s0.transpose() * weighted_decay;
+    const Eigen::VectorXd p = periodic_start.transpose();
+    g.noalias() += v * p.transpose();
+    g.noalias() += p * v.transpose();
+    g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
+  }
+
   double Gain() const { return gain_; }
 
   JointModelParams params_;
@@ -627,11 +636,13 @@ class StageMinimiser {
     return suppression_ * (second.transpose() * second);
   }
 
+  // w_t, the objective's weight of tick t (1 without weights).
   double Weight(int t) const { return weights_.empty() ? 1.0 : weights_[t]; }
   // The fall of the RMS error from squared error `from` to `to`.
   double RmsGain(double from, double to) const {
     return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale_;
   }
+  // Tick t's index in the cycle.
   int Index(int t) const { return Wrap(t, n_); }
   // Term x_ti of eq. 3 at the iterate, and its linearised change under the step.
   double Term(int t, int i) const {
@@ -640,6 +651,7 @@ class StageMinimiser {
   double TermChange(int t, int i) const {
     return full_step_[Index(t - i)] - angle_step_[Index(t - 1)];
   }
+  // Whether term (t, i) is linearised as saturated (MarkKinksCrossedOutward).
   bool ForcedSaturated(int t, int i) const {
     const int l = params_.lag_ticks;
     return saturated_at_kink_[static_cast<std::size_t>(t) * params_.accel_ticks + i - l - 1] != 0;
@@ -701,6 +713,7 @@ class StageMinimiser {
     for (int k = 0; k < m; ++k) g_free_[k] = gradient_[free_[k]];
   }
 
+  // How many requests the step may move.
   int FreeCount() const { return static_cast<int>(free_.size()); }
 
   // The damping's scale: the largest diagonal entry of the free requests' normal matrix.

@@ -119,7 +119,7 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
 /// S^T W S for S = SteadyStateSensitivity(params, requests_deg) and W = diag(row_weights)
 /// (empty: the identity): the Gauss-Newton matrix OptimizeRequests factors at every
 /// linearisation, computed from the recursion that defines S in O(T^2 a) operations instead of
-/// the product's O(T^3) (see the derivation at PeriodicModel::Sensitivity in
+/// the product's O(T^3) (see the derivation at PeriodicModel::NormalMatrix in
 /// optimal_requests.cc). Equal to the product up to rounding.
 /// Throws as SteadyStateSensitivity, and std::invalid_argument when row_weights is neither
 /// empty nor of the cycle's size, or not finite and >= 0.
