@@ -21,8 +21,8 @@ using LeastSquaresObjective =
 /// the damping until the scaled step is a quarter as long, as a trust region would, without
 /// evaluating the objective. It stops when an accepted step lowers |r|^2 by at most
 /// `relative_tolerance` times the new value (converged), when no step can lower it (the damping
-/// has grown past 1e12), or after `max_iterations` trial steps. Owns its work space: a step
-/// allocates nothing. Deterministic.
+/// has grown past 1e12), or after `max_iterations` trial steps. Owns its work space, reused from
+/// step to step and run to run. Deterministic.
 class LevenbergMarquardt {
  public:
   /// Where a run stands: the point, its squared error and normal equations, the damping and

@@ -16,7 +16,7 @@ using SimplexObjective = std::function<double(const std::vector<double>& point)>
 /// coordinate, or after `max_iterations` iterations (one reflection each, then at most an
 /// expansion, a contraction or a shrink). A local method: it may stop at a kink or a saddle,
 /// which is why it suits objectives where derivative steps stall (a minimum on a kink).
-/// Writes the best vertex into `x` and returns f there; ties go to the lowest vertex index.
+/// Writes the best vertex into `x` and returns f there.
 /// Preconditions: n = x.size() >= 1, step.size() == n, every step_i != 0, f(x) finite.
 /// Deterministic: the same input gives the same bits.
 double NelderMead(const SimplexObjective& f, std::vector<double>& x,
