@@ -1,4 +1,4 @@
-// Cost of the joint-model fit (IdentifyJointModel) against the fit it replaced (issue 13).
+// Cost of the joint-model fit (IdentifyJointModel) against the fit it replaced.
 //
 //   BM_PreviousFit  the previous fit, kept here only for this comparison: every (l, a) by
 //                   Nelder-Mead on ln v_max, ln theta_0 from two starts (400 iterations), the

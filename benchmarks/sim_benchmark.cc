@@ -11,10 +11,9 @@
 // which must stay at or below kMaxRatio: firmware, sensing and checks may add at most a fifth
 // to what ODE itself costs.
 //
-//   BM_StandTick  one LegSim::Tick of the leg on the single-leg test stand (issue 11: carriage
-//                 on a slider on the sled's cross slide, floor contact through an ODE space),
-//                 the same requests, which
-//                 put the foot on the floor for part of each cycle;
+//   BM_StandTick  one LegSim::Tick of the leg on the single-leg test stand (carriage on a
+//                 slider on the sled's cross slide, floor contact through an ODE space), the
+//                 same requests, which put the foot on the floor for part of each cycle;
 //
 // and, side by side in the same way, the stand's cost per physics step over the air leg's
 //   stand/air step cost ratio = (time per physics step of LegSim on the stand) / (in the air),

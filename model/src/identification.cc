@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/model/levenberg_marquardt.h"
+#include "leglab/model/nelder_mead.h"
+
 namespace leglab {
 namespace {
 
@@ -88,74 +91,6 @@ void SweepWithSensitivities(const JointModelParams& p, std::span<const double> r
   }
 }
 
-// Pass 2's polish (see IdentifyJointModel), the previous fit's optimiser unchanged.
-// Minimises f over R^n from `x` by Nelder-Mead (standard coefficients), with initial steps
-// `step`; stops when the simplex is smaller than 1e-9 in every coordinate. Returns f at the
-// best vertex, which it writes into `x`.
-template <typename F>
-double NelderMead(const F& f, std::vector<double>& x, const std::vector<double>& step,
-                  int max_iterations) {
-  const size_t n = x.size();
-  std::vector<std::vector<double>> simplex(n + 1, x);
-  for (size_t i = 0; i < n; ++i) simplex[i + 1][i] += step[i];
-  std::vector<double> value(n + 1);
-  for (size_t i = 0; i <= n; ++i) value[i] = f(simplex[i]);
-  std::vector<size_t> order(n + 1);
-  std::vector<double> centroid(n);
-  // The trial points' storage, reused (an accepted point is swapped into the simplex).
-  std::vector<double> reflected(n), other(n);
-  auto along = [&](double t, size_t worst, std::vector<double>& point) {
-    for (size_t d = 0; d < n; ++d) point[d] = centroid[d] + t * (simplex[worst][d] - centroid[d]);
-  };
-  for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    std::iota(order.begin(), order.end(), size_t{0});
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return value[a] < value[b]; });
-    const size_t best = order[0], worst = order[n], second_worst = order[n - 1];
-    double size = 0.0;
-    for (size_t i = 1; i <= n; ++i) {
-      for (size_t d = 0; d < n; ++d) {
-        size = std::max(size, std::abs(simplex[order[i]][d] - simplex[best][d]));
-      }
-    }
-    if (size < 1e-9) break;
-    std::fill(centroid.begin(), centroid.end(), 0.0);
-    for (size_t i = 0; i < n; ++i) {
-      for (size_t d = 0; d < n; ++d) centroid[d] += simplex[order[i]][d] / static_cast<double>(n);
-    }
-    along(-1.0, worst, reflected);
-    const double reflected_value = f(reflected);
-    if (reflected_value < value[best]) {
-      along(-2.0, worst, other);
-      const double expanded_value = f(other);
-      if (expanded_value < reflected_value) {
-        simplex[worst].swap(other), value[worst] = expanded_value;
-      } else {
-        simplex[worst].swap(reflected), value[worst] = reflected_value;
-      }
-    } else if (reflected_value < value[second_worst]) {
-      simplex[worst].swap(reflected), value[worst] = reflected_value;
-    } else {
-      const bool outside = reflected_value < value[worst];
-      along(outside ? -0.5 : 0.5, worst, other);
-      const double contracted_value = f(other);
-      if (contracted_value < (outside ? reflected_value : value[worst])) {
-        simplex[worst].swap(other), value[worst] = contracted_value;
-      } else {  // shrink towards the best vertex
-        for (size_t i = 1; i <= n; ++i) {
-          for (size_t d = 0; d < n; ++d) {
-            simplex[order[i]][d] = 0.5 * (simplex[order[i]][d] + simplex[best][d]);
-          }
-          value[order[i]] = f(simplex[order[i]]);
-        }
-      }
-    }
-  }
-  const size_t best =
-      static_cast<size_t>(std::min_element(value.begin(), value.end()) - value.begin());
-  x = simplex[best];
-  return value[best];
-}
-
 // Whether the fit may go to a point: exp of the fit's logarithms gave a model at all (a joint
 // that hardly moves drives ln v_max towards -infinity, or ln theta_0 towards +infinity, where
 // exp underflows to 0 or overflows), and one that settles with a margin (v_max <=
@@ -182,13 +117,7 @@ class ContinuousFit {
         warmup_(warmup),
         fit_starts_(fit_starts),
         n_(2 + (fit_starts ? static_cast<int>(recordings.size()) : 0)),
-        hessian_(n_, n_),
-        gradient_(n_),
-        trial_hessian_(n_, n_),
-        trial_gradient_(n_),
-        damped_(n_, n_),
-        step_(n_),
-        trial_(n_) {}
+        solver_(n_) {}
 
   // Sum of squared errors of the prediction at x, and into `jtj` and `jte` the Gauss-Newton
   // normal equations J^T J and J^T e (J = dM/dx, e = measured - M).
@@ -240,85 +169,18 @@ class ContinuousFit {
     return sum;
   }
 
-  // Where a Levenberg-Marquardt run stands: the point, its squared error and normal
-  // equations, the damping and the trial steps taken. `finished`: it stopped for good (no step
-  // can lower the error, or the iterations ran out), not for a tolerance.
-  struct Run {
-    Eigen::VectorXd x;
-    double error = 0.0;
-    Eigen::MatrixXd hessian;
-    Eigen::VectorXd gradient;
-    double damping = 1e-3;
-    int iteration = 0;
-    bool finished = false;
-    // What the last accepted step gained (its test against a tolerance, repeated on resuming).
-    double last_gain = std::numeric_limits<double>::infinity();
-  };
-
-  // A run from x, not yet stepped.
-  Run Start(const JointModelParams& lag_accel, const Eigen::VectorXd& x) {
-    Run run;
-    run.x = x;
-    run.hessian.resize(n_, n_);
-    run.gradient.resize(n_);
-    run.error = Evaluate(lag_accel, x, run.hessian, run.gradient);
-    return run;
+  // Levenberg-Marquardt on x at fixed (l, a) = `lag_accel` (see LevenbergMarquardt): a run
+  // from x, resumed, or run to the end.
+  LevenbergMarquardt::Run Start(const JointModelParams& lag_accel, const Eigen::VectorXd& x) {
+    return solver_.Start(Objective(lag_accel), x);
   }
-
-  // Levenberg-Marquardt (Marquardt's scaling by diag(J^T J), Nielsen's damping update) from
-  // x, until an accepted step lowers the squared error by less than `relative_tolerance` of
-  // it, no step can lower it (the damping has grown past 1e12), or `max_iterations` trial
-  // steps. Writes the point reached into x and returns its squared error.
+  void Continue(const JointModelParams& lag_accel, LevenbergMarquardt::Run& run,
+                double relative_tolerance, int max_iterations) {
+    solver_.Continue(Objective(lag_accel), run, relative_tolerance, max_iterations);
+  }
   double Minimise(const JointModelParams& lag_accel, Eigen::VectorXd& x, double relative_tolerance,
                   int max_iterations) {
-    Run run = Start(lag_accel, x);
-    Continue(lag_accel, run, relative_tolerance, max_iterations);
-    x = run.x;
-    return run.error;
-  }
-
-  // Minimise's loop, resumed from `run`: a run stopped at a loose tolerance and continued at a
-  // tighter one takes exactly the steps of one run at the tighter tolerance throughout (the
-  // looser stop is an accepted step after which the tighter run simply goes on).
-  void Continue(const JointModelParams& lag_accel, Run& run, double relative_tolerance,
-                int max_iterations) {
-    if (run.finished || run.last_gain <= relative_tolerance * run.error) return;
-    hessian_.swap(run.hessian);
-    gradient_.swap(run.gradient);
-    bool converged = false;
-    for (; run.iteration < max_iterations && run.damping < 1e12; ++run.iteration) {
-      SolveDamped(run.damping);
-      trial_ = run.x + step_;
-      const double trial_error = Evaluate(lag_accel, trial_, trial_hessian_, trial_gradient_);
-      // Reduction of the squared error that the linearised model predicts for the step.
-      const double predicted = 2.0 * step_.dot(gradient_) - step_.dot(hessian_ * step_);
-      const double ratio = predicted > 0.0 ? (run.error - trial_error) / predicted : -1.0;
-      if (trial_error < run.error) {
-        run.last_gain = run.error - trial_error;
-        converged = run.last_gain <= relative_tolerance * trial_error;
-        run.x = trial_;
-        run.error = trial_error;
-        hessian_.swap(trial_hessian_);
-        gradient_.swap(trial_gradient_);
-        run.damping *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * std::min(ratio, 1.0) - 1.0, 3));
-        if (converged) {
-          ++run.iteration;  // where the loop would have gone on
-          break;
-        }
-      } else {
-        // Rejected (typically a step across a kink of f): raise the damping until the scaled
-        // step is a quarter as long, as a trust region would. Only small solves, no sweeps.
-        const double target = 0.25 * ScaledNorm(step_);
-        run.damping = std::max(run.damping, 1e-3);
-        do {
-          run.damping *= 2.0;
-          SolveDamped(run.damping);
-        } while (ScaledNorm(step_) > target && run.damping < 1e12);
-      }
-    }
-    run.finished = !converged;
-    hessian_.swap(run.hessian);
-    gradient_.swap(run.gradient);
+    return solver_.Minimise(Objective(lag_accel), x, relative_tolerance, max_iterations);
   }
 
  private:
@@ -350,35 +212,17 @@ class ContinuousFit {
     return {sum, vv, vt, tt, vs, ts, ss, ve, te, se};
   }
 
-  // The Levenberg-Marquardt step (J^T J + damping D) step = J^T e, D = diag(J^T J), into step_.
-  void SolveDamped(double damping) {
-    damped_ = hessian_;
-    for (int i = 0; i < n_; ++i) {
-      // A floor keeps the system solvable where a parameter has no effect (every term of f
-      // saturated leaves theta_0 free).
-      damped_(i, i) += damping * std::max(hessian_(i, i), 1e-12);
-    }
-    step_ = damped_.ldlt().solve(gradient_);
-  }
-
-  // Length of a step in the scaling D.
-  double ScaledNorm(const Eigen::VectorXd& step) const {
-    double sum = 0.0;
-    for (int i = 0; i < n_; ++i) sum += std::max(hessian_(i, i), 1e-12) * step[i] * step[i];
-    return std::sqrt(sum);
+  // Evaluate at fixed (l, a), as LevenbergMarquardt takes it (J^T e is -J^T r, r = M - measured).
+  LeastSquaresObjective Objective(const JointModelParams& lag_accel) const {
+    return [this, &lag_accel](const Eigen::VectorXd& x, Eigen::MatrixXd& jtj,
+                              Eigen::VectorXd& jte) { return Evaluate(lag_accel, x, jtj, jte); };
   }
 
   std::span<const Prepared> recordings_;
   int warmup_;
   bool fit_starts_;
   int n_;
-  Eigen::MatrixXd hessian_;
-  Eigen::VectorXd gradient_;
-  Eigen::MatrixXd trial_hessian_;
-  Eigen::VectorXd trial_gradient_;
-  Eigen::MatrixXd damped_;
-  Eigen::VectorXd step_;
-  Eigen::VectorXd trial_;
+  LevenbergMarquardt solver_;
 };
 
 // One candidate of the fit: the parameters and their squared error.
@@ -496,15 +340,32 @@ JointRecording AverageCycles(const JointRecording& run, int period_ticks, int wa
   return averaged;
 }
 
-IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
-                                        const IdentificationOptions& o) {
-  if (recordings.empty()) Fail("no recordings");
-  if (o.lag_min_ticks < 0 || o.lag_max_ticks < o.lag_min_ticks) Fail("bad lag range");
-  if (o.accel_min_ticks < 1 || o.accel_max_ticks < o.accel_min_ticks) Fail("bad accel range");
-  const int warmup = o.lag_max_ticks + o.accel_max_ticks;
+namespace {
 
-  // A starting top speed from the data: the fastest measured change, and theta_0 from it.
-  double fastest = 0.0;
+// The fit's search rules; docs/design/identification.md has the evidence for each.
+// Pass 2 refits this many (l, a), the best of pass 1.
+constexpr size_t kRefined = 4;
+// Pass 1's first round runs every (l, a) until a step gains less than this fraction of the error.
+constexpr double kScreenTolerance = 1e-2;
+// Pass 1's second round stops once the kRefined-th best finished candidate is below the next
+// one's screened error by more than this fraction: what finishing may still gain.
+constexpr double kScreenMargin = 0.05;
+// Pass 1's ranking needs only this relative tolerance: the ranking's gaps are percents.
+constexpr double kRankTolerance = 1e-5;
+// Pass 2's Levenberg-Marquardt runs to this relative tolerance before the polish.
+constexpr double kRefineTolerance = 1e-9;
+// The polish's first simplex: this step in ln v_max and ln theta_0, and in each start offset.
+constexpr double kPolishStepLog = 1e-3;
+constexpr double kPolishStepDeg = 1e-2;
+// A candidate whose LM error is above the best polished one by more than this fraction is not
+// polished: the polish gains less than that on a kink's valley floor.
+constexpr double kPolishMargin = 0.05;
+
+// Checks the recordings and prepares them for the fit. Returns the fastest measured change from
+// one tick to the next in `fastest`, deg per tick, the fit's starting top speed.
+std::vector<Prepared> PrepareRecordings(std::span<const JointRecording> recordings, int warmup,
+                                        double& fastest) {
+  fastest = 0.0;
   std::vector<Prepared> prepared;
   for (size_t k = 0; k < recordings.size(); ++k) {
     const JointRecording& r = recordings[k];
@@ -528,48 +389,20 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
     prepared.push_back({&r, RunEnds(r.request_deg)});
   }
   if (!(fastest > 0.0)) Fail("the joint never moved: nothing to identify");
+  return prepared;
+}
 
-  // Pass 1: every (l, a), v_max and theta_0 from two starts, the model started from the
-  // measured angle. Pass 2: the best few again, also fitting where each recording's
-  // prediction starts (one noisy sample would otherwise bias the fit: while the joint runs at
-  // top speed nothing in the model pulls a wrong start back).
-  //
-  // Why this optimiser. The squared error is piecewise smooth: a term of eq. 3 switches between
-  // f's linear and saturated pieces where R - M crosses +-theta_0, and on a step test a whole
-  // window of equal requests switches at once, so each approach to a new request puts a kink
-  // of a few units of squared error per unit of ln theta_0 into the objective, about one
-  // every 1e-2 in ln theta_0. Its curvature is only a few hundred, so the minimum usually
-  // sits on such a kink (on the shipped knee: slopes -4.3 and +3.7 either side of it).
-  // Levenberg-Marquardt on the exact Jacobian reaches the kink's valley in a handful of steps
-  // from either start and then crawls along it; so pass 1, which only ranks the (l, a),
-  // stops once a step gains less than 1e-5 of the error (the ranking's gaps are percents).
-  // Pass 2 runs it to 1e-9 and then polishes with Nelder-Mead (the previous fit's optimiser,
-  // same stopping rule, simplex 1e-3 in the logs and 0.01 deg) from there, which settles on
-  // the kink's minimum in a few hundred cheap evaluations where the previous fit needed
-  // ~56000 for pass 1 alone. Same (l, a), and v_max, theta_0 within 4e-8 of the previous fit
-  // on the shipped config; tests/model/identification_test.cc checks the Jacobian and the
-  // optimum, benchmarks/identification_benchmark.cc the cost.
-  constexpr size_t kRefined = 4;
-  constexpr double kPolishStepLog = 1e-3;
-  constexpr double kPolishStepDeg = 1e-2;
-  ContinuousFit rank_fit(prepared, warmup, false);
-  // Pass 1 in two rounds, for a third of the sweeps. Every (l, a) is first run from both
-  // starts to the loose tolerance kScreenTolerance; then, best first, the candidates are run on
-  // to 1e-5 (Continue: exactly the steps of one run at 1e-5), until the kRefined-th best
-  // finished one is below the next one's screened error by more than the margin kScreenMargin.
-  // The margin is what the second round may still gain: measured on 18 identifications (each
-  // joint of the shipped plant, of seeds 3 and 5, of servo delays 24 and 72 ms and of a 300
-  // deg/s top speed), at most 0.9 % on the candidates screened within twice the kRefined-th
-  // best error (up to 30 % further out, where no candidate comes near), and every time the
-  // same four candidates as the full pass 1, which no other candidate came within 5.8 % of.
-  // Those four then are the full pass 1's, and everything after is unchanged.
-  constexpr double kScreenTolerance = 1e-2;
-  constexpr double kScreenMargin = 0.05;
-  struct Screened {
-    JointModelParams lag_accel;
-    std::array<ContinuousFit::Run, 2> runs;
-    double error = 0.0;
-  };
+// One (l, a) of pass 1: its runs from the two starts, and the lower of their errors.
+struct Screened {
+  JointModelParams lag_accel;
+  std::array<LevenbergMarquardt::Run, 2> runs;
+  double error = 0.0;
+};
+
+// Pass 1's first round: every (l, a) of the options' ranges from both starts (v_max the
+// fastest change, theta_0 1.5 and 4 times that), to kScreenTolerance.
+std::vector<Screened> Screen(ContinuousFit& rank_fit, const IdentificationOptions& o,
+                             double fastest) {
   std::vector<Screened> screened;
   Eigen::VectorXd x(2);
   for (int lag = o.lag_min_ticks; lag <= o.lag_max_ticks; ++lag) {
@@ -586,14 +419,24 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
       screened.push_back(std::move(c));
     }
   }
+  return screened;
+}
+
+// A finished candidate of pass 1, with its index in the (l, a) order for ties.
+using Ranked = std::pair<Candidate, size_t>;
+
+// Pass 1's second round: best screened first, runs the candidates on to kRankTolerance
+// (Continue: exactly the steps of one run at that tolerance) until the kRefined-th best
+// finished one is below the next one's screened error by more than kScreenMargin. Returns the
+// finished candidates, the best min(kRefined, size) first in order of error, then index.
+std::vector<Ranked> Rank(ContinuousFit& rank_fit, std::vector<Screened>& screened) {
   std::vector<size_t> order(screened.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
     return screened[a].error < screened[b].error ||
            (screened[a].error == screened[b].error && a < b);
   });
-  // Finished candidates, with their index in the (l, a) order for ties.
-  std::vector<std::pair<Candidate, size_t>> ranked;
+  std::vector<Ranked> ranked;
   std::vector<double> finished_errors;
   for (const size_t i : order) {
     Screened& c = screened[i];
@@ -603,8 +446,8 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
       if (finished_errors[kRefined - 1] < (1.0 - kScreenMargin) * c.error) break;
     }
     Candidate best_here;
-    for (ContinuousFit::Run& run : c.runs) {
-      rank_fit.Continue(c.lag_accel, run, 1e-5, 100);
+    for (LevenbergMarquardt::Run& run : c.runs) {
+      rank_fit.Continue(c.lag_accel, run, kRankTolerance, 100);
       if (run.error < best_here.squared_error) {
         best_here = {{std::exp(run.x[0]), std::exp(run.x[1]), c.lag_accel.lag_ticks,
                       c.lag_accel.accel_ticks},
@@ -614,44 +457,50 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
     finished_errors.push_back(best_here.squared_error);
     ranked.emplace_back(best_here, i);
   }
-  const auto by_error = [](const std::pair<Candidate, size_t>& a,
-                           const std::pair<Candidate, size_t>& b) {
+  const auto by_error = [](const Ranked& a, const Ranked& b) {
     return a.first.squared_error < b.first.squared_error ||
            (a.first.squared_error == b.first.squared_error && a.second < b.second);
   };
   const size_t refined = std::min(kRefined, ranked.size());
   std::partial_sort(ranked.begin(), ranked.begin() + static_cast<long>(refined), ranked.end(),
                     by_error);
-  // Pass 2's Levenberg-Marquardt from each refined candidate, then the polish, best first by
-  // the error LM reached; a candidate whose LM error is above the best polished one by more
-  // than kPolishMargin is not polished, as the polish cannot bring it below. The polish gains
-  // little on a kink's valley floor: measured on 218 identifications (785 candidates: each
-  // joint's step tests and walk fits of seeds 1-5, servo delays 24 and 72 ms, top speeds 60 % to
-  // 140 %, step times 44-88 ticks, untuned sine and triangle walks, the stand and its adaptive
-  // windows), at most 0.84 % of the LM error and mostly under 0.02 %; the winner was always the
-  // candidate LM left best, and 5 % polishes 277 of the 785 (the same results, for a third of
-  // the polish).
-  constexpr double kPolishMargin = 0.05;
-  ContinuousFit refine_fit(prepared, warmup, true);
-  struct Refined {
-    std::vector<double> point;
-    double error = 0.0;  // where LM stopped (orders the polish)
-  };
+  return ranked;
+}
+
+// A candidate of pass 2 after its Levenberg-Marquardt run.
+struct Refined {
+  std::vector<double> point;  // (ln v_max, ln theta_0, each recording's start offset)
+  double error = 0.0;         // where LM stopped (orders the polish)
+};
+
+// Pass 2's Levenberg-Marquardt, with the start offsets (from 0), from each of the first
+// `refined` ranked candidates, to kRefineTolerance.
+std::vector<Refined> Refine(ContinuousFit& refine_fit, std::span<const Ranked> ranked,
+                            size_t refined, size_t recordings) {
   std::vector<Refined> refined_fits(refined);
-  Eigen::VectorXd with_starts = Eigen::VectorXd::Zero(2 + static_cast<long>(recordings.size()));
+  Eigen::VectorXd with_starts = Eigen::VectorXd::Zero(2 + static_cast<long>(recordings));
   for (size_t i = 0; i < refined; ++i) {
     with_starts.setZero();
     with_starts[0] = std::log(ranked[i].first.params.v_max_deg_per_tick);
     with_starts[1] = std::log(ranked[i].first.params.theta0_deg);
-    refined_fits[i].error = refine_fit.Minimise(ranked[i].first.params, with_starts, 1e-9, 100);
+    refined_fits[i].error =
+        refine_fit.Minimise(ranked[i].first.params, with_starts, kRefineTolerance, 100);
     refined_fits[i].point.assign(with_starts.begin(), with_starts.end());
   }
+  return refined_fits;
+}
+
+// Pass 2's polish: Nelder-Mead from each refined candidate, best LM error first, skipping those
+// kPolishMargin above the best polished. Returns the best polished candidate; ties go to the
+// earlier in pass 1's order.
+Candidate Polish(const ContinuousFit& refine_fit, std::span<const Ranked> ranked,
+                 std::vector<Refined>& refined_fits) {
+  const size_t refined = refined_fits.size();
   std::vector<size_t> polish_order(refined);
   std::iota(polish_order.begin(), polish_order.end(), size_t{0});
   std::stable_sort(polish_order.begin(), polish_order.end(), [&](size_t a, size_t b) {
     return refined_fits[a].error < refined_fits[b].error;
   });
-  // The best polished candidate; ties go to the earlier in pass 1's order.
   Candidate best;
   size_t best_index = refined;
   for (const size_t i : polish_order) {
@@ -672,14 +521,46 @@ IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordin
       best_index = i;
     }
   }
-  // The scored ticks, each recording's counted `weight` times (integers: exact in a double).
+  return best;
+}
+
+// The scored ticks, each recording's counted `weight` times (integers: exact in a double).
+double ScoredTicks(std::span<const JointRecording> recordings, int warmup) {
   double count = 0.0;
   for (const JointRecording& r : recordings) {
     count += r.weight * static_cast<double>(static_cast<long>(r.request_deg.size()) - warmup);
   }
+  return count;
+}
+
+}  // namespace
+
+IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
+                                        const IdentificationOptions& o) {
+  if (recordings.empty()) Fail("no recordings");
+  if (o.lag_min_ticks < 0 || o.lag_max_ticks < o.lag_min_ticks) Fail("bad lag range");
+  if (o.accel_min_ticks < 1 || o.accel_max_ticks < o.accel_min_ticks) Fail("bad accel range");
+  const int warmup = o.lag_max_ticks + o.accel_max_ticks;
+  double fastest = 0.0;
+  const std::vector<Prepared> prepared = PrepareRecordings(recordings, warmup, fastest);
+
+  // Pass 1: every (l, a), v_max and theta_0 from two starts, the model started from the
+  // measured angle; it only ranks the (l, a). Pass 2: the best few again, also fitting where
+  // each recording's prediction starts (a prediction started from one noisy sample at top speed
+  // never recovers from that sample's error), by LM and then a Nelder-Mead polish, because the
+  // optimum usually sits on a kink of the objective, where LM's steps stall; see
+  // docs/design/identification.md.
+  ContinuousFit rank_fit(prepared, warmup, false);
+  std::vector<Screened> screened = Screen(rank_fit, o, fastest);
+  const std::vector<Ranked> ranked = Rank(rank_fit, screened);
+  ContinuousFit refine_fit(prepared, warmup, true);
+  std::vector<Refined> refined_fits =
+      Refine(refine_fit, ranked, std::min(kRefined, ranked.size()), recordings.size());
+  const Candidate best = Polish(refine_fit, ranked, refined_fits);
+
   IdentificationResult result;
   result.params = best.params;
-  result.rms_residual_deg = std::sqrt(best.squared_error / count);
+  result.rms_residual_deg = std::sqrt(best.squared_error / ScoredTicks(recordings, warmup));
   return result;
 }
 

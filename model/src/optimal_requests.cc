@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/model/cyclic_banded_cholesky.h"
+
 namespace leglab {
 namespace {
 
@@ -196,17 +198,8 @@ class PeriodicModel {
   // x_ti = R(t-i) - M(t-1). Run from S(-1) = 0 it gives S0; the periodic solution is
   // S(t) = S0(t) + (alpha_0 ... alpha_t) X, X = S(T-1) = S0(T-1) / (1 - alpha_0 ... alpha_{T-1}).
   // Written to `s` (resized to T x T). Terms (t, i) with saturated[t * a + i - l - 1] set take
-  // f' = 0 (the side of a kink a step moves them to).
-  //
-  // With `normal`, also the Gauss-Newton matrix S^T W S (T x T, W = diag(omega), the rows'
-  // weights; empty `row_weights`: all 1), in O(T^2 a) instead of the O(T^3) of the product.
-  // Write S = S0 + d p^T (d = decay, p = X). Then
-  //   S0^T W S0 = sum_t omega_t S0(t)^T S0(t) = sum_t w_t B_t,
-  //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
-  //   w_t = omega_t + alpha_{t+1}^2 w_{t+1}, w_{T-1} = omega_{T-1},
-  // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
-  // the a columns and rows of u_t; and S^T W S = S0^T W S0 + v p^T + p v^T + (d.W d) p p^T
-  // with v = S0^T W d.
+  // f' = 0 (the side of a kink a step moves them to). With `normal`, also the Gauss-Newton
+  // matrix S^T W S (see NormalMatrix); with `factors`, alpha_t, f'/a and their product.
   void Sensitivity(std::span<const double> angles, Eigen::MatrixXd& s,
                    const std::vector<char>* saturated = nullptr, Eigen::MatrixXd* normal = nullptr,
                    std::span<const double> row_weights = {},
@@ -251,36 +244,7 @@ class PeriodicModel {
       periodic_start = Eigen::RowVectorXd::Constant(n, 1.0 / n);
     }
     if (normal != nullptr) {
-      // s holds S0 here.
-      Eigen::MatrixXd& g = *normal;
-      g.setZero(n, n);
-      auto omega = [&](int t) { return row_weights.empty() ? 1.0 : row_weights[t]; };
-      double weight = omega(n - 1);  // w_t, from t = T-1 down
-      for (int t = n - 1; t >= 0; --t) {
-        if (t < n - 1) weight = omega(t) + alphas[t + 1] * alphas[t + 1] * weight;
-        for (int i = 0; i < a; ++i) {
-          const double ui = slopes(t, i);
-          if (ui == 0.0) continue;
-          const int ci = IndexBefore(t, i + l + 1);
-          // One half of the cross term (the other is its transpose, added below).
-          if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
-          for (int k = 0; k < a; ++k) {
-            g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
-          }
-        }
-      }
-      // g + g^T in place (a + b is b + a, bit for bit).
-      for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
-        g(j, j) += g(j, j);
-      }
-      Eigen::VectorXd weighted_decay = decay;
-      for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
-      const Eigen::VectorXd v = s.transpose() * weighted_decay;
-      const Eigen::VectorXd p = periodic_start.transpose();
-      g.noalias() += v * p.transpose();
-      g.noalias() += p * v.transpose();
-      g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
+      NormalMatrix(s, rows_t, alphas, slopes, decay, periodic_start, row_weights, *normal);
     }
     s.noalias() += decay * periodic_start;
     if (factors != nullptr) {
@@ -291,6 +255,53 @@ class PeriodicModel {
   }
 
  private:
+  // The Gauss-Newton matrix S^T W S (T x T, W = diag(omega), the rows' weights; empty
+  // `row_weights`: all 1) into g, from Sensitivity's S0 (`s0`, and its rows as the columns of
+  // `rows_t`), alpha_t, the slopes f'(x_ti) / a, the decay d(t) = alpha_0 ... alpha_t and the
+  // periodic start p = X: O(T^2 a) instead of the O(T^3) of the product. With S = S0 + d p^T,
+  //   S0^T W S0 = sum_t omega_t S0(t)^T S0(t) = sum_t w_t B_t,
+  //   B_t = alpha_t (S0(t-1)^T u_t + u_t^T S0(t-1)) + u_t^T u_t,
+  //   w_t = omega_t + alpha_{t+1}^2 w_{t+1}, w_{T-1} = omega_{T-1},
+  // (unrolling S0(t)^T S0(t) = alpha_t^2 S0(t-1)^T S0(t-1) + B_t), where each B_t touches only
+  // the a columns and rows of u_t; and S^T W S = S0^T W S0 + v p^T + p v^T + (d.W d) p p^T
+  // with v = S0^T W d.
+  void NormalMatrix(const Eigen::MatrixXd& s0, const Eigen::MatrixXd& rows_t,
+                    const Eigen::VectorXd& alphas, const Eigen::MatrixXd& slopes,
+                    const Eigen::VectorXd& decay, const Eigen::RowVectorXd& periodic_start,
+                    std::span<const double> row_weights, Eigen::MatrixXd& g) const {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    const int n = period();
+    g.setZero(n, n);
+    auto omega = [&](int t) { return row_weights.empty() ? 1.0 : row_weights[t]; };
+    double weight = omega(n - 1);  // w_t, from t = T-1 down
+    for (int t = n - 1; t >= 0; --t) {
+      if (t < n - 1) weight = omega(t) + alphas[t + 1] * alphas[t + 1] * weight;
+      for (int i = 0; i < a; ++i) {
+        const double ui = slopes(t, i);
+        if (ui == 0.0) continue;
+        const int ci = IndexBefore(t, i + l + 1);
+        // One half of the cross term (the other is its transpose, added below).
+        if (t > 0) g.col(ci) += (weight * alphas[t] * ui) * rows_t.col(t - 1);
+        for (int k = 0; k < a; ++k) {
+          g(IndexBefore(t, k + l + 1), ci) += 0.5 * weight * ui * slopes(t, k);
+        }
+      }
+    }
+    // g + g^T in place (a + b is b + a, bit for bit).
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < j; ++i) g(i, j) = g(j, i) = g(i, j) + g(j, i);
+      g(j, j) += g(j, j);
+    }
+    Eigen::VectorXd weighted_decay = decay;
+    for (int t = 0; t < n; ++t) weighted_decay[t] *= omega(t);
+    const Eigen::VectorXd v = s0.transpose() * weighted_decay;
+    const Eigen::VectorXd p = periodic_start.transpose();
+    g.noalias() += v * p.transpose();
+    g.noalias() += p * v.transpose();
+    g.noalias() += decay.dot(weighted_decay) * (p * p.transpose());
+  }
+
   double Gain() const { return gain_; }
 
   JointModelParams params_;
@@ -319,8 +330,8 @@ double SecondDifference(std::span<const double> r, int t) {
 // B W^-1 B^T is cyclic tridiagonal and U_F U_F^T cyclic banded (request j's column of U has
 // its a non-zeros in rows j + l + 1 .. j + l + a): the matrix's envelope (each row from its
 // first non-zero to the diagonal) holds the band and, from the cyclic corners, the last rows
-// whole, and a Cholesky factor stays inside the envelope. That is O(T a^2 + a T^2) work
-// instead of the dense matrix's O(T^2 a) and its factorisation's O(T^3).
+// whole, and a Cholesky factor stays inside the envelope (CyclicBandedCholesky). That is
+// O(T a^2 + a T^2) work instead of the dense matrix's O(T^2 a) and its factorisation's O(T^3).
 //
 // With move suppression lambda' |L (R + P_F x)|^2 (L the cyclic second difference, P_F placing
 // x at the free requests; see request_smoothing) the step minimises that too. A second
@@ -332,7 +343,7 @@ double SecondDifference(std::span<const double> r, int t) {
 // Interleaved (mu_0, eta_0, mu_1, eta_1, ...), its matrix is
 // diag(c B W^-1 B^T, (c/lambda') I) plus the sum over free requests j of v_j v_j^T, v_j holding
 // U's column j (at the mu indices) and L's (1, -2, 1 at the eta indices of j - 1, j, j + 1):
-// positive definite, cyclic banded, and the same envelope Cholesky solves it.
+// positive definite, cyclic banded, and CyclicBandedCholesky solves it the same way.
 class BandedStepSolver {
  public:
   // False (x then undefined) where it does not apply: a weight not positive, B (nearly) singular,
@@ -343,118 +354,109 @@ class BandedStepSolver {
              std::span<const int> free, double c, Eigen::VectorXd& x, double suppression = 0.0,
              std::span<const double> requests = {}) {
     const auto n = static_cast<int>(error.size());
-    const int l = params.lag_ticks;
-    const int a = params.accel_ticks;
     if (n < 3 || !(c > 0.0) || !(1.0 - f.product >= 1e-9)) return false;
     for (double w : weights) {
       if (!(w > 0.0)) return false;
     }
-    const bool smooth = suppression > 0.0;
-    assert(!smooth || requests.size() == error.size());
-    const int size = smooth ? 2 * n : n;
-    auto mu_at = [smooth](int t) { return smooth ? 2 * t : t; };
-    auto eta_at = [](int t) { return 2 * t + 1; };
-    auto inverse_weight = [&](int t) { return weights.empty() ? 1.0 : 1.0 / weights[t]; };
-    // Every write below stays inside the envelope: zeroing the last call's envelope zeroes
-    // the lower triangle (the whole matrix only when the size changes).
-    if (m_.rows() != size) {
-      m_.setZero(size, size);
-    } else {
-      for (int i = 0; i < size; ++i) {
-        std::fill(&m_(i, first_[i]), &m_(i, i) + 1, 0.0);
-      }
-    }
-    first_.resize(size);
-    for (int t = 0; t < size; ++t) first_[t] = t;
-    auto add = [&](int r1, int r2, double value) {  // into the lower triangle
-      const int row = std::max(r1, r2);
-      const int column = std::min(r1, r2);
-      m_(row, column) += value;
-      first_[row] = std::min(first_[row], column);
-    };
-    // c B W^-1 B^T: (t, t) c (1/w_t + alpha_t^2 / w_{t-1}); (t, t-1) -c alpha_t / w_{t-1}.
-    for (int t = 0; t < n; ++t) {
-      const int before = t == 0 ? n - 1 : t - 1;
-      const double alpha = f.alphas[t];
-      add(mu_at(t), mu_at(t), c * (inverse_weight(t) + alpha * alpha * inverse_weight(before)));
-      add(mu_at(t), mu_at(before), -c * alpha * inverse_weight(before));
-      if (smooth) add(eta_at(t), eta_at(t), c / suppression);
-    }
-    // The v_j v_j^T, column by column: request j enters row t = j + i + l + 1 (mod T) of U with
-    // slopes(t, i), and rows j - 1, j, j + 1 of L with 1, -2, 1.
-    const int entries = smooth ? a + 3 : a;
-    rows_.resize(entries);
-    values_.resize(entries);
-    for (const int j : free) {
-      for (int i = 0; i < a; ++i) {
-        const int t = (j + i + l + 1) % n;
-        rows_[i] = mu_at(t);
-        values_[i] = f.slopes(t, i);
-      }
-      if (smooth) {
-        rows_[a] = eta_at(j == 0 ? n - 1 : j - 1), values_[a] = 1.0;
-        rows_[a + 1] = eta_at(j), values_[a + 1] = -2.0;
-        rows_[a + 2] = eta_at(j == n - 1 ? 0 : j + 1), values_[a + 2] = 1.0;
-      }
-      // Each unordered pair once (add puts it in the lower triangle), twice where two terms
-      // fall in the same row (a > T: the ordered pairs (i, k) and (k, i) both count there).
-      for (int i = 0; i < entries; ++i) {
-        if (values_[i] == 0.0) continue;
-        for (int k = 0; k <= i; ++k) {
-          if (values_[k] == 0.0) continue;
-          const double product = values_[i] * values_[k];
-          add(rows_[i], rows_[k], k != i && rows_[k] == rows_[i] ? 2.0 * product : product);
-        }
-      }
-    }
-    // Envelope Cholesky, in place (row-major: each row's envelope is contiguous).
-    for (int i = 0; i < size; ++i) {
-      for (int j = first_[i]; j < i; ++j) {
-        double sum = m_(i, j);
-        for (int k = std::max(first_[i], first_[j]); k < j; ++k) sum -= m_(i, k) * m_(j, k);
-        m_(i, j) = sum / m_(j, j);
-      }
-      double sum = m_(i, i);
-      for (int k = first_[i]; k < i; ++k) sum -= m_(i, k) * m_(i, k);
-      if (!(sum > 0.0)) return false;
-      m_(i, i) = std::sqrt(sum);
-    }
-    // (mu, eta) = -(L L^T)^-1 (B e, L R).
-    mu_.resize(size);
-    for (int t = 0; t < n; ++t) {
-      mu_[mu_at(t)] = -(error[t] - f.alphas[t] * error[t == 0 ? n - 1 : t - 1]);
-      if (smooth) mu_[eta_at(t)] = -SecondDifference(requests, t);
-    }
-    for (int i = 0; i < size; ++i) {
-      double sum = mu_[i];
-      for (int k = first_[i]; k < i; ++k) sum -= m_(i, k) * mu_[k];
-      mu_[i] = sum / m_(i, i);
-    }
-    for (int i = size - 1; i >= 0; --i) {
-      mu_[i] /= m_(i, i);
-      for (int k = first_[i]; k < i; ++k) mu_[k] -= m_(i, k) * mu_[i];
-    }
-    // x = U_F^T mu (+ L_F^T eta).
-    x.resize(static_cast<Eigen::Index>(free.size()));
-    for (std::size_t q = 0; q < free.size(); ++q) {
-      const int j = free[q];
-      double sum = 0.0;
-      for (int i = 0; i < a; ++i) {
-        const int t = (j + i + l + 1) % n;
-        sum += f.slopes(t, i) * mu_[mu_at(t)];
-      }
-      if (smooth) {
-        sum += mu_[eta_at(j == 0 ? n - 1 : j - 1)] - 2.0 * mu_[eta_at(j)] +
-               mu_[eta_at(j == n - 1 ? 0 : j + 1)];
-      }
-      x[static_cast<Eigen::Index>(q)] = sum;
-    }
+    n_ = n;
+    lag_ = params.lag_ticks;
+    accel_ = params.accel_ticks;
+    smooth_ = suppression > 0.0;
+    assert(!smooth_ || requests.size() == error.size());
+    system_.Reset(smooth_ ? 2 * n : n);
+    AddCycleTerms(f, weights, c, suppression);
+    for (const int j : free) AddFreeRequest(f, j);
+    if (!system_.Factor()) return false;
+    SetRightHandSide(f, error, requests);
+    system_.Solve(mu_);
+    StepFromMultipliers(f, free, x);
     return x.allFinite();
   }
 
  private:
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m_;
-  std::vector<int> first_;
+  // Where mu_t and eta_t sit in the (interleaved, with suppression) unknowns.
+  int MuAt(int t) const { return smooth_ ? 2 * t : t; }
+  static int EtaAt(int t) { return 2 * t + 1; }
+  // The cycle's neighbours of tick t.
+  int Before(int t) const { return t == 0 ? n_ - 1 : t - 1; }
+  int After(int t) const { return t == n_ - 1 ? 0 : t + 1; }
+
+  // Adds c B W^-1 B^T: (t, t) c (1/w_t + alpha_t^2 / w_{t-1}), (t, t-1) -c alpha_t / w_{t-1};
+  // and, with suppression, (c / lambda') I at the eta indices.
+  void AddCycleTerms(const SensitivityFactors& f, std::span<const double> weights, double c,
+                     double suppression) {
+    auto inverse_weight = [&](int t) { return weights.empty() ? 1.0 : 1.0 / weights[t]; };
+    for (int t = 0; t < n_; ++t) {
+      const int before = Before(t);
+      const double alpha = f.alphas[t];
+      system_.Add(MuAt(t), MuAt(t),
+                  c * (inverse_weight(t) + alpha * alpha * inverse_weight(before)));
+      system_.Add(MuAt(t), MuAt(before), -c * alpha * inverse_weight(before));
+      if (smooth_) system_.Add(EtaAt(t), EtaAt(t), c / suppression);
+    }
+  }
+
+  // Adds v_j v_j^T for free request j: it enters row t = j + i + l + 1 (mod T) of U with
+  // slopes(t, i), and (with suppression) rows j - 1, j, j + 1 of L with 1, -2, 1.
+  void AddFreeRequest(const SensitivityFactors& f, int j) {
+    const int entries = smooth_ ? accel_ + 3 : accel_;
+    rows_.resize(entries);
+    values_.resize(entries);
+    for (int i = 0; i < accel_; ++i) {
+      const int t = (j + i + lag_ + 1) % n_;
+      rows_[i] = MuAt(t);
+      values_[i] = f.slopes(t, i);
+    }
+    if (smooth_) {
+      rows_[accel_] = EtaAt(Before(j)), values_[accel_] = 1.0;
+      rows_[accel_ + 1] = EtaAt(j), values_[accel_ + 1] = -2.0;
+      rows_[accel_ + 2] = EtaAt(After(j)), values_[accel_ + 2] = 1.0;
+    }
+    // Each unordered pair once (Add puts it in the lower triangle), twice where two terms
+    // fall in the same row (a > T: the ordered pairs (i, k) and (k, i) both count there).
+    for (int i = 0; i < entries; ++i) {
+      if (values_[i] == 0.0) continue;
+      for (int k = 0; k <= i; ++k) {
+        if (values_[k] == 0.0) continue;
+        const double product = values_[i] * values_[k];
+        system_.Add(rows_[i], rows_[k], k != i && rows_[k] == rows_[i] ? 2.0 * product : product);
+      }
+    }
+  }
+
+  // mu_ = -(B e, L R), the right-hand side of the system in (mu, eta).
+  void SetRightHandSide(const SensitivityFactors& f, std::span<const double> error,
+                        std::span<const double> requests) {
+    mu_.resize(system_.size());
+    for (int t = 0; t < n_; ++t) {
+      mu_[MuAt(t)] = -(error[t] - f.alphas[t] * error[Before(t)]);
+      if (smooth_) mu_[EtaAt(t)] = -SecondDifference(requests, t);
+    }
+  }
+
+  // x = U_F^T mu (+ L_F^T eta) from the solved (mu, eta) in mu_.
+  void StepFromMultipliers(const SensitivityFactors& f, std::span<const int> free,
+                           Eigen::VectorXd& x) const {
+    x.resize(static_cast<Eigen::Index>(free.size()));
+    for (std::size_t q = 0; q < free.size(); ++q) {
+      const int j = free[q];
+      double sum = 0.0;
+      for (int i = 0; i < accel_; ++i) {
+        const int t = (j + i + lag_ + 1) % n_;
+        sum += f.slopes(t, i) * mu_[MuAt(t)];
+      }
+      if (smooth_) {
+        sum += mu_[EtaAt(Before(j))] - 2.0 * mu_[EtaAt(j)] + mu_[EtaAt(After(j))];
+      }
+      x[static_cast<Eigen::Index>(q)] = sum;
+    }
+  }
+
+  int n_ = 0;
+  int lag_ = 0;
+  int accel_ = 0;
+  bool smooth_ = false;
+  CyclicBandedCholesky system_;
   std::vector<int> rows_;
   std::vector<double> values_;
   Eigen::VectorXd mu_;
@@ -561,9 +563,8 @@ struct Stage {
   double tolerance_deg = 0.0;
 };
 
-// Projected Levenberg-Marquardt on the sum of squared errors of the model of `stage`, from `it`
-// (evaluated with that model); every accepted step lowers that sum. Uses at most `budget`
-// sensitivities; returns how many it used.
+// Projected Levenberg-Marquardt on the sum of squared errors of the model of a Stage, from an
+// iterate evaluated with that model; every accepted step lowers that sum.
 //
 // With f exact the objective is piecewise quadratic: while no term x_ti = R(t-i) - M(t-1) of
 // eq. 3 crosses a kink +-theta_0, M_ss is affine in R and the Gauss-Newton model is exact. A
@@ -572,19 +573,59 @@ struct Stage {
 // fall; the next linearisation then puts each term sitting on a kink on the side the step
 // moves it to. So the iterate pivots from piece to piece instead of crawling towards a kink
 // with ever shorter damped steps.
-int MinimiseStage(const JointModelParams& params, std::span<const double> desired,
-                  const OptimalRequestsOptions& options, const Stage& stage, int budget,
-                  Iterate& it) {
-  const int n = static_cast<int>(desired.size());
-  const int l = params.lag_ticks;
-  const int a = params.accel_ticks;
-  const std::span<const double> weights = options.weights;
-  // Move suppression: lambda' |L R|^2 with L the cyclic second difference adds lambda' L^T L
-  // to the Gauss-Newton matrix and lambda' L^T L R to the half gradient (the banded solve keeps
+class StageMinimiser {
+ public:
+  StageMinimiser(const JointModelParams& params, std::span<const double> desired,
+                 const OptimalRequestsOptions& options, const Stage& stage)
+      : params_(params),
+        desired_(desired),
+        options_(options),
+        stage_(stage),
+        weights_(options.weights),
+        n_(static_cast<int>(desired.size())),
+        suppression_(MoveSuppression(options)),
+        rms_scale_(std::sqrt(static_cast<double>(n_))),
+        exact_(stage.smoothing == 0.0),
+        kink_width_(1e-9 * (1.0 + params.theta0_deg)),
+        jacobian_(n_, n_),
+        gauss_newton_(n_, n_),
+        normal_(n_, n_),
+        damped_(n_, n_),
+        factor_(n_),
+        residual_(n_),
+        gradient_(n_),
+        g_free_(n_),
+        step_(n_),
+        full_step_(n_),
+        angle_step_(n_),
+        box_lo_(n_),
+        box_hi_(n_),
+        saturated_at_kink_(static_cast<std::size_t>(n_) * params.accel_ticks, 0),
+        error_(n_) {
+    free_.reserve(n_);
+    if (suppression_ > 0.0) suppression_normal_ = SuppressionNormal();
+  }
+
+  // Steps `it` until a step gains less than the stage's tolerance or `budget` sensitivities
+  // are used; returns how many it used.
+  int Run(int budget, Iterate& it) {
+    it_ = &it;
+    int used = 0;
+    while (used < budget) {
+      const PeriodicModel model(params_, it.requests, stage_.smoothing, /*closed_kinks=*/exact_);
+      const bool any_free = Linearise(model);
+      ++used;
+      if (!any_free || !Step(model)) break;
+    }
+    return used;
+  }
+
+ private:
+  // lambda' L^T L, L the cyclic second difference: move suppression lambda' |L R|^2 adds it to
+  // the Gauss-Newton matrix and lambda' L^T L R to the half gradient (the banded solve keeps
   // them as rows of its own, see BandedStepSolver).
-  const double suppression = MoveSuppression(options);
-  Eigen::MatrixXd suppression_normal;  // lambda' L^T L
-  if (suppression > 0.0) {
+  Eigen::MatrixXd SuppressionNormal() const {
+    const int n = n_;
     Eigen::MatrixXd second(n, n);
     second.setZero();
     for (int t = 0; t < n; ++t) {
@@ -592,233 +633,292 @@ int MinimiseStage(const JointModelParams& params, std::span<const double> desire
       second(t, t) -= 2.0;
       second(t, Wrap(t - 1, n)) += 1.0;
     }
-    suppression_normal = suppression * (second.transpose() * second);
+    return suppression_ * (second.transpose() * second);
   }
-  const double rms_scale = std::sqrt(static_cast<double>(n));
-  const double th = params.theta0_deg;
-  const bool exact = stage.smoothing == 0.0;
-  auto rms_gain = [&](double from, double to) {
-    return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale;
-  };
-  auto index = [n](int t) { return Wrap(t, n); };
-  double damping = 1e-3;
-  int used = 0;
-  // Work space, allocated once a stage.
-  Eigen::MatrixXd jacobian(n, n);
-  Eigen::MatrixXd gauss_newton(n, n);  // jacobian^T jacobian
-  Eigen::MatrixXd normal(n, n);        // its rows and columns of the free requests
-  Eigen::MatrixXd damped(n, n);
-  Eigen::LDLT<Eigen::MatrixXd> factor(n);
-  Eigen::VectorXd residual(n);
-  Eigen::VectorXd gradient(n);
-  Eigen::VectorXd g_free(n);
-  Eigen::VectorXd step(n);
-  Eigen::VectorXd full_step(n);   // step on every request (0 where held)
-  Eigen::VectorXd angle_step(n);  // the linearised change of M_ss
-  std::vector<double> box_lo(n);
-  std::vector<double> box_hi(n);
-  std::vector<int> free;
-  free.reserve(n);
-  std::vector<char> saturated_at_kink(static_cast<std::size_t>(n) * a, 0);
-  // options.structured_solve: each step from BandedStepSolver, no T x T normal matrix.
-  SensitivityFactors factors;
-  BandedStepSolver banded;
-  Eigen::VectorXd error(n);  // M_ss - D
-  bool banded_now = false;
 
-  while (used < budget) {
-    const PeriodicModel model(params, it.requests, stage.smoothing, /*closed_kinks=*/exact);
-    const double kink_width = 1e-9 * (1.0 + th);
-    auto term = [&](int t, int i) { return it.requests[index(t - i)] - it.angles[index(t - 1)]; };
-    auto term_change = [&](int t, int i) {
-      return full_step[index(t - i)] - angle_step[index(t - 1)];
-    };
-    int m = 0;
-    double scale = 0.0;
-    std::fill(saturated_at_kink.begin(), saturated_at_kink.end(), 0);
-    // The dense normal matrix of the free requests (when the banded solve is not used).
-    auto form_normal = [&] {
-      normal.resize(m, m);
-      for (int k = 0; k < m; ++k) {
-        for (int q = 0; q < m; ++q) normal(q, k) = gauss_newton(free[q], free[k]);
-      }
-    };
-    auto solve = [&] {
-      if (banded_now &&
-          !banded.Solve(params, factors, weights, std::span<const double>(error.data(), n), free,
-                        damping * scale, step, suppression, it.requests)) {
-        // Not applicable here: the dense normal matrix after all (the same S, bit for bit).
-        banded_now = false;
-        model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr, &gauss_newton,
-                          weights);
-        if (suppression > 0.0) gauss_newton += suppression_normal;
-        form_normal();
-      }
-      if (!banded_now) {
-        damped = normal;
-        damped.diagonal().array() += damping * scale;
-        factor.compute(damped);
-        step.resize(m);
-        step = -factor.solve(g_free);
-      }
-      full_step.setZero();
-      for (int k = 0; k < m; ++k) full_step[free[k]] = step[k];
-      angle_step.noalias() = jacobian * full_step;
-    };
+  // w_t, the objective's weight of tick t (1 without weights).
+  double Weight(int t) const { return weights_.empty() ? 1.0 : weights_[t]; }
+  // The fall of the RMS error from squared error `from` to `to`.
+  double RmsGain(double from, double to) const {
+    return (std::sqrt(from) - std::sqrt(std::max(to, 0.0))) / rms_scale_;
+  }
+  // Tick t's index in the cycle.
+  int Index(int t) const { return Wrap(t, n_); }
+  // Term x_ti of eq. 3 at the iterate, and its linearised change under the step.
+  double Term(int t, int i) const {
+    return it_->requests[Index(t - i)] - it_->angles[Index(t - 1)];
+  }
+  double TermChange(int t, int i) const {
+    return full_step_[Index(t - i)] - angle_step_[Index(t - 1)];
+  }
+  // Whether term (t, i) is linearised as saturated (MarkKinksCrossedOutward).
+  bool ForcedSaturated(int t, int i) const {
+    const int l = params_.lag_ticks;
+    return saturated_at_kink_[static_cast<std::size_t>(t) * params_.accel_ticks + i - l - 1] != 0;
+  }
+
+  // Linearises at the iterate and solves the first damped step, twice with f exact when the
+  // step carries terms on a kink outward (they are then linearised as saturated). False when
+  // every request is held at its box.
+  bool Linearise(const PeriodicModel& model) {
+    std::fill(saturated_at_kink_.begin(), saturated_at_kink_.end(), 0);
     for (int pass = 0; pass < 2; ++pass) {
-      banded_now = options.structured_solve;
-      model.Sensitivity(it.angles, jacobian, exact ? &saturated_at_kink : nullptr,
-                        banded_now ? nullptr : &gauss_newton, weights,
-                        banded_now ? &factors : nullptr);
-      if (!banded_now && suppression > 0.0) gauss_newton += suppression_normal;
-      if (banded_now) {
-        for (int t = 0; t < n; ++t) error[t] = it.angles[t] - desired[t];
-      }
-      // The weighted residual W (M - D): the gradient of the cost's half is S^T W (M - D).
-      for (int t = 0; t < n; ++t) {
-        residual[t] = (weights.empty() ? 1.0 : weights[t]) * (it.angles[t] - desired[t]);
-      }
-      gradient.noalias() = jacobian.transpose() * residual;
-      if (suppression > 0.0) {
-        gradient.noalias() +=
-            suppression_normal * Eigen::Map<const Eigen::VectorXd>(it.requests.data(), n);
-      }
-
-      // Each request's box: the joint limits, and the range where it acts at the current
-      // trajectory (widened by the smoothing): beyond it a step would only waste its length.
-      // A request at its box that the gradient pushes outward stays there (projected step).
-      free.clear();
-      for (int s = 0; s < n; ++s) {
-        const auto [lo, hi] = WindowRange(params, it.angles, s);
-        const double r = it.requests[s];
-        box_lo[s] = std::max(options.lower_deg, std::min(lo - th - stage.smoothing, r));
-        box_hi[s] = std::min(options.upper_deg, std::max(hi + th + stage.smoothing, r));
-        const bool held =
-            (r <= box_lo[s] && gradient[s] > 0.0) || (r >= box_hi[s] && gradient[s] < 0.0);
-        if (!held) free.push_back(s);
-      }
-      m = static_cast<int>(free.size());
-      if (m == 0) break;
-      g_free.resize(m);
-      for (int k = 0; k < m; ++k) g_free[k] = gradient[free[k]];
-      if (banded_now) {
-        // The normal matrix's diagonal, sum_t w_t S(t, j)^2 (+ lambda' (L^T L)_jj = 6 lambda'),
-        // from S's columns.
-        double largest = 0.0;
-        for (int k = 0; k < m; ++k) {
-          double sum = 6.0 * suppression;
-          for (int t = 0; t < n; ++t) {
-            const double v = jacobian(t, free[k]);
-            sum += (weights.empty() ? 1.0 : weights[t]) * v * v;
-          }
-          largest = std::max(largest, sum);
-        }
-        scale = std::max(largest, 1e-12);
-      } else {
-        form_normal();
-        scale = std::max(normal.diagonal().maxCoeff(), 1e-12);
-      }
-      solve();
-      if (!exact) break;
-      // Terms on a kink that this step carries outward, into saturation: re-linearise them
-      // as saturated (the closed convention took them as linear).
-      bool changed = false;
-      for (int t = 0; t < n; ++t) {
-        for (int i = l + 1; i <= l + a; ++i) {
-          const double x = term(t, i);
-          if (std::abs(std::abs(x) - th) > kink_width) continue;
-          if (x * term_change(t, i) > 0.0) {
-            saturated_at_kink[static_cast<std::size_t>(t) * a + i - l - 1] = 1;
-            changed = true;
-          }
-        }
-      }
-      if (!changed) break;
+      LineariseOnce(model);
+      if (free_.empty()) return false;
+      SetDampingScale();
+      SolveStep(model);
+      if (!exact_ || !MarkKinksCrossedOutward()) break;
     }
-    ++used;
-    if (m == 0) break;
-
-    // The largest fraction of the step that crosses no kink and leaves no box.
-    auto breakpoint_fraction = [&] {
-      double fraction = 1.0;
-      for (int t = 0; t < n; ++t) {
-        for (int i = l + 1; i <= l + a; ++i) {
-          const double x = term(t, i);
-          const double dx = term_change(t, i);
-          const bool forced = saturated_at_kink[static_cast<std::size_t>(t) * a + i - l - 1] != 0;
-          if (!forced && std::abs(x) <= th) {  // linear: until it reaches either kink
-            if (dx > 0.0) fraction = std::min(fraction, (th - x) / dx);
-            if (dx < 0.0) fraction = std::min(fraction, (-th - x) / dx);
-          } else if (x > 0.0 && dx < 0.0) {  // saturated high: until it comes back to theta_0
-            fraction = std::min(fraction, (x - th) / -dx);
-          } else if (x < 0.0 && dx > 0.0) {
-            fraction = std::min(fraction, (-th - x) / dx);
-          }
-        }
-      }
-      for (int s = 0; s < n; ++s) {
-        const double r = it.requests[s];
-        if (full_step[s] > 0.0) fraction = std::min(fraction, (box_hi[s] - r) / full_step[s]);
-        if (full_step[s] < 0.0) fraction = std::min(fraction, (box_lo[s] - r) / full_step[s]);
-      }
-      return std::max(fraction, 0.0);
-    };
-
-    // Raise the damping until a step lowers the true cost; stop once even the Gauss-Newton
-    // model of the damped step promises less than the tolerance.
-    bool improved = false;
-    for (bool first = true;; first = false) {
-      if (!first) solve();
-      double curvature = 0.0;  // step^T S_F^T W S_F step
-      if (banded_now) {
-        for (int t = 0; t < n; ++t) {
-          curvature += (weights.empty() ? 1.0 : weights[t]) * angle_step[t] * angle_step[t];
-        }
-        if (suppression > 0.0) {
-          const std::span<const double> moved(full_step.data(), n);
-          for (int t = 0; t < n; ++t) {
-            const double d = SecondDifference(moved, t);
-            curvature += suppression * d * d;
-          }
-        }
-      } else {
-        curvature = step.dot(normal * step);
-      }
-      const double predicted = -g_free.dot(step) - 0.5 * curvature;
-      if (!(rms_gain(it.cost, it.cost - 2.0 * predicted) >= stage.tolerance_deg)) break;
-      std::vector<double> trial = it.requests;
-      for (int s = 0; s < n; ++s) {
-        trial[s] = std::clamp(trial[s] + full_step[s], box_lo[s], box_hi[s]);
-      }
-      Iterate candidate =
-          Evaluate(params, std::move(trial), stage.smoothing, desired, weights, suppression);
-      if (candidate.cost < it.cost) {
-        improved = rms_gain(it.cost, candidate.cost) >= stage.tolerance_deg;
-        it = std::move(candidate);
-        damping = std::max(damping / 3.0, 1e-9);
-        break;
-      }
-      if (exact) {
-        const double fraction = breakpoint_fraction();
-        if (fraction > 0.0 && fraction < 1.0) {
-          std::vector<double> pivot = it.requests;
-          for (int s = 0; s < n; ++s) {
-            pivot[s] = std::clamp(pivot[s] + fraction * full_step[s], box_lo[s], box_hi[s]);
-          }
-          Iterate at_kink =
-              Evaluate(params, std::move(pivot), stage.smoothing, desired, weights, suppression);
-          if (at_kink.cost < it.cost) {
-            it = std::move(at_kink);
-            improved = true;  // a pivot: the next piece may still go much further
-            break;
-          }
-        }
-      }
-      damping *= 4.0;
-    }
-    if (!improved) break;
+    return true;
   }
-  return used;
+
+  // The sensitivity (and, for the dense solve, the normal matrix), the gradient and the
+  // requests' boxes at the iterate.
+  void LineariseOnce(const PeriodicModel& model) {
+    banded_now_ = options_.structured_solve;
+    model.Sensitivity(it_->angles, jacobian_, exact_ ? &saturated_at_kink_ : nullptr,
+                      banded_now_ ? nullptr : &gauss_newton_, weights_,
+                      banded_now_ ? &factors_ : nullptr);
+    if (!banded_now_ && suppression_ > 0.0) gauss_newton_ += suppression_normal_;
+    if (banded_now_) {
+      for (int t = 0; t < n_; ++t) error_[t] = it_->angles[t] - desired_[t];
+    }
+    // The weighted residual W (M - D): the gradient of the cost's half is S^T W (M - D).
+    for (int t = 0; t < n_; ++t) residual_[t] = Weight(t) * (it_->angles[t] - desired_[t]);
+    gradient_.noalias() = jacobian_.transpose() * residual_;
+    if (suppression_ > 0.0) {
+      gradient_.noalias() +=
+          suppression_normal_ * Eigen::Map<const Eigen::VectorXd>(it_->requests.data(), n_);
+    }
+    SetBoxes();
+  }
+
+  // Each request's box: the joint limits, and the range where it acts at the current
+  // trajectory (widened by the smoothing): beyond it a step would only waste its length.
+  // A request at its box that the gradient pushes outward stays there (projected step).
+  void SetBoxes() {
+    const double th = params_.theta0_deg;
+    free_.clear();
+    for (int s = 0; s < n_; ++s) {
+      const auto [lo, hi] = WindowRange(params_, it_->angles, s);
+      const double r = it_->requests[s];
+      box_lo_[s] = std::max(options_.lower_deg, std::min(lo - th - stage_.smoothing, r));
+      box_hi_[s] = std::min(options_.upper_deg, std::max(hi + th + stage_.smoothing, r));
+      const bool held =
+          (r <= box_lo_[s] && gradient_[s] > 0.0) || (r >= box_hi_[s] && gradient_[s] < 0.0);
+      if (!held) free_.push_back(s);
+    }
+    const int m = FreeCount();
+    g_free_.resize(m);
+    for (int k = 0; k < m; ++k) g_free_[k] = gradient_[free_[k]];
+  }
+
+  // How many requests the step may move.
+  int FreeCount() const { return static_cast<int>(free_.size()); }
+
+  // The damping's scale: the largest diagonal entry of the free requests' normal matrix.
+  void SetDampingScale() {
+    const int m = FreeCount();
+    if (!banded_now_) {
+      FormNormal();
+      scale_ = std::max(normal_.diagonal().maxCoeff(), 1e-12);
+      return;
+    }
+    // The diagonal, sum_t w_t S(t, j)^2 (+ lambda' (L^T L)_jj = 6 lambda'), from S's columns.
+    double largest = 0.0;
+    for (int k = 0; k < m; ++k) {
+      double sum = 6.0 * suppression_;
+      for (int t = 0; t < n_; ++t) {
+        const double v = jacobian_(t, free_[k]);
+        sum += Weight(t) * v * v;
+      }
+      largest = std::max(largest, sum);
+    }
+    scale_ = std::max(largest, 1e-12);
+  }
+
+  // The dense normal matrix of the free requests (when the banded solve is not used).
+  void FormNormal() {
+    const int m = FreeCount();
+    normal_.resize(m, m);
+    for (int k = 0; k < m; ++k) {
+      for (int q = 0; q < m; ++q) normal_(q, k) = gauss_newton_(free_[q], free_[k]);
+    }
+  }
+
+  // The damped step at the current damping: step_ on the free requests, full_step_ on all
+  // (0 where held), angle_step_ the linearised change of M_ss.
+  void SolveStep(const PeriodicModel& model) {
+    if (banded_now_ &&
+        !banded_.Solve(params_, factors_, weights_, std::span<const double>(error_.data(), n_),
+                       free_, damping_ * scale_, step_, suppression_, it_->requests)) {
+      // Not applicable here: the dense normal matrix after all (the same S, bit for bit).
+      banded_now_ = false;
+      model.Sensitivity(it_->angles, jacobian_, exact_ ? &saturated_at_kink_ : nullptr,
+                        &gauss_newton_, weights_);
+      if (suppression_ > 0.0) gauss_newton_ += suppression_normal_;
+      FormNormal();
+    }
+    if (!banded_now_) {
+      damped_ = normal_;
+      damped_.diagonal().array() += damping_ * scale_;
+      factor_.compute(damped_);
+      step_.resize(FreeCount());
+      step_ = -factor_.solve(g_free_);
+    }
+    full_step_.setZero();
+    for (int k = 0; k < FreeCount(); ++k) full_step_[free_[k]] = step_[k];
+    angle_step_.noalias() = jacobian_ * full_step_;
+  }
+
+  // Terms on a kink that the step carries outward, into saturation: marks them to be
+  // re-linearised as saturated (the closed convention took them as linear). Whether any was.
+  bool MarkKinksCrossedOutward() {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    const double th = params_.theta0_deg;
+    bool changed = false;
+    for (int t = 0; t < n_; ++t) {
+      for (int i = l + 1; i <= l + a; ++i) {
+        const double x = Term(t, i);
+        if (std::abs(std::abs(x) - th) > kink_width_) continue;
+        if (x * TermChange(t, i) > 0.0) {
+          saturated_at_kink_[static_cast<std::size_t>(t) * a + i - l - 1] = 1;
+          changed = true;
+        }
+      }
+    }
+    return changed;
+  }
+
+  // step^T S_F^T W S_F step (+ the move suppression's curvature), the Gauss-Newton model's.
+  double Curvature() const {
+    if (!banded_now_) return step_.dot(normal_ * step_);
+    double curvature = 0.0;
+    for (int t = 0; t < n_; ++t) curvature += Weight(t) * angle_step_[t] * angle_step_[t];
+    if (suppression_ > 0.0) {
+      const std::span<const double> moved(full_step_.data(), n_);
+      for (int t = 0; t < n_; ++t) {
+        const double d = SecondDifference(moved, t);
+        curvature += suppression_ * d * d;
+      }
+    }
+    return curvature;
+  }
+
+  // Raises the damping until a step lowers the true cost; stops once even the Gauss-Newton
+  // model of the damped step promises less than the tolerance. Whether the iterate moved by
+  // at least the tolerance (or pivoted onto a kink, from where the next piece may go further).
+  bool Step(const PeriodicModel& model) {
+    for (bool first = true;; first = false) {
+      if (!first) SolveStep(model);
+      const double predicted = -g_free_.dot(step_) - 0.5 * Curvature();
+      if (!(RmsGain(it_->cost, it_->cost - 2.0 * predicted) >= stage_.tolerance_deg)) {
+        return false;
+      }
+      Iterate candidate = Moved(1.0);
+      if (candidate.cost < it_->cost) {
+        const bool improved = RmsGain(it_->cost, candidate.cost) >= stage_.tolerance_deg;
+        *it_ = std::move(candidate);
+        damping_ = std::max(damping_ / 3.0, 1e-9);
+        return improved;
+      }
+      if (exact_ && Pivot()) return true;
+      damping_ *= 4.0;
+    }
+  }
+
+  // The iterate moved by `fraction` of the step, clamped into the boxes, and evaluated. (A
+  // fraction of 1 moves by the step itself: x * 1.0 is x exactly.)
+  Iterate Moved(double fraction) const {
+    std::vector<double> moved = it_->requests;
+    for (int s = 0; s < n_; ++s) {
+      moved[s] = std::clamp(moved[s] + fraction * full_step_[s], box_lo_[s], box_hi_[s]);
+    }
+    return Evaluate(params_, std::move(moved), stage_.smoothing, desired_, weights_, suppression_);
+  }
+
+  // With f exact, after a step failed: moves to its first kink crossing if that lowers the
+  // cost (the linear model holds up to there). Whether it moved.
+  bool Pivot() {
+    const double fraction = BreakpointFraction();
+    if (!(fraction > 0.0 && fraction < 1.0)) return false;
+    Iterate at_kink = Moved(fraction);
+    if (!(at_kink.cost < it_->cost)) return false;
+    *it_ = std::move(at_kink);
+    return true;
+  }
+
+  // The largest fraction of the step that crosses no kink and leaves no box.
+  double BreakpointFraction() const {
+    const int l = params_.lag_ticks;
+    const int a = params_.accel_ticks;
+    const double th = params_.theta0_deg;
+    double fraction = 1.0;
+    for (int t = 0; t < n_; ++t) {
+      for (int i = l + 1; i <= l + a; ++i) {
+        const double x = Term(t, i);
+        const double dx = TermChange(t, i);
+        if (!ForcedSaturated(t, i) && std::abs(x) <= th) {  // linear: until it reaches either kink
+          if (dx > 0.0) fraction = std::min(fraction, (th - x) / dx);
+          if (dx < 0.0) fraction = std::min(fraction, (-th - x) / dx);
+        } else if (x > 0.0 && dx < 0.0) {  // saturated high: until it comes back to theta_0
+          fraction = std::min(fraction, (x - th) / -dx);
+        } else if (x < 0.0 && dx > 0.0) {
+          fraction = std::min(fraction, (-th - x) / dx);
+        }
+      }
+    }
+    for (int s = 0; s < n_; ++s) {
+      const double r = it_->requests[s];
+      if (full_step_[s] > 0.0) fraction = std::min(fraction, (box_hi_[s] - r) / full_step_[s]);
+      if (full_step_[s] < 0.0) fraction = std::min(fraction, (box_lo_[s] - r) / full_step_[s]);
+    }
+    return std::max(fraction, 0.0);
+  }
+
+  const JointModelParams& params_;
+  std::span<const double> desired_;
+  const OptimalRequestsOptions& options_;
+  const Stage& stage_;
+  std::span<const double> weights_;
+  int n_;
+  double suppression_;  // lambda' (see MoveSuppression)
+  double rms_scale_;    // sqrt(T)
+  bool exact_;          // f exact (the stage's smoothing 0)
+  double kink_width_;   // how near +-theta_0 a term counts as on the kink
+  Iterate* it_ = nullptr;
+  double damping_ = 1e-3;
+  double scale_ = 0.0;  // the damping's scale (SetDampingScale)
+  // Work space, allocated once a stage.
+  Eigen::MatrixXd suppression_normal_;  // lambda' L^T L
+  Eigen::MatrixXd jacobian_;
+  Eigen::MatrixXd gauss_newton_;  // jacobian^T W jacobian (+ lambda' L^T L)
+  Eigen::MatrixXd normal_;        // its rows and columns of the free requests
+  Eigen::MatrixXd damped_;
+  Eigen::LDLT<Eigen::MatrixXd> factor_;
+  Eigen::VectorXd residual_;
+  Eigen::VectorXd gradient_;
+  Eigen::VectorXd g_free_;
+  Eigen::VectorXd step_;
+  Eigen::VectorXd full_step_;   // step on every request (0 where held)
+  Eigen::VectorXd angle_step_;  // the linearised change of M_ss
+  std::vector<double> box_lo_;
+  std::vector<double> box_hi_;
+  std::vector<int> free_;
+  std::vector<char> saturated_at_kink_;
+  // options.structured_solve: each step from BandedStepSolver, no T x T normal matrix.
+  SensitivityFactors factors_;
+  BandedStepSolver banded_;
+  Eigen::VectorXd error_;  // M_ss - D
+  bool banded_now_ = false;
+};
+
+// StageMinimiser on `it` with at most `budget` sensitivities; returns how many it used.
+int MinimiseStage(const JointModelParams& params, std::span<const double> desired,
+                  const OptimalRequestsOptions& options, const Stage& stage, int budget,
+                  Iterate& it) {
+  return StageMinimiser(params, desired, options, stage).Run(budget, it);
 }
 
 void Validate(std::span<const double> desired, const JointModelParams& params,

@@ -141,8 +141,8 @@ void ValidateBreakpoints(const std::vector<int>& breakpoints, int period) {
 
 // P = A p with A's rows the hat-function weights of each tick: A^T A and -A^T D. A row of A has
 // its non-zeros in two adjacent columns (k and k + 1 mod n), so A^T A is summed tick by tick
-// from 2 x 2 pieces, O(T) instead of the dense product's O(T n^2) (in the same order, so the
-// same bits as the product: measured on every shipped config's outputs).
+// from 2 x 2 pieces, O(T) instead of the dense product's O(T n^2), summed in the product's order
+// so that it gives the product's bits (see docs/design/optimal-requests.md).
 PwlFitCache::NormalEquations FormNormalEquations(std::span<const double> desired,
                                                  const PiecewiseLinear& pwl) {
   const int period = pwl.period_ticks;
@@ -239,8 +239,8 @@ Candidate Evaluate(std::span<const double> desired, double v_max, std::vector<in
   return c;
 }
 
-// Evaluate, remembered: the descents from different phases keep meeting the same breakpoints
-// (on the shipped walk most evaluations were repeats), and a fit depends on nothing else.
+// Evaluate, remembered: the descents from different phases keep meeting the same breakpoints,
+// and a fit depends on nothing else (see docs/design/optimal-requests.md).
 class EvaluationMemo {
  public:
   EvaluationMemo(std::span<const double> desired, double v_max, PwlFitCache* cache)

@@ -123,6 +123,149 @@ void Validate(const QuadraticProgram& qp, const SparseRows& a, const Eigen::Vect
   }
 }
 
+// Throws unless `start` satisfies every row of A x <= b to within 1e-9 (1 + |b_i|).
+void RequireFeasible(const SparseRows& a, const Eigen::VectorXd& b, const Eigen::VectorXd& start) {
+  const Eigen::VectorXd violation = a * start - b;
+  for (Index i = 0; i < a.rows(); ++i) {
+    if (violation[i] > 1e-9 * (1.0 + std::abs(b[i]))) {
+      std::ostringstream msg;
+      msg << "the start violates constraint row " << i << " by " << violation[i];
+      Fail(msg.str());
+    }
+  }
+}
+
+// The primal active-set iteration of SolveQuadraticProgram on one program, in the coordinates
+// y = L'x (H = LL'), where the objective is 0.5 |y|^2 + (L^-1 g)'y and row i is
+// (L^-1 a_i)'y <= b_i. Its methods are the iteration's steps.
+class ActiveSetIteration {
+ public:
+  // `a` is the program's A, compressed; `cholesky` H's factor; `start` feasible.
+  ActiveSetIteration(const QuadraticProgram& qp, const SparseRows& a,
+                     const Eigen::LLT<Eigen::MatrixXd>& cholesky, const Eigen::VectorXd& start)
+      : qp_(qp),
+        a_(a),
+        cholesky_(cholesky),
+        n_(qp.hessian.rows()),
+        m_(a.rows()),
+        row_norm_in_y_(static_cast<size_t>(m_), -1.0),
+        x_(start),
+        in_working_(static_cast<size_t>(m_), 0),
+        qr_(n_) {
+    gradient_y_ = ExactGradientY();
+  }
+
+  // What a step towards the minimiser on the working set's subspace did.
+  enum class Move { kNone, kReachedMinimum, kBlocked };
+
+  // Moves towards the subspace minimiser until the first row outside the working set, which
+  // then joins it. kNone (x unchanged) when x already minimises on the subspace.
+  Move StepInSubspace() {
+    const Eigen::VectorXd step_y = qr_.NullSpaceStep(gradient_y_);
+    const double step_norm = step_y.norm();
+    if (step_norm <= kZeroStep * gradient_y_.norm()) return Move::kNone;
+    const Eigen::VectorXd step = cholesky_.matrixU().solve(step_y);
+    const Eigen::VectorXd rate = a_ * step;
+    const Eigen::VectorXd slack = qp_.bounds - a_ * x_;
+    double length = 1.0;
+    Index blocking = -1;
+    for (Index i = 0; i < m_; ++i) {
+      if (in_working_[static_cast<size_t>(i)] || rate[i] <= 0.0) continue;
+      if (rate[i] <= kBlockingRate * NormInY(i) * step_norm) continue;
+      const double room = std::max(0.0, slack[i]) / rate[i];
+      if (room < length) {
+        length = room;
+        blocking = i;
+      }
+    }
+    x_ += length * step;
+    gradient_y_ += length * step_y;
+    if (blocking < 0) return Move::kReachedMinimum;
+    // The step moves along the working set and into the blocking row, so the row is
+    // independent of the working set (kBlockingRate > kDependent).
+    if (!qr_.Append(RowInY(blocking))) {
+      throw std::logic_error("quadratic program: a blocking row was dependent");
+    }
+    working_.push_back(static_cast<int>(blocking));
+    in_working_[static_cast<size_t>(blocking)] = 1;
+    return Move::kBlocked;
+  }
+
+  // At a subspace minimum, with the gradient made exact again: the multipliers of the working
+  // rows, and the position in the working set of the most negative one (times its row's norm),
+  // or -1 when none is below -kNegative times the scale: then x is optimal.
+  Index MostNegativeMultiplier() {
+    gradient_y_ = ExactGradientY();
+    lambda_ = qr_.Multipliers(gradient_y_);
+    double scale = gradient_y_.norm();
+    Index most_negative = -1;
+    double most_negative_value = 0.0;
+    for (Index k = 0; k < qr_.size(); ++k) {
+      const double weighted = lambda_[k] * NormInY(working_[static_cast<size_t>(k)]);
+      scale = std::max(scale, std::abs(weighted));
+      if (weighted < most_negative_value) {
+        most_negative_value = weighted;
+        most_negative = k;
+      }
+    }
+    if (most_negative < 0 || most_negative_value >= -kNegative * scale) return -1;
+    return most_negative;
+  }
+
+  // Drops the working row at position k, which frees a descent direction.
+  void Drop(Index k) {
+    qr_.Remove(k);
+    in_working_[static_cast<size_t>(working_[static_cast<size_t>(k)])] = 0;
+    working_.erase(working_.begin() + k);
+  }
+
+  // The solution at an optimal x, after `iterations` iterations.
+  QpSolution Solution(long iterations) const {
+    QpSolution solution;
+    solution.x = x_;
+    solution.multipliers = Eigen::VectorXd::Zero(m_);
+    for (Index k = 0; k < qr_.size(); ++k) {
+      solution.multipliers[working_[static_cast<size_t>(k)]] = std::max(0.0, lambda_[k]);
+    }
+    solution.active_set = working_;
+    solution.iterations = static_cast<int>(iterations);
+    return solution;
+  }
+
+ private:
+  // Row i of A in y coordinates, L^-1 a_i.
+  Eigen::VectorXd RowInY(Index i) const {
+    Eigen::VectorXd row = Eigen::VectorXd::Zero(n_);
+    for (SparseRows::InnerIterator it(a_, i); it; ++it) row[it.col()] = it.value();
+    return Eigen::VectorXd(cholesky_.matrixL().solve(row));
+  }
+  // |L^-1 a_i|, computed when first needed.
+  double NormInY(Index i) {
+    double& norm = row_norm_in_y_[static_cast<size_t>(i)];
+    if (norm < 0.0) norm = RowInY(i).norm();
+    return norm;
+  }
+  // The objective's gradient in y, L^-1 (H x + g): exact at the start and before every
+  // multiplier test, moved with y in between (a step changes it by the step).
+  Eigen::VectorXd ExactGradientY() const {
+    return Eigen::VectorXd(
+        cholesky_.matrixL().solve(qp_.hessian.selfadjointView<Eigen::Lower>() * x_ + qp_.gradient));
+  }
+
+  const QuadraticProgram& qp_;
+  const SparseRows& a_;
+  const Eigen::LLT<Eigen::MatrixXd>& cholesky_;
+  Index n_;
+  Index m_;
+  std::vector<double> row_norm_in_y_;  // -1 until computed
+  Eigen::VectorXd x_;
+  Eigen::VectorXd gradient_y_;
+  Eigen::VectorXd lambda_;    // the working rows' multipliers at the last test
+  std::vector<int> working_;  // rows, in the order of the factorisation's columns
+  std::vector<char> in_working_;
+  WorkingSetQr qr_;
+};
+
 }  // namespace
 
 QpSolution SolveQuadraticProgram(const QuadraticProgram& qp,
@@ -130,117 +273,27 @@ QpSolution SolveQuadraticProgram(const QuadraticProgram& qp,
   SparseRows a = qp.constraints;
   a.makeCompressed();
   Validate(qp, a, feasible_start);
-  const Index n = qp.hessian.rows();
-  const Index m = a.rows();
-  const Eigen::VectorXd& b = qp.bounds;
-
   const Eigen::LLT<Eigen::MatrixXd> cholesky(qp.hessian);
   if (cholesky.info() != Eigen::Success) Fail("the Hessian must be positive definite");
-  {
-    const Eigen::VectorXd violation = a * feasible_start - b;
-    for (Index i = 0; i < m; ++i) {
-      if (violation[i] > 1e-9 * (1.0 + std::abs(b[i]))) {
-        std::ostringstream msg;
-        msg << "the start violates constraint row " << i << " by " << violation[i];
-        Fail(msg.str());
-      }
-    }
-  }
+  RequireFeasible(a, qp.bounds, feasible_start);
 
-  // In y = L'x the objective is 0.5 |y|^2 + (L^-1 g)'y and row i is (L^-1 a_i)'y <= b_i.
-  auto row_in_y = [&](Index i) {
-    Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
-    for (SparseRows::InnerIterator it(a, i); it; ++it) row[it.col()] = it.value();
-    return Eigen::VectorXd(cholesky.matrixL().solve(row));
-  };
-  std::vector<double> row_norm_in_y(static_cast<size_t>(m), -1.0);  // filled when first needed
-  auto norm_in_y = [&](Index i) {
-    double& norm = row_norm_in_y[static_cast<size_t>(i)];
-    if (norm < 0.0) norm = row_in_y(i).norm();
-    return norm;
-  };
-
-  QpSolution solution;
-  Eigen::VectorXd x = feasible_start;
-  std::vector<int> working;  // rows, in the order of the factorisation's columns
-  std::vector<char> in_working(static_cast<size_t>(m), 0);
-  WorkingSetQr qr(n);
-  // The objective's gradient in y, L^-1 (H x + g): exact here and before every multiplier test,
-  // moved with y in between (a step changes it by the step).
-  auto exact_gradient_y = [&] {
-    return Eigen::VectorXd(
-        cholesky.matrixL().solve(qp.hessian.selfadjointView<Eigen::Lower>() * x + qp.gradient));
-  };
-  Eigen::VectorXd gradient_y = exact_gradient_y();
+  ActiveSetIteration method(qp, a, cholesky, feasible_start);
   bool at_subspace_minimum = false;
-  const long max_iterations = 20 * (static_cast<long>(n) + static_cast<long>(m)) + 100;
+  const long max_iterations =
+      20 * (static_cast<long>(qp.hessian.rows()) + static_cast<long>(a.rows())) + 100;
   for (long iteration = 1; iteration <= max_iterations; ++iteration) {
     if (!at_subspace_minimum) {
-      const Eigen::VectorXd step_y = qr.NullSpaceStep(gradient_y);
-      const double step_norm = step_y.norm();
-      if (step_norm <= kZeroStep * gradient_y.norm()) {
-        at_subspace_minimum = true;
-      } else {
-        // Move towards the subspace minimiser until the first row outside the working set.
-        const Eigen::VectorXd step = cholesky.matrixU().solve(step_y);
-        const Eigen::VectorXd rate = a * step;
-        const Eigen::VectorXd slack = b - a * x;
-        double length = 1.0;
-        Index blocking = -1;
-        for (Index i = 0; i < m; ++i) {
-          if (in_working[static_cast<size_t>(i)] || rate[i] <= 0.0) continue;
-          if (rate[i] <= kBlockingRate * norm_in_y(i) * step_norm) continue;
-          const double room = std::max(0.0, slack[i]) / rate[i];
-          if (room < length) {
-            length = room;
-            blocking = i;
-          }
-        }
-        x += length * step;
-        gradient_y += length * step_y;
-        if (blocking < 0) {
-          at_subspace_minimum = true;
-        } else {
-          // The step moves along the working set and into the blocking row, so the row is
-          // independent of the working set (kBlockingRate > kDependent).
-          if (!qr.Append(row_in_y(blocking))) {
-            throw std::logic_error("quadratic program: a blocking row was dependent");
-          }
-          working.push_back(static_cast<int>(blocking));
-          in_working[static_cast<size_t>(blocking)] = 1;
-        }
+      const ActiveSetIteration::Move move = method.StepInSubspace();
+      if (move != ActiveSetIteration::Move::kNone) {
+        at_subspace_minimum = move == ActiveSetIteration::Move::kReachedMinimum;
         continue;
       }
     }
-
     // x minimises the objective with the working rows as equalities: optimal unless a
-    // multiplier is negative; then drop the most negative row, which frees a descent direction.
-    gradient_y = exact_gradient_y();
-    const Eigen::VectorXd lambda = qr.Multipliers(gradient_y);
-    double scale = gradient_y.norm();
-    Index most_negative = -1;
-    double most_negative_value = 0.0;
-    for (Index k = 0; k < qr.size(); ++k) {
-      const double weighted = lambda[k] * norm_in_y(working[static_cast<size_t>(k)]);
-      scale = std::max(scale, std::abs(weighted));
-      if (weighted < most_negative_value) {
-        most_negative_value = weighted;
-        most_negative = k;
-      }
-    }
-    if (most_negative < 0 || most_negative_value >= -kNegative * scale) {
-      solution.x = x;
-      solution.multipliers = Eigen::VectorXd::Zero(m);
-      for (Index k = 0; k < qr.size(); ++k) {
-        solution.multipliers[working[static_cast<size_t>(k)]] = std::max(0.0, lambda[k]);
-      }
-      solution.active_set = working;
-      solution.iterations = static_cast<int>(iteration);
-      return solution;
-    }
-    qr.Remove(most_negative);
-    in_working[static_cast<size_t>(working[static_cast<size_t>(most_negative)])] = 0;
-    working.erase(working.begin() + most_negative);
+    // multiplier is negative; then drop the most negative row.
+    const Index most_negative = method.MostNegativeMultiplier();
+    if (most_negative < 0) return method.Solution(iteration);
+    method.Drop(most_negative);
     at_subspace_minimum = false;
   }
   throw std::runtime_error("quadratic program: no solution after " +

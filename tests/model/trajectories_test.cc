@@ -72,10 +72,10 @@ TEST(HalfEllipse, SkewShearsTheLocusInTheGroundPlane) {
   EXPECT_THROW(HalfEllipseFootPath(skewed), std::invalid_argument);
 }
 
-// swing_end_speed_fraction 1 (issue 11's slip): the foot leaves and meets the ground at the
-// stance's speed. Checked by finite differences on a finely sampled step (8800 ticks, h =
-// 1 / 4400 of the flight), against the speed the flat bottom runs at (L per unit of the
-// flight's s here): a one-sided difference misses the end speed by at most max|x''| h / 2 =
+// swing_end_speed_fraction 1 (against the foot's slip on the single-leg stand): the foot leaves and
+// meets the ground at the stance's speed. Checked by finite differences on a finely sampled step
+// (8800 ticks, h = 1 / 4400 of the flight), against the speed the flat bottom runs at (L per unit
+// of the flight's s here): a one-sided difference misses the end speed by at most max|x''| h / 2 =
 // (pi^2 L / 2 + 6 L) / 8800 = 1.24e-3 L.
 TEST(HalfEllipse, MatchedSwingLeavesAndMeetsTheGroundAtTheStanceSpeed) {
   HalfEllipseLocus locus;
@@ -159,12 +159,12 @@ TEST(HalfEllipse, MatchedSwingByHand) {
   EXPECT_THROW(HalfEllipseFootPath(zero), std::invalid_argument);
 }
 
-// The slow lift-off (issue 11's slip on the stand) worked by hand on the 88-tick step (44
-// flight ticks, L 40, H 30): a 4 mm ramp over 4 ticks, a = 4 / 44. Flight tick k (k = 0 at
-// lift-off) lies on the line at k mm while the squeezed arc 30 sin(pi (k - 4) / 40) is lower:
-// k = 5: 2.354 < 5, k = 6: 4.693 < 6; from k = 7 (7.003 > 7) the arc. Its top is at k = 24
-// (30 mm), the last flight tick (k = 43) at 30 sin(39 pi / 40) = 2.354 mm; x,
-// y and the stance are the half-ellipse's, and 0 mm is the half-ellipse bit for bit.
+// The slow lift-off (against the foot's slip at lift-off on the single-leg stand) worked by hand on
+// the 88-tick step (44 flight ticks, L 40, H 30): a 4 mm ramp over 4 ticks, a = 4 / 44. Flight tick
+// k (k = 0 at lift-off) lies on the line at k mm while the squeezed arc 30 sin(pi (k - 4) / 40) is
+// lower: k = 5: 2.354 < 5, k = 6: 4.693 < 6; from k = 7 (7.003 > 7) the arc. Its top is at k = 24
+// (30 mm), the last flight tick (k = 43) at 30 sin(39 pi / 40) = 2.354 mm; x, y and the stance are
+// the half-ellipse's, and 0 mm is the half-ellipse bit for bit.
 TEST(HalfEllipse, SlowLiftOffByHand) {
   HalfEllipseLocus plain;
   plain.length_mm = 40.0;

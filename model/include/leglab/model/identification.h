@@ -15,8 +15,8 @@ struct JointRecording {
   /// The weight of this recording's squared errors in IdentifyJointModel's objective (finite,
   /// > 0). E.g. K for one cycle averaged over K recorded cycles of a periodic run (synchronous
   /// averaging): sum_k sum_t (m_k(t) - M(t))^2 = K sum_t (mean_k m(t) - M(t))^2 + a constant
-  /// when the prediction M is the same every cycle. 1 (the default) leaves the fit's bits as
-  /// they were without it.
+  /// when the prediction M is the same every cycle. 1 (the default): the unweighted fit, bit for
+  /// bit (w * v == v).
   double weight = 1.0;
 };
 
@@ -87,9 +87,7 @@ PredictionSensitivities PredictRecordingSensitivities(const JointModelParams& pa
 /// (v_max >= 2 theta_0, see SettlesOnEveryCycle): a model with no cyclic steady state, which the
 /// optimal and ILC modes cannot use. Bounded so, every step of eq. 3 on f's linear piece
 /// contracts by at least |1 - 1.9| = 0.9 and every fitted model settles under every request
-/// cycle. Measured: on 192 plants (servo delay 16-80 ms, top speed 150-500 deg/s, gain 30-150
-/// per s, damping 0.3-3) 21 gave such a fit before the bound, from v_max 2.07 to 4.2 theta_0; no
-/// fit of a shipped config comes near it (at most 1.15, a walk fit).
+/// cycle. Shipped configs' fits stay well inside it; see docs/design/identification.md.
 inline constexpr double kMaxFittedSpeedRatio = 1.9;
 
 /// Fits {v_max, theta_0, l, a} to the recordings by minimising the model's open-loop
@@ -98,15 +96,14 @@ inline constexpr double kMaxFittedSpeedRatio = 1.9;
 /// Levenberg-Marquardt on the exact Jacobian (PredictionSensitivities) from two starts each,
 /// in two rounds: every candidate to a loose tolerance, then, best first, on to the full one
 /// only until the fourth best finished is 5 % below the next candidate's screened error (a
-/// screen, not a proof: measured to keep the same four as fitting every candidate in full on
-/// 18 identifications; see identification.cc). The best four (l, a) are then refitted together with
-/// the angle each recording's prediction starts from (a nuisance parameter: started from one noisy
-/// sample, as PredictRecording does, a prediction at top speed never recovers from that sample's
-/// error), by Levenberg-Marquardt and then a short Nelder-Mead polish: the optimum usually sits on
-/// a kink of f, where no derivative-based step makes progress. Within v_max <=
-/// kMaxFittedSpeedRatio theta_0 throughout. Deterministic. Throws
-/// std::invalid_argument on empty or mismatched recordings, non-finite samples, bad ranges, or
-/// recordings too short to score.
+/// screen, not a proof; see docs/design/identification.md). The best four (l, a) are then
+/// refitted together with the angle each recording's prediction starts from (a nuisance
+/// parameter: started from one noisy sample, as PredictRecording does, a prediction at top speed
+/// never recovers from that sample's error), by Levenberg-Marquardt and then a short Nelder-Mead
+/// polish (LevenbergMarquardt, NelderMead): the optimum usually sits on a kink of f, where no
+/// derivative-based step makes progress. Within v_max <= kMaxFittedSpeedRatio theta_0
+/// throughout. Deterministic. Throws std::invalid_argument on empty or mismatched recordings,
+/// non-finite samples, bad ranges, or recordings too short to score.
 IdentificationResult IdentifyJointModel(std::span<const JointRecording> recordings,
                                         const IdentificationOptions& options = {});
 

@@ -14,8 +14,7 @@ struct OptimalRequestsOptions {
   /// The joint limits, deg: every request stays in [lower_deg, upper_deg].
   double lower_deg = -std::numeric_limits<double>::infinity();
   double upper_deg = std::numeric_limits<double>::infinity();
-  /// Sensitivity evaluations (Gauss-Newton linearisations) at most, over all stages. An
-  /// 88-tick walking cycle takes 35-170.
+  /// Sensitivity evaluations (Gauss-Newton linearisations) at most, over all stages (>= 1).
   int max_iterations = 200;
   /// The exact stage stops when a step lowers the RMS error by less than this, deg, or when
   /// the Gauss-Newton model of the step promises less. (The smoothed stages, which only warm
@@ -91,11 +90,8 @@ struct OptimalRequests {
 ///    also keeps every request within the range where it acts at the current trajectory
 ///    (widened by s), so that no step throws one deep into saturation; the smoothed f keeps a
 ///    small slope there, so a request near the edge keeps a small effect.
-/// Measured on the paper's model (Table 1): on 10 small cycles (T = 4-5, the tests' brute
-/// force) exact LM alone misses the exhaustive optimum in 3-6 of them, by up to 1 deg, while
-/// this method reaches all 10 within 1e-6 deg; on 16 walking-like cycles (T = 88, up to 3
-/// v_max) it beats the model-based requests from them by 0.085 deg RMS on average and, unlike
-/// the variants without the edge moves, also from R = D; one call takes 5-70 ms.
+/// Both features are needed to reach the exhaustive optimum of small cycles; see
+/// docs/design/optimal-requests.md.
 ///
 /// Throws std::invalid_argument on bad parameters, an empty or non-finite D or start, sizes
 /// that differ, lower_deg > upper_deg, max_iterations < 1, or a negative tolerance or
@@ -123,7 +119,7 @@ Eigen::MatrixXd SteadyStateSensitivity(const JointModelParams& params,
 /// S^T W S for S = SteadyStateSensitivity(params, requests_deg) and W = diag(row_weights)
 /// (empty: the identity): the Gauss-Newton matrix OptimizeRequests factors at every
 /// linearisation, computed from the recursion that defines S in O(T^2 a) operations instead of
-/// the product's O(T^3) (see the derivation at PeriodicModel::Sensitivity in
+/// the product's O(T^3) (see the derivation at PeriodicModel::NormalMatrix in
 /// optimal_requests.cc). Equal to the product up to rounding.
 /// Throws as SteadyStateSensitivity, and std::invalid_argument when row_weights is neither
 /// empty nor of the cycle's size, or not finite and >= 0.
