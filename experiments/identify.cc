@@ -12,8 +12,8 @@ int main(int argc, char** argv) {
   using namespace leglab::experiments;
   // identify reads the plant's keys and its own; a track key given to it is an error.
   const ConfigScope scope{"identify",
-                          {"extends", "robot", "urdf", "plant", "plant_model", "sim", "servo", "sensor",
-                           "seed", "identify", "stand"}};
+                          {"extends", "robot", "urdf", "plant", "plant_model", "sim", "servo",
+                           "sensor", "seed", "identify", "stand"}};
   return RunProgram("identify", "Table 1: identify the joint model from step responses", scope,
                     argc, argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, {"table1.", "step_"});

@@ -62,9 +62,7 @@ int Run(int argc, char** argv) {
       throw CLI::ValidationError("--config and --out", "are required (or use `sweep merge`)");
     }
   } catch (const CLI::Success& e) {
-    return app.exit(e);  // --list-keys printed the keys
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return app.exit(e);  // --help, or --list-keys printed the keys
   } catch (const CLI::ParseError& e) {
     std::cerr << "sweep: error: " << e.what() << " (see --help)\n";
     return 2;

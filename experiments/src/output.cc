@@ -15,6 +15,7 @@
 #include <system_error>
 #include <thread>
 
+#include "leglab/core/format.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/progress.h"
 
@@ -235,11 +236,7 @@ void WriteTextFile(const fs::path& path, const std::string& text) {
   if (!out) throw OutputError("cannot write " + path.string());
 }
 
-std::string FormatDouble(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
+std::string FormatDouble(double value) { return FormatNumber(value); }
 
 CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& columns, bool append)
     : path_(path), columns_(columns.size()) {
@@ -266,9 +263,7 @@ void CsvWriter::Separator() {
 
 CsvWriter& CsvWriter::Cell(double value) {
   Separator();
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  pending_.append(buffer, result.ptr);
+  AppendNumber(pending_, value);
   return *this;
 }
 

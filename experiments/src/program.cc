@@ -45,9 +45,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);  // --list-keys printed the keys
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return app.exit(e);  // --help, or --list-keys printed the keys
   } catch (const CLI::ParseError& e) {
     std::cerr << program << ": error: " << e.what() << " (see --help)\n";
     return 2;

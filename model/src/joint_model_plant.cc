@@ -45,26 +45,26 @@ void JointModelPlant::Reset(const LegAngles& pose_deg) {
 }
 
 void SetPlantModelSetting(JointModelParams& params, std::string_view key, double value) {
-  const std::string name(key);
-  const bool whole = std::isfinite(value) && value == std::round(value) && std::abs(value) < 1e6;
-  if (key == "plant_model.v_max_deg_per_tick") {
-    params.v_max_deg_per_tick = value;
-  } else if (key == "plant_model.theta0_deg") {
-    params.theta0_deg = value;
-  } else if ((key == "plant_model.lag_ticks" || key == "plant_model.accel_ticks") && !whole) {
-    throw std::invalid_argument(name + " must be a whole number, got " + std::to_string(value));
-  } else if (key == "plant_model.lag_ticks") {
-    params.lag_ticks = static_cast<int>(value);
-  } else if (key == "plant_model.accel_ticks") {
-    params.accel_ticks = static_cast<int>(value);
-  } else {
-    throw std::invalid_argument(name +
-                                " cannot change on the model plant (can: "
-                                "plant_model.v_max_deg_per_tick, plant_model.theta0_deg, "
-                                "plant_model.lag_ticks, plant_model.accel_ticks)");
+  constexpr std::string_view kSection = "plant_model.";
+  KeyAssigner assigner(std::string(key.substr(std::min(key.size(), kSection.size()))), value);
+  if (key.starts_with(kSection)) {
+    try {
+      VisitKeys(assigner, params);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(kSection) + e.what());
+    }
+  }
+  if (!assigner.assigned()) {
+    std::string valid;
+    for (const KeyRow& row :
+         ListKeys(JointModelParams{}, [](KeyVisitor&v, JointModelParams&p) { VisitKeys(v, p); })) {
+      valid += (valid.empty() ? "" : ", ") + std::string(kSection) + row.key;
+    }
+    throw std::invalid_argument(std::string(key) +
+                                " cannot change on the model plant (can: " + valid + ")");
   }
   if (const std::string problem = JointModelParamsProblem(params); !problem.empty()) {
-    throw std::invalid_argument("plant_model." + problem);
+    throw std::invalid_argument(std::string(kSection) + problem);
   }
 }
 

@@ -37,6 +37,98 @@ std::string_view DividesTick(double ms) {
                                       : "> 0 and divide the 8 ms tick into a whole number of steps";
 }
 
+// The servo firmware's keys (servo.*).
+void VisitServoKeys(KeyVisitor& v, ServoConfig& s) {
+  v.Key("delay_ms", s.delay_ms,
+        {.min = 0,
+         .max = 400,
+         .unit = "ms",
+         .description = "how long the firmware holds a request back; a multiple of 8 ms, up "
+                        "to 50 ticks (beyond the identification's lag range)",
+         .rule = WholeFrames});
+  v.Key("max_speed_deg_s", s.max_speed_deg_s,
+        {.min = 30,
+         .max = 3600,
+         .unit = "deg/s",
+         .description = "top joint speed, from 0.24 deg a tick to 10 turns a second"});
+  v.Key("gain_per_s", s.gain_per_s,
+        {.min = 1,
+         .max = 1000,
+         .unit = "1/s",
+         .description = "the speed law's gain: commanded speed = gain (target - angle) - "
+                        "damping rate, capped at the top speed"});
+  v.Key("damping", s.damping,
+        {.min = 0,
+         .max = 10,
+         .description = "the speed law's velocity feedback (the D of the PD loop); beyond 10 "
+                        "the joint stalls far from its target"});
+  v.Key("smoothing_ms", s.smoothing_ms,
+        {.min = 0,
+         .max = 400,
+         .unit = "ms",
+         .description = "moving average of the commanded speed (the motor cannot change speed "
+                        "at once); a multiple of 8 ms, 0 or 8: none",
+         .rule = WholeFrames});
+  v.Key("max_torque_nm", s.max_torque_nm,
+        {.min = 0.1,
+         .max = 100,
+         .unit = "N m",
+         .description = "most torque the motor may use; capped per joint by the URDF's effort "
+                        "limit"});
+}
+
+// The test stand's keys (stand.*).
+void VisitStandKeys(KeyVisitor& v, StandConfig& s) {
+  v.Key("load_kg", s.load_kg,
+        {.min = 0,
+         .max = 10,
+         .min_open = true,
+         .unit = "kg",
+         .description = "mass the carriage carries besides the leg (a quarter of an ERS-210A); "
+                        "a stand: section builds the single-leg test stand"});
+  v.Key("stop_below_shoulder_mm", s.stop_below_shoulder_mm,
+        {.min = 0,
+         .max = 50,
+         .unit = "mm",
+         .description = "how far below its walking height the rail's lower stop holds the "
+                        "shoulder"});
+  v.Key(
+      "friction", s.friction,
+      {.min = 0, .max = 5, .description = "Coulomb coefficient of foot on floor; 0 frictionless"});
+  v.Key("contact_stiffness_n_per_m", s.contact_stiffness_n_per_m,
+        {.min = 100,
+         .max = 1e6,
+         .unit = "N/m",
+         .description = "foot-floor contact stiffness k, from a sponge to a hard floor (ERP = "
+                        "h k / (h k + c), CFM = 1 / (h k + c))"});
+  v.Key("contact_damping_n_s_per_m", s.contact_damping_n_s_per_m,
+        {.min = 0, .max = 1000, .unit = "N s/m", .description = "foot-floor contact damping c"});
+  v.Key("foot_radius_mm", s.foot_radius_mm,
+        {.min = 0,
+         .max = 50,
+         .min_open = true,
+         .unit = "mm",
+         .description = "radius of the contact sphere at the foot (the ball of the foot)"});
+  s.belt_follows_walk = !v.Given("belt_speed_mm_per_s");
+  v.Key("belt_speed_mm_per_s", s.belt_speed_mm_per_s,
+        {.min = -2000,
+         .max = 2000,
+         .unit = "mm/s",
+         .description = "the treadmill's speed backward; not given: the walk's stance speed, "
+                        "length_mm / (ground_fraction x t_step x 8 ms)"});
+  v.Key("sled_stiffness_n_per_m", s.sled_stiffness_n_per_m,
+        {.min = 0,
+         .max = 1e5,
+         .unit = "N/m",
+         .description = "the spring of the horizontal sled under the rail; 0: no sled, the "
+                        "rigid rail (track_stand.yaml ships 200)"});
+  v.Key("sled_damping_n_s_per_m", s.sled_damping_n_s_per_m,
+        {.min = 0,
+         .max = 1000,
+         .unit = "N s/m",
+         .description = "the sled's damper (track_stand.yaml ships 16)"});
+}
+
 }  // namespace
 
 void VisitKeys(KeyVisitor& v, SimConfig& config) {
@@ -51,45 +143,7 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
                           "minutes for nothing ODE needs)",
            .rule = DividesTick});
   });
-  v.Section("servo", [&] {
-    ServoConfig& s = config.servo;
-    v.Key("delay_ms", s.delay_ms,
-          {.min = 0,
-           .max = 400,
-           .unit = "ms",
-           .description = "how long the firmware holds a request back; a multiple of 8 ms, up "
-                          "to 50 ticks (beyond the identification's lag range)",
-           .rule = WholeFrames});
-    v.Key("max_speed_deg_s", s.max_speed_deg_s,
-          {.min = 30,
-           .max = 3600,
-           .unit = "deg/s",
-           .description = "top joint speed, from 0.24 deg a tick to 10 turns a second"});
-    v.Key("gain_per_s", s.gain_per_s,
-          {.min = 1,
-           .max = 1000,
-           .unit = "1/s",
-           .description = "the speed law's gain: commanded speed = gain (target - angle) - "
-                          "damping rate, capped at the top speed"});
-    v.Key("damping", s.damping,
-          {.min = 0,
-           .max = 10,
-           .description = "the speed law's velocity feedback (the D of the PD loop); beyond 10 "
-                          "the joint stalls far from its target"});
-    v.Key("smoothing_ms", s.smoothing_ms,
-          {.min = 0,
-           .max = 400,
-           .unit = "ms",
-           .description = "moving average of the commanded speed (the motor cannot change speed "
-                          "at once); a multiple of 8 ms, 0 or 8: none",
-           .rule = WholeFrames});
-    v.Key("max_torque_nm", s.max_torque_nm,
-          {.min = 0.1,
-           .max = 100,
-           .unit = "N m",
-           .description = "most torque the motor may use; capped per joint by the URDF's effort "
-                          "limit"});
-  });
+  v.Section("servo", [&] { VisitServoKeys(v, config.servo); });
   v.Section("sensor", [&] {
     v.Key("noise_deg", config.sensor.noise_deg,
           {.min = 0,
@@ -99,58 +153,7 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
                           "times the Aibo's at most: beyond it the fit of l and a is noise)"});
   });
   config.stand.enabled = v.Given("stand");
-  v.Section("stand", [&] {
-    StandConfig& s = config.stand;
-    v.Key("load_kg", s.load_kg,
-          {.min = 0,
-           .max = 10,
-           .min_open = true,
-           .unit = "kg",
-           .description = "mass the carriage carries besides the leg (a quarter of an ERS-210A); "
-                          "a stand: section builds the single-leg test stand"});
-    v.Key("stop_below_shoulder_mm", s.stop_below_shoulder_mm,
-          {.min = 0,
-           .max = 50,
-           .unit = "mm",
-           .description = "how far below its walking height the rail's lower stop holds the "
-                          "shoulder"});
-    v.Key("friction", s.friction,
-          {.min = 0,
-           .max = 5,
-           .description = "Coulomb coefficient of foot on floor; 0 frictionless"});
-    v.Key("contact_stiffness_n_per_m", s.contact_stiffness_n_per_m,
-          {.min = 100,
-           .max = 1e6,
-           .unit = "N/m",
-           .description = "foot-floor contact stiffness k, from a sponge to a hard floor (ERP = "
-                          "h k / (h k + c), CFM = 1 / (h k + c))"});
-    v.Key("contact_damping_n_s_per_m", s.contact_damping_n_s_per_m,
-          {.min = 0, .max = 1000, .unit = "N s/m", .description = "foot-floor contact damping c"});
-    v.Key("foot_radius_mm", s.foot_radius_mm,
-          {.min = 0,
-           .max = 50,
-           .min_open = true,
-           .unit = "mm",
-           .description = "radius of the contact sphere at the foot (the ball of the foot)"});
-    s.belt_follows_walk = !v.Given("belt_speed_mm_per_s");
-    v.Key("belt_speed_mm_per_s", s.belt_speed_mm_per_s,
-          {.min = -2000,
-           .max = 2000,
-           .unit = "mm/s",
-           .description = "the treadmill's speed backward; not given: the walk's stance speed, "
-                          "length_mm / (ground_fraction x t_step x 8 ms)"});
-    v.Key("sled_stiffness_n_per_m", s.sled_stiffness_n_per_m,
-          {.min = 0,
-           .max = 1e5,
-           .unit = "N/m",
-           .description = "the spring of the horizontal sled under the rail; 0: no sled, the "
-                          "rigid rail (track_stand.yaml ships 200)"});
-    v.Key("sled_damping_n_s_per_m", s.sled_damping_n_s_per_m,
-          {.min = 0,
-           .max = 1000,
-           .unit = "N s/m",
-           .description = "the sled's damper (track_stand.yaml ships 16)"});
-  });
+  v.Section("stand", [&] { VisitStandKeys(v, config.stand); });
   v.Key("seed", config.seed,
         {.min = 0,
          .max = 9.2e18,
@@ -219,21 +222,32 @@ void ValidateSimConfig(const SimConfig& config) {
   }
 }
 
-void SetSimSetting(SimConfig& config, std::string_view key, double value) {
-  double* const fields[] = {&config.servo.delay_ms,     &config.servo.max_speed_deg_s,
-                            &config.servo.gain_per_s,   &config.servo.damping,
-                            &config.servo.smoothing_ms, &config.servo.max_torque_nm,
-                            &config.sensor.noise_deg};
-  static_assert(std::size(fields) == kChangeableSimSettings.size());
-  for (size_t i = 0; i < kChangeableSimSettings.size(); ++i) {
-    if (kChangeableSimSettings[i] == key) {
-      *fields[i] = value;
-      return;
-    }
+namespace {
+
+// The servo firmware and the sensor change while the leg runs; the physics and the stand are
+// built once.
+bool IsChangeable(std::string_view key) {
+  return key.starts_with("servo.") || key.starts_with("sensor.");
+}
+
+}  // namespace
+
+std::vector<std::string> ChangeableSimSettings() {
+  std::vector<std::string> names;
+  for (const KeyRow& row :
+       ListKeys(SimConfig{}, [](KeyVisitor&v, SimConfig&c) { VisitKeys(v, c); })) {
+    if (IsChangeable(row.key)) names.push_back(row.key);
   }
+  return names;
+}
+
+void SetSimSetting(SimConfig& config, std::string_view key, double value) {
+  KeyAssigner assigner(std::string(key), value);
+  if (IsChangeable(key)) VisitKeys(assigner, config);
+  if (assigner.assigned()) return;
   std::string valid;
-  for (std::string_view name : kChangeableSimSettings) {
-    valid += (valid.empty() ? "" : ", ") + std::string(name);
+  for (const std::string& name : ChangeableSimSettings()) {
+    valid += (valid.empty() ? "" : ", ") + name;
   }
   throw std::invalid_argument(std::string(key) + " cannot change during a run (can: " + valid +
                               ")");

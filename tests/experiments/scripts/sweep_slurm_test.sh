@@ -2,7 +2,8 @@
 # scripts/sweep-slurm.sh against a stand-in for sbatch that runs each job at once, in order:
 # the array's tasks (with SLURM_ARRAY_TASK_ID set), then the merge. Checks that the merged
 # sweep.csv is byte for byte the unsharded one, that a lost shard is named with the sbatch
-# line that reruns it, and that the README's GNU parallel line gives the same bytes. Usage: sweep_slurm_test.sh SOURCE_DIR SWEEP_BIN WORK_DIR
+# line that reruns it, and that docs/design/sweeps.md's GNU parallel line gives the same bytes.
+# Usage: sweep_slurm_test.sh SOURCE_DIR SWEEP_BIN WORK_DIR
 set -euo pipefail
 source_dir=$1 sweep_bin=$2 work=$3
 rm -rf "$work" && mkdir -p "$work/bin"
@@ -62,7 +63,7 @@ test -n "$rerun"
 (cd "$work" && PATH="$work/bin:$PATH" $rerun)
 (cd "$work" && "$sweep_bin" merge sharded --out sharded --config sweep.yaml 2>/dev/null)
 cmp "$work/whole/sweep.csv" "$work/sharded/sweep.csv"
-# The README's GNU parallel line: four shards on this machine, then the merge.
+# docs/design/sweeps.md's GNU parallel line: four shards on this machine, then the merge.
 (cd "$work" && parallel --will-cite build/bin/sweep --quiet --config sweep.yaml --out gnu \
   --shard {}/4 ::: 0 1 2 3 && build/bin/sweep merge gnu --out gnu 2>/dev/null)
 cmp "$work/whole/sweep.csv" "$work/gnu/sweep.csv"

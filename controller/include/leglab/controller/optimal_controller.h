@@ -33,7 +33,7 @@ namespace leglab {
 /// foot error never rises above the joint optimum's; with it the requests need not chatter: the
 /// model follows a corner of the desired cycle exactly only with requests that swing at its
 /// averaging period a ever after (eq. 3's moving average of a terms inverted), which a servo
-/// unlike the model turns into error (the README's untuned triangle).
+/// unlike the model turns into error (docs/results.md, "The slow triangle").
 ///
 /// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
 /// models, identified from the step tests (or given); `walk` under models fitted to the walk
@@ -67,7 +67,7 @@ class OptimalController final : public JointController {
   /// per-joint solve (re-linearised at the next sweep), and ILC's start (ILC's own per-step
   /// solves stop at ilc.solver_tolerance_deg, 1e-4 by default, for the same reason). Solving
   /// these to OptimizeRequests' 1e-9 took 3-4 times the iterations and moved the shipped
-  /// results by less than their spread over seeds (the README's "What a run costs").
+  /// results by less than their spread over seeds (docs/design/optimal-requests.md).
   static constexpr double kStartToleranceDeg = 1e-4;
   /// Its keys, declared once (see KeyVisitor).
   static void VisitKeys(KeyVisitor& visitor, Spec& spec);

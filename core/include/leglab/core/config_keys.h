@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -38,10 +39,15 @@ inline std::string RangeText(const KeyDoc& doc, bool with_unit = true) {
       doc.max == std::numeric_limits<double>::infinity()) {
     return "";
   }
-  std::string text = std::string(doc.min_open ? "(" : "[") +
-                     FormatNumber(doc.min, NumberStyle::kReadable) + ", " +
-                     FormatNumber(doc.max, NumberStyle::kReadable) + (doc.max_open ? ")" : "]");
-  if (with_unit && !doc.unit.empty()) text += " " + std::string(doc.unit);
+  std::string text(doc.min_open ? "(" : "[");
+  text += FormatNumber(doc.min, NumberStyle::kReadable);
+  text += ", ";
+  text += FormatNumber(doc.max, NumberStyle::kReadable);
+  text += doc.max_open ? ")" : "]";
+  if (with_unit && !doc.unit.empty()) {
+    text += ' ';
+    text += doc.unit;
+  }
   return text;
 }
 
@@ -257,6 +263,66 @@ class KeyChecker final : public KeyVisitor {
       Fail(name, problem + ", got " + FormatNumber(value, NumberStyle::kReadable));
     }
   }
+  std::string prefix_;
+  std::vector<size_t> sections_;
+};
+
+/// Sets one numeric key of a struct, found through its declaration: a running plant's
+/// settings named as the config names them ("servo.delay_ms"), unchecked beyond the type (the
+/// owner validates the result). assigned() tells whether the declaration has such a key.
+class KeyAssigner final : public KeyVisitor {
+ public:
+  /// `name` is dotted from the visited struct's own keys, `value` in the key's unit.
+  KeyAssigner(std::string name, double value) : target_(std::move(name)), value_(value) {}
+  bool assigned() const { return assigned_; }
+
+  void Key(std::string_view name, int& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = static_cast<int>(Whole(name));
+  }
+  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = static_cast<std::uint64_t>(Whole(name));
+  }
+  void Key(std::string_view name, double& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = value_;
+  }
+  void Key(std::string_view, bool&, const KeyDoc&) override {}
+  void Key(std::string_view, std::string&, const KeyDoc&) override {}
+  void Key(std::string_view, std::vector<double>&, const KeyDoc&) override {}
+  void Key(std::string_view, std::vector<int>&, const KeyDoc&) override {}
+  void Structured(std::string_view, std::string_view, std::string_view, const KeyDoc&) override {}
+  bool Given(std::string_view /*name*/) const override { return false; }
+  [[noreturn]] void Fail(std::string_view name, const std::string& expectation) override {
+    throw std::invalid_argument(FullName(name) + " must be " + expectation);
+  }
+  std::string FullName(std::string_view name) const override { return prefix_ + std::string(name); }
+
+ protected:
+  void Choice(std::string_view, int&, std::span<const std::string_view>, const KeyDoc&) override {}
+  void Enter(std::string_view name) override {
+    sections_.push_back(prefix_.size());
+    prefix_ += std::string(name) + ".";
+  }
+  void Leave() override {
+    prefix_.resize(sections_.back());
+    sections_.pop_back();
+  }
+
+ private:
+  bool Matches(std::string_view name) {
+    if (FullName(name) != target_) return false;
+    assigned_ = true;
+    return true;
+  }
+  // The value of an integer key: a whole number within an int's range.
+  double Whole(std::string_view name) {
+    if (!(std::isfinite(value_) && value_ == std::round(value_) && std::abs(value_) <= 2e9)) {
+      Fail(name, "a whole number, got " + FormatNumber(value_, NumberStyle::kReadable));
+    }
+    return value_;
+  }
+  std::string target_;
+  double value_;
+  bool assigned_ = false;
   std::string prefix_;
   std::vector<size_t> sections_;
 };

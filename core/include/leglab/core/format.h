@@ -16,14 +16,22 @@ enum class NumberStyle {
   kReadable,
 };
 
+/// Appends FormatNumber(value) (kShortest) to `out`, with no temporary string: for writers
+/// of many numbers (a run's trace).
+inline void AppendNumber(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
 /// `value` as text in `style`; "nan", "inf" and "-inf" for the non-finite values.
 inline std::string FormatNumber(double value, NumberStyle style = NumberStyle::kShortest) {
   if (style == NumberStyle::kReadable && value == std::round(value) && std::abs(value) < 1e15) {
     return std::to_string(static_cast<long long>(value));
   }
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return {buffer, result.ptr};
+  std::string text;
+  AppendNumber(text, value);
+  return text;
 }
 
 /// `value` to `significant_digits` significant digits (printf's %g without trailing zeros),

@@ -100,7 +100,7 @@ class CsvWriter {
   size_t in_row_ = 0;
 };
 
-/// Shortest round-trip text of a double.
+/// Shortest round-trip text of a double (FormatNumber, kShortest).
 std::string FormatDouble(double value);
 
 }  // namespace leglab::experiments

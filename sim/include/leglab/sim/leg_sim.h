@@ -76,7 +76,7 @@ class LegSim final : public leglab::Plant {
   /// Plant: "sim".
   std::string_view name() const override { return "sim"; }
 
-  /// Plant: changes any of kChangeableSimSettings (robot.yaml's servo.* and sensor.* values)
+  /// Plant: changes any of ChangeableSimSettings() (robot.yaml's servo.* and sensor.* values)
   /// from the next tick on, without restarting the physics: the links keep moving, the
   /// servos keep their queued requests (JointServo::Reconfigure) and the sensor its stream of
   /// draws. Throws std::invalid_argument naming the key for another key or a value

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "leglab/core/config_keys.h"
 #include "leglab/core/leg.h"
@@ -122,12 +123,11 @@ void VisitKeys(KeyVisitor& visitor, SimConfig& config);
 /// "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
 void ValidateSimConfig(const SimConfig& config);
 
-/// The settings a running LegSim can change (LegSim::ChangeSettings), named as in robot.yaml.
-inline constexpr std::array<std::string_view, 7> kChangeableSimSettings = {
-    "servo.delay_ms",     "servo.max_speed_deg_s", "servo.gain_per_s", "servo.damping",
-    "servo.smoothing_ms", "servo.max_torque_nm",   "sensor.noise_deg"};
+/// The settings a running LegSim can change (LegSim::ChangeSettings): the `servo.*` and
+/// `sensor.*` keys, named as in robot.yaml, in their declaration's order.
+std::vector<std::string> ChangeableSimSettings();
 
-/// Sets the value of `key` (one of kChangeableSimSettings) in `config`, unvalidated.
+/// Sets the value of `key` (one of ChangeableSimSettings()) in `config`, unvalidated.
 /// Throws std::invalid_argument "<key> cannot change during a run (can: ...)" for any other
 /// key.
 void SetSimSetting(SimConfig& config, std::string_view key, double value);
