@@ -100,17 +100,19 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
 
 void VisitModelSourceKey(KeyVisitor& v, ModelSource& source) {
   v.Key("model", source, kModelSourceNames,
-        {.description = "the models it inverts: step_tests (identified, or given) or walk (each "
-                        "joint's fitted to the plant's response to the paper's requests on the "
-                        "walk, pooled with the step tests)"});
+        {.description = "the models it inverts: step_tests (identified, or given; the default, "
+                        "the paper's model) or walk (each joint's fitted to the plant's response "
+                        "to the paper's requests on the walk, pooled with the step tests; "
+                        "track.yaml ships it for optimal)"});
 }
 
 void VisitObjectiveKeys(KeyVisitor& v, Objective& objective, double& joint_weight,
                         double& request_smoothing) {
   v.Key("objective", objective, kObjectiveNames,
-        {.description = "what it minimises under the model: joint (each joint's RMS error, the "
-                        "code's default) or foot (the foot's distance from its path, what "
-                        "track.yaml ships)"});
+        {.description = "what it minimises under the model: joint (each joint's RMS error, as "
+                        "the paper scores a joint; the default, which needs no geometry) or foot "
+                        "(the foot's distance from its path, what the experiments score; "
+                        "track.yaml ships it)"});
   v.Key("joint_weight", joint_weight,
         {.min = 0,
          .max = 100,
@@ -120,8 +122,9 @@ void VisitObjectiveKeys(KeyVisitor& v, Objective& objective, double& joint_weigh
         {.min = 0,
          .max = 1e6,
          .description = "move suppression on the request cycle's second difference, relative to "
-                        "the objective's mean weight; 0: none (track.yaml ships 0.3 for optimal, "
-                        "track_stand.yaml 10 for both)"});
+                        "the objective's mean weight; 0 (the default): none, the exact optimum "
+                        "under the model; track.yaml ships 0.3 for optimal, track_stand.yaml 10 "
+                        "for both (docs/design/request-smoothing.md)"});
 }
 
 void RequireSettlingModels(const ControllerContext& context, std::string_view mode) {

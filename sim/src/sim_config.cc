@@ -121,7 +121,8 @@ void VisitStandKeys(KeyVisitor& v, StandConfig& s) {
          .max = 1e5,
          .unit = "N/m",
          .description = "the spring of the horizontal sled under the rail; 0: no sled, the "
-                        "rigid rail (track_stand.yaml ships 200)"});
+                        "rigid rail, the default, as a stand is built without one "
+                        "(track_stand.yaml ships 200)"});
   v.Key("sled_damping_n_s_per_m", s.sled_damping_n_s_per_m,
         {.min = 0,
          .max = 1000,
