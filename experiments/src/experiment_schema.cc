@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <map>
 
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/data_dir.h"
@@ -16,9 +15,6 @@ namespace leglab::experiments {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr std::array<std::string_view, 2> kPlantNames = {"sim", "model"};
-constexpr std::array<std::string_view, 3> kShiftSearchNames = {"false", "true", "exhaustive"};
 
 // The step test's keys and their checks.
 void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
@@ -265,6 +261,8 @@ YAML::Node MergedConfig(const std::string& config_path, const std::vector<std::s
                         ExperimentConfig& config) {
   YAML::Node experiment = LoadWithBase(config_path, "config file");
   for (const std::string& o : overrides) ApplyOverride(experiment, o);
+  // A file names its base; an override cannot (the files are merged by now).
+  if (experiment["extends"]) throw UnknownKeyError("config: unknown key 'extends' in --set");
   std::string robot = "ers210a";
   if (experiment["robot"]) {
     try {
@@ -291,14 +289,16 @@ YAML::Node MergedConfig(const std::string& config_path, const std::vector<std::s
 std::string FirstKeyPath(const std::string& prefix, const YAML::Node& node) {
   if (!node.IsMap() || node.size() == 0) return prefix;
   const auto first = node.begin();
-  return FirstKeyPath(prefix + "." + first->first.as<std::string>(), first->second);
+  return FirstKeyPath(prefix + "." + KeyText(first->first), first->second);
 }
+
+const std::vector<KeyRow>& AllExperimentKeys();
 
 // A key some other program uses, given to this one: say so rather than ignore it.
 void CheckScope(const YAML::Node& merged, const ConfigScope& scope) {
-  const std::vector<KeyRow>& all = ExperimentKeys({});
+  const std::vector<KeyRow>& all = AllExperimentKeys();
   for (const auto& item : merged) {
-    const std::string key = item.first.as<std::string>();
+    const std::string key = KeyText(item.first);
     const bool known = std::any_of(all.begin(), all.end(), [&](const KeyRow& row) {
       return row.key == key || row.key.starts_with(key + ".");
     });
@@ -529,7 +529,10 @@ bool InScope(const ConfigScope& scope, const std::string& section) {
          std::find(scope.sections.begin(), scope.sections.end(), section) != scope.sections.end();
 }
 
-const std::vector<KeyRow>& ExperimentKeys(const ConfigScope& scope) {
+namespace {
+
+// Every experiment key, listed once with the code's defaults.
+const std::vector<KeyRow>& AllExperimentKeys() {
   static const std::vector<KeyRow> all = [] {
     KeyLister lister;
     ExperimentConfig config;
@@ -541,22 +544,21 @@ const std::vector<KeyRow>& ExperimentKeys(const ConfigScope& scope) {
     }
     return rows;
   }();
-  if (scope.sections.empty()) return all;
-  // One list per scope, kept for the program's life (a program has one scope).
-  static std::map<std::vector<std::string>, std::vector<KeyRow>> scoped;
-  static std::mutex mutex;
-  const std::lock_guard lock(mutex);
-  auto [it, inserted] = scoped.try_emplace(scope.sections);
-  if (inserted) {
-    for (const KeyRow& row : all) {
-      if (InScope(scope, row.key.substr(0, row.key.find('.')))) it->second.push_back(row);
-    }
+  return all;
+}
+
+}  // namespace
+
+std::vector<KeyRow> ExperimentKeys(const ConfigScope& scope) {
+  std::vector<KeyRow> rows;
+  for (const KeyRow& row : AllExperimentKeys()) {
+    if (InScope(scope, row.key.substr(0, row.key.find('.')))) rows.push_back(row);
   }
-  return it->second;
+  return rows;
 }
 
 const KeyRow* FindKey(std::string_view key) {
-  for (const KeyRow& row : ExperimentKeys({})) {
+  for (const KeyRow& row : AllExperimentKeys()) {
     if (row.key == key) return &row;
   }
   return nullptr;

@@ -263,7 +263,12 @@ SweepConfig LoadSweepConfig(const std::string& path) {
 std::vector<KeyRow> SweepKeys() {
   KeyLister lister;
   VisitSweepKeys(lister);
-  return lister.rows();
+  std::vector<KeyRow> rows = lister.rows();
+  // A sweep file has no defaults: base is required, and so are a sample's count, seed and keys.
+  for (KeyRow& row : rows) {
+    if (row.key != "grid") row.default_text = "(required)";
+  }
+  return rows;
 }
 
 }  // namespace leglab::experiments

@@ -24,9 +24,9 @@ std::string FlowYaml(const YAML::Node& node) {
   return out.c_str();
 }
 
-namespace {
-
 std::string KeyText(const YAML::Node& key) { return key.IsScalar() ? key.Scalar() : FlowYaml(key); }
+
+namespace {
 
 // The value of `name` in `map`, or a fresh undefined-as-null node when `map` is not a map or has
 // no such key (never yaml-cpp's invalid node, which throws when asked anything else).
@@ -43,7 +43,7 @@ void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
   if (--budget < 0) {
     FailConfig(where + " is too large (over 100000 nodes, or aliases nested too deep)");
   }
-  // An alias inside its own anchor makes the tree a cycle (found by tests/.../fuzz_test.cc).
+  // An alias inside its own anchor makes the tree a cycle.
   if (depth > 64) {
     FailConfig(where + " nests deeper than 64 levels (an alias inside its own anchor?)");
   }
@@ -216,34 +216,30 @@ void YamlKeyReader::CheckValue(std::string_view name, double value, const KeyDoc
   }
 }
 
-void YamlKeyReader::Key(std::string_view name, int& value, const KeyDoc& doc) {
-  if (const YAML::Node child = Value(name)) {
-    long long wide = 0;
-    try {
-      // Read wide, so that a value beyond int's range is reported as out of range.
-      wide = child.as<long long>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected " + TypeName<int>() + ", got '" + FlowYaml(child) +
-                 "'");
-    }
-    CheckValue(name, static_cast<double>(wide), doc);
-    value = static_cast<int>(wide);
+std::optional<long long> YamlKeyReader::Integer(std::string_view name, const KeyDoc& doc) {
+  const YAML::Node child = Value(name);
+  if (!child) return std::nullopt;
+  long long wide = 0;
+  try {
+    // Read wide, so that a value beyond the field's type is reported as out of range.
+    wide = child.as<long long>();
+  } catch (const YAML::Exception&) {
+    FailConfig(FullName(name) + ": expected " + TypeName<int>() + ", got '" + FlowYaml(child) +
+               "'");
   }
+  CheckValue(name, static_cast<double>(wide), doc);
+  return wide;
+}
+
+void YamlKeyReader::Key(std::string_view name, int& value, const KeyDoc& doc) {
+  if (const auto wide = Integer(name, doc)) value = static_cast<int>(*wide);
   CheckValue(name, value, doc);
 }
 
 void YamlKeyReader::Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) {
-  if (const YAML::Node child = Value(name)) {
-    long long wide = 0;
-    try {
-      wide = child.as<long long>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected " + TypeName<int>() + ", got '" + FlowYaml(child) +
-                 "'");
-    }
-    CheckValue(name, static_cast<double>(wide), doc);
-    if (wide < 0) Fail(name, "a non-negative integer");
-    value = static_cast<std::uint64_t>(wide);
+  if (const auto wide = Integer(name, doc)) {
+    if (*wide < 0) Fail(name, "a non-negative integer");
+    value = static_cast<std::uint64_t>(*wide);
   }
   CheckValue(name, static_cast<double>(value), doc);
 }

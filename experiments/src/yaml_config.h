@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -27,6 +28,9 @@ bool IsRegularFile(const std::filesystem::path& path);
 
 /// `node` as one line of YAML flow text, as the user could write it.
 std::string FlowYaml(const YAML::Node& node);
+
+/// A map key as the user wrote it: its text, or its flow YAML when it is not a scalar.
+std::string KeyText(const YAML::Node& key);
 
 /// The YAML map in file `path` (an empty file is an empty map); `what` names it in messages
 /// ("config file"). Throws InputError for a missing, malformed or non-map file, or a key given
@@ -88,6 +92,8 @@ class YamlKeyReader final : public KeyVisitor {
   // The value of `name` in the current map, marked as read; undefined when absent or null.
   YAML::Node Value(std::string_view name);
   void CheckValue(std::string_view name, double value, const KeyDoc& doc);
+  // An integer key's given value, range-checked; empty when absent.
+  std::optional<long long> Integer(std::string_view name, const KeyDoc& doc);
   void CheckUnknown(const YAML::Node& map, const std::string& prefix) const;
 
   struct Level {

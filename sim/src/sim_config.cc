@@ -30,6 +30,10 @@ void RequirePositive(std::string_view key, double value) {
 std::string_view WholeFrames(double ms) {
   return IsWholeMultiple(ms, kTickMs) ? "" : "a non-negative multiple of 8 ms";
 }
+std::string_view WholeFirmwareFrames(double ms) {
+  return IsWholeMultiple(ms, kTickMs) ? ""
+                                      : "a non-negative multiple of 8 ms (the firmware's frame)";
+}
 
 // A physics step that divides the 8 ms tick.
 std::string_view DividesTick(double ms) {
@@ -68,7 +72,7 @@ void VisitServoKeys(KeyVisitor& v, ServoConfig& s) {
          .unit = "ms",
          .description = "moving average of the commanded speed (the motor cannot change speed "
                         "at once); a multiple of 8 ms, 0 or 8: none",
-         .rule = WholeFrames});
+         .rule = WholeFirmwareFrames});
   v.Key("max_torque_nm", s.max_torque_nm,
         {.min = 0.1,
          .max = 100,
@@ -109,7 +113,9 @@ void VisitStandKeys(KeyVisitor& v, StandConfig& s) {
          .min_open = true,
          .unit = "mm",
          .description = "radius of the contact sphere at the foot (the ball of the foot)"});
-  s.belt_follows_walk = !v.Given("belt_speed_mm_per_s");
+  // Only what the config gives changes these: a visitor that reads no config (KeyAssigner
+  // setting a running plant's servo) leaves the stand as it was built.
+  if (v.Given("belt_speed_mm_per_s")) s.belt_follows_walk = false;
   v.Key("belt_speed_mm_per_s", s.belt_speed_mm_per_s,
         {.min = -2000,
          .max = 2000,
@@ -153,7 +159,7 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
            .description = "standard deviation of the Gaussian noise on each measured angle (20 "
                           "times the Aibo's at most: beyond it the fit of l and a is noise)"});
   });
-  config.stand.enabled = v.Given("stand");
+  if (v.Given("stand")) config.stand.enabled = true;
   v.Section("stand", [&] { VisitStandKeys(v, config.stand); });
   v.Key("seed", config.seed,
         {.min = 0,

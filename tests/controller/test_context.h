@@ -46,7 +46,7 @@ struct OptionError : std::invalid_argument {
 /// Options from a map of key -> text (a dotted key for a nested section's, as
 /// "initial_model.lag_ticks"); every key visited is remembered. Values are range-checked as the
 /// loader checks them (KeyValueProblem), so a test sees the declaration's rules.
-class MapOptions final : public KeyVisitor {
+class MapOptions final : public SectionedKeyVisitor {
  public:
   explicit MapOptions(std::map<std::string, std::string> values = {})
       : values_(std::move(values)) {}
@@ -82,7 +82,6 @@ class MapOptions final : public KeyVisitor {
   [[noreturn]] void Fail(std::string_view key, const std::string& expectation) override {
     throw OptionError("controller." + FullName(key) + " must be " + expectation);
   }
-  std::string FullName(std::string_view key) const override { return prefix_ + std::string(key); }
   const std::map<std::string, int>& read_keys() const { return read_; }
 
  protected:
@@ -97,14 +96,6 @@ class MapOptions final : public KeyVisitor {
       }
     }
     Fail(key, "one of its names, got '" + *text + "'");
-  }
-  void Enter(std::string_view name) override {
-    sections_.push_back(prefix_.size());
-    prefix_ += std::string(name) + ".";
-  }
-  void Leave() override {
-    prefix_.resize(sections_.back());
-    sections_.pop_back();
   }
 
  private:
@@ -121,8 +112,6 @@ class MapOptions final : public KeyVisitor {
   }
   std::map<std::string, std::string> values_;
   std::map<std::string, int> read_;
-  std::string prefix_;
-  std::vector<size_t> sections_;
 };
 
 /// Mode `name` with its default options.

@@ -368,6 +368,27 @@ TEST_F(ConfigTest, ShippedConfigsLoad) {
             std::vector<std::string>{"model_based"});
 }
 
+// A change of the running servo changes that setting and nothing else: the stand the plant
+// was built with stays, its belt still following the walk.
+TEST_F(ConfigTest, AChangeOfTheServoKeepsTheStand) {
+  const std::string dir = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
+  const ExperimentConfig c = LoadExperimentConfig(
+      dir + "track_stand.yaml",
+      {"plant_changes=[{at_step: 0, set: {servo.delay_ms: 56, sensor.noise_deg: 0.2}}]"});
+  const ExperimentConfig after = ConfigAfterChanges(c, 1);
+  EXPECT_EQ(after.sim.servo.delay_ms, 56.0);
+  EXPECT_EQ(after.sim.sensor.noise_deg, 0.2);
+  EXPECT_TRUE(after.sim.stand.enabled);
+  EXPECT_EQ(after.sim.stand.belt_speed_mm_per_s, c.sim.stand.belt_speed_mm_per_s);
+  EXPECT_EQ(after.sim.stand.sled_stiffness_n_per_m, c.sim.stand.sled_stiffness_n_per_m);
+  sim::SimConfig direct = c.sim;
+  sim::SetSimSetting(direct, "servo.gain_per_s", 50.0);
+  EXPECT_EQ(direct.servo.gain_per_s, 50.0);
+  EXPECT_TRUE(direct.stand.enabled);
+  EXPECT_EQ(direct.stand.belt_follows_walk, c.sim.stand.belt_follows_walk);
+  EXPECT_THROW(sim::SetSimSetting(direct, "stand.load_kg", 1.0), std::invalid_argument);
+}
+
 TEST_F(ConfigTest, TheStandIsBuiltOnlyFromAStandSection) {
   const std::string dir = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";
   // The air leg: no stand, whatever its defaults say.

@@ -74,7 +74,7 @@ struct ControllerModeInfo {
   /// the lead-0 candidate's response `lead` ticks earlier, so one run scores every candidate.
   bool searchable_by_lead;
   std::string_view search_file;     ///< a searched mode's output file (without .csv)
-  std::string_view config_section;  ///< the config map its ReadSpec reads ("controller", "ilc")
+  std::string_view config_section;  ///< the config map of its keys ("controller", "ilc")
   bool estimates_model = false;     ///< reports its joint models (ModelEstimates) every step
 };
 

@@ -120,6 +120,28 @@ class KeyVisitor {
   virtual void Leave() = 0;
 };
 
+/// A KeyVisitor that names keys by the sections it is in: FullName(name) is the sections'
+/// names, dotted, then `name` ("servo.delay_ms"), after a fixed `prefix`.
+class SectionedKeyVisitor : public KeyVisitor {
+ public:
+  std::string FullName(std::string_view name) const override { return prefix_ + std::string(name); }
+
+ protected:
+  explicit SectionedKeyVisitor(std::string prefix = "") : prefix_(std::move(prefix)) {}
+  void Enter(std::string_view name) override {
+    sections_.push_back(prefix_.size());
+    prefix_ += std::string(name) + ".";
+  }
+  void Leave() override {
+    prefix_.resize(sections_.back());
+    sections_.pop_back();
+  }
+
+ private:
+  std::string prefix_;
+  std::vector<size_t> sections_;  // prefix_'s length before each section entered
+};
+
 /// One row of a key reference: what --list-keys prints and docs/configuration.md holds.
 struct KeyRow {
   std::string key;           ///< dotted, as the user writes it: "servo.delay_ms"
@@ -132,7 +154,7 @@ struct KeyRow {
 };
 
 /// Lists every key a declaration visits, with the visited struct's values as the defaults.
-class KeyLister final : public KeyVisitor {
+class KeyLister final : public SectionedKeyVisitor {
  public:
   /// The keys listed so far, in declaration order.
   const std::vector<KeyRow>& rows() const { return rows_; }
@@ -167,7 +189,6 @@ class KeyLister final : public KeyVisitor {
     // The declarations' own defaults break a rule: a bug of the declaration, not bad input.
     throw std::logic_error("the default of " + FullName(name) + " is not " + expectation);
   }
-  std::string FullName(std::string_view name) const override { return prefix_ + std::string(name); }
 
  protected:
   void Choice(std::string_view name, int& index, std::span<const std::string_view> names,
@@ -176,14 +197,6 @@ class KeyLister final : public KeyVisitor {
     for (std::string_view n : names) choices += (choices.empty() ? "" : ", ") + std::string(n);
     Add(name, "enum", std::string(names[static_cast<size_t>(index)]), doc);
     rows_.back().range = choices;
-  }
-  void Enter(std::string_view name) override {
-    sections_.push_back(prefix_.size());
-    prefix_ += std::string(name) + ".";
-  }
-  void Leave() override {
-    prefix_.resize(sections_.back());
-    sections_.pop_back();
   }
 
  private:
@@ -201,8 +214,6 @@ class KeyLister final : public KeyVisitor {
                      std::string(doc.description), doc});
   }
 
-  std::string prefix_;
-  std::vector<size_t> sections_;
   std::vector<KeyRow> rows_;
 };
 
@@ -210,10 +221,10 @@ class KeyLister final : public KeyVisitor {
 /// each against its range and rule, an enum against its names, and the declaration's checks
 /// of several keys. Throws std::invalid_argument "<prefix><key> must be <expectation>, got
 /// <value>" for the first that fails.
-class KeyChecker final : public KeyVisitor {
+class KeyChecker final : public SectionedKeyVisitor {
  public:
   /// `prefix` names the struct's keys in messages: "ilc." gives "ilc.gain must be ...".
-  explicit KeyChecker(std::string prefix = "") : prefix_(std::move(prefix)) {}
+  explicit KeyChecker(std::string prefix = "") : SectionedKeyVisitor(std::move(prefix)) {}
 
   void Key(std::string_view name, int& value, const KeyDoc& doc) override {
     Check(name, value, doc);
@@ -238,7 +249,6 @@ class KeyChecker final : public KeyVisitor {
   [[noreturn]] void Fail(std::string_view name, const std::string& expectation) override {
     throw std::invalid_argument(FullName(name) + " must be " + expectation);
   }
-  std::string FullName(std::string_view name) const override { return prefix_ + std::string(name); }
 
  protected:
   void Choice(std::string_view name, int& index, std::span<const std::string_view> names,
@@ -248,14 +258,6 @@ class KeyChecker final : public KeyVisitor {
                                   std::to_string(index));
     }
   }
-  void Enter(std::string_view name) override {
-    sections_.push_back(prefix_.size());
-    prefix_ += std::string(name) + ".";
-  }
-  void Leave() override {
-    prefix_.resize(sections_.back());
-    sections_.pop_back();
-  }
 
  private:
   void Check(std::string_view name, double value, const KeyDoc& doc) {
@@ -263,14 +265,12 @@ class KeyChecker final : public KeyVisitor {
       Fail(name, problem + ", got " + FormatNumber(value, NumberStyle::kReadable));
     }
   }
-  std::string prefix_;
-  std::vector<size_t> sections_;
 };
 
 /// Sets one numeric key of a struct, found through its declaration: a running plant's
 /// settings named as the config names them ("servo.delay_ms"), unchecked beyond the type (the
 /// owner validates the result). assigned() tells whether the declaration has such a key.
-class KeyAssigner final : public KeyVisitor {
+class KeyAssigner final : public SectionedKeyVisitor {
  public:
   /// `name` is dotted from the visited struct's own keys, `value` in the key's unit.
   KeyAssigner(std::string name, double value) : target_(std::move(name)), value_(value) {}
@@ -294,18 +294,9 @@ class KeyAssigner final : public KeyVisitor {
   [[noreturn]] void Fail(std::string_view name, const std::string& expectation) override {
     throw std::invalid_argument(FullName(name) + " must be " + expectation);
   }
-  std::string FullName(std::string_view name) const override { return prefix_ + std::string(name); }
 
  protected:
   void Choice(std::string_view, int&, std::span<const std::string_view>, const KeyDoc&) override {}
-  void Enter(std::string_view name) override {
-    sections_.push_back(prefix_.size());
-    prefix_ += std::string(name) + ".";
-  }
-  void Leave() override {
-    prefix_.resize(sections_.back());
-    sections_.pop_back();
-  }
 
  private:
   bool Matches(std::string_view name) {
@@ -323,8 +314,6 @@ class KeyAssigner final : public KeyVisitor {
   std::string target_;
   double value_;
   bool assigned_ = false;
-  std::string prefix_;
-  std::vector<size_t> sections_;
 };
 
 /// KeyChecker over `value`'s declaration `visit(visitor, value)`; throws as KeyChecker.

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -87,6 +88,10 @@ enum class ShiftSearch {
   kExhaustive,  ///< `exhaustive`: every candidate run on its own plant (the paper's procedure)
 };
 
+/// ShiftSearch's values as the config names them, in the enum's order.
+inline constexpr std::array<std::string_view, 3> kShiftSearchNames = {"false", "true",
+                                                                      "exhaustive"};
+
 /// `desired.*` and `track.*`: what to follow and for how long.
 struct TrackConfig {
   std::string desired_csv;        ///< `desired.csv`: a cycle of joint angles; empty = the locus
@@ -102,6 +107,9 @@ enum class PlantKind {
   kSim,    ///< `sim`: the simulated leg (sim::LegSim), the default
   kModel,  ///< `model`: the joint model itself as an ideal plant (JointModelPlant)
 };
+
+/// PlantKind's values as the config names them, in the enum's order.
+inline constexpr std::array<std::string_view, 2> kPlantNames = {"sim", "model"};
 
 /// `plant_changes[i]`: settings of the running plant changed at the start of measured step
 /// `at_step` (0 = the first step after the warm-up) through Plant::ChangeSettings, without
@@ -119,7 +127,7 @@ struct ExperimentConfig {
   /// `plant_model.*`: the ideal plant's joint model (plant: model), the same for every joint;
   /// default the paper's Table 1.
   JointModelParams plant_model = paper::kTable1;
-  sim::SimConfig sim;  ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, seed
+  sim::SimConfig sim;  ///< urdf, sim.physics_dt_ms, servo.*, sensor.*, stand.*, seed
   /// `plant_changes`: changes of the running plant during tracking runs, by increasing
   /// at_step (each validated against the plant as the earlier ones left it).
   std::vector<PlantChange> plant_changes;
@@ -153,7 +161,7 @@ bool InScope(const ConfigScope& scope, const std::string& section);
 /// mode's), each declared once beside the code that owns it, in the reference's order; only
 /// the keys of `scope`'s sections when it names any. What `--list-keys` prints and
 /// docs/configuration.md holds.
-const std::vector<KeyRow>& ExperimentKeys(const ConfigScope& scope);
+std::vector<KeyRow> ExperimentKeys(const ConfigScope& scope);
 
 /// The experiment key `key` as the user writes it ("servo.delay_ms"), or null.
 const KeyRow* FindKey(std::string_view key);
