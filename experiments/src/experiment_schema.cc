@@ -16,6 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The robot an experiment drives unless it names another.
+constexpr std::string_view kDefaultRobot = "ers210a";
+
 // The step test's keys and their checks.
 void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
   v.Key("theta_test_deg", c.theta_test_deg,
@@ -196,7 +199,7 @@ void VisitExperimentKeys(KeyVisitor& v, ExperimentConfig& c, ReadState& state,
                          YamlKeyReader* reader) {
   v.Structured("extends", "file name", "(none)",
                {.description = "a config (or robot file) merged beneath this one, relative to it"});
-  std::string robot = "ers210a";
+  std::string robot(kDefaultRobot);
   v.Key("robot", robot,
         {.description = "a robot under robots/ (ers210a, the left front leg; ers210a_hind; "
                         "ers210a_stand, on the test stand) or a path to a robot.yaml"});
@@ -263,7 +266,7 @@ YAML::Node MergedConfig(const std::string& config_path, const std::vector<std::s
   for (const std::string& o : overrides) ApplyOverride(experiment, o);
   // A file names its base; an override cannot (the files are merged by now).
   if (experiment["extends"]) throw UnknownKeyError("config: unknown key 'extends' in --set");
-  std::string robot = "ers210a";
+  std::string robot(kDefaultRobot);
   if (experiment["robot"]) {
     try {
       robot = experiment["robot"].as<std::string>();

@@ -99,6 +99,8 @@ std::string TypeName() {
     return "a number";
   else if constexpr (std::is_same_v<T, std::string>)
     return "a string";
+  else if constexpr (std::is_same_v<T, std::vector<long long>>)
+    return "a list of integers";
   else
     return "a list";
 }
@@ -178,6 +180,15 @@ void ApplyOverride(YAML::Node root,  // NOLINT(performance-unnecessary-value-par
 
 // ---- YamlKeyReader ----
 
+template <typename T>
+T YamlKeyReader::As(const YAML::Node& child, std::string_view name) const {
+  try {
+    return child.as<T>();
+  } catch (const YAML::Exception&) {
+    FailConfig(FullName(name) + ": expected " + TypeName<T>() + ", got '" + FlowYaml(child) + "'");
+  }
+}
+
 YamlKeyReader::YamlKeyReader(YAML::Node root) {
   if (root.IsDefined() && !root.IsNull() && !root.IsMap()) FailConfig("the config must be a map");
   levels_.push_back({std::move(root), ""});
@@ -219,14 +230,8 @@ void YamlKeyReader::CheckValue(std::string_view name, double value, const KeyDoc
 std::optional<long long> YamlKeyReader::Integer(std::string_view name, const KeyDoc& doc) {
   const YAML::Node child = Value(name);
   if (!child) return std::nullopt;
-  long long wide = 0;
-  try {
-    // Read wide, so that a value beyond the field's type is reported as out of range.
-    wide = child.as<long long>();
-  } catch (const YAML::Exception&) {
-    FailConfig(FullName(name) + ": expected " + TypeName<int>() + ", got '" + FlowYaml(child) +
-               "'");
-  }
+  // Read wide, so that a value beyond the field's type is reported as out of range.
+  const auto wide = As<long long>(child, name);
   CheckValue(name, static_cast<double>(wide), doc);
   return wide;
 }
@@ -245,58 +250,27 @@ void YamlKeyReader::Key(std::string_view name, std::uint64_t& value, const KeyDo
 }
 
 void YamlKeyReader::Key(std::string_view name, double& value, const KeyDoc& doc) {
-  if (const YAML::Node child = Value(name)) {
-    try {
-      value = child.as<double>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected " + TypeName<double>() + ", got '" + FlowYaml(child) +
-                 "'");
-    }
-  }
+  if (const YAML::Node child = Value(name)) value = As<double>(child, name);
   CheckValue(name, value, doc);
 }
 
 void YamlKeyReader::Key(std::string_view name, bool& value, const KeyDoc& /*doc*/) {
-  if (const YAML::Node child = Value(name)) {
-    try {
-      value = child.as<bool>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected " + TypeName<bool>() + ", got '" + FlowYaml(child) +
-                 "'");
-    }
-  }
+  if (const YAML::Node child = Value(name)) value = As<bool>(child, name);
 }
 
 void YamlKeyReader::Key(std::string_view name, std::string& value, const KeyDoc& /*doc*/) {
-  if (const YAML::Node child = Value(name)) {
-    try {
-      value = child.as<std::string>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected " + TypeName<std::string>() + ", got '" +
-                 FlowYaml(child) + "'");
-    }
-  }
+  if (const YAML::Node child = Value(name)) value = As<std::string>(child, name);
 }
 
 void YamlKeyReader::Key(std::string_view name, std::vector<double>& value, const KeyDoc& doc) {
-  if (const YAML::Node child = Value(name)) {
-    try {
-      value = child.as<std::vector<double>>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected a list, got '" + FlowYaml(child) + "'");
-    }
-  }
+  if (const YAML::Node child = Value(name)) value = As<std::vector<double>>(child, name);
   for (const double v : value) CheckValue(name, v, doc);
 }
 
 void YamlKeyReader::Key(std::string_view name, std::vector<int>& value, const KeyDoc& doc) {
   if (const YAML::Node child = Value(name)) {
-    std::vector<long long> wide;
-    try {
-      wide = child.as<std::vector<long long>>();
-    } catch (const YAML::Exception&) {
-      FailConfig(FullName(name) + ": expected a list of integers, got '" + FlowYaml(child) + "'");
-    }
+    // Read wide, so that a value beyond int's range is reported as out of range.
+    const auto wide = As<std::vector<long long>>(child, name);
     value.clear();
     for (const long long v : wide) {
       CheckValue(name, static_cast<double>(v), doc);

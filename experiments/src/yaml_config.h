@@ -92,6 +92,9 @@ class YamlKeyReader final : public KeyVisitor {
   // The value of `name` in the current map, marked as read; undefined when absent or null.
   YAML::Node Value(std::string_view name);
   void CheckValue(std::string_view name, double value, const KeyDoc& doc);
+  // `child`, the value of key `name`, as a T; fails naming the key and the type expected.
+  template <typename T>
+  T As(const YAML::Node& child, std::string_view name) const;
   // An integer key's given value, range-checked; empty when absent.
   std::optional<long long> Integer(std::string_view name, const KeyDoc& doc);
   void CheckUnknown(const YAML::Node& map, const std::string& prefix) const;

@@ -462,8 +462,8 @@ TEST(IlcController, FreezeAfterWarmupStopsLearningAtTheFirstMeasuredStep) {
 
 // ---- adaptive ---------------------------------------------------------------------------
 
-// On the ideal plant with a model unlike the paper's (l 5, a 4, v_max 2, theta_0 6), from the
-// issue's wrong start: the walk saturates rotator and knee, so they learn every parameter;
+// On the ideal plant with a model unlike the paper's (l 5, a 4, v_max 2, theta_0 6), from a
+// wrong start: the walk saturates rotator and knee, so they learn every parameter;
 // the abductor's motion does not, and it learns v_max only from the probe's pulses.
 TEST(AdaptiveController, LearnsThePlantsModelFromAWrongStart) {
   const JointModelParams truth{2.0, 6.0, 5, 4};
@@ -532,7 +532,7 @@ std::vector<bool> RunWithNoise(AdaptiveController& adaptive, const ControllerCon
 
 AdaptiveController::Spec ExcursionSpec() {
   AdaptiveController::Spec spec;
-  spec.initial_model = {3.5, 3.0, 2, 2};  // the wrong start
+  spec.initial_model = {3.5, 3.0, 2, 2};  // a wrong start
   spec.probe_deg = 20.0;
   spec.probe_ticks = 24;
   return spec;

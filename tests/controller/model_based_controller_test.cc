@@ -61,7 +61,7 @@ TEST(ModelBasedController, FollowsItsPiecewiseLinearTargetOnTheModelPlant) {
       std::vector<double> des(88);
       for (int t = 0; t < 88; ++t) des[t] = desired[t][j];
       const std::vector<double> pwl = context.Approximation(j).Sample();
-      // The bound (the paper measured 2.7 deg on the real leg).
+      // A bound of our own, above the 2.7 deg the paper measured on the real leg.
       EXPECT_LE(RmsDistance(pwl, with_model.actual[j]), 3.5) << "joint " << j;
       // And the paper's point: closer to the desired angles than requesting them directly.
       EXPECT_LT(RmsDistance(des, with_model.actual[j]), 0.5 * RmsDistance(des, plain.actual[j]))

@@ -267,11 +267,11 @@ TEST(Pipeline, SkewAndPitchPlaceTheLocusAsWorkedByHand) {
             LoadDesiredMotion(zero.track, robot.geometry).foot_mm);
 }
 
-// track_stand.yaml walks the matched swing (desired.locus.swing_end_speed_fraction 1, issue
-// 11's slip): the foot, placed on the front leg, leaves and meets the ground moving backward at
-// the belt's speed, which the loader derives from the locus alone (length_mm over the stance's
-// time). On a step of 880 ticks a one-sided difference misses the end speed by at most
-// (pi^2 / 2 + 6) / (2 x 440) = 1.24 % (trajectories_test); the belt then runs at a tenth of
+// track_stand.yaml walks the matched swing (desired.locus.swing_end_speed_fraction 1, against
+// the foot's slip on the stand): the foot, placed on the front leg, leaves and meets the ground
+// moving backward at the belt's speed, which the loader derives from the locus alone (length_mm
+// over the stance's time). On a step of 880 ticks a one-sided difference misses the end speed by at
+// most (pi^2 / 2 + 6) / (2 x 440) = 1.24 % (trajectories_test); the belt then runs at a tenth of
 // the shipped step's speed. Every tick is reachable within the joint limits, at 88 ticks too.
 TEST(Pipeline, TheStandWalkMeetsTheBeltAtItsSpeed) {
   for (const int ticks : {88, 880}) {

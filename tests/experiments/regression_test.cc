@@ -35,7 +35,7 @@ Table1 Identify(const std::string& config_file, const std::vector<std::string>& 
   return ComputeTable1(IdentifyLeg(config, LoadRobot(config.sim.urdf_path)), config.identify);
 }
 
-// The paper's Table 1 and the tolerances the plant must meet (the sim issue).
+// The paper's Table 1 and the tolerances the plant must meet (the simulated plant's target).
 TEST(Regression, IdentifyFindsTable1OnTheDefaultRobot) {
   const Table1 t = Identify("identify.yaml");
   const JointModelParams& paper = paper::kTable1;
@@ -228,7 +228,7 @@ TEST_F(TrackRegression, EveryTable2MeanMatchesItsPin) {
       << "8 for every seed";
 }
 
-// The paper's result in shape (the track issue's bounds, independent of the pins).
+// The paper's result in shape (bounds independent of the pins).
 TEST_F(TrackRegression, ModelBasedHalvesTheDirectErrors) {
   for (const char* joint : {"rotator", "abductor", "knee"}) {
     EXPECT_LE(Mean(joint, "L2(Des,MB)"), 0.5 * Mean(joint, "L2(Des,Dir)")) << joint;

@@ -176,7 +176,7 @@ double KktResidual(const DenseRows& rows, const VectorXd& x, const VectorXd& d) 
 
 // ---- Cycles ------------------------------------------------------------------------------
 
-// The walking-like cycle: D(t) = 40 sin(2 pi t / 88) + 15 sin(4 pi t / 88 + 1).
+// A walking-like cycle: D(t) = 40 sin(2 pi t / 88) + 15 sin(4 pi t / 88 + 1).
 std::vector<double> WalkingCycle() {
   std::vector<double> d(88);
   for (int t = 0; t < 88; ++t) {

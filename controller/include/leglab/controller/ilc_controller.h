@@ -22,8 +22,7 @@ namespace leglab {
 ///    gain. It carries the lead (a request at s first moves the joint at s + l + 1, so the
 ///    correction for an error at t lands l + 1 ticks earlier, the classic P-type lead of
 ///    Arimoto 1984) and the saturation: where the joint already runs at top speed the solver
-///    does not push harder, as a linear learning law would (one tried diverged on the knee;
-///    see docs/design/ilc.md).
+///    does not push harder, as a linear learning law would (see docs/design/ilc.md).
 ///  - Gain (`ilc.gain`, in (0, 1]): how much of the newly seen mismatch enters d per step.
 ///    With an exact model d stays 0 and R stays optimal; below 1 it averages the 0.1 deg sensor
 ///    noise over about 1/gain steps and damps the learning when the model misjudges the plant.
@@ -33,9 +32,9 @@ namespace leglab {
 ///  - Effort (`ilc.solver_iterations`, `ilc.solver_tolerance_deg`): each update's solve stops
 ///    after that many sensitivity evaluations, or once a step lowers the model's RMS error by
 ///    less than the tolerance. Solving each step's problem to the last digit buys nothing: the
-///    next step's measurement moves the target by the sensor noise anyway, so the default 1e-4
-///    deg learns as well as a tight tolerance for about a third of the work, while 1e-3 leaves
-///    an exact model's ILC short of the offline optimum (see docs/design/ilc.md).
+///    next step's measurement moves the target by the sensor noise anyway; the default 1e-4 deg
+///    learns as well as a tight tolerance and reaches the offline optimum on an exact model
+///    (see docs/design/ilc.md).
 ///  - Objective (`ilc.objective`): `joint` minimises each joint's RMS error on its own, as
 ///    above. `foot` minimises what the experiment scores, the foot's distance from its desired
 ///    path, sum_t |FK(M_ss(t) + d(t)) - FK(D(t))|^2, plus lambda times each joint's own squared

@@ -14,8 +14,8 @@ namespace leglab::experiments {
 
 /// The walk the walk-fitted models (TrackResult::walk_context) are fitted to: steps run first,
 /// then steps recorded, averaged into one cycle (kWalkFitPlayedCycles). 16 recorded steps: fewer
-/// lose an untuned walk (8 lose the slow sine), more cost a walk's worth of physics each and do
-/// not win every walk either (64 lose the rotator at 66 ticks); see docs/design/walk-fit.md.
+/// lose untuned walks to the time shift, more cost a walk's physics each without winning every
+/// walk; see docs/design/walk-fit.md.
 inline constexpr int kWalkFitWarmupSteps = 5;
 inline constexpr int kWalkFitSteps = 16;
 /// The walk fit averages the recorded steps into one cycle (AverageCycles: the requests repeat
