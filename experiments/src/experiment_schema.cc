@@ -240,7 +240,6 @@ void VisitExperimentKeys(KeyVisitor& v, ExperimentConfig& c, ReadState& state,
       }
     }
     VisitKeys(v, state.model);
-    if (!state.model_given) state.model = paper::kTable1;
   });
   v.Section("identify", [&] { VisitKeys(v, c.identify); });
   VisitKeys(v, c.track);

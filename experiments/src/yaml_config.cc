@@ -189,9 +189,9 @@ T YamlKeyReader::As(const YAML::Node& child, std::string_view name) const {
   }
 }
 
-YamlKeyReader::YamlKeyReader(YAML::Node root) {
+YamlKeyReader::YamlKeyReader(const YAML::Node& root) {
   if (root.IsDefined() && !root.IsNull() && !root.IsMap()) FailConfig("the config must be a map");
-  levels_.push_back({std::move(root), ""});
+  levels_.push_back({root, ""});
   sections_.insert("");
 }
 

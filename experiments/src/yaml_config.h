@@ -59,7 +59,7 @@ void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
 /// keep their keys in `controller`).
 class YamlKeyReader final : public KeyVisitor {
  public:
-  explicit YamlKeyReader(YAML::Node root);
+  explicit YamlKeyReader(const YAML::Node& root);
 
   void Key(std::string_view name, int& value, const KeyDoc& doc) override;
   void Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) override;
