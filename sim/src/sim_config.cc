@@ -167,35 +167,10 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
          .description = "seed of every random draw: the same seed gives the same bits"});
 }
 
-void ValidateSimConfig(const SimConfig& config) {
-  if (config.urdf_path.empty()) {
-    throw std::invalid_argument("urdf must name a URDF file, got an empty path");
-  }
-  const double dt = config.physics_dt_ms;
-  if (!std::isfinite(dt) || dt <= 0.0 || dt > kTickMs || !IsWholeMultiple(kTickMs, dt)) {
-    Reject("sim.physics_dt_ms", "> 0 and divide the 8 ms tick into a whole number of steps", dt);
-  }
-  const ServoConfig& servo = config.servo;
-  if (!std::isfinite(servo.delay_ms) || servo.delay_ms < 0.0 ||
-      !IsWholeMultiple(servo.delay_ms, kTickMs)) {
-    Reject("servo.delay_ms", "a non-negative multiple of 8 ms", servo.delay_ms);
-  }
-  RequirePositive("servo.max_speed_deg_s", servo.max_speed_deg_s);
-  RequirePositive("servo.gain_per_s", servo.gain_per_s);
-  if (!std::isfinite(servo.damping) || servo.damping < 0.0) {
-    Reject("servo.damping", "a finite number >= 0", servo.damping);
-  }
-  if (!std::isfinite(servo.smoothing_ms) || servo.smoothing_ms < 0.0 ||
-      !IsWholeMultiple(servo.smoothing_ms, kTickMs)) {
-    Reject("servo.smoothing_ms", "a non-negative multiple of 8 ms (the firmware's frame)",
-           servo.smoothing_ms);
-  }
-  RequirePositive("servo.max_torque_nm", servo.max_torque_nm);
-  if (!std::isfinite(config.sensor.noise_deg) || config.sensor.noise_deg < 0.0) {
-    Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
-  }
-  const StandConfig& stand = config.stand;
-  if (!stand.enabled) return;
+namespace {
+
+// The stand's values, when it is built.
+void ValidateStand(const StandConfig& stand) {
   RequirePositive("stand.load_kg", stand.load_kg);
   if (!std::isfinite(stand.stop_below_shoulder_mm) || stand.stop_below_shoulder_mm < 0.0) {
     Reject("stand.stop_below_shoulder_mm",
@@ -227,6 +202,38 @@ void ValidateSimConfig(const SimConfig& config) {
            "finite and more than the foot radius below the shoulder",
            stand.ground_below_shoulder_mm);
   }
+}
+
+}  // namespace
+
+void ValidateSimConfig(const SimConfig& config) {
+  if (config.urdf_path.empty()) {
+    throw std::invalid_argument("urdf must name a URDF file, got an empty path");
+  }
+  const double dt = config.physics_dt_ms;
+  if (!std::isfinite(dt) || dt <= 0.0 || dt > kTickMs || !IsWholeMultiple(kTickMs, dt)) {
+    Reject("sim.physics_dt_ms", "> 0 and divide the 8 ms tick into a whole number of steps", dt);
+  }
+  const ServoConfig& servo = config.servo;
+  if (!std::isfinite(servo.delay_ms) || servo.delay_ms < 0.0 ||
+      !IsWholeMultiple(servo.delay_ms, kTickMs)) {
+    Reject("servo.delay_ms", "a non-negative multiple of 8 ms", servo.delay_ms);
+  }
+  RequirePositive("servo.max_speed_deg_s", servo.max_speed_deg_s);
+  RequirePositive("servo.gain_per_s", servo.gain_per_s);
+  if (!std::isfinite(servo.damping) || servo.damping < 0.0) {
+    Reject("servo.damping", "a finite number >= 0", servo.damping);
+  }
+  if (!std::isfinite(servo.smoothing_ms) || servo.smoothing_ms < 0.0 ||
+      !IsWholeMultiple(servo.smoothing_ms, kTickMs)) {
+    Reject("servo.smoothing_ms", "a non-negative multiple of 8 ms (the firmware's frame)",
+           servo.smoothing_ms);
+  }
+  RequirePositive("servo.max_torque_nm", servo.max_torque_nm);
+  if (!std::isfinite(config.sensor.noise_deg) || config.sensor.noise_deg < 0.0) {
+    Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
+  }
+  if (config.stand.enabled) ValidateStand(config.stand);
 }
 
 namespace {
