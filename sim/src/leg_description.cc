@@ -5,6 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -228,6 +229,21 @@ std::vector<LinkDescription> ReadTree(const urdf::ModelInterface& model, const s
   return links;
 }
 
+// The foot and every joint hang from the root link: urdfdom accepts a cycle of joints beside the
+// root (its links then have parents but no path to the root), which the tree walk never reaches.
+void CheckReachedFromRoot(const LegDescription& leg, const std::string& path) {
+  const std::string where = "' in URDF '" + path + "' does not hang from its root link '" +
+                            leg.links.front().name + "' (a cycle of joints?)";
+  if (leg.FindLink(kFootLinkName) < 0) {
+    throw std::invalid_argument("link '" + std::string(kFootLinkName) + where);
+  }
+  for (int j = 0; j < kLegJoints; ++j) {
+    const bool reached = std::any_of(leg.links.begin(), leg.links.end(),
+                                     [j](const LinkDescription& link) { return link.joint == j; });
+    if (!reached) throw std::invalid_argument("joint '" + leg.joints[j].name + where);
+  }
+}
+
 // One body per moving link, each with the masses of the links fixed to it (the root and links
 // fixed to it stay put and need no mass). Sets every link's body and in_body.
 void LumpBodies(const urdf::ModelInterface& model, LegDescription& leg) {
@@ -285,6 +301,7 @@ LegDescription LoadLegDescription(const std::string& urdf_path) {
   leg.robot_name = model->getName();
   leg.joints = CheckJoints(*model, urdf_path);
   leg.links = ReadTree(*model, urdf_path);
+  CheckReachedFromRoot(leg, urdf_path);
   LumpBodies(*model, leg);
 
   // The joint frames and the foot at q = 0, in the root frame.

@@ -299,6 +299,15 @@ TEST(LegDescriptionTest, MissingFootLinkNamesTheLink) {
   EXPECT_NE(message.find("link 'foot' not found"), std::string::npos) << message;
 }
 
+// The rotator hung from the foot: the leg's links form a cycle beside the root, which urdfdom
+// accepts and no walk from the root reaches (found by the URDF fuzz harness under ASan).
+TEST(LegDescriptionTest, AJointCycleBesideTheRootIsBadInput) {
+  const std::string message = ErrorOf<std::invalid_argument>(
+      TempUrdf(kFrontUrdf, R"(<parent link="body"/>)", R"(<parent link="foot"/>)"));
+  EXPECT_NE(message.find("link 'foot'"), std::string::npos) << message;
+  EXPECT_NE(message.find("does not hang from its root link 'body'"), std::string::npos) << message;
+}
+
 TEST(LegDescriptionTest, MovingLinkWithoutInertialNamesTheLinkAndJoint) {
   const std::string message =
       ErrorOf<std::invalid_argument>(TempUrdf(kFrontUrdf, R"(<link name="rotator_housing">
