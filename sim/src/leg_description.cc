@@ -54,7 +54,17 @@ urdf::ModelInterfaceSharedPtr ParseUrdfFile(const std::string& path) {
     throw std::runtime_error("failed to parse URDF file '" + path +
                              "': " + (output.text().empty() ? "unknown error" : output.text()));
   }
-  return model;
+  // A cycle of links (a hostile URDF, refused by CheckReachedFromRoot) is a cycle of urdfdom's
+  // shared pointers: untie every link from its children when the model is released, so that
+  // it is freed all the same.
+  return {model.get(), [model](urdf::ModelInterface* m) mutable {
+            for (auto& [name, link] : m->links_) {
+              link->child_links.clear();
+              link->child_joints.clear();
+              link->parent_joint.reset();
+            }
+            model.reset();
+          }};
 }
 
 Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
