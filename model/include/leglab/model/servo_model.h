@@ -1,0 +1,109 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace leglab {
+
+/// What a servo is asked to do besides following its request: its position-gain setting and
+/// the load it holds, a point mass on a massless arm (a pendulum whose angle 0 hangs straight
+/// down). These come from the log or the plan, never from a fit.
+struct ServoDrive {
+  double kp = 0.0;        ///< the servo's position-gain register (its own units), > 0
+  double mass_kg = 0.0;   ///< the load's mass (kg), >= 0 (0: no load)
+  double length_m = 0.0;  ///< from the axis to the load's centre of mass (m), >= 0
+};
+
+/// The extended joint model: the paper's request-space model (eq. 2-3) given the external
+/// torque of a load and the servo's gain, fitted once per servo type for every gain setting.
+/// One tick of `tick_s` seconds from M(t-1) with velocity w(t-1):
+///   e    = R(t-1-l) - M(t-1)                         request error, deg (l: lag_ticks)
+///   u    = clamp(gain_per_deg_kp * kp * e, -1, 1)    the servo's P-law duty, saturating
+///   g    = m * 9.81 * L * sin(M(t-1)) / stall_torque_nm   duty that holds the load
+///   n    = u - g                                     duty left to move the joint
+///   F    = friction_duty + friction_load_ratio * |g| the friction band (duty)
+///   w*   = v_max_deg_s * sign(n) * max(|n| - F, 0)   speed the net duty settles to
+///   w(t) = w(t-1) + (1 - exp(-tick_s / velocity_lag_s)) * (w* - w(t-1))
+///   M(t) = M(t-1) + w(t) * tick_s
+/// Without load and friction, w* is the paper's f (eq. 2) with theta_0 = 1 / (gain * kp) and
+/// top speed v_max: the paper's averaging of f over a ticks becomes a first-order velocity lag,
+/// and the request still acts through a pure delay of l ticks. A request-space model: the
+/// angle, not a torque, is what it predicts and what its inversion asks for.
+struct ServoModelParams {
+  double gain_per_deg_kp = 0.0;      ///< duty per degree of error per unit of kp, > 0
+  double v_max_deg_s = 0.0;          ///< speed at full net duty (deg/s), > 0
+  double stall_torque_nm = 0.0;      ///< torque at full duty (N m), > 0
+  double friction_duty = 0.0;        ///< friction band with no load (duty), >= 0
+  double friction_load_ratio = 0.0;  ///< band's growth per unit of load duty, >= 0
+  double velocity_lag_s = 0.0;       ///< the velocity's time constant (s), > 0
+  int lag_ticks = 0;                 ///< l: ticks before a request starts to act, >= 0
+
+  friend bool operator==(const ServoModelParams&, const ServoModelParams&) = default;
+};
+
+/// Empty when every field is finite and within the range its comment gives; otherwise what is
+/// wrong, naming the field ("velocity_lag_s must be positive, got 0").
+std::string ServoModelParamsProblem(const ServoModelParams& params);
+
+/// What the model remembers between ticks: M(t-1), w(t-1) and R(t-1), ..., R(t-1-l) (newest
+/// first; size l + 1).
+struct ServoModelState {
+  double angle_deg = 0.0;
+  double velocity_deg_s = 0.0;
+  std::vector<double> past_requests_deg;
+};
+
+/// A joint at rest at `angle_deg`: no velocity, every remembered request equal to the angle.
+ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg);
+
+/// The speed w* (deg/s) the net duty settles to at angle `angle_deg` under request error
+/// `error_deg` (the lines e..w* of ServoModelParams).
+double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive, double angle_deg,
+                        double error_deg);
+
+/// One tick of the model: `state` holds M(t-1), w(t-1) and the past requests on entry, and
+/// M(t), w(t) and the requests up to R(t) = `request_deg` on return. Returns M(t). R(t) first
+/// acts at t + l + 1, as in the paper's model.
+double StepServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                      ServoModelState& state, double request_deg);
+
+/// A recorded run of a servo on a uniform tick, as the fit and the scores see it.
+struct ServoRecording {
+  ServoDrive drive;
+  std::vector<double> request_deg;   ///< R(t), deg
+  std::vector<double> measured_deg;  ///< the angle measured at t, deg
+  std::vector<uint8_t> scored;       ///< 1 where the servo was driven (torque on), else 0
+};
+
+/// The open-loop prediction of a recording: at tick 0 and at the first driven tick after
+/// undriven ones the model starts from the measured angle at rest (no velocity), remembering
+/// the recorded requests before it (the first request before tick 0), and then runs on the
+/// recorded requests alone. Undriven ticks are predicted as measured. Size N.
+/// Throws std::invalid_argument on mismatched sizes or tick_s <= 0.
+std::vector<double> PredictServoRecording(const ServoModelParams& params,
+                                          const ServoRecording& recording, double tick_s);
+
+/// The fit's search space and effort.
+struct ServoFitOptions {
+  int lag_max_ticks = 6;  ///< l is searched exhaustively over [0, lag_max_ticks]
+  /// When set, v_max is held at this value (e.g. the servo's published no-load speed) instead
+  /// of being fitted: logs that never drive the servo to its top speed cannot show it.
+  std::optional<double> v_max_deg_s;
+  int restarts = 3;       ///< Nelder-Mead runs per lag, each from the last one's best
+  int iterations = 3000;  ///< iterations per Nelder-Mead run
+};
+
+/// Fits the continuous parameters of ServoModelParams (gain, v_max unless fixed, stall torque,
+/// both frictions and the velocity lag; on logarithms where they must stay positive) for every
+/// lag, by Nelder-Mead (NelderMead) on the sum over recordings of each one's mean squared
+/// open-loop prediction error over its driven ticks (every recording weighs alike whatever its
+/// length), and returns the best lag's. Deterministic. Throws std::invalid_argument on no
+/// recordings, one without a driven tick, mismatched sizes, non-finite samples, a drive out of
+/// range or tick_s <= 0.
+ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, double tick_s,
+                               const ServoFitOptions& options = {});
+
+}  // namespace leglab
