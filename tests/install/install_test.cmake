@@ -39,6 +39,13 @@ run(out ${WORK_DIR}/build/consumer ${prefix}/${DATADIR}/robots/ers210a/leg.urdf)
 expect("${out}" "C_m = 9\\.3000 deg" "consumer, the model")
 # A 10 deg request, 25 ticks: about 5 of lag and 4 at top speed; the servo holds near 10.
 expect("${out}" "rotator = (9\\.[5-9]|10\\.[0-4]) deg" "consumer, the sim")
+# The real servo logs are installed as data, with their NOTICE: 12 + 4 JSON files.
+file(GLOB_RECURSE logs ${prefix}/${DATADIR}/data/servo_logs/*.json)
+list(LENGTH logs log_count)
+if(NOT log_count EQUAL 16 OR NOT EXISTS ${prefix}/${DATADIR}/data/servo_logs/NOTICE)
+  message(FATAL_ERROR "installed data/servo_logs: ${log_count} JSON files (expected 16) "
+                      "or no NOTICE")
+endif()
 
 if(PROGRAMS)
   run(out ${prefix}/${BINDIR}/identify --help)

@@ -4,7 +4,8 @@
 
 namespace leglab::experiments {
 
-/// The folder of leglab's run-time data: `robots/<name>/` and `experiments/configs/`.
+/// The folder of leglab's run-time data: `robots/<name>/`, `experiments/configs/` and
+/// `data/servo_logs/`.
 /// It is the environment variable LEGLAB_DATA_DIR when that is set and not empty, else
 /// `share/leglab` beside the running program's `bin/`, i.e.
 /// `<directory of /proc/self/exe>/../share/leglab`: `<prefix>/share/leglab` for an installed
