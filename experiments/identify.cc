@@ -3,6 +3,7 @@
 // table1.json, table1.md and step_<joint>_<theta>.csv into --out.
 #include <iostream>
 
+#include "leglab/experiments/log_fit.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/rig.h"
@@ -13,9 +14,17 @@ int main(int argc, char** argv) {
   // identify reads the plant's keys and its own; a track key given to it is an error.
   const ConfigScope scope{"identify",
                           {"extends", "robot", "urdf", "plant", "plant_model", "sim", "servo",
-                           "sensor", "seed", "identify", "stand"}};
+                           "sensor", "seed", "identify", "stand", "logs"}};
   return RunProgram("identify", "Table 1: identify the joint model from step responses", scope,
                     argc, argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
+                      if (config.logs.given) {
+                        // Recorded servo logs instead of step tests on the plant.
+                        OutputDir out(args.out_dir, kLogFitOutputPrefixes);
+                        const std::string table = RunLogFit(config.logs, out, config.threads);
+                        out.Commit();
+                        std::cout << table;
+                        return;
+                      }
                       OutputDir out(args.out_dir, {"table1.", "step_"});
                       const Robot robot = LoadRobot(config.sim.urdf_path);
                       const auto joints = IdentifyLeg(config, robot);

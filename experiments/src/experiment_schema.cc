@@ -9,6 +9,7 @@
 #include "leglab/experiments/data_dir.h"
 #include "leglab/model/joint_model_plant.h"
 #include "run_budget.h"
+#include "log_fit_config.h"
 #include "yaml_config.h"
 
 namespace leglab::experiments {
@@ -242,6 +243,11 @@ void VisitExperimentKeys(KeyVisitor& v, ExperimentConfig& c, ReadState& state,
     VisitKeys(v, state.model);
   });
   v.Section("identify", [&] { VisitKeys(v, c.identify); });
+  c.logs.given = v.Given("logs");
+  v.Section("logs", [&] {
+    VisitKeys(v, c.logs);
+    if (reader != nullptr) ReadLogFitStructured(*reader, c.logs);
+  });
   VisitKeys(v, c.track);
 }
 

@@ -11,6 +11,7 @@
 #include "leglab/controller/registry.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/core/plant.h"
+#include "leglab/experiments/log_fit.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/paper.h"
@@ -137,6 +138,7 @@ struct ExperimentConfig {
   int pwl_segments = 8;  ///< `controller.pwl_segments`: segments of each joint's approximation
   std::optional<JointModelParams> model;  ///< model.* when given (all four keys)
   IdentifyConfig identify;
+  LogFitConfig logs;  ///< `logs.*`: when given, identify fits these logs instead of step tests
   TrackConfig track;
   /// Worker threads (`--threads`, not a config key); 0 means one per core. Results do not
   /// depend on it.

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "leglab/core/config_keys.h"
+#include "leglab/experiments/output.h"
+#include "leglab/experiments/servo_log_io.h"
+
+namespace leglab::experiments {
+
+/// How identify scores the models on the training logs themselves.
+enum class CrossValidation {
+  kNone,                   ///< the models fitted on every training log, scored in sample
+  kLeaveOneTrajectoryOut,  ///< per motor and trajectory: fitted without it, scored on it
+  kLeaveOneKpOut,          ///< per motor and gain setting: fitted without it, scored on it
+};
+inline constexpr std::array<std::string_view, 3> kCrossValidationNames{
+    "none", "leave_one_trajectory_out", "leave_one_kp_out"};
+inline constexpr std::array<std::string_view, 3> kServoLogFormatNames{"auto", "csv", "bam_json"};
+
+/// `logs.*`: identify fits the joint models to recorded servo logs instead of step tests.
+struct LogFitConfig {
+  bool given = false;  ///< a `logs` section was given: identify fits logs
+  /// Logs to fit on and logs to score the fitted models on, unchanged: files, or folders
+  /// (every .json and .csv file in them, by name). Relative paths are taken from the working
+  /// directory, else from leglab's data folder (data/servo_logs/... works from anywhere).
+  std::vector<std::string> train;
+  std::vector<std::string> validate;
+  ServoLogFormat format = ServoLogFormat::kAuto;
+  double tick_s = 0.0;  ///< 0: each motor's pooled median sample interval of its training logs
+  CrossValidation cross_validate = CrossValidation::kNone;
+  ServoLogDefaults csv;  ///< motor, kp, mass_kg, length_m of CSV logs
+  /// A motor's published no-load speed (deg/s): the extended model's v_max is held at it
+  /// instead of fitted (logs that never reach top speed cannot show it).
+  std::map<std::string, double> v_max_deg_s;
+  double lag_max_s = 0.06;     ///< longest lag either model's fit searches
+  double window_max_s = 0.2;   ///< longest averaging window the paper's model's fit searches
+  double shift_max_s = 1.0;    ///< longest time shift the hindsight oracle searches
+  int iterations = 3000;       ///< Nelder-Mead iterations per run of the extended fit
+};
+
+/// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
+/// ReadLogFitStructured.
+void VisitKeys(KeyVisitor& v, LogFitConfig& c);
+
+/// Fits and scores the model ladder (direct, best shift in hindsight, the paper's model, the
+/// extended model) on the configured logs, one parameter set per motor and rung, and writes
+/// log_fit.json, log_fit.md and log_<motor>_<name>.csv (time_s, request_deg, measured_deg,
+/// torque_enabled and each rung's prediction, held out where cross-validated) into `out`.
+/// Returns log_fit.md's text. Throws InputError for a bad log or list (naming the file).
+std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int threads);
+
+/// The files identify writes in its log mode.
+inline const std::vector<std::string> kLogFitOutputPrefixes{"log_fit.", "log_"};
+
+}  // namespace leglab::experiments

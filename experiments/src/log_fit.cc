@@ -1,0 +1,472 @@
+#include "leglab/experiments/log_fit.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "leglab/core/format.h"
+#include "leglab/experiments/data_dir.h"
+#include "leglab/experiments/parallel.h"
+#include "leglab/model/servo_ladder.h"
+#include "leglab/model/servo_log.h"
+#include "yaml_config.h"
+
+namespace leglab::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// The rungs of the ladder, in the order tables show them.
+constexpr std::array<const char*, 4> kRungs{"direct", "best_shift", "paper", "extended"};
+
+// A log as identify uses it: read, resampled at its motor's tick, and named for its outputs.
+struct Log {
+  ServoLog log;
+  bool train = false;  // else a validation log
+  std::string name;    // <motor>_<file stem>: the log_<name>.csv it writes
+  ServoRecording recording;
+};
+
+// One motor's logs and the tick they are resampled to.
+struct MotorGroup {
+  std::string motor;
+  double tick_s = 0.0;
+  std::vector<size_t> train;     // indices into the logs
+  std::vector<size_t> validate;  // ...
+  std::vector<std::string> folds;  // the training logs' fold keys (FoldKey), sorted
+};
+
+// Both rungs' models of one motor, fitted on some of its training logs.
+struct Models {
+  JointModelParams paper;
+  ServoModelParams extended;
+};
+
+// What a log is held out by under cross-validation: its trajectory or its gain setting.
+std::string FoldKey(const ServoLog& log, CrossValidation cv) {
+  return cv == CrossValidation::kLeaveOneKpOut ? "kp " + FormatNumber(log.kp) : log.trajectory;
+}
+
+// A fit to do: the motor, the training logs it leaves out (none: the final models).
+struct FitJob {
+  size_t group = 0;
+  std::optional<std::string> held_out;  // the fold left out (FoldKey)
+  Models models;
+};
+
+// Every rung's prediction of one log, and the oracle's shift.
+struct Predictions {
+  std::array<std::vector<double>, kRungs.size()> angle_deg;
+  int shift_ticks = 0;
+};
+
+// A scored log: which log, as what, by which fit.
+struct Row {
+  size_t log = 0;
+  bool train_role = false;               // scored by the models fitted on it
+  std::optional<std::string> held_out;   // the fold's key (cross-validation)
+  std::array<PredictionScore, kRungs.size()> scores;
+  int shift_ticks = 0;
+  double tick_s = 0.0;
+};
+
+std::string Sanitized(const std::string& text) {
+  std::string out = text;
+  for (char& c : out) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.')) {
+      c = '_';
+    }
+  }
+  return out;
+}
+
+bool IsLogFile(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".json" || ext == ".csv";
+}
+
+// `entry` of logs.<key>: a file, or a folder's logs by name; from the working directory, else
+// from leglab's data folder.
+std::vector<std::string> Expand(const std::string& entry, const std::string& key) {
+  fs::path path(entry);
+  if (path.is_relative() && !PathExists(path) && PathExists(DataDir() / path)) {
+    path = DataDir() / path;
+  }
+  if (!PathExists(path)) FailConfig(key + ": '" + entry + "' does not exist");
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return {path.string()};
+  std::vector<std::string> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(path, ec)) {
+    if (e.is_regular_file(ec) && IsLogFile(e.path())) files.push_back(e.path().string());
+  }
+  if (ec) FailConfig(key + ": cannot list the folder '" + entry + "'");
+  std::sort(files.begin(), files.end());
+  if (files.empty()) FailConfig(key + ": the folder '" + entry + "' holds no .json or .csv log");
+  return files;
+}
+
+std::vector<std::string> ExpandAll(const std::vector<std::string>& entries, const std::string& key) {
+  std::vector<std::string> files;
+  for (const std::string& entry : entries) {
+    for (std::string& file : Expand(entry, key)) files.push_back(std::move(file));
+  }
+  return files;
+}
+
+std::vector<Log> ReadLogs(const LogFitConfig& config) {
+  if (config.train.empty()) FailConfig("logs.train: no log to fit on");
+  const std::vector<std::string> train = ExpandAll(config.train, "logs.train");
+  const std::vector<std::string> validate = ExpandAll(config.validate, "logs.validate");
+  std::vector<Log> logs;
+  std::set<std::string> names;
+  std::set<std::string> files;
+  for (size_t i = 0; i < train.size() + validate.size(); ++i) {
+    const bool is_train = i < train.size();
+    const std::string& file = is_train ? train[i] : validate[i - train.size()];
+    const std::string canonical = fs::weakly_canonical(file).string();
+    if (!files.insert(canonical).second) {
+      FailConfig("logs: '" + file + "' is given twice (in logs.train or logs.validate)");
+    }
+    Log log;
+    log.log = ReadServoLog(file, config.format, config.csv);
+    log.train = is_train;
+    log.name = Sanitized(log.log.motor + "_" + fs::path(file).stem().string());
+    if (!names.insert(log.name).second) {
+      FailConfig("logs: two logs would both write log_" + log.name + ".csv ('" + file + "')");
+    }
+    logs.push_back(std::move(log));
+  }
+  return logs;
+}
+
+std::vector<MotorGroup> GroupByMotor(std::vector<Log>& logs, const LogFitConfig& config) {
+  std::map<std::string, MotorGroup> groups;
+  for (size_t i = 0; i < logs.size(); ++i) {
+    MotorGroup& g = groups[logs[i].log.motor];
+    g.motor = logs[i].log.motor;
+    (logs[i].train ? g.train : g.validate).push_back(i);
+  }
+  std::vector<MotorGroup> result;
+  for (auto& [motor, g] : groups) {
+    if (g.train.empty()) {
+      FailConfig("logs.validate: '" + logs[g.validate.front()].log.file + "' is of motor '" +
+                 motor + "', which no training log is");
+    }
+    std::vector<ServoLog> train_logs;
+    for (size_t i : g.train) {
+      train_logs.push_back(logs[i].log);
+      g.folds.push_back(FoldKey(logs[i].log, config.cross_validate));
+    }
+    std::sort(g.folds.begin(), g.folds.end());
+    g.folds.erase(std::unique(g.folds.begin(), g.folds.end()), g.folds.end());
+    g.tick_s = config.tick_s > 0.0 ? config.tick_s : MedianSampleInterval(train_logs);
+    if (config.cross_validate != CrossValidation::kNone && g.folds.size() < 2) {
+      const bool by_kp = config.cross_validate == CrossValidation::kLeaveOneKpOut;
+      FailConfig("logs.cross_validate: " +
+                 std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]) +
+                 " needs training logs of two " + (by_kp ? "kp values" : "trajectories") +
+                 " or more of motor '" + motor + "'");
+    }
+    result.push_back(std::move(g));
+  }
+  return result;
+}
+
+ServoRecording ToRecording(const ServoLog& log, double tick_s) {
+  ResampledLog resampled = Resample(log.samples, tick_s);
+  ServoRecording r;
+  r.drive = {log.kp, log.mass_kg, log.length_m};
+  r.request_deg = std::move(resampled.request_deg);
+  r.measured_deg = std::move(resampled.measured_deg);
+  r.scored = std::move(resampled.torque_enabled);
+  if (std::find(r.scored.begin(), r.scored.end(), 1) == r.scored.end()) {
+    throw InputError("servo log '" + log.file + "': no tick at " + FormatNumber(tick_s) +
+                     " s has the torque on");
+  }
+  if (!(r.drive.kp > 0.0)) {
+    throw InputError("servo log '" + log.file + "': kp must be positive (logs.kp for a CSV log)");
+  }
+  return r;
+}
+
+int Ticks(double seconds, double tick_s) {
+  return static_cast<int>(std::lround(seconds / tick_s));
+}
+
+Models Fit(const std::vector<const ServoRecording*>& train, double tick_s, const std::string& motor,
+           const LogFitConfig& config) {
+  std::vector<ServoRecording> recordings;
+  for (const ServoRecording* r : train) recordings.push_back(*r);
+  IdentificationOptions paper;
+  paper.lag_min_ticks = 0;
+  paper.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
+  paper.accel_min_ticks = 1;
+  paper.accel_max_ticks = std::max(1, Ticks(config.window_max_s, tick_s));
+  ServoFitOptions extended;
+  extended.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
+  extended.iterations = config.iterations;
+  if (const auto it = config.v_max_deg_s.find(motor); it != config.v_max_deg_s.end()) {
+    extended.v_max_deg_s = it->second;
+  }
+  Models models;
+  try {
+    models.paper = FitJointModelToRecordings(recordings, paper).params;
+  } catch (const std::invalid_argument& e) {
+    FailConfig("logs: the paper's model cannot be fitted to motor '" + motor + "': " + e.what());
+  }
+  models.extended = FitServoModel(recordings, tick_s, extended);
+  return models;
+}
+
+Predictions Predict(const Models& models, const ServoRecording& r, double tick_s,
+                    const LogFitConfig& config) {
+  Predictions p;
+  p.angle_deg[0] = r.request_deg;
+  ShiftPrediction shift = BestShiftPrediction(r, Ticks(config.shift_max_s, tick_s));
+  p.shift_ticks = shift.shift_ticks;
+  p.angle_deg[1] = std::move(shift.angle_deg);
+  p.angle_deg[2] = PredictWithJointModel(models.paper, r);
+  p.angle_deg[3] = PredictServoRecording(models.extended, r, tick_s);
+  return p;
+}
+
+Row Score(size_t log, const ServoRecording& r, const Predictions& p, double tick_s) {
+  Row row;
+  row.log = log;
+  row.tick_s = tick_s;
+  row.shift_ticks = p.shift_ticks;
+  for (size_t k = 0; k < kRungs.size(); ++k) row.scores[k] = ScorePrediction(p.angle_deg[k], r);
+  return row;
+}
+
+std::vector<FitJob> Jobs(const std::vector<MotorGroup>& groups, const LogFitConfig& config) {
+  std::vector<FitJob> jobs;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    jobs.push_back({g, std::nullopt, {}});
+    if (config.cross_validate == CrossValidation::kNone) continue;
+    for (const std::string& fold : groups[g].folds) jobs.push_back({g, fold, {}});
+  }
+  return jobs;
+}
+
+void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
+             const std::vector<Log>& logs, const LogFitConfig& config, int threads) {
+  ParallelFor(static_cast<int>(jobs.size()), threads, [&](int j) {
+    FitJob& job = jobs[static_cast<size_t>(j)];
+    const MotorGroup& g = groups[job.group];
+    std::vector<const ServoRecording*> train;
+    for (size_t i : g.train) {
+      if (job.held_out && FoldKey(logs[i].log, config.cross_validate) == *job.held_out) continue;
+      train.push_back(&logs[i].recording);
+    }
+    job.models = Fit(train, g.tick_s, g.motor, config);
+  });
+}
+
+Json PaperJson(const JointModelParams& p, double tick_s) {
+  return {{"tick_s", tick_s},
+          {"v_max_deg_per_tick", p.v_max_deg_per_tick},
+          {"theta0_deg", p.theta0_deg},
+          {"lag_ticks", p.lag_ticks},
+          {"accel_ticks", p.accel_ticks},
+          {"v_max_deg_s", p.v_max_deg_per_tick / tick_s}};
+}
+
+Json ExtendedJson(const ServoModelParams& p, double tick_s, bool v_max_given) {
+  return {{"tick_s", tick_s},
+          {"gain_per_deg_kp", p.gain_per_deg_kp},
+          {"v_max_deg_s", p.v_max_deg_s},
+          {"v_max_given", v_max_given},
+          {"stall_torque_nm", p.stall_torque_nm},
+          {"friction_duty", p.friction_duty},
+          {"friction_load_ratio", p.friction_load_ratio},
+          {"velocity_lag_s", p.velocity_lag_s},
+          {"lag_ticks", p.lag_ticks}};
+}
+
+// How a row's log was kept from the models that scored it: the cross-validation, the
+// validation list, or not at all ("none", a training log scored in sample).
+std::string HeldOutBy(const Row& row, const LogFitConfig& config) {
+  if (row.held_out) return std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
+  return row.train_role ? "none" : "validate";
+}
+
+Json ScoresJson(const Row& row, bool rms) {
+  Json j;
+  for (size_t k = 0; k < kRungs.size(); ++k) {
+    j[kRungs[k]] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
+  }
+  return j;
+}
+
+// Everything identify reports of a log fit.
+struct Report {
+  std::vector<Log> logs;
+  std::vector<MotorGroup> groups;
+  std::vector<FitJob> jobs;
+  std::vector<Row> rows;
+  std::vector<Predictions> figures;  // per log: held out where cross-validated
+};
+
+Json ReportJson(const Report& report, const LogFitConfig& config) {
+  Json json;
+  for (const FitJob& job : report.jobs) {
+    if (job.held_out) continue;
+    const MotorGroup& g = report.groups[job.group];
+    json["models"]["paper"][g.motor] = PaperJson(job.models.paper, g.tick_s);
+    json["models"]["extended"][g.motor] =
+        ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0);
+  }
+  json["cross_validate"] = std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
+  json["folds"] = Json::array();
+  for (const FitJob& job : report.jobs) {
+    if (!job.held_out) continue;
+    const MotorGroup& g = report.groups[job.group];
+    json["folds"].push_back(
+        {{"motor", g.motor},
+         {"held_out", *job.held_out},
+         {"paper", PaperJson(job.models.paper, g.tick_s)},
+         {"extended",
+          ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0)}});
+  }
+  json["logs"] = Json::array();
+  for (const Row& row : report.rows) {
+    const ServoLog& log = report.logs[row.log].log;
+    json["logs"].push_back({{"file", log.file},
+                            {"role", row.train_role ? "train" : "validate"},
+                            {"held_out_by", HeldOutBy(row, config)},
+                            {"motor", log.motor},
+                            {"trajectory", log.trajectory},
+                            {"kp", log.kp},
+                            {"ticks_scored", row.scores[0].ticks_scored},
+                            {"best_shift_s", row.shift_ticks * row.tick_s},
+                            {"mae_deg", ScoresJson(row, false)},
+                            {"rms_deg", ScoresJson(row, true)}});
+  }
+  return json;
+}
+
+std::string Fixed2(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.2f", value);
+  return buffer;
+}
+
+std::string ReportMarkdown(const Report& report) {
+  std::ostringstream md;
+  md << "# Servo logs: open-loop prediction error (mean absolute, deg)\n\n"
+     << "direct: the angle predicted to equal the request. best shift: the request delayed by "
+        "the one fixed time shift that fits the scored log best, chosen on that log itself (an "
+        "oracle in hindsight, not a model). paper: the paper's four-parameter model. extended: "
+        "the paper's model with the load's torque, the servo's gain, a friction band and a "
+        "velocity lag. validate rows are held out: the models never saw the log.\n";
+  for (const MotorGroup& g : report.groups) {
+    char tick[32];
+    std::snprintf(tick, sizeof tick, "%.3f", g.tick_s * 1000.0);
+    md << "\n## " << g.motor << " (tick " << tick << " ms)\n\n"
+       << "| log | role | trajectory | kp | ticks | direct | best shift | paper | extended |\n"
+       << "|---|---|---|---|---|---|---|---|---|\n";
+    std::array<double, kRungs.size()> sums{};
+    int held = 0;
+    for (const Row& row : report.rows) {
+      const ServoLog& log = report.logs[row.log].log;
+      if (log.motor != g.motor) continue;
+      md << "| " << report.logs[row.log].name << " | "
+         << (row.train_role ? "train" : row.held_out ? "held out" : "validate") << " | "
+         << log.trajectory << " | " << FormatNumber(log.kp) << " | " << row.scores[0].ticks_scored;
+      for (size_t k = 0; k < kRungs.size(); ++k) md << " | " << Fixed2(row.scores[k].mae_deg);
+      md << " |\n";
+      if (row.train_role) continue;
+      ++held;
+      for (size_t k = 0; k < kRungs.size(); ++k) sums[k] += row.scores[k].mae_deg;
+    }
+    if (held > 0) {
+      md << "| **mean held out** | | | | ";
+      for (size_t k = 0; k < kRungs.size(); ++k) md << " | **" << Fixed2(sums[k] / held) << "**";
+      md << " |\n";
+    }
+  }
+  return md.str();
+}
+
+void WriteLogCsv(const Log& log, const Predictions& p, double tick_s, const OutputDir& out) {
+  std::string text = "time_s,request_deg,measured_deg,torque_enabled";
+  for (const char* rung : kRungs) text += std::string(",") + rung + "_deg";
+  text += '\n';
+  const ServoRecording& r = log.recording;
+  for (size_t t = 0; t < r.request_deg.size(); ++t) {
+    text += FormatNumber(static_cast<double>(t) * tick_s) + ',' + FormatNumber(r.request_deg[t]) +
+            ',' + FormatNumber(r.measured_deg[t]) + ',' + (r.scored[t] != 0 ? "1" : "0");
+    for (const auto& angles : p.angle_deg) text += ',' + FormatNumber(angles[t]);
+    text += '\n';
+  }
+  WriteTextFile(out.Path("log_" + log.name + ".csv"), text);
+}
+
+// The rows and figures: every training log in sample (and held out when cross-validated),
+// every validation log by its motor's final models.
+void ScoreAll(Report& report, const LogFitConfig& config) {
+  report.figures.resize(report.logs.size());
+  for (const FitJob& job : report.jobs) {
+    const MotorGroup& g = report.groups[job.group];
+    for (size_t i : g.train) {
+      const Log& log = report.logs[i];
+      if (job.held_out && FoldKey(log.log, config.cross_validate) != *job.held_out) continue;
+      Predictions p = Predict(job.models, log.recording, g.tick_s, config);
+      Row row = Score(i, log.recording, p, g.tick_s);
+      row.train_role = !job.held_out;
+      row.held_out = job.held_out;
+      report.rows.push_back(row);
+      if (job.held_out || config.cross_validate == CrossValidation::kNone) {
+        report.figures[i] = std::move(p);
+      }
+    }
+    if (job.held_out) continue;
+    for (size_t i : g.validate) {
+      Predictions p = Predict(job.models, report.logs[i].recording, g.tick_s, config);
+      report.rows.push_back(Score(i, report.logs[i].recording, p, g.tick_s));
+      report.figures[i] = std::move(p);
+    }
+  }
+  // Per motor, by log: in sample, then held out.
+  std::stable_sort(report.rows.begin(), report.rows.end(), [&](const Row& a, const Row& b) {
+    return std::tie(report.logs[a.log].log.motor, a.log, b.train_role) <
+           std::tie(report.logs[b.log].log.motor, b.log, a.train_role);
+  });
+}
+
+}  // namespace
+
+std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int threads) {
+  Report report;
+  report.logs = ReadLogs(config);
+  report.groups = GroupByMotor(report.logs, config);
+  for (const MotorGroup& g : report.groups) {
+    for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
+      for (size_t i : *list) report.logs[i].recording = ToRecording(report.logs[i].log, g.tick_s);
+    }
+  }
+  report.jobs = Jobs(report.groups, config);
+  RunJobs(report.jobs, report.groups, report.logs, config, threads);
+  ScoreAll(report, config);
+  const std::string md = ReportMarkdown(report);
+  WriteTextFile(out.Path("log_fit.json"), ReportJson(report, config).dump(2) + "\n");
+  WriteTextFile(out.Path("log_fit.md"), md);
+  for (const MotorGroup& g : report.groups) {
+    for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
+      for (size_t i : *list) WriteLogCsv(report.logs[i], report.figures[i], g.tick_s, out);
+    }
+  }
+  return md;
+}
+
+}  // namespace leglab::experiments

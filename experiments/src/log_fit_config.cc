@@ -1,0 +1,113 @@
+#include <cmath>
+
+#include "leglab/core/format.h"
+#include "log_fit_config.h"
+
+namespace leglab::experiments {
+
+void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
+  v.Structured("train", "list of files or folders", "[]",
+               {.description = "logs the models are fitted on (.json in BAM's form, .csv in "
+                               "leglab's); a folder means every log in it; relative to the "
+                               "working directory, else to leglab's data folder"});
+  v.Structured("validate", "list of files or folders", "[]",
+               {.description = "logs the fitted models are scored on, unchanged (held out)"});
+  v.Key("format", c.format, kServoLogFormatNames,
+        {.description = "auto (by extension), csv (time_s,request_deg,measured_deg"
+                        "[,torque_enabled]) or bam_json (BAM's recorded logs as they are)"});
+  v.Key("tick_s", c.tick_s,
+        {.min = 0,
+         .max = 1,
+         .unit = "s",
+         .description = "the tick the logs are resampled to (request held, measurement "
+                        "interpolated); 0: each motor's median sample interval over its "
+                        "training logs"});
+  v.Key("cross_validate", c.cross_validate, kCrossValidationNames,
+        {.description = "none; leave_one_trajectory_out: per motor, each trajectory's logs "
+                        "scored by models fitted on the motor's other trajectories; or "
+                        "leave_one_kp_out: likewise for each gain setting"});
+  v.Key("motor", c.csv.motor,
+        {.description = "a CSV log's servo type (one model is fitted per type)"});
+  v.Key("kp", c.csv.kp,
+        {.min = 0, .max = 1e6, .description = "a CSV log's position-gain setting (register units)"});
+  v.Key("mass_kg", c.csv.mass_kg,
+        {.min = 0, .max = 1000, .unit = "kg", .description = "a CSV log's load mass"});
+  v.Key("length_m", c.csv.length_m,
+        {.min = 0,
+         .max = 10,
+         .unit = "m",
+         .description = "a CSV log's load distance from the axis (0 at the bottom)"});
+  v.Structured("v_max_deg_s", "map of motor: deg/s", "{}",
+               {.unit = "deg/s",
+                .description = "published no-load speeds: the extended model's v_max of a motor "
+                               "named here is held at it instead of fitted"});
+  v.Key("lag_max_s", c.lag_max_s,
+        {.min = 0, .max = 1, .unit = "s", .description = "longest lag either model's fit searches"});
+  v.Key("window_max_s", c.window_max_s,
+        {.min = 0,
+         .max = 1,
+         .unit = "s",
+         .description = "longest averaging window a of the paper's model the fit searches"});
+  v.Key("shift_max_s", c.shift_max_s,
+        {.min = 0,
+         .max = 10,
+         .unit = "s",
+         .description = "longest time shift the best-shift oracle searches"});
+  v.Key("iterations", c.iterations,
+        {.min = 1,
+         .max = 1'000'000,
+         .description = "Nelder-Mead iterations per run of the extended model's fit"});
+}
+
+namespace {
+
+std::vector<std::string> ReadFileList(const YAML::Node& node, const std::string& key) {
+  if (!node.IsDefined() || node.IsNull()) return {};
+  std::vector<std::string> files;
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      if (!node[i].IsScalar()) {
+        FailConfig(key + "[" + std::to_string(i) + "] must be a file name, got '" +
+                   FlowYaml(node[i]) + "'");
+      }
+      files.push_back(node[i].as<std::string>());
+    }
+    return files;
+  }
+  if (node.IsScalar()) return {node.as<std::string>()};
+  FailConfig(key + " must be a list of files or folders, got '" + FlowYaml(node) + "'");
+}
+
+std::map<std::string, double> ReadSpeeds(const YAML::Node& node) {
+  std::map<std::string, double> speeds;
+  if (!node.IsDefined() || node.IsNull()) return speeds;
+  if (!node.IsMap()) {
+    FailConfig("logs.v_max_deg_s must be a map of motor: deg/s, got '" + FlowYaml(node) + "'");
+  }
+  for (const auto& item : node) {
+    const std::string motor = KeyText(item.first);
+    double speed = 0.0;
+    try {
+      speed = item.second.as<double>();
+    } catch (const YAML::Exception&) {
+      FailConfig("logs.v_max_deg_s." + motor + " must be a number, got '" +
+                 FlowYaml(item.second) + "'");
+    }
+    if (!(std::isfinite(speed) && speed > 0.0 && speed <= 1e5)) {
+      FailConfig("logs.v_max_deg_s." + motor + " must be in (0, 100000] deg/s, got " +
+                 FormatNumber(speed, NumberStyle::kReadable));
+    }
+    speeds[motor] = speed;
+  }
+  return speeds;
+}
+
+}  // namespace
+
+void ReadLogFitStructured(YamlKeyReader& reader, LogFitConfig& c) {
+  c.train = ReadFileList(reader.Raw("train"), "logs.train");
+  c.validate = ReadFileList(reader.Raw("validate"), "logs.validate");
+  c.v_max_deg_s = ReadSpeeds(reader.Raw("v_max_deg_s"));
+}
+
+}  // namespace leglab::experiments
