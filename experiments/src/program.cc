@@ -25,6 +25,35 @@ void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table) {
       "unit, description) and exit");
 }
 
+int ReportErrors(const std::string& program, const std::function<void()>& body) {
+  try {
+    body();
+    return 0;
+  } catch (const InputError& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const std::invalid_argument& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const std::domain_error& e) {
+    std::cerr << program << ": error: " << e.what() << '\n';
+  } catch (const OutputError& e) {
+    std::cerr << program << ": failed: " << e.what() << '\n';
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << program << ": failed: " << e.what() << '\n';
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << program << ": internal error: out of memory (std::bad_alloc)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": internal error: " << e.what() << '\n';
+    return 1;
+  } catch (...) {
+    std::cerr << program << ": internal error: an unknown exception\n";
+    return 1;
+  }
+  return 2;
+}
+
 int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
                int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
@@ -52,7 +81,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   }
   // Before any thread starts: an interruption removes the staging folder (OutputDir).
   InstallInterruptCleanup(program);
-  try {
+  return ReportErrors(program, [&] {
     ExperimentConfig config = LoadExperimentConfig(args.config_path, args.overrides, scope);
     config.threads = args.threads;
     const ProgressStyle style = args.quiet                     ? ProgressStyle::kOff
@@ -61,30 +90,7 @@ int RunProgram(const std::string& program, const std::string& description, const
                                                                : ProgressStyle::kOff;
     const ProgressDisplay display(program, style, config.planned_ticks);
     body(args, config);
-    return 0;
-  } catch (const InputError& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
-  } catch (const std::invalid_argument& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
-  } catch (const std::domain_error& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
-  } catch (const OutputError& e) {
-    std::cerr << program << ": failed: " << e.what() << '\n';
-    return 1;
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << program << ": failed: " << e.what() << '\n';
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::cerr << program << ": internal error: out of memory (std::bad_alloc)\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << program << ": internal error: " << e.what() << '\n';
-    return 1;
-  } catch (...) {
-    std::cerr << program << ": internal error: an unknown exception\n";
-    return 1;
-  }
-  return 2;
+  });
 }
 
 int RunProgram(const std::string& program, const std::string& description, int argc, char** argv,

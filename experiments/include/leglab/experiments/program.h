@@ -28,6 +28,11 @@ struct ProgramArgs {
   bool quiet = false;     ///< --quiet: no progress at all
 };
 
+/// Runs `body` and reports what escapes it as RunProgram does (bad input: "<program>: error:
+/// <message>", status 2; a failure to write: "<program>: failed: ...", 1; anything else:
+/// "<program>: internal error: ...", 1). Returns 0 when `body` returns.
+int ReportErrors(const std::string& program, const std::function<void()>& body);
+
 /// Parses the flags, loads the config (keys outside `scope` rejected, see ConfigScope) and runs
 /// `body` while a ProgressDisplay shows its progress on stderr (a bar on a terminal, plain lines
 /// with --progress, nothing with --quiet). Bad input (flags, config, robot, URDF, CSV, an

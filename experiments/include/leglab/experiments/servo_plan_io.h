@@ -1,0 +1,76 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leglab/model/joint_model.h"
+#include "leglab/model/servo_model.h"
+#include "leglab/model/servo_plan.h"
+
+namespace leglab::experiments {
+
+/// What `plan` is asked (its flags; see docs/real-servos-plan.md).
+struct PlanOptions {
+  std::string model_path;              ///< --model: identify's log_fit.json
+  std::string rung = "extended";       ///< --rung: paper or extended
+  std::string method = "model_based";  ///< --method: model_based or optimal
+  std::string desired_path;            ///< --desired: a desired CSV or a servo log
+  std::string out_dir;                 ///< --out
+  std::string motor;                   ///< --motor (empty: from the log or the only one)
+  std::optional<double> kp;            ///< --kp
+  std::optional<double> mass_kg;       ///< --mass-kg
+  std::optional<double> length_m;      ///< --length-m
+  double min_deg = -180.0;             ///< --min-deg
+  double max_deg = 180.0;              ///< --max-deg
+};
+
+/// One rung's fitted model of one motor, as log_fit.json's "models" gives it.
+struct FittedModel {
+  std::string rung;              ///< "paper" or "extended"
+  std::string motor;             ///< e.g. "sts3250"
+  double tick_s = 0.0;           ///< the tick the model was fitted on (s)
+  JointModelParams paper;        ///< when rung is "paper"
+  ServoModelParams extended;     ///< when rung is "extended"
+  double top_speed_deg_s = 0.0;  ///< v_max_deg_s, or v_max_deg_per_tick / tick_s
+};
+
+/// Reads `models.<rung>.<motor>` from the log_fit.json at `path` (other fields ignored). With
+/// an empty `motor` the file's only motor of that rung. Throws InputError naming the file and
+/// the field on an unreadable file, malformed JSON, a missing or non-numeric field, a rung or
+/// motor not in the file (listing those that are), or a model out of range
+/// (ServoModelParamsProblem, JointModelParamsProblem; tick_s > 0).
+FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
+                            const std::string& motor);
+
+/// A desired motion read from --desired, before resampling.
+struct DesiredMotion {
+  std::vector<double> time_s;       ///< strictly increasing
+  std::vector<double> desired_deg;  ///< D at each time
+  bool is_log = false;              ///< a servo log: its requests, held between samples
+  std::string motor;                ///< a BAM log's motor (else empty)
+  std::optional<ServoDrive> drive;  ///< a BAM log's kp, mass and length
+};
+
+/// Reads --desired: a `.json` file as a BAM servo log and a CSV whose header starts
+/// `time_s,request_deg` as leglab's servo log (ReadServoLog; the request column is the desired
+/// motion), any other file as a desired CSV: the header `time_s,desired_deg`, then rows of two
+/// plain decimal cells (as ReadServoLog's CSV), times strictly increasing, at least 2 rows.
+/// Throws InputError naming the file, the row and the column.
+DesiredMotion ReadDesiredMotion(const std::string& path);
+
+/// `motion` on ticks of `tick_s` from its first time to its last (within 1e-9 s): a desired
+/// CSV interpolated linearly, a log's requests held (Resample). Throws InputError beyond
+/// 1,000,000 ticks.
+std::vector<double> ResampleDesired(const DesiredMotion& motion, double tick_s,
+                                    const std::string& path);
+
+/// Runs `plan`: reads the model and the desired motion, plans, writes requests.csv and plan.json
+/// into `options.out_dir` (all or nothing) and returns the one-paragraph summary. Throws
+/// InputError on bad input, having written nothing.
+std::string RunPlan(const PlanOptions& options);
+
+/// `plan`'s main: parses the flags and runs RunPlan, reporting errors as ReportErrors does.
+int PlanMain(int argc, char** argv);
+
+}  // namespace leglab::experiments
