@@ -132,11 +132,15 @@ ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg)
   return state;
 }
 
+double ServoLoadDuty(const ServoModelParams& params, const ServoDrive& drive, double angle_deg) {
+  return drive.mass_kg * kGravity * drive.length_m * std::sin(angle_deg * std::numbers::pi / 180.0) /
+         params.stall_torque_nm;
+}
+
 double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive, double angle_deg,
                         double error_deg) {
   const double duty = std::clamp(params.gain_per_deg_kp * drive.kp * error_deg, -1.0, 1.0);
-  const double load_duty = drive.mass_kg * kGravity * drive.length_m *
-                           std::sin(angle_deg * std::numbers::pi / 180.0) / params.stall_torque_nm;
+  const double load_duty = ServoLoadDuty(params, drive, angle_deg);
   const double net = duty - load_duty;
   const double band = params.friction_duty + params.friction_load_ratio * std::abs(load_duty);
   if (std::abs(net) <= band) return 0.0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "leglab/core/format.h"
 
@@ -247,6 +248,49 @@ bool DescentStep(const Stepper& stepper, const Problem& p, std::vector<double>& 
   return false;
 }
 
+// The duty u that gives target speed `speed` (deg/s) at load duty `load` and friction band
+// `band` (the lines n..w* of ServoModelParams inverted), the least |u| where the speed is 0.
+double DutyForSpeed(const ServoModelParams& params, double speed, double load, double band) {
+  if (speed > 0.0) return load + speed / params.v_max_deg_s + band;
+  if (speed < 0.0) return load + speed / params.v_max_deg_s - band;
+  return load - std::clamp(load, -band, band);  // inside the band: as little duty as holds
+}
+
+// kModelBased for the extended model, the paper's method carried over: the model inverted
+// along the desired path. R(t) acts on tick k = t + l + 1; were the joint on the path at
+// k - 1 (angle D(k-1), velocity w_d(k-1)), its velocity at k is w_d(k) when the target speed is
+// w* = w_d(k-1) + (w_d(k) - w_d(k-1)) / (1 - exp(-tick / velocity_lag)); the duty giving w*
+// (DutyForSpeed) and the P-law give the request R(t) = D(k-1) + u / (gain * kp). A duty
+// beyond +-1 is saturated (the least request that saturates) and flagged. Open loop like the
+// paper's: the servo's own P-law pulls the joint back to the path, where a tick-by-tick
+// inversion of the predicted state would have to make the velocity jump.
+std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Problem& p,
+                                        std::vector<uint8_t>& beyond_servo) {
+  const ServoModelParams& params = stepper.params;
+  const size_t n = p.desired.size();
+  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
+  const auto desired = [&](long k) { return p.desired[std::clamp<long>(k, 0, static_cast<long>(n) - 1)]; };
+  const auto speed = [&](long k) { return (desired(k) - desired(k - 1)) / stepper.tick_s; };
+  std::vector<double> requests(n);
+  double previous = p.desired[0];
+  for (size_t t = 0; t < n; ++t) {
+    const long k = static_cast<long>(t) + params.lag_ticks + 1;
+    const double target = speed(k - 1) + (speed(k) - speed(k - 1)) / blend;
+    const double angle = desired(k - 1);
+    const double load = ServoLoadDuty(params, stepper.drive, angle);
+    const double band = params.friction_duty + params.friction_load_ratio * std::abs(load);
+    const double duty = DutyForSpeed(params, target, load, band);
+    const double error = std::clamp(duty, -1.0, 1.0) / (params.gain_per_deg_kp * stepper.drive.kp);
+    const double wanted = angle + error;
+    double request = std::clamp(wanted, previous - p.max_step_deg, previous + p.max_step_deg);
+    request = std::clamp(request, p.min_deg, p.max_deg);
+    const bool beyond = std::abs(duty) > 1.0 || std::abs(request - wanted) > kBeyondServoToleranceDeg;
+    if (beyond && static_cast<size_t>(k) < n) beyond_servo[static_cast<size_t>(k)] = 1;
+    requests[t] = previous = request;
+  }
+  return requests;
+}
+
 // kOptimal from the kModelBased requests: never worse than them.
 template <class Stepper>
 std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
@@ -265,7 +309,11 @@ template <class Stepper>
 ServoPlan Plan(const Stepper& stepper, const Problem& p, PlanMethod method) {
   ServoPlan plan;
   plan.beyond_servo.assign(p.desired.size(), 0);
-  plan.request_deg = ModelBasedRequests(stepper, p, plan.beyond_servo);
+  if constexpr (std::is_same_v<Stepper, ExtendedStepper>) {
+    plan.request_deg = DesiredPathRequests(stepper, p, plan.beyond_servo);
+  } else {
+    plan.request_deg = ModelBasedRequests(stepper, p, plan.beyond_servo);
+  }
   if (method == PlanMethod::kOptimal) {
     plan.request_deg = OptimalRequests(stepper, p, std::move(plan.request_deg));
   }

@@ -59,6 +59,9 @@ struct ServoModelState {
 /// A joint at rest at `angle_deg`: no velocity, every remembered request equal to the angle.
 ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg);
 
+/// The duty g that holds the load still at `angle_deg` (ServoModelParams), signed.
+double ServoLoadDuty(const ServoModelParams& params, const ServoDrive& drive, double angle_deg);
+
 /// The speed w* (deg/s) the net duty settles to at angle `angle_deg` under request error
 /// `error_deg` (the lines e..w* of ServoModelParams).
 double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive, double angle_deg,
