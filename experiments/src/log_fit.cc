@@ -16,6 +16,7 @@
 #include "leglab/experiments/parallel.h"
 #include "leglab/model/servo_ladder.h"
 #include "leglab/model/servo_log.h"
+#include "leglab/model/servo_plan.h"
 #include "yaml_config.h"
 
 namespace leglab::experiments {
@@ -39,8 +40,8 @@ struct Log {
 struct MotorGroup {
   std::string motor;
   double tick_s = 0.0;
-  std::vector<size_t> train;     // indices into the logs
-  std::vector<size_t> validate;  // ...
+  std::vector<size_t> train;       // indices into the logs
+  std::vector<size_t> validate;    // ...
   std::vector<std::string> folds;  // the training logs' fold keys (FoldKey), sorted
 };
 
@@ -68,14 +69,24 @@ struct Predictions {
   int shift_ticks = 0;
 };
 
+// A log's request column taken as a desired motion and played through its motor's extended
+// model: the predicted error of sending it as it is, and of each method's plan (driven ticks).
+struct PlanGain {
+  double direct_mae_deg = 0.0;
+  double model_based_mae_deg = 0.0;
+  double optimal_mae_deg = 0.0;
+  int beyond_servo_ticks = 0;  // of the model-based plan, driven ticks only
+};
+
 // A scored log: which log, as what, by which fit.
 struct Row {
   size_t log = 0;
-  bool train_role = false;               // scored by the models fitted on it
-  std::optional<std::string> held_out;   // the fold's key (cross-validation)
+  bool train_role = false;              // scored by the models fitted on it
+  std::optional<std::string> held_out;  // the fold's key (cross-validation)
   std::array<PredictionScore, kRungs.size()> scores;
   int shift_ticks = 0;
   double tick_s = 0.0;
+  std::optional<PlanGain> plan;  // for the rows scored by the final models
 };
 
 std::string Sanitized(const std::string& text) {
@@ -90,7 +101,8 @@ std::string Sanitized(const std::string& text) {
 
 bool IsLogFile(const fs::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".json" || ext == ".csv";
 }
 
@@ -114,7 +126,8 @@ std::vector<std::string> Expand(const std::string& entry, const std::string& key
   return files;
 }
 
-std::vector<std::string> ExpandAll(const std::vector<std::string>& entries, const std::string& key) {
+std::vector<std::string> ExpandAll(const std::vector<std::string>& entries,
+                                   const std::string& key) {
   std::vector<std::string> files;
   for (const std::string& entry : entries) {
     for (std::string& file : Expand(entry, key)) files.push_back(std::move(file));
@@ -198,9 +211,7 @@ ServoRecording ToRecording(const ServoLog& log, double tick_s) {
   return r;
 }
 
-int Ticks(double seconds, double tick_s) {
-  return static_cast<int>(std::lround(seconds / tick_s));
-}
+int Ticks(double seconds, double tick_s) { return static_cast<int>(std::lround(seconds / tick_s)); }
 
 Models Fit(const std::vector<const ServoRecording*>& train, double tick_s, const std::string& motor,
            const LogFitConfig& config) {
@@ -296,7 +307,8 @@ Json ExtendedJson(const ServoModelParams& p, double tick_s, bool v_max_given) {
 // How a row's log was kept from the models that scored it: the cross-validation, the
 // validation list, or not at all ("none", a training log scored in sample).
 std::string HeldOutBy(const Row& row, const LogFitConfig& config) {
-  if (row.held_out) return std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
+  if (row.held_out)
+    return std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
   return row.train_role ? "none" : "validate";
 }
 
@@ -326,17 +338,17 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
     json["models"]["extended"][g.motor] =
         ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0);
   }
-  json["cross_validate"] = std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
+  json["cross_validate"] =
+      std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
   json["folds"] = Json::array();
   for (const FitJob& job : report.jobs) {
     if (!job.held_out) continue;
     const MotorGroup& g = report.groups[job.group];
-    json["folds"].push_back(
-        {{"motor", g.motor},
-         {"held_out", *job.held_out},
-         {"paper", PaperJson(job.models.paper, g.tick_s)},
-         {"extended",
-          ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0)}});
+    json["folds"].push_back({{"motor", g.motor},
+                             {"held_out", *job.held_out},
+                             {"paper", PaperJson(job.models.paper, g.tick_s)},
+                             {"extended", ExtendedJson(job.models.extended, g.tick_s,
+                                                       config.v_max_deg_s.count(g.motor) > 0)}});
   }
   json["logs"] = Json::array();
   for (const Row& row : report.rows) {
@@ -351,6 +363,12 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
                             {"best_shift_s", row.shift_ticks * row.tick_s},
                             {"mae_deg", ScoresJson(row, false)},
                             {"rms_deg", ScoresJson(row, true)}});
+    if (row.plan) {
+      json["logs"].back()["plan"] = {{"direct_mae_deg", row.plan->direct_mae_deg},
+                                     {"model_based_mae_deg", row.plan->model_based_mae_deg},
+                                     {"optimal_mae_deg", row.plan->optimal_mae_deg},
+                                     {"beyond_servo_ticks", row.plan->beyond_servo_ticks}};
+    }
   }
   return json;
 }
@@ -359,6 +377,20 @@ std::string Fixed2(double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.2f", value);
   return buffer;
+}
+
+// Each log's request column as a desired motion through the motor's final extended model.
+void PlanMarkdown(const Report& report, const MotorGroup& g, std::ostringstream& md) {
+  md << "\nPlanned requests, predicted by the extended model (mean absolute error from the "
+        "desired motion, deg, driven ticks; beyond servo: ticks the model-based plan cannot "
+        "reach):\n\n"
+     << "| log | direct | model_based | optimal | beyond servo |\n|---|---|---|---|---|\n";
+  for (const Row& row : report.rows) {
+    if (!row.plan || report.logs[row.log].log.motor != g.motor) continue;
+    md << "| " << report.logs[row.log].name << " | " << Fixed2(row.plan->direct_mae_deg) << " | "
+       << Fixed2(row.plan->model_based_mae_deg) << " | " << Fixed2(row.plan->optimal_mae_deg)
+       << " | " << row.plan->beyond_servo_ticks << " |\n";
+  }
 }
 
 std::string ReportMarkdown(const Report& report) {
@@ -381,8 +413,11 @@ std::string ReportMarkdown(const Report& report) {
       const ServoLog& log = report.logs[row.log].log;
       if (log.motor != g.motor) continue;
       md << "| " << report.logs[row.log].name << " | "
-         << (row.train_role ? "train" : row.held_out ? "held out" : "validate") << " | "
-         << log.trajectory << " | " << FormatNumber(log.kp) << " | " << row.scores[0].ticks_scored;
+         << (row.train_role ? "train"
+             : row.held_out ? "held out"
+                            : "validate")
+         << " | " << log.trajectory << " | " << FormatNumber(log.kp) << " | "
+         << row.scores[0].ticks_scored;
       for (size_t k = 0; k < kRungs.size(); ++k) md << " | " << Fixed2(row.scores[k].mae_deg);
       md << " |\n";
       if (row.train_role) continue;
@@ -394,6 +429,7 @@ std::string ReportMarkdown(const Report& report) {
       for (size_t k = 0; k < kRungs.size(); ++k) md << " | **" << Fixed2(sums[k] / held) << "**";
       md << " |\n";
     }
+    PlanMarkdown(report, g, md);
   }
   return md.str();
 }
@@ -412,6 +448,33 @@ void WriteLogCsv(const Log& log, const Predictions& p, double tick_s, const Outp
   WriteTextFile(out.Path("log_" + log.name + ".csv"), text);
 }
 
+double DrivenMae(std::span<const double> angles, const ServoRecording& r) {
+  double sum = 0.0;
+  int count = 0;
+  for (size_t t = 0; t < angles.size(); ++t) {
+    if (r.scored[t] == 0) continue;
+    sum += std::abs(angles[t] - r.request_deg[t]);
+    ++count;
+  }
+  return sum / count;
+}
+
+PlanGain PlanLog(const ServoModelParams& model, const ServoRecording& r, double tick_s) {
+  const ServoLimits limits{-180.0, 180.0, model.v_max_deg_s};
+  PlanGain gain;
+  gain.direct_mae_deg = DrivenMae(PredictServoAngles(model, r.drive, tick_s, r.request_deg), r);
+  const ServoPlan based =
+      PlanServoRequests(model, r.drive, tick_s, r.request_deg, limits, PlanMethod::kModelBased);
+  gain.model_based_mae_deg = DrivenMae(based.predicted_deg, r);
+  for (size_t t = 0; t < r.scored.size(); ++t) {
+    gain.beyond_servo_ticks += based.beyond_servo[t] != 0 && r.scored[t] != 0 ? 1 : 0;
+  }
+  const ServoPlan optimal =
+      PlanServoRequests(model, r.drive, tick_s, r.request_deg, limits, PlanMethod::kOptimal);
+  gain.optimal_mae_deg = DrivenMae(optimal.predicted_deg, r);
+  return gain;
+}
+
 // The rows and figures: every training log in sample (and held out when cross-validated),
 // every validation log by its motor's final models.
 void ScoreAll(Report& report, const LogFitConfig& config) {
@@ -425,6 +488,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
       Row row = Score(i, log.recording, p, g.tick_s);
       row.train_role = !job.held_out;
       row.held_out = job.held_out;
+      if (!job.held_out) row.plan = PlanLog(job.models.extended, log.recording, g.tick_s);
       report.rows.push_back(row);
       if (job.held_out || config.cross_validate == CrossValidation::kNone) {
         report.figures[i] = std::move(p);
@@ -434,6 +498,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
     for (size_t i : g.validate) {
       Predictions p = Predict(job.models, report.logs[i].recording, g.tick_s, config);
       report.rows.push_back(Score(i, report.logs[i].recording, p, g.tick_s));
+      report.rows.back().plan = PlanLog(job.models.extended, report.logs[i].recording, g.tick_s);
       report.figures[i] = std::move(p);
     }
   }

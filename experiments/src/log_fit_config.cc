@@ -28,8 +28,9 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
                         "leave_one_kp_out: likewise for each gain setting"});
   v.Key("motor", c.csv.motor,
         {.description = "a CSV log's servo type (one model is fitted per type)"});
-  v.Key("kp", c.csv.kp,
-        {.min = 0, .max = 1e6, .description = "a CSV log's position-gain setting (register units)"});
+  v.Key(
+      "kp", c.csv.kp,
+      {.min = 0, .max = 1e6, .description = "a CSV log's position-gain setting (register units)"});
   v.Key("mass_kg", c.csv.mass_kg,
         {.min = 0, .max = 1000, .unit = "kg", .description = "a CSV log's load mass"});
   v.Key("length_m", c.csv.length_m,
@@ -41,8 +42,9 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
                {.unit = "deg/s",
                 .description = "published no-load speeds: the extended model's v_max of a motor "
                                "named here is held at it instead of fitted"});
-  v.Key("lag_max_s", c.lag_max_s,
-        {.min = 0, .max = 1, .unit = "s", .description = "longest lag either model's fit searches"});
+  v.Key(
+      "lag_max_s", c.lag_max_s,
+      {.min = 0, .max = 1, .unit = "s", .description = "longest lag either model's fit searches"});
   v.Key("window_max_s", c.window_max_s,
         {.min = 0,
          .max = 1,
@@ -90,8 +92,8 @@ std::map<std::string, double> ReadSpeeds(const YAML::Node& node) {
     try {
       speed = item.second.as<double>();
     } catch (const YAML::Exception&) {
-      FailConfig("logs.v_max_deg_s." + motor + " must be a number, got '" +
-                 FlowYaml(item.second) + "'");
+      FailConfig("logs.v_max_deg_s." + motor + " must be a number, got '" + FlowYaml(item.second) +
+                 "'");
     }
     if (!(std::isfinite(speed) && speed > 0.0 && speed <= 1e5)) {
       FailConfig("logs.v_max_deg_s." + motor + " must be in (0, 100000] deg/s, got " +

@@ -133,8 +133,8 @@ ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg)
 }
 
 double ServoLoadDuty(const ServoModelParams& params, const ServoDrive& drive, double angle_deg) {
-  return drive.mass_kg * kGravity * drive.length_m * std::sin(angle_deg * std::numbers::pi / 180.0) /
-         params.stall_torque_nm;
+  return drive.mass_kg * kGravity * drive.length_m *
+         std::sin(angle_deg * std::numbers::pi / 180.0) / params.stall_torque_nm;
 }
 
 double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive, double angle_deg,

@@ -269,7 +269,9 @@ std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Pr
   const ServoModelParams& params = stepper.params;
   const size_t n = p.desired.size();
   const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
-  const auto desired = [&](long k) { return p.desired[std::clamp<long>(k, 0, static_cast<long>(n) - 1)]; };
+  const auto desired = [&](long k) {
+    return p.desired[std::clamp<long>(k, 0, static_cast<long>(n) - 1)];
+  };
   const auto speed = [&](long k) { return (desired(k) - desired(k - 1)) / stepper.tick_s; };
   std::vector<double> requests(n);
   double previous = p.desired[0];
@@ -284,7 +286,8 @@ std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Pr
     const double wanted = angle + error;
     double request = std::clamp(wanted, previous - p.max_step_deg, previous + p.max_step_deg);
     request = std::clamp(request, p.min_deg, p.max_deg);
-    const bool beyond = std::abs(duty) > 1.0 || std::abs(request - wanted) > kBeyondServoToleranceDeg;
+    const bool beyond =
+        std::abs(duty) > 1.0 || std::abs(request - wanted) > kBeyondServoToleranceDeg;
     if (beyond && static_cast<size_t>(k) < n) beyond_servo[static_cast<size_t>(k)] = 1;
     requests[t] = previous = request;
   }

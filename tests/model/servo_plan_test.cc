@@ -197,8 +197,8 @@ TEST(ServoPlanTest, ModelBasedInvertsTheModelAlongThePath) {
       best_miss = std::min(best_miss,
                            std::abs(VelocityFromThePath(p, drive, d(k - 1), w(k - 1), r) - w(k)));
     }
-    const double plan_miss = std::abs(
-        VelocityFromThePath(p, drive, d(k - 1), w(k - 1), plan.request_deg[t]) - w(k));
+    const double plan_miss =
+        std::abs(VelocityFromThePath(p, drive, d(k - 1), w(k - 1), plan.request_deg[t]) - w(k));
     EXPECT_LE(plan_miss, best_miss + 1e-9) << t;
   }
 }

@@ -37,10 +37,10 @@ struct LogFitConfig {
   /// A motor's published no-load speed (deg/s): the extended model's v_max is held at it
   /// instead of fitted (logs that never reach top speed cannot show it).
   std::map<std::string, double> v_max_deg_s;
-  double lag_max_s = 0.06;     ///< longest lag either model's fit searches
-  double window_max_s = 0.2;   ///< longest averaging window the paper's model's fit searches
-  double shift_max_s = 1.0;    ///< longest time shift the hindsight oracle searches
-  int iterations = 3000;       ///< Nelder-Mead iterations per run of the extended fit
+  double lag_max_s = 0.06;    ///< longest lag either model's fit searches
+  double window_max_s = 0.2;  ///< longest averaging window the paper's model's fit searches
+  double shift_max_s = 1.0;   ///< longest time shift the hindsight oracle searches
+  int iterations = 3000;      ///< Nelder-Mead iterations per run of the extended fit
 };
 
 /// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
