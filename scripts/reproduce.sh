@@ -59,6 +59,20 @@ if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_cold_start"
   /usr/bin/python3 scripts/plot_figures.py "$out/adapt_wear"
 fi
+# Real servos: the model ladder on the shipped logs of two hobby servos (data/servo_logs/), one
+# parameter set per servo type, each trajectory held out in turn (servo_logs/); the XL330 with
+# each gain setting held out in turn (servo_logs/by_kp/); requests planned through the fitted
+# extended model for an XL330 log's motion (servo_logs/plan/).
+if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
+  build/bin/identify --config experiments/configs/identify_logs.yaml --out "$out/servo_logs"
+  build/bin/identify --config experiments/configs/identify_logs.yaml --out "$out/servo_logs/by_kp" \
+    --set 'logs.train=[data/servo_logs/dynamixel-xl330]' --set logs.cross_validate=leave_one_kp_out
+  build/bin/plan --model "$out/servo_logs/log_fit.json" --method optimal \
+    --desired data/servo_logs/dynamixel-xl330/sin_time_square_kp400_2026-01-15_10h29m37.json \
+    --out "$out/servo_logs/plan"
+  /usr/bin/python3 scripts/plot_logs.py "$out/servo_logs" "$out/servo_logs/by_kp" \
+    "$out/servo_logs/plan"
+fi
 # The shipped sweeps, each with its figure, into results/sweeps/<name>/.
 if [ -x build/bin/sweep ]; then
   for sweep in model_mismatch walk_speed stand_load servo_firmware; do
