@@ -200,5 +200,18 @@ TEST(ServoLadderTest, PaperModelFitNeedsARunLongerThanTheWarmUp) {
   EXPECT_NO_THROW(FitJointModelToRecordings(std::vector{recording}, options));
 }
 
+// The runs are cut by the scored ticks: a recording whose columns differ in length must be
+// rejected before any is read past its end.
+TEST(ServoLadderTest, PaperModelFitRejectsMismatchedSizes) {
+  const IdentificationOptions options{
+      .lag_min_ticks = 0, .lag_max_ticks = 1, .accel_min_ticks = 1, .accel_max_ticks = 1};
+  ServoRecording recording = PaperModelRecording({3.0, 10.0, 1, 2});
+  recording.measured_deg.resize(100);
+  EXPECT_THROW(FitJointModelToRecordings(std::vector{recording}, options), std::invalid_argument);
+  recording = PaperModelRecording({3.0, 10.0, 1, 2});
+  recording.request_deg.resize(60);
+  EXPECT_THROW(FitJointModelToRecordings(std::vector{recording}, options), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace leglab
