@@ -83,6 +83,10 @@ IdentificationResult FitJointModelToRecordings(std::span<const ServoRecording> r
   const size_t min_ticks = static_cast<size_t>(options.lag_max_ticks + options.accel_max_ticks) + 1;
   std::vector<JointRecording> runs;
   for (const ServoRecording& r : recordings) {
+    // The runs are cut where `scored` says, so every column must be as long as it.
+    if (r.request_deg.size() != r.scored.size() || r.measured_deg.size() != r.scored.size()) {
+      throw std::invalid_argument("servo recording: request, measured and scored sizes differ");
+    }
     for (size_t t = 0; t < r.scored.size();) {
       if (r.scored[t] == 0) {
         ++t;

@@ -41,8 +41,8 @@ std::vector<double> PredictWithJointModel(const JointModelParams& params,
 
 /// Fits the paper's model to recordings by IdentifyJointModel, each run of consecutive driven
 /// ticks one JointRecording (runs too short for the search's warm-up, lag_max + accel_max
-/// ticks and one scored tick, are left out). Throws std::invalid_argument when no run is long
-/// enough.
+/// ticks and one scored tick, are left out). Throws std::invalid_argument on a recording whose
+/// request, measured and scored sizes differ, or when no run is long enough.
 IdentificationResult FitJointModelToRecordings(std::span<const ServoRecording> recordings,
                                                const IdentificationOptions& options);
 
