@@ -8,8 +8,8 @@
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/data_dir.h"
 #include "leglab/model/joint_model_plant.h"
-#include "run_budget.h"
 #include "log_fit_config.h"
+#include "run_budget.h"
 #include "yaml_config.h"
 
 namespace leglab::experiments {

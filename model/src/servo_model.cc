@@ -192,6 +192,10 @@ ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, doubl
   if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
     throw std::invalid_argument("servo fit: tick_s must be positive");
   }
+  if (options.lag_max_ticks < 0 || options.restarts < 1 || options.iterations < 1) {
+    throw std::invalid_argument(
+        "servo fit: lag_max_ticks must be >= 0, restarts and iterations >= 1");
+  }
   for (const ServoRecording& r : recordings) {
     CheckRecording(r);
     if (std::find(r.scored.begin(), r.scored.end(), 1) == r.scored.end()) {

@@ -266,7 +266,10 @@ std::vector<DeclaredRange> NumericKeys() {
     if (row.type != "number" && row.type != "integer" && row.type.rfind("list of", 0) != 0) {
       continue;
     }
-    if (row.type == "list of {at_step, set}" || row.type == "list of modes") continue;
+    if (row.type == "list of {at_step, set}" || row.type == "list of modes" ||
+        row.type == "list of files or folders") {
+      continue;
+    }
     ranges.push_back({row.key, RangeText(row.doc), row.doc.min, row.doc.max, row.doc.min_open,
                       row.doc.max_open});
   }

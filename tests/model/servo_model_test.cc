@@ -300,6 +300,12 @@ TEST(ServoModelTest, FitRejectsBadInput) {
   ServoRecording undriven = good;
   undriven.scored.assign(4, 0);
   EXPECT_THROW(FitServoModel(std::vector{good, undriven}, kTickS, options), std::invalid_argument);
+  // A search with no lag, no run or no iteration would return a model never fitted.
+  for (const ServoFitOptions empty : {ServoFitOptions{.lag_max_ticks = -1},
+                                      ServoFitOptions{.restarts = 0},
+                                      ServoFitOptions{.iterations = 0}}) {
+    EXPECT_THROW(FitServoModel(std::vector{good}, kTickS, empty), std::invalid_argument);
+  }
 }
 
 }  // namespace

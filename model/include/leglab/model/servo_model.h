@@ -105,7 +105,7 @@ struct ServoFitOptions {
 /// open-loop prediction error over its driven ticks (every recording weighs alike whatever its
 /// length), and returns the best lag's. Deterministic. Throws std::invalid_argument on no
 /// recordings, one without a driven tick, mismatched sizes, non-finite samples, a drive out of
-/// range or tick_s <= 0.
+/// range, tick_s <= 0, a negative lag_max_ticks, or fewer than one restart or iteration.
 ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, double tick_s,
                                const ServoFitOptions& options = {});
 
