@@ -216,6 +216,7 @@ int Ticks(double seconds, double tick_s) { return static_cast<int>(std::lround(s
 Models Fit(const std::vector<const ServoRecording*>& train, double tick_s, const std::string& motor,
            const LogFitConfig& config) {
   std::vector<ServoRecording> recordings;
+  recordings.reserve(train.size());
   for (const ServoRecording* r : train) recordings.push_back(*r);
   IdentificationOptions paper;
   paper.lag_min_ticks = 0;
@@ -523,7 +524,7 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
   report.jobs = Jobs(report.groups, config);
   RunJobs(report.jobs, report.groups, report.logs, config, threads);
   ScoreAll(report, config);
-  const std::string md = ReportMarkdown(report);
+  std::string md = ReportMarkdown(report);
   WriteTextFile(out.Path("log_fit.json"), ReportJson(report, config).dump(2) + "\n");
   WriteTextFile(out.Path("log_fit.md"), md);
   for (const MotorGroup& g : report.groups) {

@@ -66,7 +66,8 @@ std::vector<double> PredictWithJointModel(const JointModelParams& params,
     if (!running) {
       // As after tick t: M(t) measured, remembering R(t), ..., R(t-l-a+1).
       state.angle_deg = recording.measured_deg[t];
-      state.past_requests_deg.resize(static_cast<size_t>(params.lag_ticks + params.accel_ticks));
+      state.past_requests_deg.resize(static_cast<size_t>(params.lag_ticks) +
+                                     static_cast<size_t>(params.accel_ticks));
       for (size_t i = 0; i < state.past_requests_deg.size(); ++i) {
         state.past_requests_deg[i] = recording.request_deg[t >= i ? t - i : 0];
       }

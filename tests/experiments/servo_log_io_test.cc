@@ -41,7 +41,7 @@ class ServoLogIoTest : public ::testing::Test {
     try {
       ReadServoLog(path, format, kDefaults);
     } catch (const InputError& e) {
-      const std::string message = e.what();
+      std::string message = e.what();
       EXPECT_EQ(message.find('\n'), std::string::npos) << message;
       EXPECT_LE(message.size(), 300u) << message;
       EXPECT_NE(message.find(fs::path(path).filename().string()), std::string::npos) << message;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace leglab {
@@ -32,7 +33,9 @@ const ServoDrive kNoLoad{.kp = 10.0, .mass_kg = 0.0, .length_m = 0.0};
 const ServoDrive kLoad{.kp = 10.0, .mass_kg = 1.0, .length_m = 0.4 / kGravity};
 
 ServoModelState StateAt(double angle_deg, std::vector<double> past_requests_deg) {
-  return {.angle_deg = angle_deg, .velocity_deg_s = 0.0, .past_requests_deg = past_requests_deg};
+  return {.angle_deg = angle_deg,
+          .velocity_deg_s = 0.0,
+          .past_requests_deg = std::move(past_requests_deg)};
 }
 
 // l = 0, from rest at 0 with R(-1) = 2 (held):
@@ -301,9 +304,9 @@ TEST(ServoModelTest, FitRejectsBadInput) {
   undriven.scored.assign(4, 0);
   EXPECT_THROW(FitServoModel(std::vector{good, undriven}, kTickS, options), std::invalid_argument);
   // A search with no lag, no run or no iteration would return a model never fitted.
-  for (const ServoFitOptions empty : {ServoFitOptions{.lag_max_ticks = -1},
-                                      ServoFitOptions{.restarts = 0},
-                                      ServoFitOptions{.iterations = 0}}) {
+  for (const ServoFitOptions empty :
+       {ServoFitOptions{.lag_max_ticks = -1}, ServoFitOptions{.restarts = 0},
+        ServoFitOptions{.iterations = 0}}) {
     EXPECT_THROW(FitServoModel(std::vector{good}, kTickS, empty), std::invalid_argument);
   }
 }
