@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -317,12 +318,14 @@ std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
 
 std::string Summary(const PlanOptions& o, const PlanResult& r) {
   std::ostringstream s;
-  s << "plan: " << r.desired.size() << " ticks of " << FormatNumber(r.model.tick_s) << " s, the "
-    << r.model.rung << " model of " << r.model.motor << ", " << o.method << ": "
-    << r.plan.beyond_servo_ticks << " ticks beyond the servo; predicted MAE "
-    << FormatNumber(MeanAbsoluteError(r.plan.predicted_deg, r.desired)) << " deg planned vs "
-    << FormatNumber(MeanAbsoluteError(r.direct, r.desired))
-    << " deg with the desired angles sent as they are. Wrote requests.csv and plan.json into "
+  s << std::fixed << "plan: " << r.desired.size() << " ticks of " << std::setprecision(2)
+    << r.model.tick_s * 1000.0 << " ms, the " << r.model.rung << " model of " << r.model.motor
+    << ", " << o.method << ": predicted mean absolute error "
+    << MeanAbsoluteError(r.plan.predicted_deg, r.desired) << " deg planned vs "
+    << MeanAbsoluteError(r.direct, r.desired) << " deg with the desired angles sent as they are; "
+    << r.plan.beyond_servo_ticks
+    << " ticks beyond the servo for the model-based inversion. Wrote requests.csv and plan.json "
+       "into "
     << o.out_dir << ".\n";
   return s.str();
 }
