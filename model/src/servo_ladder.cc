@@ -55,28 +55,17 @@ std::vector<double> PredictWithJointModel(const JointModelParams& params,
   if (recording.measured_deg.size() != n || recording.scored.size() != n) {
     throw std::invalid_argument("servo recording: request, measured and scored sizes differ");
   }
-  std::vector<double> predicted(recording.measured_deg);
   JointModelState state;
-  bool running = false;
-  for (size_t t = 0; t < n; ++t) {
-    if (recording.scored[t] == 0) {
-      running = false;
-      continue;
-    }
-    if (!running) {
-      // As after tick t: M(t) measured, remembering R(t), ..., R(t-l-a+1).
-      state.angle_deg = recording.measured_deg[t];
-      state.past_requests_deg.resize(static_cast<size_t>(params.lag_ticks) +
-                                     static_cast<size_t>(params.accel_ticks));
-      for (size_t i = 0; i < state.past_requests_deg.size(); ++i) {
-        state.past_requests_deg[i] = recording.request_deg[t >= i ? t - i : 0];
-      }
-      running = true;
-      continue;
-    }
-    predicted[t] = StepJointModel(params, state, recording.request_deg[t]);
-  }
-  return predicted;
+  return PredictDrivenRuns(
+      recording,
+      [&](size_t t) {
+        // As after tick t: M(t) measured, remembering R(t), ..., R(t-l-a+1).
+        state.angle_deg = recording.measured_deg[t];
+        state.past_requests_deg = RecordedRequestsUpTo(
+            recording, t,
+            static_cast<size_t>(params.lag_ticks) + static_cast<size_t>(params.accel_ticks));
+      },
+      [&](size_t t) { return StepJointModel(params, state, recording.request_deg[t]); });
 }
 
 IdentificationResult FitJointModelToRecordings(std::span<const ServoRecording> recordings,

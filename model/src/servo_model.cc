@@ -43,20 +43,6 @@ void CheckRecording(const ServoRecording& recording) {
   }
 }
 
-// The model as it stands after tick t when restarted there from the measured angle:
-// remembering the recorded requests R(t), ..., R(t-l).
-ServoModelState RestartAt(const ServoModelParams& params, const ServoRecording& recording,
-                          size_t t) {
-  ServoModelState state;
-  state.angle_deg = recording.measured_deg[t];
-  state.past_requests_deg.resize(static_cast<size_t>(params.lag_ticks) + 1);
-  for (size_t i = 0; i < state.past_requests_deg.size(); ++i) {
-    // R(t-i), the first request standing in for those before the recording.
-    state.past_requests_deg[i] = recording.request_deg[t >= i ? t - i : 0];
-  }
-  return state;
-}
-
 // The fit's variables: logarithms of the positive fields, the frictions as they are.
 struct FitVariables {
   bool fixed_v_max = false;
@@ -125,6 +111,12 @@ std::string ServoModelParamsProblem(const ServoModelParams& params) {
   return {};
 }
 
+std::vector<double> RecordedRequestsUpTo(const ServoRecording& recording, size_t t, size_t count) {
+  std::vector<double> requests(count);
+  for (size_t i = 0; i < count; ++i) requests[i] = recording.request_deg[t >= i ? t - i : 0];
+  return requests;
+}
+
 ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg) {
   ServoModelState state;
   state.angle_deg = angle_deg;
@@ -167,23 +159,18 @@ std::vector<double> PredictServoRecording(const ServoModelParams& params,
   if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
     throw std::invalid_argument("servo recording: tick_s must be positive");
   }
-  const size_t n = recording.request_deg.size();
-  std::vector<double> predicted(recording.measured_deg);
   ServoModelState state;
-  bool running = false;
-  for (size_t t = 0; t < n; ++t) {
-    if (recording.scored[t] == 0) {
-      running = false;
-      continue;
-    }
-    if (!running) {
-      state = RestartAt(params, recording, t);
-      running = true;
-      continue;  // the start is the measurement itself
-    }
-    predicted[t] = StepServoModel(params, recording.drive, tick_s, state, recording.request_deg[t]);
-  }
-  return predicted;
+  return PredictDrivenRuns(
+      recording,
+      [&](size_t t) {
+        state.angle_deg = recording.measured_deg[t];
+        state.velocity_deg_s = 0.0;
+        state.past_requests_deg =
+            RecordedRequestsUpTo(recording, t, static_cast<size_t>(params.lag_ticks) + 1);
+      },
+      [&](size_t t) {
+        return StepServoModel(params, recording.drive, tick_s, state, recording.request_deg[t]);
+      });
 }
 
 ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, double tick_s,

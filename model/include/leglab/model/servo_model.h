@@ -81,6 +81,31 @@ struct ServoRecording {
   std::vector<uint8_t> scored;       ///< 1 where the servo was driven (torque on), else 0
 };
 
+/// The requests R(t), R(t-1), ..., R(t-count+1) of a recording, newest first, the first
+/// request standing in for those before tick 0: a model's memory when it starts after tick t.
+std::vector<double> RecordedRequestsUpTo(const ServoRecording& recording, size_t t, size_t count);
+
+/// Open-loop prediction over a recording's driven runs, for any model: `start(t)` puts the
+/// model as it stands after tick t, started from the measured angle at rest (the first driven
+/// tick of a run, predicted as measured); `step(t)` steps it with R(t) and returns M(t).
+/// Undriven ticks are predicted as measured. Returns M(0..N-1).
+template <class Start, class Step>
+std::vector<double> PredictDrivenRuns(const ServoRecording& recording, Start&& start, Step&& step) {
+  std::vector<double> predicted(recording.measured_deg);
+  bool running = false;
+  for (size_t t = 0; t < predicted.size(); ++t) {
+    if (recording.scored[t] == 0) {
+      running = false;
+    } else if (!running) {
+      start(t);
+      running = true;
+    } else {
+      predicted[t] = step(t);
+    }
+  }
+  return predicted;
+}
+
 /// The open-loop prediction of a recording: at tick 0 and at the first driven tick after
 /// undriven ones the model starts from the measured angle at rest (no velocity), remembering
 /// the recorded requests before it (the first request before tick 0), and then runs on the
