@@ -2,9 +2,6 @@
 // cross-validated, the lists of logs, CSV logs, and bad input.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +11,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "program_test_support.h"
 
 namespace {
 
@@ -25,33 +24,22 @@ const std::string kSts = "data/servo_logs/feetech-sts3250/";
 const std::string kStsSinSin = kSts + "sin_sin_kp32_2024-10-26_12h23m27.json";
 const std::string kStsUpAndDown = kSts + "up_and_down_kp32_2024-10-26_12h27m27.json";
 
-class LogFitTest : public ::testing::Test {
+class LogFitTest : public leglab::testing::ScratchDirTest {
  protected:
+  LogFitTest() : ScratchDirTest("leglab_log_fit_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("leglab_log_fit_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     out_ = dir_ / "out";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // identify --config identify_logs.yaml with `args`, from the source tree: its exit status;
   // its standard error in err_.
   int Identify(const std::string& args) {
-    const fs::path err = dir_ / "stderr";
-    const std::string command = "cd '" LEGLAB_SOURCE_DIR "' && " + kIdentify +
-                                " --config experiments/configs/identify_logs.yaml --quiet --out '" +
-                                out_.string() + "' " + args + " >/dev/null 2>'" + err.string() +
-                                "'";
-    const int raw = std::system(command.c_str());
-    std::ifstream in(err);
-    std::stringstream s;
-    s << in.rdbuf();
-    err_ = s.str();
-    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    const leglab::testing::ProgramResult r = RunFromSourceTree(
+        kIdentify + " --config experiments/configs/identify_logs.yaml --quiet --out '" +
+        out_.string() + "' " + args);
+    err_ = r.stderr_text;
+    return r.status;
   }
 
   Json LogFit() const {
@@ -67,7 +55,6 @@ class LogFitTest : public ::testing::Test {
     EXPECT_FALSE(fs::exists(out_)) << args;
   }
 
-  fs::path dir_;
   fs::path out_;
   std::string err_;
 };

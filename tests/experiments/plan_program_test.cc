@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "program_test_support.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,28 +29,14 @@ constexpr const char* kLogFit = R"({"models": {
                            "unknown_field": 1}}},
   "logs": []})";
 
-struct Result {
-  int status = -1;
-  std::string stderr_text;
-  std::string stdout_text;
-};
+using leglab::testing::ReadText;
+using Result = leglab::testing::ProgramResult;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class PlanProgramTest : public ::testing::Test {
+class PlanProgramTest : public leglab::testing::ScratchDirTest {
  protected:
+  PlanProgramTest() : ScratchDirTest("leglab_plan_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("leglab_plan_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     Write("log_fit.json", kLogFit);
     // 1 s of a 30 deg sine at 1 Hz, sampled every 10 ms: 201 ticks of 5 ms.
     std::string csv = "time_s,desired_deg\n";
@@ -58,8 +46,6 @@ class PlanProgramTest : public ::testing::Test {
     }
     Write("desired.csv", csv);
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
   fs::path Write(const std::string& name, const std::string& text) const {
     std::ofstream(dir_ / name) << text;
     return dir_ / name;
@@ -67,18 +53,12 @@ class PlanProgramTest : public ::testing::Test {
 
   // Runs plan with `args` from the source tree.
   Result Run(const std::string& args) const {
-    const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-    const std::string command = "cd '" LEGLAB_SOURCE_DIR "' && '" LEGLAB_PLAN_BIN "' " + args +
-                                " >'" + out.string() + "' 2>'" + err.string() + "'";
-    const int raw = std::system(command.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ReadText(err), ReadText(out)};
+    return RunFromSourceTree("'" LEGLAB_PLAN_BIN "' " + args);
   }
 
   std::string Model() const { return "--model '" + (dir_ / "log_fit.json").string() + "'"; }
   std::string Desired() const { return "--desired '" + (dir_ / "desired.csv").string() + "'"; }
   std::string Out() const { return "--out '" + (dir_ / "out").string() + "'"; }
-
-  fs::path dir_;
 };
 
 TEST_F(PlanProgramTest, ADesiredCsvGivesRequestsWithinTheLimits) {
