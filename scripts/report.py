@@ -433,6 +433,16 @@ def caption(name):
     return "A figure of this run (no caption is known for this file name)."
 
 
+def holds(folder):
+    """What a folder holds, counted: '(2 tables, 11 figures, 19 data files)'."""
+    names = [n for n in os.listdir(folder) if os.path.isfile(os.path.join(folder, n))]
+    counts = [(sum(n.endswith(".md") for n in names) + ("sweep.csv" in names), "table"),
+              (sum(n.endswith(".png") for n in names), "figure"),
+              (sum(n.endswith((".csv", ".json")) for n in names), "data file")]
+    text = ", ".join(f"{k} {what}{'s' if k != 1 else ''}" for k, what in counts if k)
+    return f"({text})" if text else ""
+
+
 def runs_list(tree, top, rel, base):
     """A nested list of the sub-runs below rel, linked relative to the page of base."""
     children = tree.get(rel, [])
@@ -442,7 +452,8 @@ def runs_list(tree, top, rel, base):
     for child in children:
         link = os.path.relpath(child, base) if base else child
         out.append(f'<li><a href="{href(link + "/index.html")}">{html.escape(child)}/</a>: '
-                   f"{inline(describe(child, os.path.join(top, child)))}"
+                   f"{inline(describe(child, os.path.join(top, child)))} "
+                   f'<span class="note">{holds(os.path.join(top, child))}</span>'
                    f"{runs_list(tree, top, child, base)}</li>")
     out.append("</ul>")
     return "".join(out)
