@@ -468,22 +468,48 @@ def size_text(path):
     return ""
 
 
+def crumbs(top, rel):
+    """Links up the tree: top / sweeps / walk_speed."""
+    parts = rel.split("/")
+    links = []
+    for k in range(len(parts)):
+        label = os.path.basename(os.path.abspath(top)) if k == 0 else parts[k - 1]
+        links.append(f'<a href="{"../" * (len(parts) - k)}index.html">{html.escape(label)}</a>')
+    links.append(html.escape(parts[-1]))
+    return f'<nav class="crumbs">{" / ".join(links)}</nav>'
+
+
+def tables_section(folder, tables, sweep):
+    """Every Markdown file rendered, then the sweep's table (its first SWEEP_TABLE_ROWS rows,
+    long fractions shortened)."""
+    out = ['<h2 id="tables">Tables</h2>']
+    for name in tables:
+        with open(os.path.join(folder, name), encoding="utf-8", errors="replace") as f:
+            text = f.read()
+        out.append(f'<section class="md"><p class="note">From <a href="{href(name)}">'
+                   f"{html.escape(name)}</a>:</p>{markdown_to_html(text)}</section>")
+    if sweep:
+        header, rows = read_csv(os.path.join(folder, "sweep.csv"))
+        shown = rows[:SWEEP_TABLE_ROWS]
+        note = (f" (the first {len(shown)} of its {len(rows)} points)"
+                if len(rows) > len(shown) else f" ({len(rows)} points)")
+        long_number = re.compile(r"-?\d+\.\d{7,}(e-?\d+)?")
+        cells = [[scalar_text(float(r.get(h) or "")) if long_number.fullmatch(r.get(h) or "")
+                  else (r.get(h) or "") for h in header] for r in shown]
+        out.append(f'<section class="md"><h3>The sweep</h3><p class="note">From <a href='
+                   f'"sweep.csv">sweep.csv</a>{note}; errors in deg (joints) and cm '
+                   f"(foot).</p>{table_html(header, cells)}</section>")
+    return "\n".join(out)
+
+
 def page(tree, top, rel):
     folder = os.path.join(top, rel)
     names = sorted((n for n in os.listdir(folder) if os.path.isfile(os.path.join(folder, n))),
                    key=natural_key)
     title = os.path.basename(os.path.abspath(top)) + (f"/{rel}" if rel else "")
-    crumbs = []
-    if rel:
-        parts = rel.split("/")
-        for k in range(len(parts)):
-            up = "../" * (len(parts) - k)
-            label = os.path.basename(os.path.abspath(top)) if k == 0 else parts[k - 1]
-            crumbs.append(f'<a href="{up}index.html">{html.escape(label)}</a>')
-        crumbs.append(html.escape(parts[-1]))
     body = [f"<h1>leglab results: {html.escape(title)}</h1>"]
-    if crumbs:
-        body.append(f'<nav class="crumbs">{" / ".join(crumbs)}</nav>')
+    if rel:
+        body.append(crumbs(top, rel))
     body.append(f"<p>{inline(describe(rel, folder))}</p>")
 
     tables = sorted((n for n in names if n.endswith(".md")),
@@ -513,23 +539,7 @@ def page(tree, top, rel):
     body.append(config_section(folder, names))
 
     if tables or "sweep.csv" in names:
-        body.append('<h2 id="tables">Tables</h2>')
-        for name in tables:
-            with open(os.path.join(folder, name), encoding="utf-8", errors="replace") as f:
-                text = f.read()
-            body.append(f'<section class="md"><p class="note">From <a href="{href(name)}">'
-                        f"{html.escape(name)}</a>:</p>{markdown_to_html(text)}</section>")
-        if "sweep.csv" in names:
-            header, rows = read_csv(os.path.join(folder, "sweep.csv"))
-            shown = rows[:SWEEP_TABLE_ROWS]
-            note = (f" (the first {len(shown)} of its {len(rows)} points)"
-                    if len(rows) > len(shown) else f" ({len(rows)} points)")
-            cells = [[scalar_text(float(r.get(h, ""))) if re.fullmatch(
-                r"-?\d+\.\d{7,}(e-?\d+)?", r.get(h, "")) else r.get(h, "") for h in header]
-                for r in shown]
-            body.append(f'<section class="md"><h3>The sweep</h3><p class="note">From <a href='
-                        f'"sweep.csv">sweep.csv</a>{note}; errors in deg (joints) and cm '
-                        f"(foot).</p>{table_html(header, cells)}</section>")
+        body.append(tables_section(folder, tables, "sweep.csv" in names))
 
     if figures:
         body.append('<h2 id="figures">Figures</h2><div class="figures">')
@@ -540,8 +550,8 @@ def page(tree, top, rel):
         body.append("</div>")
     if "leg.gif" in names:
         body.append('<h2 id="animation">Animation</h2><figure><img src="leg.gif" alt="leg.gif">'
-                    "<figcaption><code>leg.gif</code>: the leg walking, drawn from the run's "
-                    "traces by scripts/animate.py.</figcaption></figure>")
+                    "<figcaption><code>leg.gif</code>: the leg's animation, as "
+                    "scripts/animate.py drew it from this run.</figcaption></figure>")
     if data:
         body.append('<h2 id="data">Data files</h2><ul class="files">')
         for name in data:
