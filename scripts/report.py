@@ -346,11 +346,19 @@ def config_parts(name, data):
         return [("fit_walk: its config, overrides and the fitted walk",
                  flatten(pick("program", "config", "overrides", "fitted_on", "fitted")))]
     if name == "log_fit.json":
-        return [("identify on servo logs: its settings",
-                 flatten({k: v for k, v in data.items() if k not in ("logs", "folds", "models")}))]
+        parts = [("identify on servo logs: its settings",
+                  flatten({k: v for k, v in data.items() if k not in ("logs", "folds", "models")}))]
+        for rung, motors in data.get("models", {}).items():
+            if isinstance(motors, dict) and all(isinstance(m, dict) for m in motors.values()):
+                parts.append((f"identify on servo logs: the {rung} model fitted per servo type "
+                              "(on all its training logs; the held-out scores come from models "
+                              "fitted without the scored log)", motors))
+        return parts
     if name == "plan.json":
-        return [("plan: its settings",
-                 [(k, v) for k, v in flatten(data) if not isinstance(v, list)][:60])]
+        results = ("predicted_mae_deg", "beyond_servo_ticks")
+        return [("plan: its settings and the servo it plans for",
+                 [(k, v) for k, v in flatten({k: v for k, v in data.items() if k not in results})
+                  if not isinstance(v, list)])]
     return []
 
 
