@@ -8,6 +8,7 @@
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/walk_fit.h"
+#include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
   using namespace leglab::experiments;
@@ -28,7 +29,7 @@ int main(int argc, char** argv) {
                              "track run instead");
           }
         }
-        OutputDir out(args.out_dir, {"walk_fit."});
+        OutputDir out(args.out_dir, {"walk_fit.", ConfigFileName("fit_walk")});
         // The direct mode alone, its model fixed (direct never uses it: no identification).
         std::vector<std::string> overrides = args.overrides;
         overrides.insert(overrides.end(),
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
         WriteTextFile(out.Path("walk_fit.json"),
                       WalkFitJson(report, args.config_path, args.overrides));
         WriteTextFile(out.Path("walk_fit.md"), md);
+        WriteConfigFile("fit_walk", config, out);
         out.Commit();
         std::cout << md;
       });

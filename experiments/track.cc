@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
                           });
                       if (!table) table = BeginTable2(result);
                       const std::string tables = WriteTrackTables(result, *table, out);
+                      WriteConfigFile("track", config, out);
                       out.Commit();
                       std::cout << tables;
                     });

@@ -80,8 +80,18 @@ if [ -x build/bin/sweep ]; then
     /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
   done
 fi
+# The leg in motion (leg.gif) for the default run, the stand and the paper's regime; then a page
+# for every folder of results (index.html, self-contained), the top one linking the others.
+if [ -f scripts/animate.py ] && [ $ran -eq 1 ]; then
+  for run in "$out" "$out/stand" "$out/track_paper_regime"; do
+    /usr/bin/python3 scripts/animate.py "$run" --out "$run/leg.gif"
+  done
+fi
+if [ $ran -eq 1 ]; then
+  /usr/bin/python3 scripts/report.py "$out"
+fi
 if [ $ran -eq 0 ]; then
   echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2
   exit 1
 fi
-echo "reproduce: results in $out/"
+echo "reproduce: results in $out/ (open $out/index.html)"

@@ -517,6 +517,9 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   ExperimentConfig config;
   const YAML::Node merged = MergedConfig(config_path, overrides, config);
   CheckScope(merged, scope);
+  YAML::Emitter emitter;
+  emitter << merged;
+  config.merged_yaml = std::string(emitter.c_str()) + "\n";
   YamlKeyReader reader(merged);
   ReadState state;
   VisitExperimentKeys(reader, config, state, &reader);

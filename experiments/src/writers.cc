@@ -268,9 +268,21 @@ std::string Table2Json(const Table2& table) {
   return json.dump(2) + '\n';
 }
 
+std::string ConfigFileName(const std::string& program) { return program + "_config.yaml"; }
+
+void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
+                     const OutputDir& out) {
+  WriteTextFile(out.Path(ConfigFileName(program)),
+                "# The keys " + program +
+                    " ran with: its config, the files it extends, the robot file and the --set "
+                    "overrides, merged.\n" +
+                    config.merged_yaml);
+}
+
 std::vector<std::string> TrackOutputPrefixes() {
-  std::vector<std::string> prefixes = {"table2.",   "trace_",          "foot_",
-                                       "per_step.", "model_estimates", "plant_models."};
+  std::vector<std::string> prefixes = {"table2.",          "trace_",          "foot_",
+                                       "per_step.",        "model_estimates", "plant_models.",
+                                       "track_config.yaml"};
   for (const ControllerModeInfo& mode : ControllerModes()) {
     if (mode.searchable) prefixes.push_back(std::string(mode.search_file) + ".");
     if (!mode.feed_forward) prefixes.push_back(std::string(mode.name) + "_learning.");

@@ -124,6 +124,10 @@ struct PlantChange {
 /// YAML file, then the --set overrides.
 struct ExperimentConfig {
   std::string robot_yaml;  ///< the robot description file that was merged in
+  /// The keys as the loader read them, YAML text: the config file over the files it extends and
+  /// the robot file, with the `--set` overrides applied (what a run writes as
+  /// <program>_config.yaml).
+  std::string merged_yaml;
   PlantKind plant = PlantKind::kSim;
   /// `plant_model.*`: the ideal plant's joint model (plant: model), the same for every joint;
   /// default the paper's Table 1.

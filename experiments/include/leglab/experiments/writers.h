@@ -36,6 +36,14 @@ std::string Table2Json(const Table2& table);
 /// each searched mode's search file, each learning mode's <mode>_learning.
 std::vector<std::string> TrackOutputPrefixes();
 
+/// The file that holds a run's merged keys: `<program>_config.yaml`.
+std::string ConfigFileName(const std::string& program);
+
+/// Writes config.merged_yaml into `out` as ConfigFileName(program), after a comment naming what
+/// it is, so that a results folder says which settings made it.
+void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
+                     const OutputDir& out);
+
 /// `track`'s outputs into `out`: table2.json, table2.md, trace_<mode>.csv, foot_<mode>.csv
 /// (step,tick,desired_{x,y,z}_cm,actual_{x,y,z}_cm,contact_fz_n,contact_fx_n,contact_fy_n,
 /// carriage_z_mm: the stand's instruments last, zeros in the air) and
