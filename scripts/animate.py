@@ -447,7 +447,10 @@ def render(anim, out_path, fps):
     if out_path.endswith(".gif"):
         from PIL import Image
 
-        images = [Image.fromarray(frame) for frame in render_frames(anim)]
+        # One palette per frame by octree, undithered: the default leaves the thin trails grey.
+        images = [Image.fromarray(frame).quantize(256, Image.Quantize.FASTOCTREE,
+                                                  dither=Image.Dither.NONE)
+                  for frame in render_frames(anim)]
         images[0].save(out_path, save_all=True, append_images=images[1:],
                        duration=round(1000 / fps), loop=0)
         return
