@@ -22,6 +22,7 @@ import csv
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -30,7 +31,6 @@ import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 
 import numpy as np
-import yaml
 
 TICK_S = 0.008  # one control tick, 8 ms
 # At most this many frames by default: a default run (every mode of a run, one step) then
@@ -152,29 +152,33 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
-def load_yaml_with_base(path, depth=0):
-    """A robot file with its `extends:` merged beneath it, as the programs merge it."""
+def top_level_keys(path):
+    """A robot file's top-level `key: value` scalars (its `urdf` and `extends`), as text. The
+    robot files are YAML; only these two keys are needed here, so no YAML library is."""
+    keys = {}
     try:
         with open(path) as f:
-            node = yaml.safe_load(f) or {}
-    except (OSError, yaml.YAMLError) as e:
+            for line in f:
+                match = re.match(r"^([A-Za-z_][A-Za-z0-9_]*):[ \t]*(.*?)[ \t]*(#.*)?$", line)
+                if match and match.group(2):
+                    keys[match.group(1)] = match.group(2).strip("'\"")
+    except (OSError, UnicodeDecodeError) as e:
         raise InputError(f"robot file '{path}': {e}") from None
-    base = node.pop("extends", None)
-    if base is None:
-        return node
-    if depth >= 8:
-        raise InputError(f"robot file '{path}': extends more than 8 levels (a cycle?)")
-    merged = load_yaml_with_base(os.path.join(os.path.dirname(path), base), depth + 1)
+    return keys
 
-    def merge(into, over):
-        for key, value in over.items():
-            if isinstance(value, dict) and isinstance(into.get(key), dict):
-                merge(into[key], value)
-            else:
-                into[key] = value
 
-    merge(merged, node)
-    return merged
+def robot_urdf(robot_yaml):
+    """The URDF a robot file names, after its `extends:` (a file's own `urdf` wins over its
+    base's), relative to the robot file itself, as the programs resolve it."""
+    path = robot_yaml
+    for _ in range(8):
+        keys = top_level_keys(path)
+        if "urdf" in keys:
+            return os.path.join(os.path.dirname(robot_yaml), keys["urdf"])
+        if "extends" not in keys:
+            break
+        path = os.path.join(os.path.dirname(path), keys["extends"])
+    raise InputError(f"robot file '{robot_yaml}': no urdf")
 
 
 @dataclass
@@ -212,10 +216,7 @@ def load_run(folder):
             raise InputError(f"'{table}': robot file '{robot_yaml}' not found here or in "
                              f"'{REPO_ROOT}' (run from where track ran)")
         robot_yaml = from_root
-    robot = load_yaml_with_base(robot_yaml)
-    if not robot.get("urdf"):
-        raise InputError(f"robot file '{robot_yaml}': no urdf")
-    urdf = os.path.join(os.path.dirname(robot_yaml), robot["urdf"])
+    urdf = robot_urdf(robot_yaml)
     chain = read_chain(urdf)
     # Run order: per_step.csv takes each mode's rows as its run finishes.
     order = []
