@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
                             WriteModeOutputs(run, r, out);
                           });
                       if (!table) table = BeginTable2(result);
-                      const std::string tables = WriteTrackTables(result, *table, out);
+                      const std::string tables = WriteTrackTables(result, *table, config, out);
                       WriteConfigFile("track", config, out);
                       out.Commit();
                       std::cout << tables;

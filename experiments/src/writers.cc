@@ -85,6 +85,40 @@ std::string Table1Markdown(const Table1& table) {
   return md.str();
 }
 
+namespace {
+
+// The plant a table was made on: the robot file, its servo and sensor, the stand (on it) and
+// the model (a model plant); the same block in table1.json and table2.json.
+Json PlantJson(const ExperimentConfig& config) {
+  Json plant = {{"robot", config.robot_yaml},
+                {"delay_ms", config.sim.servo.delay_ms},
+                {"max_speed_deg_s", config.sim.servo.max_speed_deg_s},
+                {"gain_per_s", config.sim.servo.gain_per_s},
+                {"smoothing_ms", config.sim.servo.smoothing_ms},
+                {"max_torque_nm", config.sim.servo.max_torque_nm},
+                {"noise_deg", config.sim.sensor.noise_deg},
+                {"seed", config.sim.seed}};
+  if (config.sim.stand.enabled && config.plant == PlantKind::kSim) {
+    const sim::StandConfig& stand = config.sim.stand;
+    plant["stand"] = {{"load_kg", stand.load_kg},
+                      {"stop_below_shoulder_mm", stand.stop_below_shoulder_mm},
+                      {"friction", stand.friction},
+                      {"contact_stiffness_n_per_m", stand.contact_stiffness_n_per_m},
+                      {"contact_damping_n_s_per_m", stand.contact_damping_n_s_per_m},
+                      {"foot_radius_mm", stand.foot_radius_mm},
+                      {"ground_below_shoulder_mm", stand.ground_below_shoulder_mm},
+                      {"sled_stiffness_n_per_m", stand.sled_stiffness_n_per_m},
+                      {"sled_damping_n_s_per_m", stand.sled_damping_n_s_per_m}};
+  }
+  if (config.plant == PlantKind::kModel) {
+    plant["kind"] = "model";
+    plant["model"] = ModelJson(config.plant_model);
+  }
+  return plant;
+}
+
+}  // namespace
+
 std::string Table1Json(const Table1& table, const ExperimentConfig& config) {
   Json json;
   for (int j = 0; j < kLegJoints; ++j) {
@@ -93,30 +127,7 @@ std::string Table1Json(const Table1& table, const ExperimentConfig& config) {
     json["joints"][std::string(kLegJointNames[j])] = joint;
   }
   json["paper"] = ModelJson(paper::kTable1);
-  json["plant"] = {{"robot", config.robot_yaml},
-                   {"delay_ms", config.sim.servo.delay_ms},
-                   {"max_speed_deg_s", config.sim.servo.max_speed_deg_s},
-                   {"gain_per_s", config.sim.servo.gain_per_s},
-                   {"smoothing_ms", config.sim.servo.smoothing_ms},
-                   {"max_torque_nm", config.sim.servo.max_torque_nm},
-                   {"noise_deg", config.sim.sensor.noise_deg},
-                   {"seed", config.sim.seed}};
-  if (config.sim.stand.enabled && config.plant == PlantKind::kSim) {
-    const sim::StandConfig& stand = config.sim.stand;
-    json["plant"]["stand"] = {{"load_kg", stand.load_kg},
-                              {"stop_below_shoulder_mm", stand.stop_below_shoulder_mm},
-                              {"friction", stand.friction},
-                              {"contact_stiffness_n_per_m", stand.contact_stiffness_n_per_m},
-                              {"contact_damping_n_s_per_m", stand.contact_damping_n_s_per_m},
-                              {"foot_radius_mm", stand.foot_radius_mm},
-                              {"ground_below_shoulder_mm", stand.ground_below_shoulder_mm},
-                              {"sled_stiffness_n_per_m", stand.sled_stiffness_n_per_m},
-                              {"sled_damping_n_s_per_m", stand.sled_damping_n_s_per_m}};
-  }
-  if (config.plant == PlantKind::kModel) {
-    json["plant"]["kind"] = "model";
-    json["plant"]["model"] = ModelJson(config.plant_model);
-  }
+  json["plant"] = PlantJson(config);
   return json.dump(2) + '\n';
 }
 
@@ -223,9 +234,10 @@ std::string Table2Markdown(const Table2& table) {
   return md.str();
 }
 
-std::string Table2Json(const Table2& table) {
+std::string Table2Json(const Table2& table, const ExperimentConfig& config) {
   Json json;
   json["steps"] = table.steps;
+  json["plant"] = PlantJson(config);
   for (const Table2Row& row : table.rows) {
     for (int j = 0; j < kLegJoints; ++j) {
       json["joints"][std::string(kLegJointNames[j])][row.key] = StatJson(row.joints[j]);
@@ -403,8 +415,9 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir&
   if (!run.run.model_estimates.empty()) WriteModelEstimates(run, out);
 }
 
-std::string WriteTrackTables(const TrackResult& r, const Table2& table, const OutputDir& out) {
-  WriteTextFile(out.Path("table2.json"), Table2Json(table));
+std::string WriteTrackTables(const TrackResult& r, const Table2& table,
+                             const ExperimentConfig& config, const OutputDir& out) {
+  WriteTextFile(out.Path("table2.json"), Table2Json(table, config));
   std::string md = Table2Markdown(table);
   WriteTextFile(out.Path("table2.md"), md);
   // The plant's model as identify finds it before and after each change.
@@ -435,9 +448,10 @@ std::string WriteTrackTables(const TrackResult& r, const Table2& table, const Ou
   return md;
 }
 
-std::string WriteTrackOutputs(const TrackResult& r, const Table2& table, const OutputDir& out) {
+std::string WriteTrackOutputs(const TrackResult& r, const Table2& table,
+                              const ExperimentConfig& config, const OutputDir& out) {
   for (const ModeRun& run : r.runs) WriteModeOutputs(run, r, out);
-  return WriteTrackTables(r, table, out);
+  return WriteTrackTables(r, table, config, out);
 }
 
 }  // namespace leglab::experiments

@@ -109,7 +109,7 @@ TEST(Extending, ItsOutputFilesAndTableRowFollow) {
     OutputDir out(dir, TrackOutputPrefixes());
     const Table2 table = ComputeTable2(result);
     for (const ModeRun& run : result.runs) WriteModeOutputs(run, result, out);
-    WriteTrackTables(result, table, out);
+    WriteTrackTables(result, table, config, out);
     out.Commit();
   }
   EXPECT_TRUE(fs::exists(dir / "trace_blend.csv"));

@@ -348,7 +348,7 @@ TEST(Pipeline, RunsTakenOneAtATimeGiveTheSameTable) {
   EXPECT_TRUE(r.runs.empty());
   EXPECT_EQ(runs, 3);
   ASSERT_TRUE(streamed);
-  EXPECT_EQ(Table2Json(*streamed), Table2Json(whole));
+  EXPECT_EQ(Table2Json(*streamed, config), Table2Json(whole, config));
 }
 
 }  // namespace

@@ -29,8 +29,9 @@ std::string Table2Markdown(const Table2& table);
 /// Table 2 as JSON: steps, joints.<joint>.<row key>.{mean, std},
 /// foot_cm.<mode>.{[k,] L2, Linf}, model.<joint>, and on the test stand
 /// stand.{carried_weight_n, stance_ticks, modes.<mode>.{slip_mm_per_step, slip_mm, max_slip_mm,
-/// stance_fz_n, peak_fz_n, loaded_ticks}}.
-std::string Table2Json(const Table2& table);
+/// stance_fz_n, peak_fz_n, loaded_ticks}}, and `config`'s plant as in table1.json
+/// (plant.robot: the robot file; plant.stand on the test stand).
+std::string Table2Json(const Table2& table, const ExperimentConfig& config);
 
 /// The file-name prefixes `track` writes (and so replaces in --out): table2., trace_, foot_,
 /// each searched mode's search file, each learning mode's <mode>_learning.
@@ -50,7 +51,8 @@ void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
 /// each search's CSV (time_shift's shift_search.csv), and for every mode that is not
 /// feed-forward <mode>_learning.csv (step,joint,l2_deg,foot_l2_cm; warm-up steps negative).
 /// Returns the Markdown tables.
-std::string WriteTrackOutputs(const TrackResult& result, const Table2& table, const OutputDir& out);
+std::string WriteTrackOutputs(const TrackResult& result, const Table2& table,
+                              const ExperimentConfig& config, const OutputDir& out);
 
 /// One mode's part of WriteTrackOutputs: trace_<mode>.csv, foot_<mode>.csv and, unless it is
 /// feed-forward, <mode>_learning.csv.
@@ -58,6 +60,7 @@ void WriteModeOutputs(const ModeRun& run, const TrackResult& result, const Outpu
 
 /// The rest of WriteTrackOutputs: table2.json, table2.md and each search's CSV. Returns the
 /// Markdown tables.
-std::string WriteTrackTables(const TrackResult& result, const Table2& table, const OutputDir& out);
+std::string WriteTrackTables(const TrackResult& result, const Table2& table,
+                             const ExperimentConfig& config, const OutputDir& out);
 
 }  // namespace leglab::experiments
