@@ -137,6 +137,7 @@ th { background: #f2f2f2; }
 tr:nth-child(even) td { background: #fafafa; }
 .scroll { overflow-x: auto; }
 code { background: #f2f2f2; padding: 0 0.2em; border-radius: 3px; font-size: 0.92em; }
+pre { background: #f6f6f6; padding: 0.6em; overflow: auto; max-height: 30em; font-size: 0.85em; }
 .note { color: #555; font-size: 0.92em; }
 .figures { display: grid; grid-template-columns: repeat(auto-fill, minmax(520px, 1fr));
            gap: 1.2em; }
@@ -382,15 +383,40 @@ def read_csv(path):
         return header, [dict(zip(header, r)) for r in reader]
 
 
+def merged_config_parts(folder, names):
+    """The keys each program ran with, as it wrote them (<program>_config.yaml: the --config
+    file, the files it extends, the robot file and every --set, merged)."""
+    out = []
+    for name in sorted((n for n in names if n.endswith("_config.yaml")), key=natural_key):
+        try:
+            with open(os.path.join(folder, name)) as f:
+                text = f.read()
+        except OSError as error:
+            out.append(f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not '
+                       f"read ({html.escape(str(error))}).</p>")
+            continue
+        program = name[:-len("_config.yaml")]
+        out.append(f'<h4>The keys {html.escape(program)} ran with (<a href="{href(name)}">'
+                   f"{html.escape(name)}</a>)</h4>")
+        out.append(f"<pre>{html.escape(text)}</pre>")
+    return out
+
+
 def config_section(folder, names):
+    merged = merged_config_parts(folder, names)
+    note = ("Each program writes the keys it ran with, merged (the <code>--config</code> file, "
+            "the files it <code>extends:</code>, the robot's <code>robot.yaml</code> and every "
+            "<code>--set</code>), as <code>&lt;program&gt;_config.yaml</code>; below them, what "
+            "the run's JSON files record: the plant, the settings and the models the "
+            "controllers used." if merged else
+            "This folder holds no <code>&lt;program&gt;_config.yaml</code> (the merged keys a "
+            "program ran with; <code>sweep</code> and <code>plan</code> write none). Shown here "
+            "is what the run's JSON files record: the plant, the settings and the models the "
+            "controllers used.")
     out = ["<h2 id=\"config\">Configuration</h2>",
-           '<p class="note">leglab\'s programs do not write their merged configuration (the '
-           "<code>--config</code> file, the files it <code>extends:</code>, the robot's "
-           "<code>robot.yaml</code> and every <code>--set</code>) into the run folder. Shown "
-           "here is what the run's JSON files record of it: the plant, the settings and the "
-           "models the controllers used. <code>--list-keys</code> on a program and "
-           "docs/configuration.md give every key and its default.</p>"]
-    shown = False
+           f'<p class="note">{note} <code>--list-keys</code> on a program and '
+           "docs/configuration.md give every key and its default.</p>"] + merged
+    shown = bool(merged)
     for name in sorted((n for n in names if n.endswith(".json")), key=natural_key):
         try:
             with open(os.path.join(folder, name)) as f:

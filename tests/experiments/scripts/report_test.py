@@ -17,6 +17,7 @@ Exit 0: passed; 1: failed (every failure printed); 77: skipped, no chromium on P
 """
 import base64
 import json
+import html
 import os
 import shutil
 import subprocess
@@ -221,6 +222,14 @@ def main(source, bin_dir, out):
     for expected in ("index.html", "hind/index.html"):
         if not os.path.isfile(os.path.join(top, expected)):
             sys.exit(f"FAIL: report.py wrote no {expected}")
+    # The run's config: the keys each program ran with, as it wrote them, on the page.
+    with open(os.path.join(top, "index.html")) as f:
+        page = f.read()
+    for program in ("identify", "track"):
+        with open(os.path.join(top, f"{program}_config.yaml")) as f:
+            first_key = next(line for line in f if line.strip() and not line.startswith("#"))
+        if f"The keys {program} ran with" not in page or html.escape(first_key.strip()) not in page:
+            sys.exit(f"FAIL: the page does not show {program}_config.yaml")
     made = time.time()
     browser = Browser(chromium, os.path.join(out, "profile"))
     try:
