@@ -374,10 +374,13 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
   return json;
 }
 
+// Two decimals, as long as the number needs.
 std::string Fixed2(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.2f", value);
-  return buffer;
+  const int size = std::snprintf(nullptr, 0, "%.2f", value);
+  std::string text(static_cast<size_t>(size) + 1, '\0');
+  std::snprintf(text.data(), text.size(), "%.2f", value);
+  text.resize(static_cast<size_t>(size));
+  return text;
 }
 
 // Each log's request column as a desired motion through the motor's final extended model.

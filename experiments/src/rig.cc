@@ -1,8 +1,13 @@
 #include "leglab/experiments/rig.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <string>
 
+#include "leglab/core/config_keys.h"
+#include "leglab/core/format.h"
 #include "leglab/core/units.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/progress.h"
@@ -64,6 +69,60 @@ std::vector<JointRecording> StepTestsForFit(std::span<const JointRecording> reco
   return averaged;
 }
 
+namespace {
+
+// The settings a step test's outcome hangs on, for the message of a model that failed.
+std::string StepTestSettings(const ExperimentConfig& config) {
+  const sim::SimConfig& sim = config.sim;
+  const auto text = [](double v) { return FormatNumber(v, NumberStyle::kReadable); };
+  std::string settings = config.plant == PlantKind::kModel
+                             ? "plant: model"
+                             : "servo: delay_ms " + text(sim.servo.delay_ms) +
+                                   ", max_speed_deg_s " + text(sim.servo.max_speed_deg_s) +
+                                   ", gain_per_s " + text(sim.servo.gain_per_s);
+  if (sim.stand.enabled) settings += ", stand.load_kg " + text(sim.stand.load_kg);
+  const IdentificationOptions& search = config.identify.search;
+  return settings + "; identify: lag_range_ticks [" + std::to_string(search.lag_min_ticks) + ", " +
+         std::to_string(search.lag_max_ticks) + "], accel_range_ticks [" +
+         std::to_string(search.accel_min_ticks) + ", " + std::to_string(search.accel_max_ticks) +
+         "]";
+}
+
+std::string StepHeights(const IdentifyConfig& identify) {
+  std::string text;
+  for (size_t i = 0; i < identify.theta_test_deg.size(); ++i) {
+    text += (i == 0                                    ? ""
+             : i + 1 == identify.theta_test_deg.size() ? " and "
+                                                       : ", ") +
+            FormatNumber(identify.theta_test_deg[i], NumberStyle::kReadable);
+  }
+  return text + " deg";
+}
+
+}  // namespace
+
+void CheckIdentifiedModel(const ExperimentConfig& config, int joint,
+                          const IdentificationResult& fit) {
+  std::string problem;
+  try {
+    CheckKeys("model.", fit.params, [](KeyVisitor& v, JointModelParams& p) { VisitKeys(v, p); });
+  } catch (const std::invalid_argument& e) {
+    problem = e.what();
+  }
+  double smallest_step = std::numeric_limits<double>::infinity();
+  for (const double theta : config.identify.theta_test_deg) {
+    smallest_step = std::min(smallest_step, std::abs(theta));
+  }
+  if (problem.empty() && !(fit.rms_residual_deg <= kFailedFitResidualFraction * smallest_step)) {
+    problem = "its RMS residual " + FormatNumber(fit.rms_residual_deg, NumberStyle::kReadable) +
+              " deg is over a quarter of the smallest step";
+  }
+  if (problem.empty()) return;
+  throw InputError("joint '" + std::string(kLegJointNames[joint]) + "': its step tests of " +
+                   StepHeights(config.identify) + " fit no joint model: " + problem + " (" +
+                   StepTestSettings(config) + ")");
+}
+
 std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config,
                                                         const Robot& robot) {
   // Build one plant first so that bad robot input fails before any thread starts.
@@ -97,6 +156,9 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
       result.fit.rms_residual_deg = std::sqrt(rms * rms + scatter / count);
     }
   });
+  // In joint order, after every fit: the error names the same joint whatever the schedule.
+  for (int joint = 0; joint < kLegJoints; ++joint)
+    CheckIdentifiedModel(config, joint, joints[joint].fit);
   return joints;
 }
 

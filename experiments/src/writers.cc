@@ -29,9 +29,12 @@ std::vector<double> ModelColumn(const JointModelParams& params, const std::vecto
 }
 
 std::string Fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
+  // As long as the number needs: %.2f of 1e300 is 303 characters.
+  const int size = std::snprintf(nullptr, 0, "%.*f", decimals, value);
+  std::string text(static_cast<size_t>(size) + 1, '\0');
+  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
+  text.resize(static_cast<size_t>(size));
+  return text;
 }
 
 std::string ThetaLabel(double theta) {
@@ -48,11 +51,7 @@ Json ModelJson(const JointModelParams& p) {
 
 Json StatJson(const MeanStd& s) { return {{"mean", s.mean}, {"std", s.std}}; }
 
-std::string Cell(const MeanStd& s) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.2f (± %.2f)", s.mean, s.std);
-  return buffer;
-}
+std::string Cell(const MeanStd& s) { return Fixed(s.mean, 2) + " (± " + Fixed(s.std, 2) + ")"; }
 
 }  // namespace
 
@@ -217,11 +216,10 @@ std::string Table2Markdown(const Table2& table) {
   auto models = [&md](const std::array<JointModelParams, kLegJoints>& params) {
     for (int j = 0; j < kLegJoints; ++j) {
       const JointModelParams& p = params[j];
-      char buffer[160];
-      std::snprintf(buffer, sizeof buffer, "%s v_max %.2f, theta_0 %.2f, l %d, a %d%s",
-                    std::string(kLegJointNames[j]).c_str(), p.v_max_deg_per_tick, p.theta0_deg,
-                    p.lag_ticks, p.accel_ticks, j + 1 < kLegJoints ? "; " : ".\n");
-      md << buffer;
+      // Fixed() grows with the number: a model's line is never cut.
+      md << kLegJointNames[j] << " v_max " << Fixed(p.v_max_deg_per_tick, 2) << ", theta_0 "
+         << Fixed(p.theta0_deg, 2) << ", l " << p.lag_ticks << ", a " << p.accel_ticks
+         << (j + 1 < kLegJoints ? "; " : ".\n");
     }
   };
   md << "\nModel " << (table.models_identified ? "identified on the plant" : "from model.* keys")

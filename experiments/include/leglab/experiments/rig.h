@@ -55,8 +55,20 @@ struct JointIdentification {
   std::vector<StepTestRun> runs;
 };
 
+/// A fit whose RMS residual is over this fraction of the smallest step height
+/// (identify.theta_test_deg) has failed: a model that fits follows its steps to a few percent.
+inline constexpr double kFailedFitResidualFraction = 0.25;
+
+/// Throws InputError naming the joint, the step heights and the servo's settings when the model
+/// fitted to joint `joint`'s step tests is outside the model's own ranges (model.*) or its
+/// residual says the fit failed (kFailedFitResidualFraction): a plant no model of eq. 3 fits,
+/// not a table to print.
+void CheckIdentifiedModel(const ExperimentConfig& config, int joint,
+                          const IdentificationResult& fit);
+
 /// Step tests (each on a fresh plant) and identification of every joint, joints in parallel
-/// on config.threads threads (the result does not depend on the count).
+/// on config.threads threads (the result does not depend on the count). Each model is checked
+/// (CheckIdentifiedModel).
 std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& config,
                                                         const Robot& robot);
 
