@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <mutex>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -79,6 +80,42 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
 
 std::string Deg(double rad) { return std::to_string(RadToDeg(rad)); }
 
+// A number as a reader wants it: 1e-30, 0.0001, 100 (std::to_string would print 0.000000).
+std::string Num(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// "urdf '<path>': <item> <what>", one line: the message of every physical-range check.
+[[noreturn]] void Refuse(const std::string& path, const std::string& item,
+                         const std::string& what) {
+  throw std::invalid_argument("urdf '" + path + "': " + item + " " + what);
+}
+
+void CheckInRange(const std::string& path, const std::string& item, const std::string& field,
+                  double value, double lo, double hi, const std::string& unit) {
+  if (!(value >= lo && value <= hi)) {  // NaN fails too
+    Refuse(
+        path, item,
+        field + " must be in [" + Num(lo) + ", " + Num(hi) + "] " + unit + ", got " + Num(value));
+  }
+}
+
+// An <origin>: finite, and no farther from its frame than a leg's part can be.
+void CheckOrigin(const std::string& path, const std::string& item, const std::string& field,
+                 const urdf::Pose& pose) {
+  const Eigen::Vector3d xyz(pose.position.x, pose.position.y, pose.position.z);
+  const Eigen::Vector4d rotation(pose.rotation.x, pose.rotation.y, pose.rotation.z,
+                                 pose.rotation.w);
+  if (!xyz.allFinite() || !rotation.allFinite()) {
+    Refuse(path, item,
+           field + " must be finite, got xyz (" + Num(xyz.x()) + ", " + Num(xyz.y()) + ", " +
+               Num(xyz.z()) + ")");
+  }
+  CheckInRange(path, item, field + " offset", xyz.norm(), 0.0, kMaxOriginOffsetM, "m");
+}
+
 // Mass of one link's <inertial>, checked, as inertia about its centre of mass in link axes.
 struct LinkMass {
   double mass_kg = 0.0;
@@ -86,32 +123,33 @@ struct LinkMass {
   Eigen::Matrix3d inertia_kg_m2 = Eigen::Matrix3d::Identity();  // about com, link axes
 };
 
-LinkMass CheckedMass(const urdf::Link& link) {
+LinkMass CheckedMass(const urdf::Link& link, const std::string& path) {
   const urdf::Inertial& in = *link.inertial;
-  const std::string where = "link '" + link.name + "': ";
-  if (!std::isfinite(in.mass) || in.mass <= 0.0) {
-    throw std::invalid_argument(where + "inertial mass must be > 0 kg, got " +
-                                std::to_string(in.mass));
-  }
+  const std::string item = "link '" + link.name + "'";
+  CheckInRange(path, item, "mass", in.mass, kMinLinkMassKg, kMaxLinkMassKg, "kg");
+  CheckOrigin(path, item, "inertial origin", in.origin);
   Eigen::Matrix3d inertia;
   inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   if (!inertia.allFinite()) {
-    throw std::invalid_argument(where + "inertia has a non-finite entry");
+    Refuse(path, item, "inertia has a non-finite entry");
   }
   const Eigen::Vector3d moments =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(inertia, Eigen::EigenvaluesOnly)
           .eigenvalues();    // ascending
   std::string listed = "(";  // appended piecewise: GCC 12 misfires -Wrestrict on "(" + ...
-  listed += std::to_string(moments[0]) + ", " + std::to_string(moments[1]) + ", " +
-            std::to_string(moments[2]) + ")";
+  listed += Num(moments[0]) + ", " + Num(moments[1]) + ", " + Num(moments[2]) + ")";
   if (moments[0] <= 0.0) {
-    throw std::invalid_argument(where + "inertia must be positive definite, principal moments " +
-                                listed + " kg m^2");
+    Refuse(path, item,
+           "inertia must be positive definite, principal moments " + listed + " kg m^2");
   }
+  CheckInRange(path, item, "inertia's least principal moment", moments[0], kMinPrincipalInertiaKgM2,
+               kMaxPrincipalInertiaKgM2, "kg m^2");
+  CheckInRange(path, item, "inertia's greatest principal moment", moments[2],
+               kMinPrincipalInertiaKgM2, kMaxPrincipalInertiaKgM2, "kg m^2");
   // A rigid body's largest principal moment cannot exceed the sum of the other two.
-  if (moments[2] > (moments[0] + moments[1]) * (1.0 + 1e-9)) {
-    throw std::invalid_argument(where + "inertia breaks the triangle inequality, principal " +
-                                "moments " + listed + " kg m^2");
+  if (moments[2] > (moments[0] + moments[1]) * (1.0 + kInertiaTriangleTolerance)) {
+    Refuse(path, item,
+           "inertia breaks the triangle inequality, principal moments " + listed + " kg m^2");
   }
   const Eigen::Isometry3d frame = ToIsometry(in.origin);
   LinkMass result;
@@ -172,13 +210,14 @@ std::array<JointDescription, kLegJoints> CheckJoints(const urdf::ModelInterface&
     const double stop_hi = limits.upper + kMechanicalStopMarginRad;
     if (!(limits.lower < limits.upper) || !(stop_lo > -std::numbers::pi) ||
         !(stop_hi < std::numbers::pi)) {
-      throw std::invalid_argument("joint '" + name + "': limits [" + Deg(limits.lower) + ", " +
-                                  Deg(limits.upper) +
-                                  "] deg must be increasing and leave room for the mechanical "
-                                  "stops 3 deg beyond them inside (-180, 180) deg");
+      Refuse(path, "joint '" + name + "'",
+             "limit lower and upper [" + Deg(limits.lower) + ", " + Deg(limits.upper) +
+                 "] deg must be increasing and leave room for the mechanical stops 3 deg beyond "
+                 "them inside (-180, 180) deg");
     }
-    if (!(limits.effort > 0.0)) {
-      throw std::invalid_argument("joint '" + name + "': effort limit must be > 0 N m");
+    if (!(limits.effort > 0.0) || !std::isfinite(limits.effort)) {
+      Refuse(path, "joint '" + name + "'",
+             "limit effort must be finite and > 0 N m, got " + Num(limits.effort));
     }
     joints[j].name = name;
     joints[j].lower_rad = limits.lower;
@@ -209,6 +248,8 @@ std::vector<LinkDescription> ReadTree(const urdf::ModelInterface& model, const s
     link.name = urdf_link->name;
     link.parent = parent;
     if (const urdf::JointSharedPtr& joint = urdf_link->parent_joint) {
+      CheckOrigin(path, "joint '" + joint->name + "'", "origin",
+                  joint->parent_to_joint_origin_transform);
       link.origin = ToRigidTransform(ToIsometry(joint->parent_to_joint_origin_transform));
       const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
       if (joint->type != urdf::Joint::FIXED) {
@@ -223,8 +264,10 @@ std::vector<LinkDescription> ReadTree(const urdf::ModelInterface& model, const s
                                       "' is movable, but leglab::sim drives only rotator, "
                                       "abductor and knee (make it fixed)");
         }
-        if (axis.norm() < 1e-9) {
-          throw std::invalid_argument("joint '" + joint->name + "': axis must be non-zero");
+        if (!axis.allFinite() || !(axis.norm() >= 1e-9)) {
+          Refuse(path, "joint '" + joint->name + "'",
+                 "axis must be finite and non-zero, got (" + Num(axis.x()) + ", " + Num(axis.y()) +
+                     ", " + Num(axis.z()) + ")");
         }
         link.joint = index;
         link.axis = ToArray(axis.normalized());
@@ -272,7 +315,7 @@ void LumpBodies(const urdf::ModelInterface& model, LegDescription& leg) {
     const urdf::LinkConstSharedPtr urdf_link = model.getLink(link.name);
     if (link.body >= 0 && urdf_link->inertial) {
       const Eigen::Isometry3d in_body = ToEigen(link.in_body);
-      LinkMass mass = CheckedMass(*urdf_link);
+      LinkMass mass = CheckedMass(*urdf_link, leg.urdf_path);
       mass.com_m = in_body * mass.com_m;
       mass.inertia_kg_m2 = in_body.linear() * mass.inertia_kg_m2 * in_body.linear().transpose();
       pieces[link.body].push_back(mass);

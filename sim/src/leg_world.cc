@@ -222,10 +222,15 @@ void LegWorld::Step(double dt_s) {
   // A world built on one thread may be stepped on another (a moved plant): ODE needs its
   // per-thread data there too. After the first call on a thread this is one flag test.
   EnsureOdeReady();
-  if (impl_->stand) {
-    impl_->stand->Step(impl_->world->get(), dt_s);
-  } else {
-    dWorldStep(impl_->world->get(), dt_s);
+  try {
+    if (impl_->stand) {
+      impl_->stand->Step(impl_->world->get(), dt_s);
+    } else {
+      dWorldStep(impl_->world->get(), dt_s);
+    }
+  } catch (...) {  // an ODE error (EnsureOdeReady) left the step half done
+    impl_->world->MarkBroken();
+    throw;
   }
 }
 

@@ -13,7 +13,10 @@ static_assert(std::is_same_v<dReal, double>, "leglab::sim needs ODE built in dou
 
 /// Initialises ODE once per process (closed at exit) and allocates ODE's data for the calling
 /// thread on its first call there; later calls on that thread cost one flag test. Call it
-/// before creating a world and on any thread that steps one.
+/// before creating a world and on any thread that steps one. From then on an ODE error or failed
+/// ODE assertion throws std::runtime_error with ODE's message ("ODE internal error 1: assertion
+/// ...") out of the ODE call instead of aborting the process; the world involved must then be
+/// destroyed, not stepped again.
 /// Throws std::runtime_error when ODE cannot allocate the thread's data.
 void EnsureOdeReady();
 
@@ -31,8 +34,16 @@ class OdeWorld {
   /// The world, for creating bodies and joints in it and stepping it.
   dWorldID get() const { return world_; }
 
+  /// Says that an ODE error was thrown out of a step of this world: its step left ODE's job
+  /// list and memory arena in use, and freeing them would fail ODE's assertions in a
+  /// destructor (std::terminate), so the destructor parks the world and its threading, unfreed,
+  /// instead.
+  void MarkBroken() noexcept { broken_ = true; }
+
  private:
   void Release() noexcept;
+
+  bool broken_ = false;
 
   dThreadingImplementationID threading_;
   dWorldID world_;

@@ -116,6 +116,25 @@ TEST_F(ProgramsTest, IdentifyRejectsBadInputWithOneLineAndStatus2) {
   ExpectBadInput(kIdentify, "", "--config");
 }
 
+// A robot outside the physical ranges (a 1e-30 kg upper leg made ODE abort mid-run) is bad
+// input found before anything runs: status 2, one line, no --out and no staging folder.
+TEST_F(ProgramsTest, TrackRefusesARobotOutsideThePhysicalRanges) {
+  std::ifstream in(LEGLAB_SOURCE_DIR "/robots/ers210a/leg.urdf");
+  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string mass = R"(<mass value="0.073"/>)";  // the first is the upper leg's
+  urdf.replace(urdf.find(mass), mass.size(), R"(<mass value="1e-30"/>)");
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set steps=1 --set warmup_steps=0 "
+                 "--set urdf=" +
+                     Write("tiny.urdf", urdf),
+                 "link 'upper_leg' mass must be in [0.0001, 100] kg, got 1e-30");
+  for (const auto& entry : fs::directory_iterator(out_.parent_path())) {
+    EXPECT_NE(
+        entry.path().filename().string().rfind("." + out_.filename().string() + ".staging-", 0), 0u)
+        << entry.path();
+  }
+}
+
 TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   // A given model skips identification, so each bad input is found at once.
   const std::string good =

@@ -289,7 +289,7 @@ TEST(LegDescriptionTest, LimitsLeavingNoRoomForTheStopsNameTheJoint) {
   const std::string message = ErrorOf<std::invalid_argument>(
       TempUrdf(kFrontUrdf, R"(lower="-2.0420352248" upper="2.0420352248")",
                R"(lower="-3.1241393610" upper="3.1241393610")"));
-  EXPECT_NE(message.find("joint 'rotator': limits"), std::string::npos) << message;
+  EXPECT_NE(message.find("joint 'rotator' limit lower and upper"), std::string::npos) << message;
 }
 
 TEST(LegDescriptionTest, MissingFootLinkNamesTheLink) {
@@ -351,6 +351,97 @@ TEST(LegDescriptionTest, UnsupportedDampingNamesTheJoint) {
       kFrontUrdf, R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 1 0"/><dynamics damping="0.01"/>)"));
   EXPECT_NE(message.find("joint 'knee'"), std::string::npos) << message;
   EXPECT_NE(message.find("damping"), std::string::npos) << message;
+}
+
+// ---- Physical ranges: each bad field of a copy of the front leg is refused in one line ----
+
+struct BadField {
+  std::string name;      // the test's name
+  Edits edits;           // of robots/ers210a/leg.urdf
+  std::string expected;  // the message after "urdf '<path>': "
+};
+
+void PrintTo(const BadField& field, std::ostream* out) { *out << field.name; }
+
+class BadFieldTest : public ::testing::TestWithParam<BadField> {};
+
+// The upper leg's inertial block, whose inertia the inertia cases replace.
+const std::string kUpperInertia =
+    R"(<inertia ixx="2.85435e-05" ixy="0" ixz="0" iyy="2.85435e-05" iyz="0" izz="5.256e-06"/>)";
+const std::string kUpperMass = R"(<mass value="0.073"/>)";  // the first one is upper_leg's
+
+TEST_P(BadFieldTest, IsRefusedInOneLineNamingTheFileTheItemAndTheField) {
+  const TempUrdf urdf(kFrontUrdf, GetParam().edits);
+  const std::string message = ErrorOf<std::invalid_argument>(urdf);
+  EXPECT_EQ(message, "urdf '" + urdf.path() + "': " + GetParam().expected);
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    LegDescriptionTest, BadFieldTest,
+    ::testing::Values(
+        BadField{"TinyMass",
+                 {{kUpperMass, R"(<mass value="1e-30"/>)"}},
+                 "link 'upper_leg' mass must be in [0.0001, 100] kg, got 1e-30"},
+        BadField{"HugeMass",
+                 {{kUpperMass, R"(<mass value="1e30"/>)"}},
+                 "link 'upper_leg' mass must be in [0.0001, 100] kg, got 1e+30"},
+        // Principal moments -1e-5, 1e-5, 2e-5: not positive definite.
+        BadField{"InertiaNotPositiveDefinite",
+                 {{kUpperInertia,
+                   R"(<inertia ixx="0" ixy="1e-05" ixz="0" iyy="0" iyz="0" izz="2e-05"/>)"}},
+                 "link 'upper_leg' inertia must be positive definite, principal moments (-1e-05, "
+                 "1e-05, 2e-05) kg m^2"},
+        // 1e-5 + 1e-5 < 3e-5: no rigid body has these moments.
+        BadField{"InertiaBreakingTheTriangleInequality",
+                 {{kUpperInertia,
+                   R"(<inertia ixx="1e-05" ixy="0" ixz="0" iyy="1e-05" iyz="0" izz="3e-05"/>)"}},
+                 "link 'upper_leg' inertia breaks the triangle inequality, principal moments "
+                 "(1e-05, 1e-05, 3e-05) kg m^2"},
+        BadField{"TinyInertia",
+                 {{kUpperInertia,
+                   R"(<inertia ixx="1e-12" ixy="0" ixz="0" iyy="1e-12" iyz="0" izz="1e-12"/>)"}},
+                 "link 'upper_leg' inertia's least principal moment must be in [1e-09, 10] kg "
+                 "m^2, got 1e-12"},
+        BadField{
+            "HugeInertia",
+            {{kUpperInertia, R"(<inertia ixx="50" ixy="0" ixz="0" iyy="50" iyz="0" izz="50"/>)"}},
+            "link 'upper_leg' inertia's least principal moment must be in [1e-09, 10] kg "
+            "m^2, got 50"},
+        BadField{"FarInertialOrigin",
+                 {{R"(<origin xyz="0.007844 0.000306 -0.039222")", R"(<origin xyz="0 0 -2")"}},
+                 "link 'upper_leg' inertial origin offset must be in [0, 1] m, got 2"},
+        BadField{"FarJointOrigin",
+                 {{R"(<origin xyz="0.0128 0.0005 -0.064" rpy="0 0 0"/>)",
+                   R"(<origin xyz="0 0 -1.5" rpy="0 0 0"/>)"}},
+                 "joint 'knee' origin offset must be in [0, 1] m, got 1.5"},
+        BadField{"ZeroAxis",
+                 {{R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 0 0"/>)"}},
+                 "joint 'knee' axis must be finite and non-zero, got (0, 0, 0)"},
+        BadField{"LowerLimitNotBelowUpper",
+                 {{R"(lower="-0.4712388980" upper="2.5656340004")", R"(lower="1" upper="1")"}},
+                 "joint 'knee' limit lower and upper [57.295780, 57.295780] deg must be "
+                 "increasing and leave room for the mechanical stops 3 deg beyond them inside "
+                 "(-180, 180) deg"}),
+    [](const ::testing::TestParamInfo<BadField>& param) { return param.param.name; });
+
+// urdfdom itself refuses a NaN in an origin, naming the joint and the origin (in one line).
+TEST(LegDescriptionTest, NanInAJointOriginIsRefusedInOneLine) {
+  const std::string message = ErrorOf<std::runtime_error>(
+      TempUrdf(kFrontUrdf, R"(<origin xyz="0.0128 0.0005 -0.064" rpy="0 0 0"/>)",
+               R"(<origin xyz="nan 0.0005 -0.064" rpy="0 0 0"/>)"));
+  EXPECT_NE(message.find("Unable to parse component [nan]"), std::string::npos) << message;
+  EXPECT_NE(message.find("origin element for joint [knee]"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+// The shipped robots are inside every range.
+TEST(LegDescriptionTest, ShippedRobotsLoad) {
+  for (const std::string robot : {"ers210a", "ers210a_hind"}) {
+    EXPECT_NO_THROW(
+        LoadLegDescription(std::string(LEGLAB_SOURCE_DIR) + "/robots/" + robot + "/leg.urdf"))
+        << robot;
+  }
 }
 
 }  // namespace

@@ -312,6 +312,28 @@ TEST(LegWorldTest, MassOdeRejectsNamesTheLink) {
   }
 }
 
+// A mass LoadLegDescription refuses (1e-30 kg) makes ODE fail an internal assertion mid-step;
+// its message comes out as an exception instead of abort(), and ODE stays usable afterwards.
+TEST(LegWorldTest, OdeFailureThrowsItsMessageInsteadOfAborting) {
+  LegDescription leg = LoadLegDescription(kUrdf);
+  leg.bodies[1].mass_kg = 1e-30;  // upper_leg
+  std::string message = "no error";
+  try {
+    LegWorld world(leg);
+    world.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
+    for (int j = 0; j < kLegJoints; ++j) world.SetMotor(j, 1.0, 5.45);
+    for (int step = 0; step < 3000; ++step) world.Step(0.001);
+  } catch (const std::runtime_error& error) {
+    message = error.what();
+  }
+  EXPECT_NE(message.find("ODE internal error"), std::string::npos) << message;
+  EXPECT_NE(message.find("assertion"), std::string::npos) << message;
+  LegWorld sound(kUrdf);
+  sound.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
+  for (int step = 0; step < 100; ++step) sound.Step(0.001);
+  EXPECT_TRUE(sound.StateProblem().empty()) << sound.StateProblem();
+}
+
 TEST(LegWorldTest, UnknownLinkIsNamed) {
   const LegWorld world(kUrdf);
   try {

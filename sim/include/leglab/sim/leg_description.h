@@ -17,6 +17,29 @@ inline constexpr std::string_view kFootLinkName = "foot";
 /// ERS-210A). A URDF's limits must leave room for them inside (-pi, pi).
 inline constexpr double kMechanicalStopMarginRad = DegToRad(3.0);
 
+// Physical ranges of a leg of this kind (Aibo-sized: links of tens of grams and centimetres),
+// checked by LoadLegDescription before any physics engine sees the URDF: each spans orders of
+// magnitude around the shipped leg, and outside it ODE's step fails (a 1e-30 kg link aborts it,
+// a 1e30 kg one tears the joints apart). Listed in docs/extending.md ("A robot").
+
+/// Least mass of a link with <inertial>, kg: 0.1 g, a screw; lighter links make ODE's mass
+/// matrix singular next to the 0.073 kg segments.
+inline constexpr double kMinLinkMassKg = 1e-4;
+/// Greatest mass of a link, kg: a leg segment of a large quadruped; heavier ones outweigh the
+/// 5 N m servos by orders of magnitude and make the joint constraints drift apart.
+inline constexpr double kMaxLinkMassKg = 100.0;
+/// Least principal moment of inertia about a link's centre of mass, kg m^2: a 0.1 g bead of
+/// 5 mm radius (the shipped thinnest is 5e-6, a 12 mm rod).
+inline constexpr double kMinPrincipalInertiaKgM2 = 1e-9;
+/// Greatest principal moment of inertia, kg m^2: 100 kg spread 0.3 m from its axis.
+inline constexpr double kMaxPrincipalInertiaKgM2 = 10.0;
+/// Relative slack of the triangle inequality of principal moments (each at most the sum of the
+/// other two): a thin rod or plate written with rounded moments sits on its edge.
+inline constexpr double kInertiaTriangleTolerance = 1e-9;
+/// Greatest length of a joint origin's or an inertial origin's offset from its frame, m: no
+/// part of a leg is a metre from the joint it hangs on (the shipped greatest is 0.084 m).
+inline constexpr double kMaxOriginOffsetM = 1.0;
+
 /// A rigid transform: a point p given in the child frame is rotation * p + translation_m in
 /// the parent frame.
 struct RigidTransform {
@@ -102,9 +125,12 @@ struct LegDescription {
 /// urdfdom's reason), and std::invalid_argument naming the item when a joint of kLegJointNames
 /// or the `foot` link is missing, a joint is not revolute or has limits the stops
 /// (kMechanicalStopMarginRad beyond them) cannot wrap within (-pi, pi), damping/friction/mimic
-/// is given (not modelled), another movable joint exists, or a moving link has no or an
-/// invalid mass/inertia (non-positive mass, an inertia that is not positive definite or
-/// breaks the triangle inequality).
+/// is given (not modelled), another movable joint exists, a joint's axis is zero or not finite, an
+/// origin is not finite or farther than kMaxOriginOffsetM, or a moving link has no or an invalid
+/// mass/inertia (mass outside [kMinLinkMassKg, kMaxLinkMassKg], an inertia that is not positive
+/// definite, has a principal moment outside [kMinPrincipalInertiaKgM2, kMaxPrincipalInertiaKgM2]
+/// or breaks the triangle inequality). Those range messages are one line, "urdf '<path>': link
+/// 'upper_leg' mass must be in [0.0001, 100] kg, got 1e-30".
 LegDescription LoadLegDescription(const std::string& urdf_path);
 
 }  // namespace leglab::sim

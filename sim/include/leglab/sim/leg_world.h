@@ -83,7 +83,9 @@ class LegWorld {
   /// One ODE step (dWorldStep) of `dt_s` seconds. On the stand, the foot's contacts with the
   /// floor are found first (dSpaceCollide, dCollide) and joined for this step only (a contact
   /// joint group, emptied after it), with the stand's stiffness and damping as ERP and CFM
-  /// for `dt_s` (StandConfig).
+  /// for `dt_s` (StandConfig). Throws std::runtime_error with ODE's message ("ODE internal
+  /// error 1: assertion ...") when ODE reports an error instead of letting it abort the
+  /// process; the world must then be destroyed, not stepped again.
   void Step(double dt_s);
 
   /// Teleports the leg to the joint angles `q_rad` (rad), every body at rest. Does not check
