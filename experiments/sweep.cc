@@ -64,7 +64,7 @@ int Run(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, or --list-keys printed the keys
   } catch (const CLI::ParseError& e) {
-    std::cerr << "sweep: error: " << e.what() << " (see --help)\n";
+    std::cerr << "sweep: error: " << MessageLine(e.what()) << " (see --help)\n";
     return 2;
   }
 

@@ -3,10 +3,13 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <new>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 
 #include "leglab/experiments/output.h"
@@ -25,27 +28,66 @@ void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table) {
       "unit, description) and exit");
 }
 
+std::string MessageLine(std::string_view text, size_t max_bytes) {
+  std::string out;
+  size_t i = 0;
+  for (; i < text.size() && out.size() < max_bytes; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c < 0x20 || c == 0x7F) {
+      std::array<char, 8> hex{};
+      std::snprintf(hex.data(), hex.size(), "\\x%02x", static_cast<unsigned>(c));
+      out += hex.data();
+    } else if (text.substr(i, 3) == "\xEF\xBB\xBF") {  // U+FEFF, a byte-order mark
+      out += "\\ufeff";
+      i += 2;
+    } else if (text.substr(i, 2) == "\xE2\x80" && i + 2 < text.size() &&
+               (static_cast<unsigned char>(text[i + 2]) & 0xF0) == 0x80 &&
+               static_cast<unsigned char>(text[i + 2]) <= 0x8F) {  // U+2000..U+200F: spaces
+      std::array<char, 12> code{};
+      std::snprintf(code.data(), code.size(), "\\u20%02x",
+                    static_cast<unsigned>(text[i + 2] & 0x3F) - 0x00);
+      out += code.data();
+      i += 2;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (i >= text.size()) return out;
+  // Cut on a character's first byte, never inside a UTF-8 sequence.
+  while (i < text.size() && (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) {
+    out += text[i++];
+  }
+  return out + " ... (" + std::to_string(text.size() - i) + " more bytes)";
+}
+
 int ReportErrors(const std::string& program, const std::function<void()>& body) {
+  const auto report = [&program](const char* kind, const char* what) {
+    std::cerr << program << ": " << kind << ": " << MessageLine(what) << '\n';
+  };
   try {
     body();
     return 0;
   } catch (const InputError& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
+    report("error", e.what());
   } catch (const std::invalid_argument& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
+    report("error", e.what());
   } catch (const std::domain_error& e) {
-    std::cerr << program << ": error: " << e.what() << '\n';
+    report("error", e.what());
   } catch (const OutputError& e) {
-    std::cerr << program << ": failed: " << e.what() << '\n';
+    report("failed", e.what());
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << program << ": failed: " << e.what() << '\n';
+    report("failed", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
     std::cerr << program << ": internal error: out of memory (std::bad_alloc)\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << program << ": internal error: " << e.what() << '\n';
+    report("internal error", e.what());
     return 1;
   } catch (...) {
     std::cerr << program << ": internal error: an unknown exception\n";
@@ -63,7 +105,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   app.add_option("--out", args.out_dir, "folder for the results")->required();
   app.add_option("--threads", args.threads,
                  "worker threads (default: one per core); results do not depend on it")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 4096));
   CLI::Option* progress = app.add_flag(
       "--progress", args.progress,
       "plain progress lines on stderr (for logs and CI); default: a bar on a terminal");
@@ -76,7 +118,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, or --list-keys printed the keys
   } catch (const CLI::ParseError& e) {
-    std::cerr << program << ": error: " << e.what() << " (see --help)\n";
+    std::cerr << program << ": error: " << MessageLine(e.what()) << " (see --help)\n";
     return 2;
   }
   // Before any thread starts: an interruption removes the staging folder (OutputDir).

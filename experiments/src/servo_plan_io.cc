@@ -422,7 +422,7 @@ int PlanMain(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "plan: error: " << e.what() << " (see --help)\n";
+    std::cerr << "plan: error: " << MessageLine(e.what()) << " (see --help)\n";
     return 2;
   }
   InstallInterruptCleanup("plan");

@@ -114,7 +114,12 @@ void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
 }
 
 YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
-  if (!IsRegularFile(path)) FailConfig(what + " '" + path.string() + "' does not exist");
+  if (!IsRegularFile(path)) {
+    std::error_code ec;
+    const bool folder = fs::is_directory(path, ec);
+    FailConfig(what + " '" + path.string() + "' " +
+               (folder ? "is a folder, not a file" : "does not exist"));
+  }
   try {
     YAML::Node node = YAML::LoadFile(path.string());
     if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);

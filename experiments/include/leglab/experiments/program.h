@@ -28,6 +28,12 @@ struct ProgramArgs {
   bool quiet = false;     ///< --quiet: no progress at all
 };
 
+/// `text` as one line of a message: line breaks and other control characters escaped (\n,
+/// \r, \xNN), invisible characters shown (a byte-order mark as \ufeff, U+2000..U+200F as
+/// \u20NN), and cut after about `max_bytes` bytes (never inside a UTF-8 sequence) with how
+/// many more there were: a message that echoes a whole file or list stays one short line.
+std::string MessageLine(std::string_view text, size_t max_bytes = 300);
+
 /// Runs `body` and reports what escapes it as RunProgram does (bad input: "<program>: error:
 /// <message>", status 2; a failure to write: "<program>: failed: ...", 1; anything else:
 /// "<program>: internal error: ...", 1). Returns 0 when `body` returns.
