@@ -1,7 +1,9 @@
 // sweep: runs a base experiment (track) at every point of a grid or a seeded random sample of
 // config values and writes one row per point to sweep.csv; with --shard I/N (or a Slurm or
 // Kubernetes job array) only every N-th point, into sweep.shard-I-of-N.csv. `sweep merge`
-// joins the shards into the sweep.csv an unsharded run writes, byte for byte.
+// joins the shards into the sweep.csv an unsharded run writes, byte for byte. Exit status: 0,
+// 2 for bad input (nothing written), 3 when every point of the sweep failed (sweep.csv
+// written), 1 for our failures.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdlib>
@@ -21,6 +23,15 @@ namespace fs = std::filesystem;
 
 // --out checked as every program checks it, before any point runs.
 void CheckOutDir(const std::string& out) { CheckOutFolder(out, {"sweep."}); }
+
+// Exit status 3 when no point of a whole sweep is ok (its table, written, says why of each);
+// else 0.
+int AllFailedStatus(const char* program, const SweepTable& table) {
+  if (table.rows.empty() || table.not_ok < static_cast<long>(table.rows.size())) return 0;
+  std::cerr << program << ": error: every one of the " << table.rows.size()
+            << " points failed (each row's status says why)\n";
+  return 3;
+}
 
 // `sweep merge`: the shards of `dirs` into `out`/sweep.csv, checked against `config_path`'s
 // sweep when given.
@@ -48,7 +59,7 @@ int Merge(const std::vector<std::string>& merge_dirs, const std::string& out,
   WriteSweepTable(merged.table, fs::path(out) / "sweep.csv");
   std::cerr << "sweep merge: " << merged.table.rows.size() << " points from " << merged.shard_count
             << " shards into " << out << "/sweep.csv\n";
-  return 0;
+  return AllFailedStatus("sweep merge", merged.table);
 }
 
 int Run(int argc, char** argv) {
@@ -125,7 +136,8 @@ int Run(int argc, char** argv) {
   WriteSweepTable(table, file);
   std::cerr << "sweep: " << table.rows.size() << " points (" << table.not_ok << " not ok) into "
             << file.string() << '\n';
-  return 0;
+  // A shard whose points all failed is not the sweep's failure: the merge judges the whole.
+  return shard ? 0 : AllFailedStatus("sweep", table);
 }
 
 }  // namespace

@@ -424,6 +424,30 @@ TEST_F(SweepMergeTest, ADuplicatedShardIsRefused) {
   ExpectRefused({"sweep.shard-1-of-3.csv", "line 1", "the stamp says shard 0 of 3"});
 }
 
+// A sweep whose every point fails exits 3, its sweep.csv written (each row says why); so does
+// the merge of such shards, while each shard, a part of the whole, exits 0.
+TEST_F(SweepTest, ASweepWhoseEveryPointFailsExitsThree) {
+  const std::string file = Write("s.yaml", kFastBase + "grid:\n  track.t_step_ticks: [3, 2]\n");
+  const fs::path whole = dir_ / "whole", parts = dir_ / "parts", merged = dir_ / "merged";
+  const auto [status, err] = Sweep("--config " + file + " --out " + whole.string());
+  EXPECT_EQ(status, 3) << err;
+  EXPECT_NE(err.find("every one of the 2 points failed"), std::string::npos) << err;
+  EXPECT_TRUE(fs::exists(whole / "sweep.csv"));
+  for (int i : {0, 1}) {
+    EXPECT_EQ(Sweep("--config " + file + " --out " + parts.string() + " --shard " +
+                    std::to_string(i) + "/2")
+                  .first,
+              0);
+  }
+  const auto [merge_status, merge_err] =
+      Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file);
+  EXPECT_EQ(merge_status, 3) << merge_err;
+  EXPECT_EQ(ReadFile(merged / "sweep.csv"), ReadFile(whole / "sweep.csv"));
+  // One failed point among ok ones is not the sweep's failure.
+  const std::string mixed = Write("m.yaml", kFastBase + "grid:\n  track.t_step_ticks: [3, 48]\n");
+  EXPECT_EQ(Sweep("--config " + mixed + " --out " + (dir_ / "mixed").string()).first, 0);
+}
+
 // A broken sweep file or shard spec is the user's: one line, exit 2, nothing written.
 TEST_F(SweepTest, BadSweepFilesAreExitTwoWithNothingWritten) {
   const fs::path out = dir_ / "out";
