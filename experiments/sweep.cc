@@ -1,7 +1,9 @@
 // sweep: runs a base experiment (track) at every point of a grid or a seeded random sample of
 // config values and writes one row per point to sweep.csv; with --shard I/N (or a Slurm or
 // Kubernetes job array) only every N-th point, into sweep.shard-I-of-N.csv. `sweep merge`
-// joins the shards into the sweep.csv an unsharded run writes, byte for byte.
+// joins the shards into the sweep.csv an unsharded run writes, byte for byte. Exit status: 0,
+// 2 for bad input (nothing written), 3 when every point of the sweep failed (sweep.csv
+// written), 1 for our failures.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdlib>
@@ -21,6 +23,44 @@ namespace fs = std::filesystem;
 
 // --out checked as every program checks it, before any point runs.
 void CheckOutDir(const std::string& out) { CheckOutFolder(out, {"sweep."}); }
+
+// Exit status 3 when no point of a whole sweep is ok (its table, written, says why of each);
+// else 0.
+int AllFailedStatus(const char* program, const SweepTable& table) {
+  if (table.rows.empty() || table.not_ok < static_cast<long>(table.rows.size())) return 0;
+  std::cerr << program << ": error: every one of the " << table.rows.size()
+            << " points failed (each row's status says why)\n";
+  return 3;
+}
+
+// `sweep merge`: the shards of `dirs` into `out`/sweep.csv, checked against `config_path`'s
+// sweep when given.
+int Merge(const std::vector<std::string>& merge_dirs, const std::string& out,
+          const std::string& config_path) {
+  CheckOutDir(out);
+  std::optional<SweepConfig> sweep;
+  if (!config_path.empty()) sweep = LoadSweepConfig(config_path);
+  const std::vector<fs::path> dirs(merge_dirs.begin(), merge_dirs.end());
+  const MergeResult merged = MergeShards(dirs, sweep ? &*sweep : nullptr);
+  if (!merged.missing.empty()) {
+    std::string names;
+    for (const int i : merged.missing) {
+      names += (names.empty() ? "" : ", ") + ShardFileName({i, merged.shard_count});
+    }
+    std::cerr << "sweep merge: error: " << merged.missing.size() << " of " << merged.shard_count
+              << " shards missing: " << names << "\nrerun them with:\n  "
+              << SlurmRerunCommand(merged.missing, merged.shard_count,
+                                   config_path.empty() ? "SWEEP.yaml" : config_path,
+                                   merge_dirs.front())
+              << '\n';
+    return 2;
+  }
+  fs::create_directories(out);
+  WriteSweepTable(merged.table, fs::path(out) / "sweep.csv");
+  std::cerr << "sweep merge: " << merged.table.rows.size() << " points from " << merged.shard_count
+            << " shards into " << out << "/sweep.csv\n";
+  return AllFailedStatus("sweep merge", merged.table);
+}
 
 int Run(int argc, char** argv) {
   CLI::App app(
@@ -68,38 +108,7 @@ int Run(int argc, char** argv) {
     return 2;
   }
 
-  if (merge->parsed()) {
-    CheckOutDir(merge_out);
-    std::vector<fs::path> dirs(merge_dirs.begin(), merge_dirs.end());
-    const MergeResult merged = MergeShards(dirs);
-    if (!merged.missing.empty()) {
-      std::string names;
-      for (const int i : merged.missing) {
-        names += (names.empty() ? "" : ", ") + ShardFileName({i, merged.shard_count});
-      }
-      std::cerr << "sweep merge: error: " << merged.missing.size() << " of " << merged.shard_count
-                << " shards missing: " << names << "\nrerun them with:\n  "
-                << SlurmRerunCommand(merged.missing, merged.shard_count,
-                                     merge_config.empty() ? "SWEEP.yaml" : merge_config,
-                                     merge_dirs.front())
-                << '\n';
-      return 2;
-    }
-    if (!merge_config.empty()) {
-      const SweepConfig sweep = LoadSweepConfig(merge_config);
-      if (sweep.points.size() != merged.table.rows.size()) {
-        throw InputError("merge: the shards hold " + std::to_string(merged.table.rows.size()) +
-                         " points, '" + merge_config + "' has " +
-                         std::to_string(sweep.points.size()));
-      }
-    }
-    fs::create_directories(merge_out);
-    WriteSweepTable(merged.table, fs::path(merge_out) / "sweep.csv");
-    std::cerr << "sweep merge: " << merged.table.rows.size() << " points from "
-              << merged.shard_count << " shards into " << merge_out << "/sweep.csv\n";
-    return 0;
-  }
-
+  if (merge->parsed()) return Merge(merge_dirs, merge_out, merge_config);
   CheckOutDir(out_dir);
   std::optional<Shard> shard;
   if (!shard_text.empty()) {
@@ -110,24 +119,25 @@ int Run(int argc, char** argv) {
   const SweepConfig sweep = LoadSweepConfig(config_path);
   const auto start = std::chrono::steady_clock::now();
   auto last = start;
-  const SweepTable table =
-      RunSweep(sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
-        const auto now = std::chrono::steady_clock::now();
-        if (quiet || (done < total && now - last < std::chrono::seconds(2))) return;
-        last = now;
-        const double elapsed = std::chrono::duration<double>(now - start).count();
-        std::cerr << "sweep: " << done << "/" << total << " points, " << static_cast<long>(elapsed)
-                  << " s, about "
-                  << static_cast<long>(elapsed / static_cast<double>(done) *
-                                       static_cast<double>(total - done))
-                  << " s left\n";
-      });
+  SweepTable table = RunSweep(sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
+    const auto now = std::chrono::steady_clock::now();
+    if (quiet || (done < total && now - last < std::chrono::seconds(2))) return;
+    last = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    std::cerr << "sweep: " << done << "/" << total << " points, " << static_cast<long>(elapsed)
+              << " s, about "
+              << static_cast<long>(elapsed / static_cast<double>(done) *
+                                   static_cast<double>(total - done))
+              << " s left\n";
+  });
+  if (shard) table.stamp = ShardStamp(sweep, *shard);
   fs::create_directories(out_dir);
   const fs::path file = fs::path(out_dir) / (shard ? ShardFileName(*shard) : "sweep.csv");
   WriteSweepTable(table, file);
   std::cerr << "sweep: " << table.rows.size() << " points (" << table.not_ok << " not ok) into "
             << file.string() << '\n';
-  return 0;
+  // A shard whose points all failed is not the sweep's failure: the merge judges the whole.
+  return shard ? 0 : AllFailedStatus("sweep", table);
 }
 
 }  // namespace

@@ -228,10 +228,13 @@ TEST_F(SweepTest, AnySplitIntoShardsMergesIntoTheUnshardedTable) {
     fs::create_directories(shards);
     for (int i = 0; i < n; ++i) {
       const Shard shard{i, n};
-      WriteSweepTable(RunSweep(sweep, shard, 1), shards / ShardFileName(shard));
+      SweepTable table = RunSweep(sweep, shard, 1);
+      table.stamp = ShardStamp(sweep, shard);
+      WriteSweepTable(table, shards / ShardFileName(shard));
     }
-    const MergeResult merged = MergeShards({shards});
+    const MergeResult merged = MergeShards({shards}, &sweep);
     ASSERT_TRUE(merged.missing.empty());
+    EXPECT_EQ(merged.table.not_ok, 2);
     WriteSweepTable(merged.table, shards / "sweep.csv");
     EXPECT_EQ(ReadFile(shards / "sweep.csv"), expected) << n << " shards";
   }
@@ -281,6 +284,168 @@ TEST_F(SweepTest, TheProgramShardsAndMerges) {
       Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file).first,
       0);
   EXPECT_EQ(ReadFile(merged / "sweep.csv"), ReadFile(whole / "sweep.csv"));
+}
+
+// A shard file's first line names its sweep and shard; sweep.csv stays a plain CSV file. The
+// id is FNV-1a 64 of the definition: the same file elsewhere gives the same id, another grid
+// or another base key another.
+TEST_F(SweepTest, AShardNamesItsSweepOnItsFirstLine) {
+  const std::string grid = "grid:\n  track.t_step_ticks: [48, 64, 80]\n";
+  const SweepConfig sweep = LoadSweepConfig(Write("a.yaml", kFastBase + grid));
+  const std::string id = SweepId(sweep);
+  ASSERT_EQ(id.size(), 16u);
+  EXPECT_EQ(id.find_first_not_of("0123456789abcdef"), std::string::npos) << id;
+  EXPECT_EQ(ShardStamp(sweep, Shard{1, 2}), "# sweep " + id + " shard 1 of 2, 3 points");
+  EXPECT_EQ(SweepId(LoadSweepConfig(Write("same.yaml", kFastBase + grid))), id);
+  EXPECT_NE(SweepId(LoadSweepConfig(
+                Write("grid.yaml", kFastBase + "grid:\n  track.t_step_ticks: [48, 64, 88]\n"))),
+            id);
+  EXPECT_NE(SweepId(LoadSweepConfig(Write("base.yaml", kFastBase + "seed: 9\n" + grid))), id);
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(
+      Sweep("--config " + (dir_ / "a.yaml").string() + " --out " + out.string() + " --shard 1/2")
+          .first,
+      0);
+  EXPECT_EQ(ReadFile(out / "sweep.shard-1-of-2.csv")
+                .rfind(ShardStamp(sweep, Shard{1, 2}) + "\nindex,track.t_step_ticks,status,", 0),
+            0u);
+  ASSERT_EQ(Sweep("--config " + (dir_ / "a.yaml").string() + " --out " + out.string()).first, 0);
+  EXPECT_EQ(ReadFile(out / "sweep.csv").rfind("index,", 0), 0u);
+}
+
+// What `sweep merge` refuses: shards that are not whole, not of one sweep, or hold rows that
+// do not parse against their header. Each is one line naming the file (and the line and
+// column), exit 2, and no sweep.csv.
+class SweepMergeTest : public SweepTest {
+ protected:
+  // The sweep of 5 points in 3 shards in `parts_` (shard 0: points 0 and 3; 1: 1 and 4; 2: 2).
+  void SetUp() override {
+    SweepTest::SetUp();
+    parts_ = dir_ / "parts";
+    file_ = Write("s.yaml", kFastBase + "grid:\n  track.t_step_ticks: [48, 64, 80, 96, 112]\n");
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(Sweep("--config " + file_ + " --out " + parts_.string() + " --shard " +
+                      std::to_string(i) + "/3")
+                    .first,
+                0);
+    }
+  }
+
+  std::vector<std::string> Lines(const std::string& shard) const {
+    std::vector<std::string> lines;
+    std::ifstream in(parts_ / shard);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  }
+  void WriteLines(const fs::path& path, const std::vector<std::string>& lines) const {
+    std::ofstream out(path, std::ios::binary);
+    for (const std::string& line : lines) out << line << '\n';
+  }
+
+  // Merging parts_ (with --config, when `config`) is bad input naming each of `needles`.
+  void ExpectRefused(const std::vector<std::string>& needles, bool config = true,
+                     const std::string& extra_dirs = "") {
+    const fs::path merged = dir_ / "merged";
+    const std::string args = "merge " + parts_.string() + extra_dirs + " --out " + merged.string() +
+                             (config ? " --config " + file_ : "");
+    const auto [status, err] = Sweep(args);
+    EXPECT_EQ(status, 2) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    for (const std::string& needle : needles) {
+      EXPECT_NE(err.find(needle), std::string::npos) << needle << " in " << err;
+    }
+    EXPECT_FALSE(fs::exists(merged / "sweep.csv"));
+  }
+
+  std::string file_;
+  fs::path parts_;
+};
+
+TEST_F(SweepMergeTest, TheShardsAsWrittenMerge) {
+  const auto [status, err] =
+      Sweep("merge " + parts_.string() + " --out " + (dir_ / "m").string() + " --config " + file_);
+  EXPECT_EQ(status, 0) << err;
+  EXPECT_TRUE(fs::exists(dir_ / "m" / "sweep.csv"));
+}
+
+TEST_F(SweepMergeTest, AShardMissingItsLastRowIsRefused) {
+  std::vector<std::string> lines = Lines("sweep.shard-0-of-3.csv");
+  ASSERT_EQ(lines.size(), 4u);  // stamp, header, points 0 and 3
+  lines.pop_back();
+  WriteLines(parts_ / "sweep.shard-0-of-3.csv", lines);
+  ExpectRefused({"sweep.shard-0-of-3.csv", "point 3 is missing"});
+  ExpectRefused({"sweep.shard-0-of-3.csv", "point 3 is missing"}, false);
+}
+
+// A shard of another grid in place of shard 1, with and without --config; and every shard of
+// this sweep when --config names the other.
+TEST_F(SweepMergeTest, AShardOfAnotherSweepIsRefused) {
+  const std::string other =
+      Write("other.yaml", kFastBase + "grid:\n  track.t_step_ticks: [48, 64, 80, 96, 120]\n");
+  const fs::path elsewhere = dir_ / "other";
+  ASSERT_EQ(Sweep("--config " + other + " --out " + elsewhere.string() + " --shard 1/3").first, 0);
+  fs::copy_file(elsewhere / "sweep.shard-1-of-3.csv", parts_ / "sweep.shard-1-of-3.csv",
+                fs::copy_options::overwrite_existing);
+  ExpectRefused({"sweep.shard-1-of-3.csv", "line 1", "a shard of sweep"}, false);
+  ExpectRefused({"sweep.shard-1-of-3.csv", "line 1", "a shard of sweep",
+                 "but '" + file_ + "' is sweep " + SweepId(LoadSweepConfig(file_))});
+  file_ = other;  // --config naming the other sweep: shards 0 and 2 are not of it
+  ExpectRefused({"sweep.shard-0-of-3.csv", "line 1", "a shard of sweep"});
+}
+
+TEST_F(SweepMergeTest, AGarbageRowIsRefused) {
+  std::vector<std::string> lines = Lines("sweep.shard-2-of-3.csv");
+  ASSERT_EQ(lines.size(), 3u);
+  lines[2] = "2,80,ok,1,2,3,4,5";
+  WriteLines(parts_ / "sweep.shard-2-of-3.csv", lines);
+  ExpectRefused({"sweep.shard-2-of-3.csv", "line 3", "8 cells, the header has"});
+}
+
+TEST_F(SweepMergeTest, NaNInANumberIsRefused) {
+  std::vector<std::string> lines = Lines("sweep.shard-1-of-3.csv");
+  ASSERT_EQ(lines[3].rfind("4,112,ok,", 0), 0u) << lines[3];
+  // The first result cell, column 4 (index, track.t_step_ticks, status before it).
+  const size_t start = std::string("4,112,ok,").size();
+  lines[3].replace(start, lines[3].find(',', start) - start, "NaN");
+  WriteLines(parts_ / "sweep.shard-1-of-3.csv", lines);
+  ExpectRefused(
+      {"sweep.shard-1-of-3.csv", "line 4 (point 4), column 4 'direct_rotator_l2_deg'", "'NaN'"});
+}
+
+TEST_F(SweepMergeTest, ADuplicatedShardIsRefused) {
+  // The same shard in two folders.
+  const fs::path copy = dir_ / "copy";
+  fs::create_directories(copy);
+  fs::copy_file(parts_ / "sweep.shard-2-of-3.csv", copy / "sweep.shard-2-of-3.csv");
+  ExpectRefused({"shard 2 found twice"}, true, " " + copy.string());
+  // Shard 0 copied in place of shard 1.
+  fs::copy_file(parts_ / "sweep.shard-0-of-3.csv", parts_ / "sweep.shard-1-of-3.csv",
+                fs::copy_options::overwrite_existing);
+  ExpectRefused({"sweep.shard-1-of-3.csv", "line 1", "the stamp says shard 0 of 3"});
+}
+
+// A sweep whose every point fails exits 3, its sweep.csv written (each row says why); so does
+// the merge of such shards, while each shard, a part of the whole, exits 0.
+TEST_F(SweepTest, ASweepWhoseEveryPointFailsExitsThree) {
+  const std::string file = Write("s.yaml", kFastBase + "grid:\n  track.t_step_ticks: [3, 2]\n");
+  const fs::path whole = dir_ / "whole", parts = dir_ / "parts", merged = dir_ / "merged";
+  const auto [status, err] = Sweep("--config " + file + " --out " + whole.string());
+  EXPECT_EQ(status, 3) << err;
+  EXPECT_NE(err.find("every one of the 2 points failed"), std::string::npos) << err;
+  EXPECT_TRUE(fs::exists(whole / "sweep.csv"));
+  for (int i : {0, 1}) {
+    EXPECT_EQ(Sweep("--config " + file + " --out " + parts.string() + " --shard " +
+                    std::to_string(i) + "/2")
+                  .first,
+              0);
+  }
+  const auto [merge_status, merge_err] =
+      Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file);
+  EXPECT_EQ(merge_status, 3) << merge_err;
+  EXPECT_EQ(ReadFile(merged / "sweep.csv"), ReadFile(whole / "sweep.csv"));
+  // One failed point among ok ones is not the sweep's failure.
+  const std::string mixed = Write("m.yaml", kFastBase + "grid:\n  track.t_step_ticks: [3, 48]\n");
+  EXPECT_EQ(Sweep("--config " + mixed + " --out " + (dir_ / "mixed").string()).first, 0);
 }
 
 // A broken sweep file or shard spec is the user's: one line, exit 2, nothing written.

@@ -34,11 +34,24 @@ std::optional<Shard> ShardFromEnvironment(const std::function<const char*(const 
 /// The file a shard writes: "sweep.shard-I-of-N.csv".
 std::string ShardFileName(const Shard& shard);
 
+/// A sweep's identity: 16 hex digits of the FNV-1a 64 hash of its definition as loaded (the
+/// swept keys, every point's index and values, and the base config merged with the sweep
+/// file's other keys, as text). Two sweep files that run the same points have the same id.
+/// Throws InputError when the base config is bad.
+std::string SweepId(const SweepConfig& sweep);
+
+/// A shard file's first line, naming the sweep and the shard it is:
+/// "# sweep <SweepId> shard I of N, P points" (P: the whole sweep's points). Throws as SweepId.
+std::string ShardStamp(const SweepConfig& sweep, const Shard& shard);
+
 /// A sweep's table: a header and one CSV line per point (no newline), in index order.
 struct SweepTable {
+  /// A shard file's first line (ShardStamp), written before the header; empty for sweep.csv,
+  /// which stays a plain CSV file.
+  std::string stamp;
   std::string header;
   std::vector<std::string> rows;
-  long not_ok = 0;  ///< rows whose status is not `ok` (RunSweep only)
+  long not_ok = 0;  ///< rows whose status is not `ok`
 };
 
 /// Runs the points of `sweep` in `shard` on `threads` threads (each point single-threaded,
@@ -52,8 +65,8 @@ struct SweepTable {
 SweepTable RunSweep(const SweepConfig& sweep, const Shard& shard, int threads,
                     const std::function<void(long, long)>& on_point_done = {});
 
-/// Writes `table` to `path` atomically (a temporary file beside it, then a rename): a reader
-/// never sees half a table. Throws std::runtime_error naming the file.
+/// Writes `table` (its stamp first, when set) to `path` atomically (a temporary file beside it,
+/// then a rename): a reader never sees half a table. Throws std::runtime_error naming the file.
 void WriteSweepTable(const SweepTable& table, const std::filesystem::path& path);
 
 /// What merging shard files found.
@@ -64,10 +77,17 @@ struct MergeResult {
 };
 
 /// Finds every sweep.shard-I-of-N.csv in `dirs` and joins their rows in index order: the same
-/// bytes as the unsharded sweep.csv. Throws InputError for no shard files, shards of different
-/// N or headers, a shard found twice, or a file whose rows are not its shard's. Missing shards
-/// are reported in `missing` (then `table` is not complete).
-MergeResult MergeShards(const std::vector<std::filesystem::path>& dirs);
+/// bytes as the unsharded sweep.csv. Missing shards are reported in `missing` (then `table` is
+/// not complete and no file is read). Otherwise every shard must be whole and of one sweep:
+/// throws InputError naming the file (and the line and column) for no shard files, shards of
+/// different N, a shard found twice, a stamp (ShardStamp) that is missing, is not the file
+/// name's shard, or names another sweep than the other shards (or than `sweep`, when given),
+/// another header, a row missing, extra or out of order (by its index), or a row that does
+/// not parse against the header: another number of cells, a status `ok` with a result cell
+/// that is not a finite number (model_source: `identified` or `given`), or a failed point
+/// with result cells.
+MergeResult MergeShards(const std::vector<std::filesystem::path>& dirs,
+                        const SweepConfig* sweep = nullptr);
 
 /// The Slurm command that reruns only `missing` shards of `shard_count` with
 /// scripts/sweep-slurm.sh, e.g. "sbatch --array=1,3-4 scripts/sweep-slurm.sh SWEEP DIR 5".
