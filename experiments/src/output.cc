@@ -162,12 +162,14 @@ void OutputDir::Commit() {
     FinishProgress();
     return;
   }
-  // --out exists: the staging folder takes over what it holds that this program does not
-  // write (files as hard links, links as links; folders are moved once the swap is done).
+  // --out exists: the staging folder takes over everything it holds but the files this run
+  // wrote anew, by full name (files as hard links, links as links; folders are moved once the
+  // swap is done). A file the program did not write this time, even one named like its output
+  // (the user's notes, a trace of a mode not run now), is kept.
   std::vector<fs::path> folders_to_move;
   for (const auto& entry : fs::directory_iterator(final_dir_)) {
     const fs::path name = entry.path().filename();
-    if (Owned(owned_prefixes_, name.string())) continue;
+    if (fs::is_regular_file(staging_ / name, ec) && !entry.is_directory()) continue;
     const fs::path target = staging_ / name;
     if (entry.is_symlink()) {
       fs::copy_symlink(entry.path(), target, ec);

@@ -25,8 +25,10 @@ class OutputDir {
  public:
   /// Checks `final_dir` before anything runs and stages beside it (in its parent, or when that
   /// does not exist yet in the system's temporary folder). `owned_prefixes` name the files
-  /// this program writes (e.g. "table2.", "trace_"): the commit replaces every earlier one,
-  /// and keeps the other files and folders of `final_dir` (another program's results).
+  /// this program may write (e.g. "table2.", "trace_"): a folder of `final_dir` so named is
+  /// refused before the run. The commit replaces exactly the files written this run, by full
+  /// name, and keeps every other file and folder of `final_dir` (another program's results,
+  /// the user's own files, an earlier run's outputs this one did not write).
   /// Throws InputError naming `--out` when it is empty, exists and is not a folder, holds a
   /// folder where this program writes a file, or lies where nothing can be created.
   OutputDir(std::filesystem::path final_dir, std::vector<std::string> owned_prefixes);
@@ -37,8 +39,8 @@ class OutputDir {
   /// Where to write `name` (a plain file name) while staging.
   std::filesystem::path Path(const std::string& name) const;
 
-  /// Makes the staged files `final_dir`'s: the files and folders of `final_dir` that no owned
-  /// prefix names are linked (or moved, for folders) into the staging folder, which then
+  /// Makes the staged files `final_dir`'s: the files and folders of `final_dir` that this run
+  /// did not write are linked (or moved, for folders) into the staging folder, which then
   /// replaces `final_dir` in one rename (renameat2 RENAME_EXCHANGE; where the file system
   /// lacks it, two renames with a moment in between where `final_dir` is missing). Creates
   /// `final_dir`'s parents if needed. Throws OutputError if it cannot.
