@@ -44,19 +44,24 @@ TEST(OutputDir, NothingAppearsUntilCommit) {
   fs::remove_all(out);
 }
 
-TEST(OutputDir, ACommitReplacesThisProgramsEarlierFilesOnly) {
+// The commit replaces the files this run wrote, by full name, and nothing else: not the user's
+// files named like the program's outputs, nor an earlier run's output this run did not write.
+TEST(OutputDir, ACommitReplacesExactlyTheFilesItWrote) {
   const fs::path out = fs::temp_directory_path() / "leglab_output_owned";
   fs::remove_all(out);
   fs::create_directories(out);
-  std::ofstream(out / "trace_model_based.csv") << "stale";
+  std::ofstream(out / "trace_direct.csv") << "old";
+  std::ofstream(out / "trace_model_based.csv") << "an earlier run's";
+  std::ofstream(out / "trace_custom_mine.csv") << "the user's";
   std::ofstream(out / "table1.json") << "another program's";
   {
     OutputDir dir(out, {"trace_", "table2."});
     std::ofstream(dir.Path("trace_direct.csv")) << "new";
     dir.Commit();
   }
-  EXPECT_FALSE(fs::exists(out / "trace_model_based.csv"));  // stale output of a previous run
   EXPECT_EQ(Read(out / "trace_direct.csv"), "new");
+  EXPECT_EQ(Read(out / "trace_model_based.csv"), "an earlier run's");
+  EXPECT_EQ(Read(out / "trace_custom_mine.csv"), "the user's");
   EXPECT_EQ(Read(out / "table1.json"), "another program's");
   fs::remove_all(out);
 }

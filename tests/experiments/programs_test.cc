@@ -613,7 +613,8 @@ TEST_F(ProgramsTest, AnInterruptedRunLeavesNothingBehind) {
   }
 }
 
-// Row 11: a finished run replaces this program's files at once and keeps the rest.
+// Row 11: a finished run replaces the files it wrote at once and keeps the rest, even a file
+// named like its outputs that it did not write this time (it may be the user's own).
 TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
   fs::create_directories(out_ / "hind");
   std::ofstream(out_ / "hind" / "x.csv") << "hind";
@@ -622,7 +623,7 @@ TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
   const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml --out '" +
                               out_.string() + "' --set identify.record_cycles=2");
   ASSERT_EQ(r.status, 0) << r.stderr_text;
-  EXPECT_FALSE(fs::exists(out_ / "step_knee_77.csv"));  // an earlier run's, not this one's
+  EXPECT_TRUE(fs::exists(out_ / "step_knee_77.csv"));  // not written by this run: kept
   EXPECT_TRUE(fs::exists(out_ / "step_knee_110.csv"));
   EXPECT_TRUE(fs::exists(out_ / "table1.json"));
   EXPECT_TRUE(fs::exists(out_ / "fig1.png"));
