@@ -383,6 +383,10 @@ std::vector<PlantSetting> ReadChangeSettings(const YAML::Node& set, const std::s
                    FormatNumber(setting.value, NumberStyle::kReadable));
       }
     }
+    // servo: {delay_ms: 56} and servo.delay_ms: 48 in one change are one setting given twice.
+    for (const PlantSetting& earlier : settings) {
+      if (earlier.key == setting.key) FailConfig(name + ".set." + key + " is given twice");
+    }
     settings.push_back(setting);
   }
   return settings;

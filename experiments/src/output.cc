@@ -102,7 +102,16 @@ OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes
   std::error_code ec;
   // Beside --out a commit is a rename; with no parent yet, stage where creating leaves no trace.
   const fs::path parent = final_dir_.parent_path();
-  const fs::path where = fs::is_directory(parent, ec) ? parent : fs::temp_directory_path();
+  fs::path where = parent;
+  if (!fs::is_directory(parent, ec)) {
+    where = fs::temp_directory_path(ec);
+    if (ec || !fs::is_directory(where, ec)) {
+      const char* tmpdir = std::getenv("TMPDIR");
+      BadOut(given, "has no parent folder yet, and the temporary folder to stage in " +
+                        (tmpdir != nullptr ? "(TMPDIR='" + std::string(tmpdir) + "') " : "") +
+                        "does not exist");
+    }
+  }
   const std::lock_guard<std::mutex> lock(Registry().mutex);
   for (int attempt = 0;; ++attempt) {
     std::string name = final_dir_.filename().string();

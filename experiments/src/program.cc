@@ -70,6 +70,12 @@ int ReportErrors(const std::string& program, const std::function<void()>& body) 
   };
   try {
     body();
+    // The tables on stdout are part of the result: a full disk or a closed pipe is a failure.
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << program << ": failed: cannot write to standard output\n";
+      return 1;
+    }
     return 0;
   } catch (const InputError& e) {
     report("error", e.what());

@@ -632,3 +632,38 @@ TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
 }
 
 }  // namespace
+
+namespace {
+
+// The smaller findings of a hostile-input review: each refusal names its real cause in one
+// short line.
+TEST_F(ProgramsTest, RefusalsNameTheirRealCauseInOneShortLine) {
+  const std::string identify = kIdentify + " --config experiments/configs/identify.yaml";
+  ExpectBadInput(kIdentify, "--config experiments/configs", "is a folder, not a file");
+  ExpectBadInput(kIdentify, "--config experiments/configs/identify.yaml --threads 0",
+                 "not in range 1 to 4096");
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set 'plant_changes=[{at_step: 1, "
+                 "set: {servo: {delay_ms: 56}, servo.delay_ms: 48}}]'",
+                 "plant_changes[0].set.servo.delay_ms is given twice");
+  // Staging in the temporary folder (no parent yet) when TMPDIR names none.
+  const fs::path deep = dir_ / "a" / "b";
+  Result r = RunCommand("TMPDIR=/nonexistent " + identify + " --out '" + deep.string() + "'");
+  EXPECT_EQ(r.status, 2) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find("TMPDIR='/nonexistent'"), std::string::npos) << r.stderr_text;
+  // A byte-order mark is shown, and a message that would echo a huge value is cut short.
+  const std::string big(100000, 'x');
+  std::ofstream(dir_ / "bom.yaml") << "\xEF\xBB\xBFrobot: " << big << "\n";
+  r = RunCommand(kIdentify + " --config '" + (dir_ / "bom.yaml").string() + "' --out '" +
+                 out_.string() + "'");
+  EXPECT_EQ(r.status, 2) << r.stderr_text.substr(0, 400);
+  EXPECT_EQ(std::count(r.stderr_text.begin(), r.stderr_text.end(), '\n'), 1);
+  EXPECT_LE(r.stderr_text.size(), 400u) << r.stderr_text.substr(0, 400);
+  // The tables on a full disk: a failure of the run, not a success.
+  r = RunCommand(identify + " --set identify.record_cycles=1 --out '" + out_.string() + "'",
+                 "/dev/full");
+  EXPECT_EQ(r.status, 1) << r.stderr_text;
+  EXPECT_NE(r.stderr_text.find("cannot write to standard output"), std::string::npos);
+}
+
+}  // namespace
