@@ -253,6 +253,28 @@ TEST_F(SweepTest, ABadValueIsItsPointsStatusNotTheSweeps) {
   EXPECT_NE(table.rows[1].find("delay_ms"), std::string::npos) << table.rows[1];
 }
 
+// A sweep over `urdf` with one broken robot among good ones: that point's status says why (the
+// link and the field), and the good points' rows are whole and equal (the same robot).
+TEST_F(SweepTest, ABrokenRobotIsItsPointsStatus) {
+  const std::string good = std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf";
+  std::string urdf = ReadFile(good);
+  const std::string mass = "<mass value=\"0.073\"";
+  ASSERT_NE(urdf.find(mass), std::string::npos);
+  urdf.replace(urdf.find(mass), mass.size(), "<mass value=\"1e-30\"");
+  const std::string bad = Write("bad.urdf", urdf);
+  const SweepConfig sweep = LoadSweepConfig(
+      Write("s.yaml", kFastBase + "grid:\n  urdf: [" + good + ", " + bad + ", " + good + "]\n"));
+  const SweepTable table = RunSweep(sweep, Shard{}, 2);
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_EQ(table.not_ok, 1);
+  EXPECT_NE(table.rows[1].find("link 'upper_leg' mass must be in"), std::string::npos)
+      << table.rows[1];
+  const auto results = [](const std::string& row) { return row.substr(row.find(",ok,")); };
+  ASSERT_NE(table.rows[0].find(",ok,"), std::string::npos) << table.rows[0];
+  ASSERT_NE(table.rows[2].find(",ok,"), std::string::npos) << table.rows[2];
+  EXPECT_EQ(results(table.rows[0]), results(table.rows[2]));
+}
+
 // The sweep program: shards written where asked, merged into sweep.csv byte for byte; missing
 // shards named with the command that reruns them.
 TEST_F(SweepTest, TheProgramShardsAndMerges) {
