@@ -81,10 +81,13 @@ void OdeWorld::Release() noexcept {
   // A few kilobytes once per failed run, which then ends: better than an abort. Parked where a
   // leak checker sees them reachable, since they are left on purpose.
   if (broken_) {
-    static std::mutex parked_mutex;
-    static auto* parked = new std::vector<std::pair<dWorldID, dThreadingImplementationID>>;
-    const std::lock_guard lock(parked_mutex);
-    parked->emplace_back(world_, threading_);
+    try {
+      static std::mutex parked_mutex;
+      static auto* parked = new std::vector<std::pair<dWorldID, dThreadingImplementationID>>;
+      const std::lock_guard lock(parked_mutex);
+      parked->emplace_back(world_, threading_);
+    } catch (...) {  // out of memory: the world is lost instead of parked, no worse
+    }
     return;
   }
   if (world_ != nullptr) {

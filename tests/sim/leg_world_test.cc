@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -319,6 +323,11 @@ TEST(LegWorldTest, OdeFailureThrowsItsMessageInsteadOfAborting) {
   leg.bodies[1].mass_kg = 1e-30;  // upper_leg
   std::string message = "no error";
   try {
+#if defined(__SANITIZE_ADDRESS__)
+    // ODE's step loses the job list it allocated when the error unwinds through it, and a
+    // broken world is left unfreed on purpose (OdeWorld::Release): not leaks of this test's.
+    const __lsan::ScopedDisabler leaks_of_the_failed_step;
+#endif
     LegWorld world(leg);
     world.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
     for (int j = 0; j < kLegJoints; ++j) world.SetMotor(j, 1.0, 5.45);
