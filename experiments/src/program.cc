@@ -49,7 +49,7 @@ std::string MessageLine(std::string_view text, size_t max_bytes) {
                static_cast<unsigned char>(text[i + 2]) <= 0x8F) {  // U+2000..U+200F: spaces
       std::array<char, 12> code{};
       std::snprintf(code.data(), code.size(), "\\u20%02x",
-                    static_cast<unsigned>(text[i + 2] & 0x3F) - 0x00);
+                    static_cast<unsigned>(text[i + 2] & 0x0F));
       out += code.data();
       i += 2;
     } else {
