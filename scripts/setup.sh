@@ -8,6 +8,8 @@ LEGLAB_PACKAGES=(
   libeigen3-dev libode-dev liburdfdom-dev liburdfdom-tools libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   python3 python3-matplotlib python3-numpy python3-pil clang-format clang-tidy parallel pmccabe
+  # The Python package (python/, docs/python.md) and its tests.
+  pybind11-dev python3-dev python3-pytest
   # The results page's browser check (tests/experiments/scripts/report_test.py) and the
   # animation's encoder.
   chromium python3-websocket ffmpeg

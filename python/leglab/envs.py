@@ -1,0 +1,1 @@
+"""Gymnasium-style environments on leglab's plants (written next)."""

@@ -1,0 +1,184 @@
+#include "convert.h"
+
+#include <cmath>
+#include <string>
+
+#include "leglab/experiments/program.h"
+
+namespace leglab::python {
+
+void ThrowValueError(std::string_view message) {
+  throw py::value_error(experiments::MessageLine(message));
+}
+
+namespace {
+
+std::string ShapeText(const py::array& array) {
+  std::string text = "(";
+  for (py::ssize_t i = 0; i < array.ndim(); ++i) {
+    text += std::to_string(array.shape(i));
+    if (array.ndim() == 1 || i + 1 < array.ndim()) text += ",";
+    if (i + 1 < array.ndim()) text += " ";
+  }
+  return text + ")";
+}
+
+}  // namespace
+
+DoubleArray RealArray(py::handle value, std::string_view what) {
+  // Fast path: already what we need (Plant.tick's per-call cost).
+  if (DoubleArray::check_(value)) return py::reinterpret_borrow<DoubleArray>(value);
+  py::array array;
+  try {
+    array = py::module_::import("numpy").attr("asarray")(value);
+  } catch (const py::error_already_set& e) {
+    // A ragged list and the like: numpy's own message says what is wrong.
+    ThrowValueError(std::string(what) + ": not an array of numbers (" + e.what() + ")");
+  }
+  const char kind = array.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    ThrowValueError(std::string(what) + ": expected real numbers, got dtype " +
+                    std::string(py::str(array.dtype())));
+  }
+  return DoubleArray::ensure(array);
+}
+
+LegAngles ToLegAngles(py::handle value, std::string_view what, bool finite) {
+  // Fast path: a list or tuple of three Python floats (Plant.tick's per-call cost); anything
+  // else goes through numpy and its checks.
+  if ((PyList_CheckExact(value.ptr()) || PyTuple_CheckExact(value.ptr())) &&
+      PySequence_Fast_GET_SIZE(value.ptr()) == kLegJoints) {
+    PyObject** items = PySequence_Fast_ITEMS(value.ptr());
+    if (PyFloat_CheckExact(items[0]) && PyFloat_CheckExact(items[1]) &&
+        PyFloat_CheckExact(items[2])) {
+      LegAngles angles{};
+      for (int j = 0; j < kLegJoints; ++j) angles[j] = PyFloat_AS_DOUBLE(items[j]);
+      bool all_finite = true;
+      for (const double a : angles) all_finite = all_finite && std::isfinite(a);
+      if (all_finite || !finite) return angles;
+    }
+  }
+  const DoubleArray array = RealArray(value, what);
+  if (array.ndim() != 1 || array.shape(0) != kLegJoints) {
+    ThrowValueError(std::string(what) +
+                    ": expected 3 angles (rotator, abductor, knee), deg, got shape " +
+                    ShapeText(array));
+  }
+  LegAngles angles{};
+  const double* data = array.data();
+  for (int j = 0; j < kLegJoints; ++j) {
+    angles[j] = data[j];
+    if (finite && !std::isfinite(angles[j])) {
+      ThrowValueError(std::string(what) + ": the " + std::string(kLegJointNames[j]) +
+                      "'s angle is " + std::string(py::str(py::float_(angles[j]))));
+    }
+  }
+  return angles;
+}
+
+std::vector<LegAngles> ToAngleRows(py::handle value, std::string_view what) {
+  const DoubleArray array = RealArray(value, what);
+  if (array.ndim() != 2 || array.shape(1) != kLegJoints) {
+    ThrowValueError(std::string(what) +
+                    ": expected shape (T, 3), one row of rotator, abductor, knee angles (deg) a "
+                    "tick, got shape " +
+                    ShapeText(array));
+  }
+  const auto rows = static_cast<size_t>(array.shape(0));
+  std::vector<LegAngles> angles(rows);
+  const double* data = array.data();
+  for (size_t t = 0; t < rows; ++t) {
+    for (int j = 0; j < kLegJoints; ++j) {
+      angles[t][j] = data[t * kLegJoints + j];
+      if (!std::isfinite(angles[t][j])) {
+        ThrowValueError(std::string(what) + "[" + std::to_string(t) + ", " + std::to_string(j) +
+                        "] (the " + std::string(kLegJointNames[j]) + ") is " +
+                        std::string(py::str(py::float_(angles[t][j]))));
+      }
+    }
+  }
+  return angles;
+}
+
+std::vector<double> ToFiniteVector(py::handle value, std::string_view what, size_t min_size) {
+  const DoubleArray array = RealArray(value, what);
+  if (array.ndim() != 1) {
+    ThrowValueError(std::string(what) + ": expected a 1-D array, got shape " + ShapeText(array));
+  }
+  std::vector<double> values(array.data(), array.data() + array.shape(0));
+  if (values.size() < min_size) {
+    ThrowValueError(std::string(what) + ": expected at least " + std::to_string(min_size) +
+                    " values, got " + std::to_string(values.size()));
+  }
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      ThrowValueError(std::string(what) + "[" + std::to_string(i) + "] is " +
+                      std::string(py::str(py::float_(values[i]))));
+    }
+  }
+  return values;
+}
+
+DoubleArray ToArray(const LegAngles& angles) {
+  DoubleArray array(kLegJoints);
+  std::copy(angles.begin(), angles.end(), array.mutable_data());
+  return array;
+}
+
+DoubleArray ToArray(const std::vector<double>& values) {
+  DoubleArray array(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), array.mutable_data());
+  return array;
+}
+
+DoubleArray ToArray(const std::vector<LegAngles>& rows) {
+  DoubleArray array({static_cast<py::ssize_t>(rows.size()), py::ssize_t{kLegJoints}});
+  double* data = array.mutable_data();
+  for (size_t t = 0; t < rows.size(); ++t) {
+    for (int j = 0; j < kLegJoints; ++j) data[t * kLegJoints + j] = rows[t][j];
+  }
+  return array;
+}
+
+std::string ToPath(py::handle path, std::string_view what) {
+  if (py::isinstance<py::str>(path)) return path.cast<std::string>();
+  if (py::hasattr(path, "__fspath__")) {
+    const py::object text = path.attr("__fspath__")();
+    if (py::isinstance<py::str>(text)) return text.cast<std::string>();
+  }
+  ThrowValueError(std::string(what) + ": expected a path (str or os.PathLike), got " +
+                  std::string(py::str(py::type::of(path).attr("__name__"))));
+}
+
+std::vector<std::string> ToOverrides(py::handle overrides) {
+  std::vector<std::string> result;
+  if (overrides.is_none()) return result;
+  if (!py::isinstance<py::dict>(overrides)) {
+    ThrowValueError("overrides: expected a dict of config keys, e.g. {\"steps\": 5}, got " +
+                    std::string(py::str(py::type::of(overrides).attr("__name__"))));
+  }
+  const py::module_ json = py::module_::import("json");
+  for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(overrides)) {
+    if (!py::isinstance<py::str>(key)) {
+      ThrowValueError("overrides: a key is " + std::string(py::repr(key)) +
+                      ", expected a config key (str) such as \"servo.delay_ms\"");
+    }
+    std::string text;
+    if (py::isinstance<py::str>(value)) {
+      text = value.cast<std::string>();
+    } else {
+      try {
+        // allow_nan=False: NaN is no YAML number; the key's own check names it below.
+        text = json.attr("dumps")(value, py::arg("allow_nan") = false).cast<std::string>();
+      } catch (const py::error_already_set&) {
+        ThrowValueError("overrides: " + key.cast<std::string>() + " = " +
+                        std::string(py::repr(value)) +
+                        " is not a config value (numbers, true/false, text, lists and maps)");
+      }
+    }
+    result.push_back(key.cast<std::string>() + "=" + text);
+  }
+  return result;
+}
+
+}  // namespace leglab::python

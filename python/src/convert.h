@@ -1,0 +1,57 @@
+#pragma once
+
+// Conversions between Python values and leglab's C++ types, shared by the binding files. Every
+// check raises ValueError with one line naming the item (what the programs print for bad
+// input), never crashes the interpreter.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "leglab/core/leg.h"
+
+namespace leglab::python {
+
+namespace py = pybind11;
+
+/// A C-contiguous float64 array.
+using DoubleArray = py::array_t<double, py::array::c_style>;
+
+/// Raises ValueError with `message` as one line (MessageLine: control characters escaped, long
+/// text cut), as the programs print bad input.
+[[noreturn]] void ThrowValueError(std::string_view message);
+
+/// `value` as a float64 array (numpy.asarray, then converted): integers and floats are taken,
+/// anything else (bool, complex, text, objects, ragged lists) raises ValueError "<what>: ...".
+DoubleArray RealArray(py::handle value, std::string_view what);
+
+/// `value` as one angle per joint (shape (3,), rotator, abductor, knee). With `finite`, a NaN or
+/// infinite angle raises ValueError naming the joint.
+LegAngles ToLegAngles(py::handle value, std::string_view what, bool finite = true);
+
+/// `value` as rows of joint angles, shape (T, 3), every angle finite; ValueError naming the
+/// first bad row and joint otherwise.
+std::vector<LegAngles> ToAngleRows(py::handle value, std::string_view what);
+
+/// `value` as a 1-D array of finite numbers (at least `min_size` of them).
+std::vector<double> ToFiniteVector(py::handle value, std::string_view what, size_t min_size = 0);
+
+/// Arrays for Python: (3,), (N,) and (N, 3), float64, copies.
+DoubleArray ToArray(const LegAngles& angles);
+DoubleArray ToArray(const std::vector<double>& values);
+DoubleArray ToArray(const std::vector<LegAngles>& rows);
+
+/// A file path from a str or an os.PathLike.
+std::string ToPath(py::handle path, std::string_view what);
+
+/// A dict {key: value} of config keys as the programs' `--set key=value` strings, in the dict's
+/// order. A str value is written as it is (YAML text, e.g. "sim" or "[direct, optimal]");
+/// numbers, booleans, lists and dicts as JSON, which YAML reads as the same values. None gives
+/// no overrides. ValueError for anything else.
+std::vector<std::string> ToOverrides(py::handle overrides);
+
+}  // namespace leglab::python

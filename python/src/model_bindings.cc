@@ -1,0 +1,260 @@
+// leglab.JointModel, leglab.identify and leglab.floor: the paper's joint model (eq. 3), its
+// identification and the floor of a desired cycle, on numpy arrays.
+#include <pybind11/stl.h>
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.h"
+#include "convert.h"
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/rig.h"
+#include "leglab/model/floor.h"
+#include "leglab/model/identification.h"
+#include "leglab/model/joint_model.h"
+
+namespace leglab::python {
+namespace {
+
+std::string ModelRepr(const JointModelParams& p) {
+  return "JointModel(v_max_deg_per_tick=" +
+         std::string(py::repr(py::float_(p.v_max_deg_per_tick))) +
+         ", theta0_deg=" + std::string(py::repr(py::float_(p.theta0_deg))) +
+         ", lag_ticks=" + std::to_string(p.lag_ticks) +
+         ", accel_ticks=" + std::to_string(p.accel_ticks) + ")";
+}
+
+JointModelParams MakeModel(double v_max_deg_per_tick, double theta0_deg, int lag_ticks,
+                           int accel_ticks) {
+  const JointModelParams params{v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks};
+  ValidateJointModelParams(params);  // std::invalid_argument naming the field: ValueError
+  return params;
+}
+
+// The recordings `identify` is given: one (two 1-D arrays) or several (two lists of them).
+std::vector<JointRecording> ToRecordings(py::handle requests, py::handle measured) {
+  const bool several =
+      (py::isinstance<py::list>(requests) || py::isinstance<py::tuple>(requests)) &&
+      py::len(requests) > 0 &&
+      py::module_::import("numpy").attr("ndim")(requests[py::int_(0)]).cast<int>() == 1;
+  std::vector<JointRecording> recordings;
+  if (!several) {
+    recordings.push_back(
+        {ToFiniteVector(requests, "requests"), ToFiniteVector(measured, "measured"), 1.0});
+  } else {
+    if (!(py::isinstance<py::list>(measured) || py::isinstance<py::tuple>(measured)) ||
+        py::len(measured) != py::len(requests)) {
+      ThrowValueError("measured: expected as many recordings as requests (" +
+                      std::to_string(py::len(requests)) + ")");
+    }
+    for (size_t i = 0; i < py::len(requests); ++i) {
+      const std::string index = "[" + std::to_string(i) + "]";
+      recordings.push_back({ToFiniteVector(requests[py::int_(i)], "requests" + index),
+                            ToFiniteVector(measured[py::int_(i)], "measured" + index), 1.0});
+    }
+  }
+  for (size_t i = 0; i < recordings.size(); ++i) {
+    if (recordings[i].request_deg.size() != recordings[i].measured_deg.size()) {
+      ThrowValueError("recording " + std::to_string(i) + ": " +
+                      std::to_string(recordings[i].request_deg.size()) + " requests but " +
+                      std::to_string(recordings[i].measured_deg.size()) + " measured angles");
+    }
+  }
+  return recordings;
+}
+
+std::pair<int, int> ToRange(const std::pair<int, int>& range, const char* what) {
+  if (range.first < 0 || range.second < range.first || range.second > 200) {
+    ThrowValueError(std::string(what) + ": expected (min, max) with 0 <= min <= max <= 200, got (" +
+                    std::to_string(range.first) + ", " + std::to_string(range.second) + ")");
+  }
+  return range;
+}
+
+IdentificationResult Identify(py::handle requests, py::handle measured,
+                              std::pair<int, int> lag_range, std::pair<int, int> accel_range,
+                              std::optional<int> period_ticks) {
+  const std::vector<JointRecording> recordings = ToRecordings(requests, measured);
+  experiments::IdentifyConfig identify;
+  std::tie(identify.search.lag_min_ticks, identify.search.lag_max_ticks) =
+      ToRange(lag_range, "lag_range_ticks");
+  std::tie(identify.search.accel_min_ticks, identify.search.accel_max_ticks) =
+      ToRange(accel_range, "accel_range_ticks");
+  if (identify.search.accel_min_ticks < 1) ThrowValueError("accel_range_ticks: a is at least 1");
+  identify.average_cycles = period_ticks.has_value();
+  if (period_ticks) {
+    if (*period_ticks < 1) ThrowValueError("period_ticks: expected at least 1");
+    identify.t_step_ticks = *period_ticks;
+  }
+  const int warmup = identify.search.lag_max_ticks + identify.search.accel_max_ticks;
+  py::gil_scoped_release release;
+  return IdentifyJointModel(experiments::StepTestsForFit(recordings, identify, warmup),
+                            identify.search);
+}
+
+}  // namespace
+
+void BindModel(py::module_& m) {
+  py::class_<JointModelParams>(m, "JointModel", R"doc(
+The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks.
+
+    M(t) = M(t-1) + (1/a) * sum_{i=l+1}^{l+a} f(R(t-i) - M(t-1))
+
+where f (eq. 2) is linear with slope v_max / theta_0 inside (-theta_0, theta_0) and saturates
+at +-v_max outside. The paper's Table 1: JointModel(2.5, 7.0, 4, 3).
+
+Args:
+    v_max_deg_per_tick: top speed v_max, deg per 8 ms tick (> 0).
+    theta0_deg: the request-actual difference that gives top speed, deg (> 0).
+    lag_ticks: l, ticks before a request starts to act (>= 0).
+    accel_ticks: a, ticks over which the speed is averaged (>= 1).
+
+Raises ValueError naming the field for a value outside those ranges.
+)doc")
+      .def(py::init(&MakeModel), py::arg("v_max_deg_per_tick"), py::arg("theta0_deg"),
+           py::arg("lag_ticks"), py::arg("accel_ticks"))
+      .def_readonly("v_max_deg_per_tick", &JointModelParams::v_max_deg_per_tick,
+                    "Top speed v_max, deg per tick.")
+      .def_readonly("theta0_deg", &JointModelParams::theta0_deg,
+                    "Request-actual difference that gives top speed, deg.")
+      .def_readonly("lag_ticks", &JointModelParams::lag_ticks,
+                    "l: ticks before a request starts to act.")
+      .def_readonly("accel_ticks", &JointModelParams::accel_ticks,
+                    "a: ticks over which the speed is averaged.")
+      .def(
+          "simulate",
+          [](const JointModelParams& p, py::handle requests, double start_deg) {
+            const std::vector<double> r = ToFiniteVector(requests, "requests");
+            if (!std::isfinite(start_deg)) ThrowValueError("start_deg: not finite");
+            py::gil_scoped_release release;
+            std::vector<double> angles = SimulateJointModel(p, r, RestState(p, start_deg));
+            py::gil_scoped_acquire acquire;
+            return ToArray(angles);
+          },
+          py::arg("requests"), py::arg("start_deg"),
+          R"doc(The model's angles M(0..N-1), deg, under requests R(0..N-1) (1-D, deg), from rest at
+start_deg (M(-1) and every remembered request equal to it).)doc")
+      .def(
+          "steady_state",
+          [](const JointModelParams& p, py::handle cycle) {
+            const std::vector<double> r = ToFiniteVector(cycle, "cycle", 1);
+            std::vector<double> angles;
+            {
+              py::gil_scoped_release release;
+              try {
+                angles = CyclicSteadyState(p, r);
+              } catch (const std::runtime_error& e) {
+                // A model that swings for ever (v_max >= 2 theta_0): the caller's model.
+                throw std::invalid_argument(std::string("steady_state: ") + e.what());
+              }
+            }
+            return ToArray(angles);
+          },
+          py::arg("cycle"),
+          R"doc(The cyclic steady state of eq. 3 under the request cycle R(0..T-1) (1-D, deg) repeated
+for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model never settles
+(v_max >= 2 theta_0 can swing about a request for ever).)doc")
+      .def("speed_response", &SpeedResponse, py::arg("x_deg"),
+           "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
+      .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
+                             "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
+      .def(
+          "to_dict",
+          [](const JointModelParams& p) {
+            py::dict d;
+            d["v_max_deg_per_tick"] = p.v_max_deg_per_tick;
+            d["theta0_deg"] = p.theta0_deg;
+            d["lag_ticks"] = p.lag_ticks;
+            d["accel_ticks"] = p.accel_ticks;
+            return d;
+          },
+          "The four parameters as a dict (the keys of table1.json's joints).")
+      .def("__repr__", &ModelRepr)
+      .def("__eq__",
+           [](const JointModelParams& a, const JointModelParams& b) {
+             return a.v_max_deg_per_tick == b.v_max_deg_per_tick && a.theta0_deg == b.theta0_deg &&
+                    a.lag_ticks == b.lag_ticks && a.accel_ticks == b.accel_ticks;
+           })
+      .def(py::pickle(
+          [](const JointModelParams& p) {
+            return py::make_tuple(p.v_max_deg_per_tick, p.theta0_deg, p.lag_ticks, p.accel_ticks);
+          },
+          [](const py::tuple& t) {
+            return MakeModel(t[0].cast<double>(), t[1].cast<double>(), t[2].cast<int>(),
+                             t[3].cast<int>());
+          }));
+
+  py::class_<IdentificationResult>(m, "Identification",
+                                   "A model fitted to recordings, with how well it predicts them.")
+      .def_readonly("model", &IdentificationResult::params, "The fitted JointModel.")
+      .def_readonly("rms_residual_deg", &IdentificationResult::rms_residual_deg,
+                    "RMS of measured - predicted over the scored ticks, deg.")
+      .def("__repr__", [](const IdentificationResult& r) {
+        return "Identification(model=" + ModelRepr(r.params) +
+               ", rms_residual_deg=" + std::string(py::repr(py::float_(r.rms_residual_deg))) + ")";
+      });
+
+  m.def("identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
+        py::arg("lag_range_ticks") = std::pair<int, int>{0, 12},
+        py::arg("accel_range_ticks") = std::pair<int, int>{1, 12},
+        py::arg("period_ticks") = py::none(),
+        R"doc(Fits the paper's joint model to recordings, as `identify` does to its step tests.
+
+Args:
+    requests: the request sent each tick, deg: a 1-D array (one recording) or a list of them.
+    measured: the angle measured right after each request, deg, shaped as `requests`.
+    lag_range_ticks: (min, max) of l, searched exhaustively.
+    accel_range_ticks: (min, max) of a, searched exhaustively.
+    period_ticks: when given, every recording is whole cycles of this many ticks with the
+        same requests every cycle (a step test's square wave), and each is averaged into one
+        cycle before the fit, as `identify` does (identify.average_cycles: true); None fits
+        every tick as it is.
+
+Returns an Identification (model, rms_residual_deg). The first lag_max + accel_max ticks
+of each recording are the prediction's warm-up and are not scored. Raises ValueError for
+recordings that are empty, of different lengths, non-finite, too short to score, or not
+whole cycles of one request pattern when period_ticks is given.)doc");
+
+  m.def(
+      "floor",
+      [](py::handle desired, py::handle model) -> py::object {
+        const DoubleArray array = RealArray(desired, "desired_cycle");
+        if (array.ndim() == 1) {
+          const std::vector<double> d = ToFiniteVector(desired, "desired_cycle", 3);
+          const auto params = model.cast<JointModelParams>();
+          py::gil_scoped_release release;
+          std::vector<double> x = FloorTrajectory(d, params);
+          py::gil_scoped_acquire acquire;
+          return ToArray(x);
+        }
+        const std::vector<LegAngles> rows = ToAngleRows(desired, "desired_cycle");
+        const auto models = model.cast<std::vector<JointModelParams>>();
+        if (models.size() != kLegJoints) {
+          ThrowValueError("model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
+                          std::to_string(models.size()));
+        }
+        std::vector<LegAngles> floor(rows.size());
+        for (int j = 0; j < kLegJoints; ++j) {
+          std::vector<double> d(rows.size());
+          for (size_t t = 0; t < rows.size(); ++t) d[t] = rows[t][j];
+          const std::vector<double> x = FloorTrajectory(d, models[j]);
+          for (size_t t = 0; t < rows.size(); ++t) floor[t][j] = x[t];
+        }
+        return ToArray(floor);
+      },
+      py::arg("desired_cycle"), py::arg("model"),
+      R"doc(The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
+joint with the model's top speed v_max and acceleration time a can follow at all. No request
+policy brings a joint of that model closer to the desired cycle.
+
+Args:
+    desired_cycle: one cycle, deg: shape (T,) with one JointModel, or (T, 3) with a sequence
+        of three (rotator, abductor, knee). T >= 3.
+    model: a JointModel, or three.
+
+Returns the floor, shaped as desired_cycle, deg.)doc");
+}
+
+}  // namespace leglab::python

@@ -1,0 +1,37 @@
+// leglab._leglab: the compiled part of the leglab Python package (see python/README.md). Bad
+// input raises ValueError with the programs' one-line message; a failure to write, OSError.
+#include <pybind11/pybind11.h>
+
+#include <exception>
+#include <stdexcept>
+
+#include "bindings.h"
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/output.h"
+#include "leglab/experiments/program.h"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_leglab, m) {
+  m.doc() = "leglab's C++ core: plants, joint models and Table 2's experiment (see leglab).";
+
+  // What the programs report as bad input (exit 2) is the caller's: ValueError, one line.
+  py::register_exception_translator([](std::exception_ptr p) {
+    using leglab::experiments::MessageLine;
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const leglab::experiments::OutputError& e) {
+      PyErr_SetString(PyExc_OSError, MessageLine(e.what()).c_str());
+    } catch (const leglab::experiments::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+    } catch (const std::invalid_argument& e) {
+      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+    } catch (const std::domain_error& e) {
+      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+    }
+  });
+
+  leglab::python::BindModel(m);
+  leglab::python::BindPlant(m);
+  leglab::python::BindTrack(m);
+}

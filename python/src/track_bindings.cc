@@ -1,0 +1,7 @@
+#include "bindings.h"
+
+namespace leglab::python {
+
+void BindTrack(pybind11::module_& /*m*/) {}
+
+}  // namespace leglab::python
