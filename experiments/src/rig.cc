@@ -69,6 +69,27 @@ std::vector<JointRecording> StepTestsForFit(std::span<const JointRecording> reco
   return averaged;
 }
 
+IdentificationResult FitStepTests(std::span<const JointRecording> recordings,
+                                  const IdentifyConfig& identify) {
+  const IdentificationOptions& search = identify.search;
+  IdentificationResult fit = IdentifyJointModel(
+      StepTestsForFit(recordings, identify, search.lag_max_ticks + search.accel_max_ticks), search);
+  if (identify.average_cycles) {
+    // The residual over every recorded tick, as the fit of the raw recordings reports it:
+    // the averaged fit's squared error (weighted to count each recorded cycle) plus the
+    // cycles' spread about their mean; over the same count of ticks, each recording's.
+    double count = 0.0;
+    double scatter = 0.0;
+    for (const JointRecording& r : recordings) {
+      count += static_cast<double>(r.request_deg.size());
+      scatter += CycleScatter(r, identify.t_step_ticks);
+    }
+    const double rms = fit.rms_residual_deg;
+    fit.rms_residual_deg = std::sqrt(rms * rms + scatter / count);
+  }
+  return fit;
+}
+
 namespace {
 
 // The settings a step test's outcome hangs on, for the message of a model that failed.
@@ -138,23 +159,7 @@ std::array<JointIdentification, kLegJoints> IdentifyLeg(const ExperimentConfig& 
       result.runs.push_back(RunStepTest(*plant, config.identify, joint, theta));
       recordings.push_back(result.runs.back().recording);
     }
-    const IdentificationOptions& search = config.identify.search;
-    result.fit = IdentifyJointModel(
-        StepTestsForFit(recordings, config.identify, search.lag_max_ticks + search.accel_max_ticks),
-        search);
-    if (config.identify.average_cycles) {
-      // The residual over every recorded tick, as the fit of the raw recordings reports it:
-      // the averaged fit's squared error (weighted to count each recorded cycle) plus the
-      // cycles' spread about their mean; over the same count of ticks, each recording's.
-      double count = 0.0;
-      double scatter = 0.0;
-      for (const JointRecording& r : recordings) {
-        count += static_cast<double>(r.request_deg.size());
-        scatter += CycleScatter(r, config.identify.t_step_ticks);
-      }
-      const double rms = result.fit.rms_residual_deg;
-      result.fit.rms_residual_deg = std::sqrt(rms * rms + scatter / count);
-    }
+    result.fit = FitStepTests(recordings, config.identify);
   });
   // In joint order, after every fit: the error names the same joint whatever the schedule.
   for (int joint = 0; joint < kLegJoints; ++joint)

@@ -54,8 +54,8 @@ def config_path(name):
     return path
 
 
-PAPER_MODEL = JointModel(2.5, 7.0, 4, 3)
-"""The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 3 ticks."""
+PAPER_MODEL = _leglab.PAPER_MODEL
+"""The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 6 ticks."""
 
 
 class Controller:

@@ -14,6 +14,7 @@
 #include "leglab/model/floor.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
+#include "leglab/model/paper.h"
 
 namespace leglab::python {
 namespace {
@@ -88,10 +89,8 @@ IdentificationResult Identify(py::handle requests, py::handle measured,
     if (*period_ticks < 1) ThrowValueError("period_ticks: expected at least 1");
     identify.t_step_ticks = *period_ticks;
   }
-  const int warmup = identify.search.lag_max_ticks + identify.search.accel_max_ticks;
   py::gil_scoped_release release;
-  return IdentifyJointModel(experiments::StepTestsForFit(recordings, identify, warmup),
-                            identify.search);
+  return experiments::FitStepTests(recordings, identify);
 }
 
 }  // namespace
@@ -103,7 +102,7 @@ The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks
     M(t) = M(t-1) + (1/a) * sum_{i=l+1}^{l+a} f(R(t-i) - M(t-1))
 
 where f (eq. 2) is linear with slope v_max / theta_0 inside (-theta_0, theta_0) and saturates
-at +-v_max outside. The paper's Table 1: JointModel(2.5, 7.0, 4, 3).
+at +-v_max outside. The paper's Table 1 is leglab.PAPER_MODEL.
 
 Args:
     v_max_deg_per_tick: top speed v_max, deg per 8 ms tick (> 0).
@@ -186,6 +185,8 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
                              t[3].cast<int>());
           }));
 
+  m.attr("PAPER_MODEL") = paper::kTable1;
+
   py::class_<IdentificationResult>(m, "Identification",
                                    "A model fitted to recordings, with how well it predicts them.")
       .def_readonly("model", &IdentificationResult::params, "The fitted JointModel.")
@@ -212,7 +213,9 @@ Args:
         cycle before the fit, as `identify` does (identify.average_cycles: true); None fits
         every tick as it is.
 
-Returns an Identification (model, rms_residual_deg). The first lag_max + accel_max ticks
+Returns an Identification (model, rms_residual_deg: over every scored tick, with
+period_ticks the averaged fit's residual plus the cycles' spread about their mean, as
+`identify` reports it). The first lag_max + accel_max ticks
 of each recording are the prediction's warm-up and are not scored. Raises ValueError for
 recordings that are empty, of different lengths, non-finite, too short to score, or not
 whole cycles of one request pattern when period_ticks is given.)doc");

@@ -11,6 +11,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "leglab/core/plant.h"
+#include "leglab/core/units.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/robot.h"
@@ -26,10 +27,9 @@ using experiments::Robot;
 DoubleArray LimitsDeg(const LegGeometry& geometry) {
   DoubleArray limits({py::ssize_t{kLegJoints}, py::ssize_t{2}});
   double* data = limits.mutable_data();
-  constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
   for (int j = 0; j < kLegJoints; ++j) {
-    data[2 * j] = geometry.limits[j].lower_rad * kDegPerRad;
-    data[2 * j + 1] = geometry.limits[j].upper_rad * kDegPerRad;
+    data[2 * j] = RadToDeg(geometry.limits[j].lower_rad);
+    data[2 * j + 1] = RadToDeg(geometry.limits[j].upper_rad);
   }
   return limits;
 }

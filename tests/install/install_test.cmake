@@ -2,7 +2,8 @@
 # WORK_DIR (scratch, removed before and after a passing run; left for inspection on failure),
 # CONSUMER_DIR, GENERATOR, CXX_COMPILER, BUILD_TYPE, CXX_FLAGS and EXE_LINKER_FLAGS (the
 # consumer is compiled as leglab was, sanitizers included), PROGRAMS (experiments built),
-# BINDIR, DATADIR (relative to the prefix).
+# BINDIR, DATADIR (relative to the prefix), PYTHON (the interpreter, empty when the Python
+# package is not built) and PYTHON_DIR (its folder, relative to the prefix).
 
 # run(<var> <command...>): runs the command, fails the test unless it exits 0; its standard
 # output and error go to <var>.
@@ -58,6 +59,25 @@ if(PROGRAMS)
   if(NOT EXISTS ${WORK_DIR}/out/table1.json)
     message(FATAL_ERROR "installed identify wrote no table1.json:\n${out}")
   endif()
+endif()
+
+if(PYTHON)
+  # The installed package, from outside the source and build trees and without
+  # LEGLAB_DATA_DIR: it finds <prefix>/share/leglab relative to itself.
+  set(ENV{PYTHONPATH} ${prefix}/${PYTHON_DIR})
+  unset(ENV{LEGLAB_DATA_DIR})
+  # (No semicolons: the code goes through run()'s argument list.)
+  run(out ${PYTHON} -c "
+import os
+import leglab
+p = leglab.Plant(leglab.config_path('track.yaml'))
+print(os.path.dirname(leglab.__file__))
+print(leglab.data_dir())
+print('measured', p.run([[10.0, 0.0, 20.0]] * 25)['measured'][-1])
+")
+  expect("${out}" "${prefix}/${PYTHON_DIR}/leglab" "the installed package's folder")
+  expect("${out}" "${prefix}/${DATADIR}" "the installed package's data")
+  expect("${out}" "measured \\[ *(9\\.[5-9]|10\\.[0-4])" "the installed package's plant")
 endif()
 
 file(REMOVE_RECURSE ${WORK_DIR})

@@ -49,6 +49,14 @@ inline constexpr int kStepTestPlayedCycles = 2;
 std::vector<JointRecording> StepTestsForFit(std::span<const JointRecording> recordings,
                                             const IdentifyConfig& identify, int warmup_ticks);
 
+/// Fits the paper's model to one joint's step-test recordings as `identify` does:
+/// StepTestsForFit (warm-up lag_max + accel_max), IdentifyJointModel over identify.search, and
+/// with identify.average_cycles the residual over every recorded tick (the averaged fit's plus
+/// the cycles' spread about their mean, CycleScatter). Throws std::invalid_argument as
+/// IdentifyJointModel and AverageCycles do.
+IdentificationResult FitStepTests(std::span<const JointRecording> recordings,
+                                  const IdentifyConfig& identify);
+
 /// The model identified for one joint, with the recordings it was fitted to.
 struct JointIdentification {
   IdentificationResult fit;

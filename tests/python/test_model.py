@@ -1,0 +1,137 @@
+"""leglab.JointModel, identify and floor against eq. 3 written out here, brute force and the
+`identify` program's own fit."""
+
+import json
+import pickle
+import re
+
+import numpy as np
+import pytest
+
+import leglab
+from conftest import TRACK_YAML, eq3, read_csv, run_program
+
+
+def test_simulate_is_eq3_by_hand():
+    rng = np.random.default_rng(7)
+    requests = np.cumsum(rng.normal(0.0, 6.0, 300))
+    for params in [(2.5, 7.0, 4, 3), (1.0, 0.6, 0, 1), (3.3, 20.0, 7, 5)]:
+        model = leglab.JointModel(*params)
+        got = model.simulate(requests, 5.0)
+        want = eq3(*params, requests, 5.0)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+
+
+def test_a_step_by_hand():
+    # Table 1's joint (l 4, a 6) asked 10 deg from rest at 0: R(0) first acts at tick l + 1 = 5,
+    # as one of the a terms averaged, f(10 - 0) = 2.5 at top speed, the others f(0) = 0.
+    assert (leglab.PAPER_MODEL.lag_ticks, leglab.PAPER_MODEL.accel_ticks) == (4, 6)
+    m = leglab.PAPER_MODEL.simulate([10.0] * 6, 0.0)
+    assert list(m[:5]) == [0.0] * 5
+    assert m[5] == pytest.approx(2.5 / 6, abs=1e-15)
+
+
+def test_steady_state_is_the_repeated_cycle():
+    cycle = 30.0 * np.sin(np.linspace(0.0, 2.0 * np.pi, 40, endpoint=False))
+    model = leglab.PAPER_MODEL
+    got = model.steady_state(cycle)
+    played = eq3(2.5, 7.0, 4, 6, np.tile(cycle, 60), float(np.mean(cycle)))
+    np.testing.assert_allclose(got, played[-40:], rtol=0, atol=1e-8)
+
+
+def test_a_model_that_never_settles_is_a_value_error():
+    swinging = leglab.JointModel(5.0, 2.0, 0, 1)  # v_max >= 2 theta_0
+    assert not swinging.settles_on_every_cycle
+    # A swing of period 2 about the request fits no cycle of odd length.
+    with pytest.raises(ValueError, match="steady_state"):
+        swinging.steady_state([0.0] * 7 + [10.0] * 8)
+
+
+def test_identify_recovers_a_known_model():
+    true = (2.1, 9.0, 3, 4)
+    period = 16
+    requests, measured = [], []
+    for theta in (40.0, 110.0):
+        cycle = np.where(np.arange(period) < period // 2, 0.0, theta)
+        r = np.tile(cycle, 13)
+        m = eq3(*true, r, 0.0)
+        requests.append(r[5 * period:])
+        measured.append(m[5 * period:])
+    fit = leglab.identify(requests, measured)
+    assert (fit.model.lag_ticks, fit.model.accel_ticks) == (3, 4)
+    assert fit.model.v_max_deg_per_tick == pytest.approx(2.1, rel=1e-6)
+    assert fit.model.theta0_deg == pytest.approx(9.0, rel=1e-6)
+    assert fit.rms_residual_deg < 1e-6
+
+
+def test_identify_gives_the_identify_programs_fit(tmp_path):
+    # identify writes each step test's recording (step_<joint>_<theta>.csv: the requests as the
+    # servo took them and the measured angles); fitted from Python as identify fits them
+    # (cycles averaged over the config's t_step_ticks), they give table1.json's models exactly.
+    out = tmp_path / "identify"
+    run = run_program("identify", "--config", TRACK_YAML.replace("track.yaml", "identify.yaml"),
+                      "--out", out, "--quiet")
+    assert run.returncode == 0, run.stderr
+    table1 = json.loads((out / "table1.json").read_text())
+    period = int(re.search(r"t_step_ticks: (\d+)", (out / "identify_config.yaml").read_text())[1])
+    for joint in leglab.JOINT_NAMES:
+        # In the config's order of step heights (40, then 110), as identify fits them.
+        files = sorted(out.glob(f"step_{joint}_*.csv"), key=lambda f: float(f.stem.split("_")[-1]))
+        assert len(files) == 2
+        columns = [read_csv(f) for f in files]
+        fit = leglab.identify([c["request_deg"] for c in columns],
+                              [c["actual_deg"] for c in columns], period_ticks=period)
+        want = table1["joints"][joint]
+        assert fit.model.to_dict() == {k: want[k] for k in fit.model.to_dict()}
+        assert fit.rms_residual_deg == want["fit_rms_deg"]
+
+
+def test_floor_is_feasible_and_no_farther_than_a_feasible_path():
+    t = np.arange(88)
+    desired = 60.0 * np.sign(np.sin(2.0 * np.pi * t / 88))  # a square wave: far too fast
+    model = leglab.PAPER_MODEL
+    x = leglab.floor(desired, model)
+    speed = np.diff(np.append(x, x[0]))
+    assert np.max(np.abs(speed)) <= 2.5 + 1e-9
+    accel = np.diff(np.append(speed, speed[0]))
+    assert np.max(np.abs(accel)) <= 2 * 2.5 / 3 + 1e-9
+    # The constant mean is feasible, so the floor is at least as near to D.
+    assert np.sqrt(np.mean((x - desired) ** 2)) <= np.sqrt(np.mean((desired.mean() - desired) ** 2))
+    # A slow cycle is already feasible: returned as it is.
+    slow = 5.0 * np.sin(2.0 * np.pi * t / 88)
+    np.testing.assert_array_equal(leglab.floor(slow, model), slow)
+
+
+def test_floor_of_three_joints_is_three_floors():
+    walk = leglab.Walk(TRACK_YAML)
+    models = [leglab.PAPER_MODEL, leglab.JointModel(2.0, 5.0, 2, 2), leglab.PAPER_MODEL]
+    both = leglab.floor(walk.angles_deg, models)
+    for j in range(3):
+        np.testing.assert_array_equal(both[:, j], leglab.floor(walk.angles_deg[:, j], models[j]))
+
+
+def test_models_compare_pickle_and_print():
+    m = leglab.JointModel(2.5, 7.0, 4, 6)
+    assert m == leglab.PAPER_MODEL
+    assert pickle.loads(pickle.dumps(m)) == m
+    assert repr(m) == "JointModel(v_max_deg_per_tick=2.5, theta0_deg=7.0, lag_ticks=4, accel_ticks=6)"
+    assert "eq. 3" in leglab.JointModel.__doc__
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: leglab.JointModel(-1.0, 7.0, 4, 3), "v_max"),
+    (lambda: leglab.JointModel(2.5, 0.0, 4, 3), "theta"),
+    (lambda: leglab.JointModel(2.5, 7.0, 4, 0), "accel"),
+    (lambda: leglab.PAPER_MODEL.simulate([1.0, float("nan")], 0.0), r"requests\[1\] is nan"),
+    (lambda: leglab.PAPER_MODEL.simulate([[1.0]], 0.0), "1-D"),
+    (lambda: leglab.PAPER_MODEL.simulate(["a"], 0.0), "dtype"),
+    (lambda: leglab.identify([1.0, 2.0], [1.0]), "2 requests but 1 measured"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, lag_range_ticks=(5, 2)), "lag_range_ticks"),
+    (lambda: leglab.identify([1.0] * 30, [1.0] * 30, period_ticks=16), "cycles|whole"),
+    (lambda: leglab.floor([1.0, 2.0], leglab.PAPER_MODEL), "at least 3"),
+    (lambda: leglab.floor(np.zeros((5, 3)), [leglab.PAPER_MODEL]), "one JointModel per joint"),
+])
+def test_bad_input_is_a_one_line_value_error(call, message):
+    with pytest.raises(ValueError, match=message) as error:
+        call()
+    assert "\n" not in str(error.value)
