@@ -1,6 +1,7 @@
 """The Python package's cost, measured side by side with the same work in C++.
 
-    PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_benchmark.py [--rounds N] [--build build]
+    PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_benchmark.py \
+        [--rounds N] [--build DIR] [--min-time S]
 
 In interleaved rounds (the machine is shared and noisy: each figure is the median over rounds
 of a ratio or difference taken within one round, never a single timing):
@@ -109,6 +110,7 @@ def run_track_s(controllers):
 
 
 def main():
+    """Parses the flags, runs the rounds and prints the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=7, help="interleaved rounds (default 7)")
     parser.add_argument("--build", default="build", help="the build folder (default build)")
@@ -133,6 +135,7 @@ def main():
     run_ratios, py_run, cpp_run, numpy_over, list_over, cpp_tick = [], [], [], [], [], []
     for round_ in range(args.rounds):
         def python_side():
+            """(a) and (c) of this round: Plant.run's time, and one tick's per request kind."""
             py_run.append(python_run_s(sim, requests))
             numpy_s = python_tick_s(model, numpy_requests)
             list_s = python_tick_s(model, list_requests)

@@ -38,6 +38,7 @@ class ProportionalLead(leglab.Controller):
     """
 
     def __init__(self, lead=8, gain=0.25, name=None):
+        """See the class docstring; ValueError for a negative lead or gain."""
         if lead < 0 or gain < 0:
             raise ValueError(f"ProportionalLead: lead and gain must be >= 0, got {lead}, {gain}")
         self.lead = int(lead)
@@ -60,6 +61,7 @@ class ProportionalLead(leglab.Controller):
 
 
 def main():
+    """Runs track with direct, model_based and three leads; prints the foot rows."""
     controllers = [ProportionalLead(lead=lead) for lead in (6, 8, 10)]
     result = leglab.run_track(
         leglab.config_path("track.yaml"),

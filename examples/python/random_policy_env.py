@@ -31,6 +31,7 @@ def run_episode(env, policy, seed):
 
 
 def main():
+    """One episode of each policy on the same seed; prints their foot errors."""
     env = LegTrackingEnv(steps=4, action="offset")
     print(f"{env!r}: {env.episode_ticks} ticks an episode, observation shape "
           f"{env.observation_space.shape}, offsets within +-{env.action_space.high} deg")

@@ -38,6 +38,7 @@ def step_test_requests(theta_test_deg, period_ticks, cycles):
 
 
 def main():
+    """Runs the step tests, fits the model and prints the comparison."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--period-ticks", type=int, default=88,
                         help="ticks per period of the square wave (default 88)")

@@ -58,6 +58,7 @@ class Box:
         self._own_rng = None
 
     def _rng(self):
+        """The generator sample() draws from: the owner's np_random, else the box's own."""
         rng = getattr(self._rng_owner, "np_random", None)
         if rng is None:
             if self._own_rng is None:
@@ -93,9 +94,11 @@ class Box:
         return bool(_np.all(a >= self.low) and _np.all(a <= self.high))
 
     def __contains__(self, x):
+        """`x in box`: contains(x)."""
         return self.contains(x)
 
     def __repr__(self):
+        """The bounds and shape."""
         return f"Box(low={self.low.tolist()}, high={self.high.tolist()}, shape={self.shape})"
 
 
@@ -312,6 +315,8 @@ class LegTrackingEnv:
         self._done = True
 
     def _check_action(self, action):
+        """`action` as a float64 array of shape (3,); ValueError naming the action when it is
+        not numbers, of another shape, or not finite."""
         try:
             a = _np.asarray(action, dtype=_np.float64)
         except (TypeError, ValueError) as e:
@@ -326,12 +331,14 @@ class LegTrackingEnv:
         return a
 
     def _observation(self):
+        """The observation for the tick about to be run (layout: the class docstring)."""
         t = self.tick
         history = self._measured[t:t + self.history].ravel()
         preview = self._desired[_np.arange(t, t + self.preview) % self.period].ravel()
         return _np.concatenate([history, preview])
 
     def __repr__(self):
+        """The env's arguments and period."""
         return (f"LegTrackingEnv(steps={self.steps}, history={self.history}, "
                 f"preview={self.preview}, action={self.action!r}, period={self.period})")
 

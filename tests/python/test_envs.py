@@ -39,6 +39,8 @@ def plant_run(overrides, seed, requests, start):
 
 
 def test_spaces_have_the_documented_shapes_and_bounds():
+    """Action bounds are the robot's limits (request) or +-their span (offset); the observation
+    is 3 * (history + preview) long, unbounded where measured, within the limits where desired."""
     limits = leglab.Plant(CONFIG).robot.limits_deg
     request = LegTrackingEnv(history=3, preview=2, action="request")
     assert request.action_space.shape == (3,)
@@ -66,6 +68,7 @@ def test_spaces_have_the_documented_shapes_and_bounds():
 
 
 def test_an_episode_is_steps_times_the_period_and_truncates_at_its_end():
+    """steps * T ticks (T from leglab.Walk), truncated only on the last, then no more steps."""
     env = LegTrackingEnv(steps=2)
     assert env.period == leglab.Walk(CONFIG).period
     assert env.episode_ticks == 2 * env.period
@@ -78,11 +81,14 @@ def test_an_episode_is_steps_times_the_period_and_truncates_at_its_end():
 
 
 def test_step_before_reset_is_an_error():
+    """step() before any reset() is a RuntimeError."""
     with pytest.raises(RuntimeError):
         LegTrackingEnv().step(np.zeros(3))
 
 
 def test_the_same_seed_gives_identical_episodes_and_another_seed_differs():
+    """Bit-for-bit repeats of one seed, in one env and in a second; another seed's noise
+    differs."""
     env = LegTrackingEnv(steps=1, action="offset")
     obs_a, rewards_a, _, _ = run_episode(env, seed=11)
     obs_b, rewards_b, _, _ = run_episode(env, seed=11)
@@ -98,7 +104,9 @@ def test_the_same_seed_gives_identical_episodes_and_another_seed_differs():
 
 
 def test_unseeded_resets_repeat_the_sequence_of_the_first_seed():
+    """reset(seed=5), reset(), reset() gives the same three episodes every time, of three seeds."""
     def sequence():
+        """The seeds and episodes of a fresh env's three resets."""
         env = LegTrackingEnv(steps=1, action="offset")
         seeds, episodes = [], []
         for seed in (5, None, None):
@@ -122,6 +130,8 @@ def test_unseeded_resets_repeat_the_sequence_of_the_first_seed():
 
 @pytest.mark.parametrize("overrides", [{}, {"plant": "model"}], ids=["sim", "model"])
 def test_zero_offsets_request_the_desired_angles_and_score_as_plant_run(overrides):
+    """Zero offsets request the walk's angles; the readings and rewards are those of Plant.run
+    on the same requests and seed, scored with Robot.foot_mm and Walk.foot_mm."""
     steps, seed = 2, 7
     env = LegTrackingEnv(overrides=overrides, steps=steps, action="offset")
     _, rewards, _, infos = run_episode(env, seed=seed)
@@ -144,6 +154,7 @@ def test_zero_offsets_request_the_desired_angles_and_score_as_plant_run(override
 
 
 def test_request_actions_of_the_desired_angles_equal_zero_offsets():
+    """Requesting the desired angles is the same episode as zero offsets."""
     offset = LegTrackingEnv(steps=1, action="offset")
     request = LegTrackingEnv(steps=1, action="request")
     obs_o, rew_o, _, _ = run_episode(offset, seed=3)
@@ -153,6 +164,8 @@ def test_request_actions_of_the_desired_angles_equal_zero_offsets():
 
 
 def test_the_observation_is_the_measured_history_then_the_desired_preview():
+    """Each observation is Plant.run's measured rows (start pose before the first tick), then
+    the walk's next desired rows, cyclic."""
     history, preview, steps, seed = 3, 5, 1, 9
     env = LegTrackingEnv(steps=steps, history=history, preview=preview, action="offset")
     observations, _, _, _ = run_episode(env, seed=seed)
@@ -175,6 +188,8 @@ def test_the_observation_is_the_measured_history_then_the_desired_preview():
      ([0.0, float("nan"), 0.0], "abductor"), ([0.0, 0.0, float("inf")], "knee"),
      ("abc", "action")])
 def test_bad_actions_raise_value_error_naming_the_action(action, words):
+    """Wrong shapes, NaN, inf and text raise ValueError naming the action (and the joint), and
+    run no tick."""
     env = LegTrackingEnv(steps=1, action="offset")
     env.reset(seed=1)
     with pytest.raises(ValueError, match="action") as error:
@@ -188,11 +203,13 @@ def test_bad_actions_raise_value_error_naming_the_action(action, words):
 
 @pytest.mark.parametrize("seed", [-1, SEED_MAX + 1, 1.5, True, "3"])
 def test_bad_seeds_raise_value_error_naming_the_seed(seed):
+    """Negative, too large, fractional, boolean and text seeds raise ValueError naming the seed."""
     with pytest.raises(ValueError, match="seed"):
         LegTrackingEnv(steps=1).reset(seed=seed)
 
 
 def test_numpy_integer_seeds_and_the_largest_seed_are_taken():
+    """A numpy integer and SEED_MAX (the config key's upper bound) are valid seeds."""
     env = LegTrackingEnv(steps=1)
     env.reset(seed=np.uint64(4))
     assert env.episode_seed == 4
@@ -201,6 +218,7 @@ def test_numpy_integer_seeds_and_the_largest_seed_are_taken():
 
 
 def test_bad_arguments_raise_value_error():
+    """Bad constructor arguments and config keys raise ValueError naming them."""
     with pytest.raises(ValueError, match="action"):
         LegTrackingEnv(action="torque")
     with pytest.raises(ValueError, match="steps"):
@@ -212,6 +230,7 @@ def test_bad_arguments_raise_value_error():
 
 
 def test_the_env_has_gymnasiums_attributes():
+    """metadata, render_mode, reset's (obs, info) and close()."""
     env = LegTrackingEnv(steps=1)
     assert env.metadata == {"render_modes": []}
     assert env.render_mode is None
