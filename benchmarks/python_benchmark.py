@@ -7,9 +7,9 @@ In interleaved rounds (the machine is shared and noisy: each figure is the media
 of a ratio or difference taken within one round, never a single timing):
 
   (a) Plant.run over 1760 requests (20 steps of track.yaml's 88-tick walk, plant: sim), reset
-      included, timed from Python (the minimum of a few repetitions), against
-  (b) the same loop in C++: plant_loop_benchmark's BM_PlantRun1760 (the minimum over its
-      repetitions of the real time per iteration). Printed: the ratio Python/C++ (target at
+      included, timed from Python, against
+  (b) the same loop in C++: plant_loop_benchmark's BM_PlantRun1760 (real time per
+      iteration). Printed: the ratio Python/C++ (target at
       most 1.05: Plant.run's conversions are a small part of a run);
   (c) Plant.tick's cost per call from Python on the model plant (a Python loop of calls, the
       loop's own cost included), less BM_ModelPlantTick's time per tick: the binding's
@@ -20,7 +20,10 @@ of a ratio or difference taken within one round, never a single timing):
       as the ratio of their runs' wall times. Skipped with a message while leglab.run_track's
       C++ half is not built.
 
-Nothing here is asserted: the targets are printed beside the figures.
+Both languages are timed alike: each repetition is the mean wall time per call over
+--min-time seconds (Google Benchmark's iteration time; Python repeats the call as long), and a
+round takes the fastest of 3 repetitions (REPETITIONS). Nothing here is asserted: the targets are
+printed beside the figures.
 """
 
 import argparse
@@ -43,28 +46,39 @@ REPETITIONS = 3      # repetitions per round, of which the fastest counts (both 
 GIVEN_MODEL = {"v_max_deg_per_tick": 2.5, "theta0_deg": 7.0, "lag_ticks": 4, "accel_ticks": 3}
 
 
-def python_run_s(plant, requests):
-    """The fastest of REPETITIONS timings of reset + Plant.run(requests), s."""
-    best = float("inf")
-    for _ in range(REPETITIONS):
-        start = time.perf_counter()
+def mean_s(work, min_time_s):
+    """The mean wall time of `work()` over as many calls as fill `min_time_s` (at least one),
+    s: what Google Benchmark reports per iteration of one repetition."""
+    calls = 0
+    start = time.perf_counter()
+    while True:
+        work()
+        calls += 1
+        elapsed = time.perf_counter() - start
+        if elapsed >= min_time_s:
+            return elapsed / calls
+
+
+def python_run_s(plant, requests, min_time_s):
+    """reset + Plant.run(requests), s: the fastest of REPETITIONS repetitions, each the mean
+    over min_time_s (as BM_PlantRun1760 is timed)."""
+    def work():
         plant.reset(requests[0])
         plant.run(requests)
-        best = min(best, time.perf_counter() - start)
-    return best
+
+    return min(mean_s(work, min_time_s) for _ in range(REPETITIONS))
 
 
-def python_tick_s(plant, requests):
-    """The fastest of REPETITIONS timings of one Python loop of Plant.tick calls over
-    `requests` (a list of requests), per call, s."""
-    best = float("inf")
+def python_tick_s(plant, requests, min_time_s):
+    """One Plant.tick call from a Python loop over `requests` (a list of requests), s: the
+    fastest of REPETITIONS repetitions, each the mean over min_time_s."""
     tick = plant.tick
-    for _ in range(REPETITIONS):
-        start = time.perf_counter()
+
+    def work():
         for request in requests:
             tick(request)
-        best = min(best, (time.perf_counter() - start) / len(requests))
-    return best
+
+    return min(mean_s(work, min_time_s) for _ in range(REPETITIONS)) / len(requests)
 
 
 def cpp_times_s(program, min_time_s):
@@ -136,9 +150,9 @@ def main():
     for round_ in range(args.rounds):
         def python_side():
             """(a) and (c) of this round: Plant.run's time, and one tick's per request kind."""
-            py_run.append(python_run_s(sim, requests))
-            numpy_s = python_tick_s(model, numpy_requests)
-            list_s = python_tick_s(model, list_requests)
+            py_run.append(python_run_s(sim, requests, args.min_time))
+            numpy_s = python_tick_s(model, numpy_requests, args.min_time)
+            list_s = python_tick_s(model, list_requests, args.min_time)
             return numpy_s, list_s
 
         # Alternate which language goes first, so that a slow spell of the machine falls on
@@ -172,8 +186,8 @@ def main():
                       f"{statistics.median(ratios):.2f} | - |")
 
     median = statistics.median
-    print(f"Python package cost: medians of {args.rounds} interleaved rounds, "
-          f"fastest of {REPETITIONS} repetitions within each")
+    print(f"Python package cost: medians of {args.rounds} interleaved rounds, fastest of "
+          f"{REPETITIONS} repetitions of {args.min_time:g} s within each")
     print()
     print("| measure | figure | target |")
     print("|---|---|---|")
