@@ -182,7 +182,8 @@ def main():
             # `both` ran the built-in direct and the Python one: the Python one's share is the
             # difference.
             ratios.append((both - builtin) / builtin)
-        track_line = (f"| (d) run_track: Python direct / built-in direct | "
+        track_line = (f"| (d) run_track: a Python direct run's extra wall time / the built-in "
+                      f"direct run's | "
                       f"{statistics.median(ratios):.2f} | - |")
 
     median = statistics.median
