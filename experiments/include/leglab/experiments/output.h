@@ -75,16 +75,21 @@ void WriteTextFile(const std::filesystem::path& path, const std::string& text);
 /// it. A row has as many cells as the table has columns.
 class RowSink {
  public:
-  RowSink() = default;
   virtual ~RowSink() = default;
-  RowSink(const RowSink&) = delete;
-  RowSink& operator=(const RowSink&) = delete;
   /// The next cell of the current row: a number or a text (e.g. a joint name).
   virtual RowSink& Cell(double value) = 0;
   virtual RowSink& Cell(long value) = 0;
   virtual RowSink& Cell(const std::string& text) = 0;
   /// Ends the current row (it must have a cell in every column).
   virtual void EndRow() = 0;
+
+ protected:
+  // Copied and moved only as part of a derived sink (no slicing through a RowSink&).
+  RowSink() = default;
+  RowSink(const RowSink&) = default;
+  RowSink(RowSink&&) = default;
+  RowSink& operator=(const RowSink&) = default;
+  RowSink& operator=(RowSink&&) = default;
 };
 
 /// A table kept in memory, column by column: the values a CsvWriter with the same columns would
