@@ -41,8 +41,9 @@ struct ModeRun {
   ControllerSpec spec;
   TrackingRun run;
   std::vector<double> foot_error_cm;  ///< per recorded tick
-  std::string
-      external;  ///< an external mode's name; empty for a registered mode (then `spec` names it)
+  /// An external mode's name (ExternalMode::name); empty for a registered mode (then `spec`
+  /// names it).
+  std::string external;
 };
 
 /// The longest name an ExternalMode may have, characters.
@@ -138,10 +139,10 @@ using ModeRunSink = std::function<void(const TrackResult&, ModeRun&&)>;
 /// Then each of `external` in order (ExternalMode): make(r.context) builds its controller, which
 /// runs on a plant of its own as a registered mode's does; its run goes to the sink or `runs`
 /// with ModeRun::external set. The external modes are checked before anything runs: a bad name
-/// (see ExternalMode::name), an empty `make`, or a run whose ticks with theirs
-/// (PlannedTrackTicks) exceed kMaxTotalTicks throws InputError naming the mode ("controller
-/// 'x': ..."); a `make` that returns no controller throws InputError when its turn comes. What
-/// `make` or an external controller throws propagates unchanged.
+/// (see ExternalMode::name) or an empty `make` throws InputError naming the mode ("controller
+/// 'x': ..."); a run whose ticks with theirs (PlannedTrackTicks) exceed kMaxTotalTicks throws
+/// InputError. A `make` that returns no controller throws InputError naming it when its turn
+/// comes. What `make` or an external controller throws propagates unchanged.
 /// Throws InputError for bad input (config, robot, models), as the loaders do.
 TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink = {},
                                std::span<const ExternalMode> external = {});
