@@ -126,7 +126,7 @@ class CsvWriter final : public RowSink {
   CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns,
             bool append = false);
   /// Writes what is still buffered (as the stream's own destructor would flush it).
-  ~CsvWriter();
+  ~CsvWriter() override;
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
   /// One row: text cells (e.g. a joint name) are written as given.
