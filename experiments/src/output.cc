@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <system_error>
 #include <thread>
+#include <utility>
+#include <variant>
 
 #include "leglab/core/format.h"
 #include "leglab/experiments/config.h"
@@ -256,8 +258,8 @@ CsvWriter::CsvWriter(const fs::path& path, const std::vector<std::string>& colum
   out_.open(path, append ? std::ios::app : std::ios::trunc);
   if (!out_) throw OutputError("cannot write " + path.string());
   if (!header) return;
-  for (const std::string& c : columns) Cell(c);
-  EndRow();
+  for (const std::string& c : columns) CsvWriter::Cell(c);
+  CsvWriter::EndRow();
 }
 
 CsvWriter::~CsvWriter() { Flush(); }
@@ -303,6 +305,34 @@ void CsvWriter::Close() {
   Flush();
   out_.close();
   if (!out_) throw OutputError("cannot write " + path_.string());
+}
+
+ColumnTable::ColumnTable(std::vector<std::string> column_names)
+    : names(std::move(column_names)), columns(names.size()) {}
+
+template <typename T>
+ColumnTable& ColumnTable::Append(T value) {
+  assert(in_row_ < columns.size() && "a row has a cell per column");
+  Column& column = columns[in_row_++];
+  // Every column starts as an empty vector<double>: the first cell sets its type.
+  if (rows_ == 0 && !std::holds_alternative<std::vector<T>>(column)) {
+    column.emplace<std::vector<T>>();
+  }
+  assert(std::holds_alternative<std::vector<T>>(column) && "a column holds one type");
+  std::get<std::vector<T>>(column).push_back(std::move(value));
+  return *this;
+}
+
+ColumnTable& ColumnTable::Cell(double value) { return Append(value); }
+
+ColumnTable& ColumnTable::Cell(long value) { return Append(value); }
+
+ColumnTable& ColumnTable::Cell(const std::string& text) { return Append(text); }
+
+void ColumnTable::EndRow() {
+  assert(in_row_ == columns.size() && "a row has a cell per column");
+  in_row_ = 0;
+  ++rows_;
 }
 
 }  // namespace leglab::experiments

@@ -95,14 +95,15 @@ Table2 BeginTable2(const TrackResult& r) {
 
 void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   std::array<std::vector<double>, kLegJoints> desired, pwl;
-  const bool follows = ModeOf(run.spec).follows_approximation;
+  const ControllerModeInfo mode = ModeInfo(run);
+  const bool follows = mode.follows_approximation;
   for (int j = 0; j < kLegJoints; ++j) {
     // The mode's own P, for a mode that follows one (P is fitted on first use).
-    if (follows) pwl[j] = ContextFor(r, run.spec).Approximation(j).Sample();
+    if (follows) pwl[j] = ContextFor(r, run).Approximation(j).Sample();
     for (int t = 0; t < r.period; ++t) desired[j].push_back(r.context.desired[t][j]);
   }
   auto add_rows = [&](const std::string& target, const std::array<std::vector<double>, 3>& cycle) {
-    const std::string label(ModeOf(run.spec).label);
+    const std::string label(mode.label);
     for (const bool linf : {false, true}) {
       Table2Row row{std::string(linf ? "Linf(" : "L2(") + target + "," + label + ")", {}};
       for (int j = 0; j < kLegJoints; ++j) {
@@ -115,7 +116,10 @@ void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
   if (follows) add_rows("Pwl", pwl);
   auto rms = [](std::span<const double> v) { return Rms(v); };
   auto max_abs = [](std::span<const double> v) { return MaxAbs(v); };
-  table.foot.push_back({std::string(ModeOf(run.spec).name), ModeParameters(run.spec),
+  // An external mode has no registered options to report.
+  table.foot.push_back({std::string(mode.name),
+                        run.external.empty() ? ModeParameters(run.spec)
+                                             : std::vector<std::pair<std::string_view, long>>{},
                         MeanAndStd(PerStep(run.foot_error_cm, r.period, rms)),
                         MeanAndStd(PerStep(run.foot_error_cm, r.period, max_abs))});
   if (table.stand) table.stand->modes.push_back(ComputeStandRow(run, *table.stand, r.period));
@@ -123,7 +127,7 @@ void AddModeToTable2(Table2& table, const ModeRun& run, const TrackResult& r) {
 
 StandRow ComputeStandRow(const ModeRun& run, const StandTable& stand, int period) {
   StandRow row;
-  row.mode = std::string(ModeOf(run.spec).name);
+  row.mode = std::string(ModeInfo(run).name);
   const std::vector<PlantTelemetry>& m = run.run.telemetry;
   std::vector<double> stance_fz;
   std::vector<double> ground_phase_fz;

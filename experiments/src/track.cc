@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -114,16 +115,57 @@ const ControllerContext& ContextFor(const TrackResult& r, const ControllerSpec& 
   return UsesWalkModels(spec) && r.walk_context ? *r.walk_context : r.context;
 }
 
+const ControllerContext& ContextFor(const TrackResult& r, const ModeRun& run) {
+  return run.external.empty() ? ContextFor(r, run.spec) : r.context;
+}
+
+ControllerModeInfo ModeInfo(const ModeRun& run) {
+  if (run.external.empty()) return ModeOf(run.spec);
+  return ControllerModeInfo{.name = run.external,
+                            .label = run.external,
+                            .feed_forward = false,
+                            .follows_approximation = false,
+                            .searchable = false,
+                            .searchable_by_lead = false,
+                            .search_file = "",
+                            .config_section = "",
+                            .estimates_model = false};
+}
+
+long long PlannedTrackTicks(const ExperimentConfig& config, size_t external_modes) {
+  const long long per_run =
+      (static_cast<long long>(config.track.warmup_steps) + config.track.steps) *
+      config.track.t_step_ticks;
+  const long long room = std::numeric_limits<long long>::max() - config.planned_ticks;
+  if (per_run > 0 && external_modes > static_cast<unsigned long long>(room / per_run)) {
+    return std::numeric_limits<long long>::max();
+  }
+  return config.planned_ticks + static_cast<long long>(external_modes) * per_run;
+}
+
 namespace {
 
-ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
-  const std::unique_ptr<JointController> controller = MakeController(spec, ContextFor(r, spec));
+// One run of `controller` on a plant of its own (the same for every mode, registered or
+// external): warm-up, measured steps and the plant's changes, and the foot's error.
+ModeRun RunController(const ExperimentConfig& config, const TrackResult& r,
+                      JointController& controller, ModeRun run) {
   const std::unique_ptr<Plant> plant = MakePlant(config, r.robot);
-  ModeRun run{spec, {}, {}};
-  run.run = RunTracking(*plant, *controller, r.context.desired, config.track.warmup_steps,
+  run.run = RunTracking(*plant, controller, r.context.desired, config.track.warmup_steps,
                         config.track.steps, config.plant_changes);
   run.foot_error_cm = FootErrorsCm(run.run, r.desired, r.robot.geometry);
   return run;
+}
+
+ModeRun RunMode(const ExperimentConfig& config, const TrackResult& r, const ControllerSpec& spec) {
+  const std::unique_ptr<JointController> controller = MakeController(spec, ContextFor(r, spec));
+  return RunController(config, r, *controller, ModeRun{spec, {}, {}, {}});
+}
+
+// A finished run: its ticks counted, then to the sink when there is one (so that only one run
+// is held at a time), else into r.runs.
+void KeepRun(const ExperimentConfig& config, const ModeRunSink& sink, TrackResult& r, ModeRun run) {
+  r.plant_ticks += RunTicks(config, r.period);
+  sink ? sink(r, std::move(run)) : r.runs.push_back(std::move(run));
 }
 
 // A candidate's score alone: RunMode's foot L2 without keeping the run (memory O(steps)).
@@ -331,26 +373,69 @@ ModeSearch SearchMode(const ExperimentConfig& config, TrackResult& r, const Cont
 // Every configured mode's run, in the config's order (a searched mode's best candidate's).
 void RunModes(const ExperimentConfig& config, const ModeRunSink& sink, TrackResult& r) {
   for (const ControllerSpec& spec : config.controllers) {
-    // Each run to the sink when there is one, so that only one is held at a time.
-    auto keep = [&](ModeRun run) {
-      r.plant_ticks += RunTicks(config, r.period);
-      sink ? sink(r, std::move(run)) : r.runs.push_back(std::move(run));
-    };
     if (config.track.search_shift == ShiftSearch::kNone || !ModeOf(spec).searchable) {
-      keep(RunMode(config, r, spec));
+      KeepRun(config, sink, r, RunMode(config, r, spec));
       continue;
     }
     ModeSearch search = SearchMode(config, r, spec);
     // The best candidate is run on its own (same bits: a run depends only on its spec and the
     // seed), so its row in Table 2 is a real run whichever way it was found.
-    keep(RunMode(config, r, search.best));
+    KeepRun(config, sink, r, RunMode(config, r, search.best));
     r.searches.push_back(std::move(search));
+  }
+}
+
+// Each external mode's run, after the configured ones, with the step tests' (or given) models.
+void RunExternalModes(const ExperimentConfig& config, const ModeRunSink& sink,
+                      std::span<const ExternalMode> external, TrackResult& r) {
+  for (const ExternalMode& mode : external) {
+    const std::unique_ptr<JointController> controller = mode.make(r.context);
+    if (!controller) {
+      throw InputError("controller '" + mode.name + "': its make function returned no controller");
+    }
+    KeepRun(config, sink, r, RunController(config, r, *controller, ModeRun{{}, {}, {}, mode.name}));
+  }
+}
+
+bool IsNameChar(char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; }
+
+// The external modes as ExternalMode documents them, and the run's ticks with theirs, before
+// anything runs.
+void CheckExternalModes(const ExperimentConfig& config, std::span<const ExternalMode> external) {
+  for (size_t i = 0; i < external.size(); ++i) {
+    const std::string& name = external[i].name;
+    auto bad = [&name](const std::string& what) {
+      throw InputError("controller '" + name + "': " + what);
+    };
+    if (name.empty() || !std::all_of(name.begin(), name.end(), IsNameChar)) {
+      bad("a name is letters a-z, digits and _ (at least one)");
+    }
+    if (name.size() > kMaxExternalModeNameChars) {
+      bad("a name of " + std::to_string(name.size()) + " characters, more than " +
+          std::to_string(kMaxExternalModeNameChars));
+    }
+    for (const ControllerModeInfo& mode : ControllerModes()) {
+      if (mode.name == name) bad("the name of a registered mode");
+    }
+    if (name == "floor") bad("the name of the foot table's row of the floor");
+    for (size_t k = 0; k < i; ++k) {
+      if (external[k].name == name) bad("the name of another external mode");
+    }
+    if (!external[i].make) bad("no make function");
+  }
+  const long long total = PlannedTrackTicks(config, external.size());
+  if (!external.empty() && total > kMaxTotalTicks) {
+    throw InputError("the run would simulate " + std::to_string(total) + " ticks with its " +
+                     std::to_string(external.size()) + " external modes, more than " +
+                     std::to_string(kMaxTotalTicks) + "; run fewer steps or fewer modes");
   }
 }
 
 }  // namespace
 
-TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink) {
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink,
+                               std::span<const ExternalMode> external) {
+  CheckExternalModes(config, external);
   TrackResult r = PrepareTrack(config);
   // A mode that estimates the model is compared with what identify finds on the plant before
   // and after each change.
@@ -364,6 +449,7 @@ TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink
   MakeContexts(config, models, step_tests, r);
   FloorTrajectories(models, r);
   RunModes(config, sink, r);
+  RunExternalModes(config, sink, external, r);
   return r;
 }
 

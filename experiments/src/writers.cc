@@ -289,7 +289,7 @@ void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
                     config.merged_yaml);
 }
 
-std::vector<std::string> TrackOutputPrefixes() {
+std::vector<std::string> TrackOutputPrefixes(std::span<const std::string> external_names) {
   std::vector<std::string> prefixes = {"table2.",          "trace_",          "foot_",
                                        "per_step.",        "model_estimates", "plant_models.",
                                        "track_config.yaml"};
@@ -297,7 +297,59 @@ std::vector<std::string> TrackOutputPrefixes() {
     if (mode.searchable) prefixes.push_back(std::string(mode.search_file) + ".");
     if (!mode.feed_forward) prefixes.push_back(std::string(mode.name) + "_learning.");
   }
+  // An external mode is never feed-forward (ModeInfo): it writes a learning curve.
+  for (const std::string& name : external_names) prefixes.push_back(name + "_learning.");
   return prefixes;
+}
+
+const std::vector<std::string>& TraceColumns() {
+  static const std::vector<std::string> columns = {
+      "step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg", "model_deg"};
+  return columns;
+}
+
+const std::vector<std::string>& FootColumns() {
+  static const std::vector<std::string> columns = {"step",         "tick",         "desired_x_cm",
+                                                   "desired_y_cm", "desired_z_cm", "actual_x_cm",
+                                                   "actual_y_cm",  "actual_z_cm",  "contact_fz_n",
+                                                   "contact_fx_n", "contact_fy_n", "carriage_z_mm"};
+  return columns;
+}
+
+void ModeTraceRows(const ModeRun& run, const TrackResult& r, RowSink& trace, RowSink& foot) {
+  const int period = r.period;
+  // The mode's own context: its P and its model (the walk-fitted one for `model: walk`).
+  const ControllerContext& context = ContextFor(r, run);
+  std::array<std::vector<double>, kLegJoints> pwl;
+  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.Approximation(j).Sample();
+  std::array<std::vector<double>, kLegJoints> model;
+  for (int j = 0; j < kLegJoints; ++j) {
+    std::vector<double> cycle(period);
+    for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
+    model[j] = ModelColumn(context.models[j], cycle);
+  }
+  const std::array<std::string, kLegJoints> joint_names = {std::string(kLegJointNames[0]),
+                                                           std::string(kLegJointNames[1]),
+                                                           std::string(kLegJointNames[2])};
+  for (size_t i = 0; i < run.run.measured_deg.size(); ++i) {
+    const long step = static_cast<long>(i / period), tick = static_cast<long>(i % period);
+    for (int j = 0; j < kLegJoints; ++j) {
+      trace.Cell(step).Cell(tick).Cell(joint_names[j]);
+      trace.Cell(r.context.desired[tick][j]).Cell(pwl[j][tick]).Cell(run.run.request_deg[i][j]);
+      trace.Cell(run.run.measured_deg[i][j]).Cell(model[j][tick]);
+      trace.EndRow();
+    }
+    const Eigen::Vector3d actual = FootMm(r.robot.geometry, run.run.measured_deg[i]) / 10.0;
+    const Eigen::Vector3d want = r.desired.foot_mm[tick] / 10.0;
+    foot.Cell(step).Cell(tick).Cell(want.x()).Cell(want.y()).Cell(want.z());
+    foot.Cell(actual.x()).Cell(actual.y()).Cell(actual.z());
+    // The stand's instruments (zeros in the air), appended so that readers of the first
+    // eight columns keep working.
+    const PlantTelemetry m = i < run.run.telemetry.size() ? run.run.telemetry[i] : PlantTelemetry{};
+    foot.Cell(m.contact_force_n[2]).Cell(m.contact_force_n[0]).Cell(m.contact_force_n[1]);
+    foot.Cell(m.carriage_z_mm);
+    foot.EndRow();
+  }
 }
 
 namespace {
@@ -315,51 +367,17 @@ void ModelCells(CsvWriter& csv, int joint, const IdentificationResult& fit) {
 // trace_<mode>.csv (each joint's desired, P, request, actual and model angle per tick) and
 // foot_<mode>.csv (the foot's desired and actual path, and the stand's instruments).
 void WriteTraceAndFoot(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
-  const int period = r.period;
-  // The mode's own context: its P and its model (the walk-fitted one for `model: walk`).
-  const ControllerContext& context = ContextFor(r, run.spec);
-  std::array<std::vector<double>, kLegJoints> pwl;
-  for (int j = 0; j < kLegJoints; ++j) pwl[j] = context.Approximation(j).Sample();
-  const std::string mode(ModeOf(run.spec).name);
-  std::array<std::vector<double>, kLegJoints> model;
-  for (int j = 0; j < kLegJoints; ++j) {
-    std::vector<double> cycle(period);
-    for (int t = 0; t < period; ++t) cycle[t] = run.run.request_deg[t][j];
-    model[j] = ModelColumn(context.models[j], cycle);
-  }
-  CsvWriter trace(out.Path("trace_" + mode + ".csv"),
-                  {"step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg",
-                   "model_deg"});
-  CsvWriter foot(
-      out.Path("foot_" + mode + ".csv"),
-      {"step", "tick", "desired_x_cm", "desired_y_cm", "desired_z_cm", "actual_x_cm", "actual_y_cm",
-       "actual_z_cm", "contact_fz_n", "contact_fx_n", "contact_fy_n", "carriage_z_mm"});
-  for (size_t i = 0; i < run.run.measured_deg.size(); ++i) {
-    const long step = static_cast<long>(i / period), tick = static_cast<long>(i % period);
-    for (int j = 0; j < kLegJoints; ++j) {
-      trace.Cell(step).Cell(tick).Cell(std::string(kLegJointNames[j]));
-      trace.Cell(r.context.desired[tick][j]).Cell(pwl[j][tick]).Cell(run.run.request_deg[i][j]);
-      trace.Cell(run.run.measured_deg[i][j]).Cell(model[j][tick]);
-      trace.EndRow();
-    }
-    const Eigen::Vector3d actual = FootMm(r.robot.geometry, run.run.measured_deg[i]) / 10.0;
-    const Eigen::Vector3d want = r.desired.foot_mm[tick] / 10.0;
-    foot.Cell(step).Cell(tick).Cell(want.x()).Cell(want.y()).Cell(want.z());
-    foot.Cell(actual.x()).Cell(actual.y()).Cell(actual.z());
-    // The stand's instruments (zeros in the air), appended so that readers of the first
-    // eight columns keep working.
-    const PlantTelemetry m = i < run.run.telemetry.size() ? run.run.telemetry[i] : PlantTelemetry{};
-    foot.Cell(m.contact_force_n[2]).Cell(m.contact_force_n[0]).Cell(m.contact_force_n[1]);
-    foot.Cell(m.carriage_z_mm);
-    foot.EndRow();
-  }
+  const std::string mode(ModeInfo(run).name);
+  CsvWriter trace(out.Path("trace_" + mode + ".csv"), TraceColumns());
+  CsvWriter foot(out.Path("foot_" + mode + ".csv"), FootColumns());
+  ModeTraceRows(run, r, trace, foot);
   trace.Close();
   foot.Close();
 }
 
 // <mode>_learning.csv, for a learning mode: every step's error, warm-up included (negative steps).
 void WriteLearningCurve(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
-  CsvWriter csv(out.Path(std::string(ModeOf(run.spec).name) + "_learning.csv"),
+  CsvWriter csv(out.Path(std::string(ModeInfo(run).name) + "_learning.csv"),
                 {"step", "joint", "l2_deg", "foot_l2_cm"});
   for (const LearningStep& step : LearningCurve(run, r)) {
     for (int j = 0; j < kLegJoints; ++j) {
@@ -378,7 +396,7 @@ void AppendPerStep(const ModeRun& run, const TrackResult& r, const OutputDir& ou
                 {"mode", "step", "rotator_l2_deg", "abductor_l2_deg", "knee_l2_deg", "foot_l2_cm"},
                 /*append=*/true);
   for (const LearningStep& step : LearningCurve(run, r)) {
-    csv.Cell(std::string(ModeOf(run.spec).name)).Cell(step.step);
+    csv.Cell(std::string(ModeInfo(run).name)).Cell(step.step);
     for (int j = 0; j < kLegJoints; ++j) csv.Cell(step.l2_deg[j]);
     csv.Cell(step.foot_l2_cm);
     csv.EndRow();
@@ -393,7 +411,7 @@ void WriteModelEstimates(const ModeRun& run, const OutputDir& out) {
   columns.insert(columns.end(), kModelColumns.begin(), kModelColumns.end());
   const bool first = !std::filesystem::exists(out.Path("model_estimates.csv"));
   CsvWriter csv(out.Path(first ? std::string("model_estimates.csv")
-                               : "model_estimates_" + std::string(ModeOf(run.spec).name) + ".csv"),
+                               : "model_estimates_" + std::string(ModeInfo(run).name) + ".csv"),
                 columns);
   for (const StepModelEstimates& step : run.run.model_estimates) {
     for (int j = 0; j < kLegJoints; ++j) {
@@ -408,7 +426,7 @@ void WriteModelEstimates(const ModeRun& run, const OutputDir& out) {
 
 void WriteModeOutputs(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   WriteTraceAndFoot(run, r, out);
-  if (!ModeOf(run.spec).feed_forward) WriteLearningCurve(run, r, out);
+  if (!ModeInfo(run).feed_forward) WriteLearningCurve(run, r, out);
   AppendPerStep(run, r, out);
   if (!run.run.model_estimates.empty()) WriteModelEstimates(run, out);
 }

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace leglab::experiments {
@@ -70,23 +71,69 @@ std::filesystem::path CheckOutFolder(const std::filesystem::path& out,
 /// Writes `text` to `path`; throws OutputError naming the file if it cannot.
 void WriteTextFile(const std::filesystem::path& path, const std::string& text);
 
+/// Receives a table row by row, cell by cell: CsvWriter writes it to a file, ColumnTable keeps
+/// it. A row has as many cells as the table has columns.
+class RowSink {
+ public:
+  virtual ~RowSink() = default;
+  /// The next cell of the current row: a number or a text (e.g. a joint name).
+  virtual RowSink& Cell(double value) = 0;
+  virtual RowSink& Cell(long value) = 0;
+  virtual RowSink& Cell(const std::string& text) = 0;
+  /// Ends the current row (it must have a cell in every column).
+  virtual void EndRow() = 0;
+
+ protected:
+  // Copied and moved only as part of a derived sink (no slicing through a RowSink&).
+  RowSink() = default;
+  RowSink(const RowSink&) = default;
+  RowSink(RowSink&&) = default;
+  RowSink& operator=(const RowSink&) = default;
+  RowSink& operator=(RowSink&&) = default;
+};
+
+/// A table kept in memory, column by column: the values a CsvWriter with the same columns would
+/// write, before they are formatted.
+struct ColumnTable final : RowSink {
+  /// An empty table with these columns.
+  explicit ColumnTable(std::vector<std::string> column_names);
+  using Column = std::variant<std::vector<double>, std::vector<long>, std::vector<std::string>>;
+  std::vector<std::string> names;
+  /// One per name; a column holds the type of its first cell (a later cell of another type is a
+  /// bug: assert).
+  std::vector<Column> columns;
+
+  ColumnTable& Cell(double value) override;
+  ColumnTable& Cell(long value) override;
+  ColumnTable& Cell(const std::string& text) override;
+  void EndRow() override;
+  /// The rows ended so far.
+  size_t rows() const { return rows_; }
+
+ private:
+  template <typename T>
+  ColumnTable& Append(T value);
+  size_t in_row_ = 0;
+  size_t rows_ = 0;
+};
+
 /// A CSV file with a fixed header. Numbers are written in the shortest form that reads back
 /// to the same double. Close() reports a failed write.
-class CsvWriter {
+class CsvWriter final : public RowSink {
  public:
   /// Throws OutputError if `path` cannot be opened. With `append`, rows go after those already
   /// in `path` and the header is written only when the file is new (several runs, one table).
   CsvWriter(const std::filesystem::path& path, const std::vector<std::string>& columns,
             bool append = false);
   /// Writes what is still buffered (as the stream's own destructor would flush it).
-  ~CsvWriter();
+  ~CsvWriter() override;
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
   /// One row: text cells (e.g. a joint name) are written as given.
-  CsvWriter& Cell(double value);
-  CsvWriter& Cell(long value);
-  CsvWriter& Cell(const std::string& text);
-  void EndRow();
+  CsvWriter& Cell(double value) override;
+  CsvWriter& Cell(long value) override;
+  CsvWriter& Cell(const std::string& text) override;
+  void EndRow() override;
   /// Flushes and closes; throws OutputError naming the file if any write failed.
   void Close();
 

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,10 +36,37 @@ inline constexpr double kWalkFitMinSwingDeg = 1.0;
 
 /// One controller mode's run on the plant.
 struct ModeRun {
-  ControllerSpec spec;  ///< the options used (a searched mode's best candidate)
+  /// The options used (a searched mode's best candidate); for an external mode a default
+  /// ControllerSpec that means nothing (read the run's mode with ModeInfo, not ModeOf(spec)).
+  ControllerSpec spec;
   TrackingRun run;
   std::vector<double> foot_error_cm;  ///< per recorded tick
+  /// An external mode's name (ExternalMode::name); empty for a registered mode (then `spec`
+  /// names it).
+  std::string external;
 };
+
+/// The longest name an ExternalMode may have, characters.
+inline constexpr size_t kMaxExternalModeNameChars = 64;
+
+/// A controller mode from outside the registry (a user's own, e.g. written in Python): it runs
+/// after the configured modes under the same plant, seed, warm-up, steps and plant_changes, with
+/// the step tests' (or given) models (TrackResult::context), and its rows appear in the tables
+/// under `name`, as a registered mode's do under its name.
+struct ExternalMode {
+  /// [a-z0-9_]+ (a file-name part), at most kMaxExternalModeNameChars characters, not a
+  /// registered mode's name nor "floor" (the foot table's row of the floor), unique among the
+  /// run's external modes.
+  std::string name;
+  /// Builds the controller for the run's context; called once, right before its run.
+  std::function<std::unique_ptr<JointController>(const ControllerContext&)> make;
+};
+
+/// What the tables and writers need to know about `run`'s mode: ModeOf(run.spec) for a
+/// registered mode; for an external one, name and label are run.external (views into `run`:
+/// valid while it lives and its name is unchanged), and it is neither feed-forward, nor
+/// following P, nor searchable, nor estimating the model, with no search file or config section.
+ControllerModeInfo ModeInfo(const ModeRun& run);
 
 /// A searched mode's candidates (SearchCandidates, e.g. time_shift's k = 0..T-1), each with its
 /// mean foot L2 over the measured steps, cm.
@@ -92,6 +121,10 @@ struct TrackResult {
 /// The context `spec` runs with: walk_context for a mode that UsesWalkModels, else context.
 const ControllerContext& ContextFor(const TrackResult& r, const ControllerSpec& spec);
 
+/// The context `run` ran with: ContextFor(r, run.spec) for a registered mode, r.context for an
+/// external one.
+const ControllerContext& ContextFor(const TrackResult& r, const ModeRun& run);
+
 /// Takes each mode's run as it is done (`runs` of the TrackResult stays empty): a long run
 /// writes and reduces one mode at a time instead of holding them all.
 using ModeRunSink = std::function<void(const TrackResult&, ModeRun&&)>;
@@ -102,7 +135,23 @@ using ModeRunSink = std::function<void(const TrackResult&, ModeRun&&)>;
 /// then steps measured steps. Parallel on config.threads threads; the result does not depend on
 /// the count. With a `sink`, each mode's run goes to it, in order, instead of into `runs`; a
 /// searched mode's candidates are scored without keeping their runs either way.
-TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink = {});
+///
+/// Then each of `external` in order (ExternalMode): make(r.context) builds its controller, which
+/// runs on a plant of its own as a registered mode's does; its run goes to the sink or `runs`
+/// with ModeRun::external set. The external modes are checked before anything runs: a bad name
+/// (see ExternalMode::name) or an empty `make` throws InputError naming the mode ("controller
+/// 'x': ..."); a run whose ticks with theirs (PlannedTrackTicks) exceed kMaxTotalTicks throws
+/// InputError. A `make` that returns no controller throws InputError naming it when its turn
+/// comes. What `make` or an external controller throws propagates unchanged.
+/// Throws InputError for bad input (config, robot, models), as the loaders do.
+TrackResult RunTrackExperiment(const ExperimentConfig& config, const ModeRunSink& sink = {},
+                               std::span<const ExternalMode> external = {});
+
+/// The ticks RunTrackExperiment(config, sink, external) simulates at most: config.planned_ticks
+/// and (warmup_steps + steps) x track.t_step_ticks per external mode. A progress display of a
+/// run with external modes counts to this (config.planned_ticks alone would reach 100 % before
+/// they run). Does not check the total against kMaxTotalTicks (RunTrackExperiment does).
+long long PlannedTrackTicks(const ExperimentConfig& config, size_t external_modes);
 
 /// Mean over steps of the per-step RMS of `foot_error_cm` (steps of `period` ticks), cm.
 double MeanFootL2Cm(const std::vector<double>& foot_error_cm, int period);

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/output.h"
@@ -34,8 +36,10 @@ std::string Table2Markdown(const Table2& table);
 std::string Table2Json(const Table2& table, const ExperimentConfig& config);
 
 /// The file-name prefixes `track` writes (and so replaces in --out): table2., trace_, foot_,
-/// each searched mode's search file, each learning mode's <mode>_learning.
-std::vector<std::string> TrackOutputPrefixes();
+/// each searched mode's search file, each learning mode's <mode>_learning, and each of
+/// `external_names`' (ExternalMode::name) <name>_learning (its trace_ and foot_ files are
+/// trace_'s and foot_'s).
+std::vector<std::string> TrackOutputPrefixes(std::span<const std::string> external_names = {});
 
 /// The file that holds a run's merged keys: `<program>_config.yaml`.
 std::string ConfigFileName(const std::string& program);
@@ -53,6 +57,22 @@ void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
 /// Returns the Markdown tables.
 std::string WriteTrackOutputs(const TrackResult& result, const Table2& table,
                               const ExperimentConfig& config, const OutputDir& out);
+
+/// The columns of trace_<mode>.csv: step, tick, joint, and the joint's desired_deg, pwl_deg,
+/// request_deg, actual_deg and model_deg (its model's cyclic steady state under the requests of
+/// the first measured step; NaN where it has none).
+const std::vector<std::string>& TraceColumns();
+
+/// The columns of foot_<mode>.csv: step, tick, the foot's desired and actual position
+/// ({desired,actual}_{x,y,z}_cm), and the stand's instruments (contact_fz_n, contact_fx_n,
+/// contact_fy_n, carriage_z_mm; zeros in the air).
+const std::vector<std::string>& FootColumns();
+
+/// The rows of trace_<mode>.csv (TraceColumns: a row per measured tick and joint) and
+/// foot_<mode>.csv (FootColumns: a row per measured tick) of `run` into `trace` and `foot`: what
+/// WriteModeOutputs writes, cell for cell (step and tick as long, joint as text, the rest as
+/// double). The sinks' columns must be those.
+void ModeTraceRows(const ModeRun& run, const TrackResult& result, RowSink& trace, RowSink& foot);
 
 /// One mode's part of WriteTrackOutputs: trace_<mode>.csv, foot_<mode>.csv and, unless it is
 /// feed-forward, <mode>_learning.csv.
