@@ -22,7 +22,7 @@ _os.environ.setdefault(
     "LEGLAB_DATA_DIR", _os.path.normpath(_os.path.join(_here, _paths.PACKAGE_TO_DATA)))
 
 from ._leglab import (  # noqa: E402  (after the data folder is known)
-    # ControllerContext,
+    ControllerContext,
     Identification,
     JointModel,
     Plant,
