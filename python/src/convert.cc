@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "leglab/core/units.h"
 #include "leglab/experiments/program.h"
 
 namespace leglab::python {
@@ -136,6 +137,16 @@ DoubleArray ToArray(const std::vector<LegAngles>& rows) {
   double* data = array.mutable_data();
   for (size_t t = 0; t < rows.size(); ++t) {
     for (int j = 0; j < kLegJoints; ++j) data[t * kLegJoints + j] = rows[t][j];
+  }
+  return array;
+}
+
+DoubleArray ToLimitsArray(const std::array<JointLimits, kLegJoints>& limits) {
+  DoubleArray array({py::ssize_t{kLegJoints}, py::ssize_t{2}});
+  auto rows = array.mutable_unchecked<2>();
+  for (py::ssize_t j = 0; j < kLegJoints; ++j) {
+    rows(j, 0) = RadToDeg(limits[j].lower_rad);
+    rows(j, 1) = RadToDeg(limits[j].upper_rad);
   }
   return array;
 }

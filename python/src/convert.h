@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "leglab/core/leg.h"
+#include "leglab/model/kinematics.h"
 
 namespace leglab::python {
 
@@ -44,6 +45,9 @@ std::vector<double> ToFiniteVector(py::handle value, std::string_view what, size
 DoubleArray ToArray(const LegAngles& angles);
 DoubleArray ToArray(const std::vector<double>& values);
 DoubleArray ToArray(const std::vector<LegAngles>& rows);
+
+/// Each joint's (lower, upper) limit, deg, shape (3, 2).
+DoubleArray ToLimitsArray(const std::array<JointLimits, kLegJoints>& limits);
 
 /// A file path from a str or an os.PathLike.
 std::string ToPath(py::handle path, std::string_view what);

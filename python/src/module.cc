@@ -12,24 +12,31 @@
 
 namespace py = pybind11;
 
+namespace {
+
+// What the programs report as bad input (exit 2) is the caller's: ValueError, one line; a
+// failure to write, OSError. The parameter is by value: pybind11's translator signature.
+void TranslateException(std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
+  using leglab::experiments::MessageLine;
+  try {
+    if (p) std::rethrow_exception(p);
+  } catch (const leglab::experiments::OutputError& e) {
+    PyErr_SetString(PyExc_OSError, MessageLine(e.what()).c_str());
+  } catch (const leglab::experiments::InputError& e) {
+    PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+  } catch (const std::invalid_argument& e) {
+    PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+  } catch (const std::domain_error& e) {
+    PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
+  }
+}
+
+}  // namespace
+
 PYBIND11_MODULE(_leglab, m) {
   m.doc() = "leglab's C++ core: plants, joint models and Table 2's experiment (see leglab).";
 
-  // What the programs report as bad input (exit 2) is the caller's: ValueError, one line.
-  py::register_exception_translator([](std::exception_ptr p) {
-    using leglab::experiments::MessageLine;
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const leglab::experiments::OutputError& e) {
-      PyErr_SetString(PyExc_OSError, MessageLine(e.what()).c_str());
-    } catch (const leglab::experiments::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
-    } catch (const std::invalid_argument& e) {
-      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
-    } catch (const std::domain_error& e) {
-      PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
-    }
-  });
+  py::register_exception_translator(&TranslateException);
 
   leglab::python::BindModel(m);
   leglab::python::BindPlant(m);

@@ -11,7 +11,6 @@
 #include "bindings.h"
 #include "convert.h"
 #include "leglab/core/plant.h"
-#include "leglab/core/units.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/robot.h"
@@ -22,17 +21,6 @@ namespace {
 
 using experiments::ExperimentConfig;
 using experiments::Robot;
-
-// The leg's limits as rows (lower, upper) per joint, deg.
-DoubleArray LimitsDeg(const LegGeometry& geometry) {
-  DoubleArray limits({py::ssize_t{kLegJoints}, py::ssize_t{2}});
-  double* data = limits.mutable_data();
-  for (int j = 0; j < kLegJoints; ++j) {
-    data[2 * j] = RadToDeg(geometry.limits[j].lower_rad);
-    data[2 * j + 1] = RadToDeg(geometry.limits[j].upper_rad);
-  }
-  return limits;
-}
 
 // Foot positions (body frame, mm) of one pose (3,) or of rows of poses (N, 3), deg.
 py::object FootMm(const LegGeometry& geometry, py::handle q_deg) {
@@ -149,7 +137,7 @@ Make one with Robot(config) from an experiment config, or take Plant.robot.
       .def_readonly("urdf_path", &Robot::urdf_path, "The URDF it was read from.")
       .def_readonly("leg_mass_kg", &Robot::leg_mass_kg, "The moving links' masses, kg.")
       .def_property_readonly(
-          "limits_deg", [](const Robot& r) { return LimitsDeg(r.geometry); },
+          "limits_deg", [](const Robot& r) { return ToLimitsArray(r.geometry.limits); },
           "Each joint's (lower, upper) software limit, deg, shape (3, 2).")
       .def(
           "foot_mm", [](const Robot& r, py::handle q_deg) { return FootMm(r.geometry, q_deg); },
@@ -178,6 +166,7 @@ the half-elliptical foot locus through inverse kinematics) and the foot path the
           "foot_mm",
           [](const Walk& w) {
             std::vector<LegAngles> feet;
+            feet.reserve(w.motion.foot_mm.size());
             for (const Eigen::Vector3d& f : w.motion.foot_mm) feet.push_back({f.x(), f.y(), f.z()});
             return ToArray(feet);
           },

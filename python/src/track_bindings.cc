@@ -13,7 +13,6 @@
 #include "bindings.h"
 #include "convert.h"
 #include "leglab/controller/controller.h"
-#include "leglab/core/units.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/tables.h"
@@ -49,10 +48,17 @@ class PythonController final : public JointController {
         has_end_of_step_(has_end_of_step) {}
 
   ~PythonController() override {
-    py::gil_scoped_acquire gil;
-    request_ = py::object();
-    context_ = py::object();
-    controller_ = py::object();
+    try {
+      py::gil_scoped_acquire gil;
+      request_ = py::object();
+      context_ = py::object();
+      controller_ = py::object();
+    } catch (...) {
+      // Without the GIL the references cannot be dropped safely: leak them instead.
+      (void)request_.release();
+      (void)context_.release();
+      (void)controller_.release();
+    }
   }
   PythonController(const PythonController&) = delete;
   PythonController& operator=(const PythonController&) = delete;
@@ -179,6 +185,7 @@ py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle contr
   config.threads = threads;
   const std::vector<ExternalMode> external = ToExternalModes(controllers);
   std::vector<std::string> external_names;
+  external_names.reserve(external.size());
   for (const ExternalMode& mode : external) external_names.push_back(mode.name);
   std::optional<experiments::OutputDir> dir;
   if (!out.is_none()) {
@@ -253,6 +260,7 @@ degrees; a tick's row is rotator, abductor, knee.
           "desired_foot_mm",
           [](const PyControllerContext& c) {
             std::vector<LegAngles> feet;
+            feet.reserve(c.context.desired.size());
             for (const LegAngles& q : c.context.desired) {
               const Eigen::Vector3d f = experiments::FootMm(*c.context.geometry, q);
               feet.push_back({f.x(), f.y(), f.z()});
@@ -269,14 +277,7 @@ degrees; a tick's row is rotator, abductor, knee.
           "Each joint's JointModel (identified on the plant, or the config's model.*).")
       .def_property_readonly(
           "limits_deg",
-          [](const PyControllerContext& c) {
-            DoubleArray limits({py::ssize_t{kLegJoints}, py::ssize_t{2}});
-            for (int j = 0; j < kLegJoints; ++j) {
-              limits.mutable_data()[2 * j] = RadToDeg(c.context.limits[j].lower_rad);
-              limits.mutable_data()[2 * j + 1] = RadToDeg(c.context.limits[j].upper_rad);
-            }
-            return limits;
-          },
+          [](const PyControllerContext& c) { return ToLimitsArray(c.context.limits); },
           "Each joint's (lower, upper) limit, deg, shape (3, 2); requests are clamped into them.")
       .def_property_readonly(
           "warmup_steps", [](const PyControllerContext& c) { return c.context.warmup_steps; },
