@@ -175,12 +175,16 @@ std::vector<std::string> ToOverrides(py::handle overrides) {
                       ", expected a config key (str) such as \"servo.delay_ms\"");
     }
     std::string text;
-    if (py::isinstance<py::str>(value)) {
-      text = value.cast<std::string>();
+    // A numpy scalar (e.g. numpy.int64(5)) as the Python number it holds.
+    const py::object plain = py::isinstance(value, py::module_::import("numpy").attr("generic"))
+                                 ? value.attr("item")()
+                                 : py::reinterpret_borrow<py::object>(value);
+    if (py::isinstance<py::str>(plain)) {
+      text = plain.cast<std::string>();
     } else {
       try {
         // allow_nan=False: NaN is no YAML number; the key's own check names it below.
-        text = json.attr("dumps")(value, py::arg("allow_nan") = false).cast<std::string>();
+        text = json.attr("dumps")(plain, py::arg("allow_nan") = false).cast<std::string>();
       } catch (const py::error_already_set&) {
         ThrowValueError("overrides: " + key.cast<std::string>() + " = " +
                         std::string(py::repr(value)) +

@@ -48,7 +48,7 @@ def test_tick_by_tick_is_run():
 
 def test_same_seed_same_bits_other_seed_other_noise():
     requests = np.tile([20.0, 10.0, 30.0], (200, 1))
-    runs = [leglab.Plant(TRACK_YAML, {"seed": s}).run(requests) for s in (5, 5, 6)]
+    runs = [leglab.Plant(TRACK_YAML, {"seed": s}).run(requests) for s in (5, np.uint64(5), 6)]
     assert np.array_equal(runs[0]["measured"], runs[1]["measured"])
     assert not np.array_equal(runs[0]["measured"], runs[2]["measured"])
     # The noise is in the sensor only: the motion itself is the same.
