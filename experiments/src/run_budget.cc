@@ -40,18 +40,27 @@ void CheckTicksPerRun(const TrackConfig& t) {
 // rerun, and the walk the walk-fitted models are fitted to, once for all the modes that use
 // them.
 long long TrackingTicks(const ExperimentConfig& config) {
-  long long runs = 0;
+  const long long run_ticks =
+      (static_cast<long long>(config.track.warmup_steps) + config.track.steps) *
+      config.track.t_step_ticks;
+  long long total = 0;
   bool walk_fit = false;
   for (const ControllerSpec& spec : config.controllers) {
-    // A searched mode tries at most one candidate per tick of the step (time_shift's k).
-    runs += ModeOf(spec).searchable && config.track.search_shift != ShiftSearch::kNone
-                ? config.track.t_step_ticks + 1
-                : 1;
+    const ControllerModeInfo& mode = ModeOf(spec);
+    const ShiftSearch search = config.track.search_shift;
+    if (!mode.searchable || search == ShiftSearch::kNone) {
+      total += run_ticks;
+    } else if (search == ShiftSearch::kShiftedRun && mode.searchable_by_lead &&
+               config.plant_changes.empty()) {
+      // Scored from one run of the lead-0 candidate, one step longer, then the best one's run
+      // (as SearchMode does): what runs, not the candidates it scores.
+      total += 2 * run_ticks + config.track.t_step_ticks;
+    } else {
+      // At most one candidate per tick of the step (time_shift's k), then the best one's run.
+      total += (static_cast<long long>(config.track.t_step_ticks) + 1) * run_ticks;
+    }
     walk_fit = walk_fit || UsesWalkModels(spec);
   }
-  long long total = runs *
-                    (static_cast<long long>(config.track.warmup_steps) + config.track.steps) *
-                    config.track.t_step_ticks;
   if (walk_fit) {
     total +=
         static_cast<long long>(kWalkFitWarmupSteps + kWalkFitSteps) * config.track.t_step_ticks;
