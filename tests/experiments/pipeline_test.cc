@@ -351,5 +351,30 @@ TEST(Pipeline, RunsTakenOneAtATimeGiveTheSameTable) {
   EXPECT_EQ(Table2Json(*streamed, config), Table2Json(whole, config));
 }
 
+// The plan (the progress display's 100 % and the run-size budget) counts the ticks that run:
+// for every way of searching the time shift, with and without identification and the walk
+// fit, it is exactly the plant ticks the experiment ran (counted by the experiment as it runs
+// them, TrackResult::plant_ticks).
+TEST(Pipeline, ThePlannedTicksAreTheTicksThatRun) {
+  const std::string model =
+      "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, "
+      "accel_ticks: 6}";
+  const std::vector<std::vector<std::string>> cases = {
+      {"controller.modes=[direct, time_shift]", "track.search_shift=true"},
+      {"controller.modes=[time_shift]", "track.search_shift=exhaustive", model},
+      {"controller.modes=[time_shift]", "track.search_shift=false", model},
+      {"controller.modes=[model_based, optimal]", model},
+      {"controller.modes=[direct, time_shift]", model,
+       "plant_changes=[{at_step: 1, set: {plant_model.lag_ticks: 6}}]"},
+  };
+  for (std::vector<std::string> overrides : cases) {
+    overrides.insert(overrides.end(), {"plant=model", "warmup_steps=1", "steps=2",
+                                       "identify.settle_cycles=1", "identify.record_cycles=2"});
+    const ExperimentConfig config = LoadExperimentConfig(kConfigs + "track.yaml", overrides);
+    const TrackResult r = RunTrackExperiment(config);
+    EXPECT_EQ(config.planned_ticks, r.plant_ticks) << overrides.front() << " " << overrides[1];
+  }
+}
+
 }  // namespace
 }  // namespace leglab::experiments
