@@ -5,15 +5,21 @@
 // 2 for bad input (nothing written), 3 when every point of the sweep failed (sweep.csv
 // written), 1 for our failures.
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
+#include <cmath>
+#include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/experiments/sweep.h"
 
 namespace {
@@ -23,6 +29,56 @@ namespace fs = std::filesystem;
 
 // --out checked as every program checks it, before any point runs.
 void CheckOutDir(const std::string& out) { CheckOutFolder(out, {"sweep."}); }
+
+// --progress: a line every 2 s while the points run, inside a point too: the points done, the
+// ticks simulated so far (every point's, counted as they run) and an estimate of the time
+// left from the points done.
+class ProgressLines {
+ public:
+  explicit ProgressLines(long total) : total_(total), start_(Clock::now()) {
+    thread_ = std::thread([this] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      while (!wake_.wait_for(lock, std::chrono::seconds(2), [this] { return stop_; })) Print();
+    });
+  }
+  ~ProgressLines() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  ProgressLines(const ProgressLines&) = delete;
+  ProgressLines& operator=(const ProgressLines&) = delete;
+
+  void PointDone() { done_.fetch_add(1); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void Print() const {
+    const long done = done_.load();
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    std::string line = "sweep: " + std::to_string(done) + "/" + std::to_string(total_) +
+                       " points, " + std::to_string(CountedProgressTicks()) + " ticks simulated, " +
+                       std::to_string(std::lround(elapsed)) + " s";
+    if (done > 0) {
+      line += ", about " +
+              std::to_string(std::lround(elapsed / static_cast<double>(done) *
+                                         static_cast<double>(total_ - done))) +
+              " s left";
+    }
+    std::cerr << line + "\n" << std::flush;
+  }
+
+  long total_;
+  Clock::time_point start_;
+  std::atomic<long> done_{0};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
+};
 
 // Exit status 3 when no point of a whole sweep is ok (its table, written, says why of each);
 // else 0.
@@ -71,6 +127,7 @@ int Run(int argc, char** argv) {
   std::optional<int> shards;
   int threads = 0;
   bool quiet = false;
+  bool progress = false;
   app.add_option("--config", config_path, "sweep file (YAML: base, grid or sample)");
   app.add_option("--out", out_dir, "folder for sweep.csv or sweep.shard-I-of-N.csv");
   app.add_option("--shard", shard_text, "run only the points with index % N == I (I/N, 0-based)");
@@ -82,6 +139,9 @@ int Run(int argc, char** argv) {
                  "points run at once (default: one per core); rows do not depend on it")
       ->check(CLI::PositiveNumber);
   app.add_flag("--quiet", quiet, "no progress lines on stderr");
+  app.add_flag("--progress", progress,
+               "a progress line every 2 s, inside a point too (points done, ticks simulated)")
+      ->excludes("--quiet");
   AddListKeysFlag(app, [] {
     return KeyTableMarkdown(SweepKeys()) +
            "\nEvery other key of a sweep file is a key of its base experiment (track "
@@ -119,7 +179,18 @@ int Run(int argc, char** argv) {
   const SweepConfig sweep = LoadSweepConfig(config_path);
   const auto start = std::chrono::steady_clock::now();
   auto last = start;
+  std::optional<ProgressLines> lines;
+  if (progress) {
+    long mine = 0;
+    const Shard s = shard.value_or(Shard{});
+    for (const SweepPoint& p : sweep.points) mine += p.index % s.count == s.index ? 1 : 0;
+    lines.emplace(mine);
+  }
   SweepTable table = RunSweep(sweep, shard.value_or(Shard{}), threads, [&](long done, long total) {
+    if (lines) {
+      lines->PointDone();
+      return;
+    }
     const auto now = std::chrono::steady_clock::now();
     if (quiet || (done < total && now - last < std::chrono::seconds(2))) return;
     last = now;
@@ -130,6 +201,7 @@ int Run(int argc, char** argv) {
                                    static_cast<double>(total - done))
               << " s left\n";
   });
+  lines.reset();
   if (shard) table.stamp = ShardStamp(sweep, *shard);
   fs::create_directories(out_dir);
   const fs::path file = fs::path(out_dir) / (shard ? ShardFileName(*shard) : "sweep.csv");

@@ -51,6 +51,8 @@ void ClearBar() {
 
 void CountProgressTicks(long ticks) { State().ticks.fetch_add(ticks, std::memory_order_relaxed); }
 
+long long CountedProgressTicks() { return State().ticks.load(std::memory_order_relaxed); }
+
 void SetProgressPhase(const std::string& phase) {
   const std::lock_guard<std::mutex> lock(State().mutex);
   State().phase = phase;

@@ -20,6 +20,9 @@ enum class ProgressStyle {
 /// only: no result depends on it (which is why it may be process-wide).
 void CountProgressTicks(long ticks);
 
+/// The ticks CountProgressTicks has added up in this process so far.
+long long CountedProgressTicks();
+
 /// Names what the program does now, e.g. "writing trace_direct.csv"; shown beside the share.
 void SetProgressPhase(const std::string& phase);
 
