@@ -240,8 +240,8 @@ TEST(ExternalModes, TheTablesInMemoryAreTheFilesCells) {
 
 // A bad external mode is refused, naming it, before anything runs: no configured mode's run
 // reaches the sink and no make is called.
-void ExpectRefused(std::vector<ExternalMode> external, const std::string& named) {
-  bool made = false;
+// Makes every mode of `external` that has a make function set `made` when it is called.
+void RecordMakes(std::vector<ExternalMode>& external, bool& made) {
   for (ExternalMode& mode : external) {
     if (!mode.make) continue;
     mode.make = [&made](const ControllerContext& context) -> std::unique_ptr<JointController> {
@@ -249,6 +249,11 @@ void ExpectRefused(std::vector<ExternalMode> external, const std::string& named)
       return std::make_unique<MyDirect>(context);
     };
   }
+}
+
+void ExpectRefused(std::vector<ExternalMode> external, const std::string& named) {
+  bool made = false;
+  RecordMakes(external, made);
   int runs = 0;
   try {
     RunTrackExperiment(
@@ -295,12 +300,7 @@ TEST(ExternalModes, TooManyTicksAreRefusedBeforeAnythingRuns) {
   std::vector<ExternalMode> external;
   for (long long i = 0; i <= fit; ++i) external.push_back(Mine("m" + std::to_string(i)));
   bool made = false;
-  for (ExternalMode& mode : external) {
-    mode.make = [&made](const ControllerContext& context) -> std::unique_ptr<JointController> {
-      made = true;
-      return std::make_unique<MyDirect>(context);
-    };
-  }
+  RecordMakes(external, made);
   int runs = 0;
   try {
     RunTrackExperiment(
