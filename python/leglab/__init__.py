@@ -34,6 +34,10 @@ from ._leglab import (  # noqa: E402  (after the data folder is known)
 )
 from . import _leglab  # noqa: E402
 
+# help() and repr() name the classes as users import them.
+for _cls in (ControllerContext, Identification, JointModel, Plant, Reading, Robot, Walk):
+    _cls.__module__ = "leglab"
+
 JOINT_NAMES = ("rotator", "abductor", "knee")
 """The joints of a leg, in the order of every per-joint array."""
 

@@ -113,7 +113,8 @@ Args:
 Raises ValueError naming the field for a value outside those ranges.
 )doc")
       .def(py::init(&MakeModel), py::arg("v_max_deg_per_tick"), py::arg("theta0_deg"),
-           py::arg("lag_ticks"), py::arg("accel_ticks"))
+           py::arg("lag_ticks"), py::arg("accel_ticks"),
+           "JointModel(v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks)")
       .def_readonly("v_max_deg_per_tick", &JointModelParams::v_max_deg_per_tick,
                     "Top speed v_max, deg per tick.")
       .def_readonly("theta0_deg", &JointModelParams::theta0_deg,
@@ -133,7 +134,9 @@ Raises ValueError naming the field for a value outside those ranges.
             return ToArray(angles);
           },
           py::arg("requests"), py::arg("start_deg"),
-          R"doc(The model's angles M(0..N-1), deg, under requests R(0..N-1) (1-D, deg), from rest at
+          R"doc(simulate(requests, start_deg) -> numpy.ndarray
+
+The model's angles M(0..N-1), deg, under requests R(0..N-1) (1-D, deg), from rest at
 start_deg (M(-1) and every remembered request equal to it).)doc")
       .def(
           "steady_state",
@@ -152,10 +155,13 @@ start_deg (M(-1) and every remembered request equal to it).)doc")
             return ToArray(angles);
           },
           py::arg("cycle"),
-          R"doc(The cyclic steady state of eq. 3 under the request cycle R(0..T-1) (1-D, deg) repeated
+          R"doc(steady_state(cycle) -> numpy.ndarray
+
+The cyclic steady state of eq. 3 under the request cycle R(0..T-1) (1-D, deg) repeated
 for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model never settles
 (v_max >= 2 theta_0 can swing about a request for ever).)doc")
       .def("speed_response", &SpeedResponse, py::arg("x_deg"),
+           "speed_response(x_deg) -> float\n\n"
            "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
       .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
                              "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
@@ -169,6 +175,7 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
             d["accel_ticks"] = p.accel_ticks;
             return d;
           },
+          "to_dict() -> dict\n\n"
           "The four parameters as a dict (the keys of table1.json's joints).")
       .def("__repr__", &ModelRepr)
       .def("__eq__",
@@ -197,11 +204,14 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
                ", rms_residual_deg=" + std::string(py::repr(py::float_(r.rms_residual_deg))) + ")";
       });
 
-  m.def("identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
-        py::arg("lag_range_ticks") = std::pair<int, int>{0, 12},
-        py::arg("accel_range_ticks") = std::pair<int, int>{1, 12},
-        py::arg("period_ticks") = py::none(),
-        R"doc(Fits the paper's joint model to recordings, as `identify` does to its step tests.
+  m.def(
+      "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
+      py::arg("lag_range_ticks") = std::pair<int, int>{0, 12},
+      py::arg("accel_range_ticks") = std::pair<int, int>{1, 12},
+      py::arg("period_ticks") = py::none(),
+      R"doc(identify(requests, measured, *, lag_range_ticks=(0, 12), accel_range_ticks=(1, 12), period_ticks=None) -> Identification
+
+Fits the paper's joint model to recordings, as `identify` does to its step tests.
 
 Args:
     requests: the request sent each tick, deg: a 1-D array (one recording) or a list of them.
@@ -248,7 +258,9 @@ whole cycles of one request pattern when period_ticks is given.)doc");
         return ToArray(floor);
       },
       py::arg("desired_cycle"), py::arg("model"),
-      R"doc(The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
+      R"doc(floor(desired_cycle, model) -> numpy.ndarray
+
+The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
 joint with the model's top speed v_max and acceleration time a can follow at all. No request
 policy brings a joint of that model closer to the desired cycle.
 

@@ -35,6 +35,10 @@ void TranslateException(std::exception_ptr p) {  // NOLINT(performance-unnecessa
 
 PYBIND11_MODULE(_leglab, m) {
   m.doc() = "leglab's C++ core: plants, joint models and Table 2's experiment (see leglab).";
+  // Each docstring starts with its Python signature, written for people (pybind11's would name
+  // the C++ types it converts through).
+  py::options options;
+  options.disable_function_signatures();
 
   py::register_exception_translator(&TranslateException);
 

@@ -132,6 +132,7 @@ Make one with Robot(config) from an experiment config, or take Plant.robot.
              return experiments::LoadRobot(LoadConfig(config, overrides).sim.urdf_path);
            }),
            py::arg("config"), py::arg("overrides") = py::none(),
+           "Robot(config, overrides=None)\n\n"
            "The robot an experiment config names (its `robot:` and `urdf` keys).")
       .def_readonly("name", &Robot::name, "The URDF's <robot name>.")
       .def_readonly("urdf_path", &Robot::urdf_path, "The URDF it was read from.")
@@ -142,8 +143,9 @@ Make one with Robot(config) from an experiment config, or take Plant.robot.
       .def(
           "foot_mm", [](const Robot& r, py::handle q_deg) { return FootMm(r.geometry, q_deg); },
           py::arg("q_deg"),
-          "Forward kinematics: the foot (ball centre) in the body frame (x forward, y left, z "
-          "up), mm, for joint angles in degrees: shape (3,) for (3,), (N, 3) for (N, 3).")
+          "foot_mm(q_deg) -> numpy.ndarray\n\n"
+          "Forward kinematics: the foot (ball centre) in the body frame (x forward, y left,\n"
+          "z up), mm, for joint angles in degrees: shape (3,) for (3,), (N, 3) for (N, 3).")
       .def("__repr__", [](const Robot& r) {
         return "Robot(name=" + std::string(py::repr(py::str(r.name))) + ")";
       });
@@ -158,7 +160,8 @@ the half-elliptical foot locus through inverse kinematics) and the foot path the
              walk.motion = experiments::LoadDesiredMotion(c.track, walk.robot.geometry);
              return walk;
            }),
-           py::arg("config"), py::arg("overrides") = py::none())
+           py::arg("config"), py::arg("overrides") = py::none(),
+           "Walk(config, overrides=None)\n\nThe desired walk of an experiment config.")
       .def_property_readonly(
           "angles_deg", [](const Walk& w) { return ToArray(w.motion.angles_deg); },
           "The desired joint angles, deg, shape (T, 3): tick t of every step.")
@@ -227,7 +230,8 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
              h->plant = experiments::MakePlant(h->config, h->robot);
              return h;
            }),
-           py::arg("config"), py::arg("overrides") = py::none())
+           py::arg("config"), py::arg("overrides") = py::none(),
+           "Plant(config, overrides=None)\n\nThe plant an experiment config describes.")
       .def(
           "reset",
           [](PlantHandle& h, py::handle pose) {
@@ -236,7 +240,8 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
             h.plant->Reset(q);
           },
           py::arg("pose"),
-          "Puts the leg at rest at `pose` (3 angles, deg, within the limits) with its servos "
+          "reset(pose) -> None\n\n"
+          "Puts the leg at rest at `pose` (3 angles, deg, within the limits) with its servos\n"
           "holding it. Does not advance time.")
       .def(
           "tick",
@@ -246,15 +251,18 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
             return h.plant->Tick(r);
           },
           py::arg("request"),
-          "One 8 ms tick: `request` (3 angles, deg; clamped into the limits as the servos do) "
-          "goes to the servos, the leg moves, and the Reading at the end of the tick is "
+          "tick(request) -> Reading\n\n"
+          "One 8 ms tick: `request` (3 angles, deg; clamped into the limits as the servos do)\n"
+          "goes to the servos, the leg moves, and the Reading at the end of the tick is\n"
           "returned.")
       .def("run", &RunRequests, py::arg("requests"),
-           R"doc(Ticks through `requests`, shape (T, 3), deg, one row a tick, with the GIL released.
+           R"doc(run(requests) -> dict
+
+Ticks through `requests`, shape (T, 3), deg, one row a tick, with the GIL released.
 
 Returns a dict of arrays, one row a tick: "measured", "true", "applied" (T, 3) deg,
-"contact_force_n" (T, 3) N, and "carriage_z_mm", "slip_mm", "sled_x_mm", "sled_y_mm" (T,) mm.
-Every request is checked (finite) before the first tick.)doc")
+"contact_force_n" (T, 3) N, and "carriage_z_mm", "slip_mm", "sled_x_mm", "sled_y_mm"
+(T,) mm. Every request is checked (finite) before the first tick.)doc")
       .def(
           "change_settings",
           [](PlantHandle& h, py::handle settings) {
@@ -263,9 +271,10 @@ Every request is checked (finite) before the first tick.)doc")
             h.plant->ChangeSettings(s);
           },
           py::arg("settings"),
-          "Changes settings of the running plant between ticks, as wear or a swapped part "
-          "would: a dict {key: value} with robot.yaml's keys (servo.*, sensor.*; plant_model.* "
-          "for plant: model). All are checked before any is applied.")
+          "change_settings(settings) -> None\n\n"
+          "Changes settings of the running plant between ticks, as wear or a swapped part\n"
+          "would: a dict {key: value} with robot.yaml's keys (servo.*, sensor.*;\n"
+          "plant_model.* for plant: model). All are checked before any is applied.")
       .def_property_readonly(
           "reading",
           [](PlantHandle& h) {

@@ -302,10 +302,12 @@ degrees; a tick's row is rotator, abductor, knee.
             return ToArray(LegAngles{f.x(), f.y(), f.z()});
           },
           py::arg("q_deg"),
+          "foot_mm(q_deg) -> numpy.ndarray\n\n"
           "Forward kinematics: the foot in the body frame, mm, for 3 joint angles, deg.");
 
   m.def("_run_track", &RunTrack, py::arg("config"), py::arg("overrides"), py::arg("controllers"),
         py::arg("out"), py::arg("threads"),
+        "_run_track(config, overrides, controllers, out, threads) -> dict\n\n"
         "run_track's C++ half: a dict of the result's parts (see leglab.run_track).");
 }
 
