@@ -173,6 +173,10 @@ TEST(OutputDir, ASecondRunIntoTheSameOutIsRefusedUntilTheFirstCommits) {
   }
   EXPECT_EQ(Read(out / "a.txt"), "second");
   EXPECT_EQ(Names(root), std::vector<std::string>{"out"});  // no lock file left beside --out
+  // The lock file of a killed run (nobody holds it): taken over, then removed.
+  std::ofstream(root / ".out.lock") << "999999\n";
+  EXPECT_EQ(Refusal(out), "");
+  EXPECT_EQ(Names(root), std::vector<std::string>{"out"});
   fs::remove_all(root);
 }
 

@@ -218,7 +218,11 @@ TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
       "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
   for (const std::string& program : {kIdentify, kTrack}) {
     const std::string& good = program == kIdentify ? id : track;
-    ExpectBadInput(program, good + " --set stand.load_kg=-0.1", "stand.load_kg must be in (0, 10]");
+    ExpectBadInput(program, good + " --set stand.load_kg=-0.1",
+                   "stand.load_kg must be in [0.01, 10] kg");
+    // Next to no mass: refused as bad input, not an ODE assertion in the run (exit 1).
+    ExpectBadInput(program, good + " --set stand.load_kg=1e-300",
+                   "stand.load_kg must be in [0.01, 10] kg");
     ExpectBadInput(program, good + " --set stand.friction=-0.5",
                    "stand.friction must be in [0, 5]");
     ExpectBadInput(program, good + " --set stand.stop_below_shoulder_mm=-3",

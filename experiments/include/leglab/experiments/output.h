@@ -27,9 +27,10 @@ class OutputError : public std::runtime_error {
 /// `.<name>.lock` beside `--out` from its construction until its commit or destruction, and a
 /// second OutputDir on the same folder, in this process or another, is refused at construction.
 /// When `--out`'s parent does not exist yet the lock file is in the temporary folder instead
-/// (named after `--out`'s absolute path), and the commit takes the one beside `--out` before it
-/// creates anything there. The lock file is removed when the lock is released (and by the
-/// interrupt clean-up), so a finished run leaves nothing beside `--out`.
+/// (named after `--out`'s absolute path), and the commit, once it has created the parents,
+/// takes the one beside `--out` before it moves the results in. The lock file is removed when the
+/// lock is released (and by the interrupt clean-up), so a finished run leaves nothing beside
+/// `--out`; one left by a killed process holds no lock and is taken over.
 class OutputDir {
  public:
   /// Checks `final_dir` before anything runs and stages beside it (in its parent, or when that
