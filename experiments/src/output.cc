@@ -2,12 +2,16 @@
 
 #include <fcntl.h>
 #include <pthread.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cassert>
+#include <cerrno>
 #include <charconv>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -33,6 +37,8 @@ namespace {
 struct StagingRegistry {
   std::mutex mutex;
   std::vector<fs::path> folders;
+  // The lock files this process holds: removed by the clean-up too.
+  std::vector<fs::path> lock_files;
 };
 
 StagingRegistry& Registry() {
@@ -56,6 +62,88 @@ bool Owned(const std::vector<std::string>& prefixes, const std::string& name) {
 void RemoveStaging(const fs::path& folder) {
   std::error_code ec;
   for (int pass = 0; pass < 100 && fs::exists(folder, ec); ++pass) fs::remove_all(folder, ec);
+}
+
+// What TryLock found.
+enum class LockResult { kTaken, kHeld, kUnsupported };
+
+// Takes an exclusive flock on the lock file `path` (created if missing) without waiting and
+// writes this process's id into it. kHeld (with the holder's id in `holder`, 0 if unknown)
+// when another open file holds it; kUnsupported when the file system has no flock (the run
+// goes on unlocked). Throws OutputError if the file cannot be created.
+LockResult TryLock(const fs::path& path, int& fd, long& holder) {
+  for (;;) {
+    fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw OutputError("cannot create the lock file " + path.string());
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int error = errno;
+      if (error == EWOULDBLOCK) {
+        char text[24] = {};
+        const ssize_t n = ::pread(fd, text, sizeof text - 1, 0);
+        holder = n > 0 ? std::strtol(text, nullptr, 10) : 0;
+        ::close(fd);
+        fd = -1;
+        return LockResult::kHeld;
+      }
+      // No flock here (e.g. an NFS mount without locks): nobody can hold this file.
+      ::unlink(path.c_str());
+      ::close(fd);
+      fd = -1;
+      return LockResult::kUnsupported;
+    }
+    // A holder removes the file before it lets go, so a lock on a file that is no longer at
+    // `path` excludes nobody: open the one there now and try again.
+    struct stat held {};
+    struct stat named {};
+    if (::fstat(fd, &held) == 0 && ::stat(path.c_str(), &named) == 0 &&
+        held.st_dev == named.st_dev && held.st_ino == named.st_ino) {
+      const std::string pid = std::to_string(::getpid()) + "\n";
+      if (::ftruncate(fd, 0) != 0 ||
+          ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+        // The id is only for the refusal's message: a lock without it still excludes.
+      }
+      return LockResult::kTaken;
+    }
+    ::close(fd);
+  }
+}
+
+// Removes the lock file, then lets go of it (in this order: see TryLock). The registry's mutex
+// must be held.
+void ReleaseLock(fs::path& path, int& fd) {
+  if (fd < 0) return;
+  ::unlink(path.c_str());
+  ::close(fd);
+  fd = -1;
+  std::vector<fs::path>& files = Registry().lock_files;
+  files.erase(std::remove(files.begin(), files.end(), path), files.end());
+  path.clear();
+}
+
+// The lock file of `final_dir` (absolute, normalised) when its parent does not exist yet: in
+// the temporary folder `where`, named by a hash (FNV-1a, the same in every build) of the path.
+fs::path TemporaryLockPath(const fs::path& where, const fs::path& final_dir) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  for (const char c : final_dir.string()) {
+    hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return where / (".leglab-out-" + std::string(hex) + ".lock");
+}
+
+// The lock file beside `final_dir`.
+fs::path LockPathBeside(const fs::path& final_dir) {
+  std::string name = final_dir.filename().string();
+  name.insert(0, 1, '.');  // not "." + name: GCC 12 warns (-Wrestrict) about that
+  return final_dir.parent_path() / (name + ".lock");
+}
+
+// The refusal of a second run.
+std::string HeldMessage(long holder) {
+  return "is being written by another run" +
+         (holder > 0 ? " (process " + std::to_string(holder) + ")" : std::string()) +
+         ": wait for it to finish or choose another folder";
 }
 
 // Exchanges the two paths (both exist) in one step; false if the file system cannot.
@@ -115,6 +203,20 @@ OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes
     }
   }
   const std::lock_guard<std::mutex> lock(Registry().mutex);
+  // The lock before the staging folder: a second run is refused before it does anything.
+  const fs::path lock_path =
+      where == parent ? LockPathBeside(final_dir_) : TemporaryLockPath(where, final_dir_);
+  long holder = 0;
+  try {
+    const LockResult locked = TryLock(lock_path, lock_fd_, holder);
+    if (locked == LockResult::kHeld) BadOut(given, HeldMessage(holder));
+    if (locked == LockResult::kTaken) {
+      lock_path_ = lock_path;
+      Registry().lock_files.push_back(lock_path_);
+    }
+  } catch (const OutputError& e) {
+    BadOut(given, std::string("cannot be written: ") + e.what());
+  }
   for (int attempt = 0;; ++attempt) {
     std::string name = final_dir_.filename().string();
     name.insert(0, 1, '.');
@@ -122,6 +224,7 @@ OutputDir::OutputDir(fs::path final_dir, std::vector<std::string> owned_prefixes
     staging_ = where / name;
     if (fs::create_directory(staging_, ec)) break;
     if (ec || attempt > 100) {
+      ReleaseLock(lock_path_, lock_fd_);
       BadOut(given, "cannot be written: no staging folder in '" + where.string() +
                         "': " + (ec ? ec.message() : "too many attempts"));
     }
@@ -134,6 +237,7 @@ OutputDir::~OutputDir() {
   std::vector<fs::path>& folders = Registry().folders;
   folders.erase(std::remove(folders.begin(), folders.end(), staging_), folders.end());
   RemoveStaging(staging_);
+  ReleaseLock(lock_path_, lock_fd_);
 }
 
 fs::path OutputDir::Path(const std::string& name) const {
@@ -155,6 +259,20 @@ void OutputDir::Commit() {
     // copy, invisible until the rename), so that the commit is still one rename.
     fs::create_directories(parent, ec);
     if (ec) fail("cannot create " + parent.string() + ": " + ec.message());
+    // A run that started once the parent existed locks beside --out: take that lock too.
+    if (lock_fd_ >= 0) {
+      int fd = -1;
+      long holder = 0;
+      const fs::path lock_path = LockPathBeside(final_dir_);
+      const LockResult locked = TryLock(lock_path, fd, holder);
+      if (locked == LockResult::kHeld) fail(HeldMessage(holder));
+      ReleaseLock(lock_path_, lock_fd_);
+      if (locked == LockResult::kTaken) {
+        lock_path_ = lock_path;
+        lock_fd_ = fd;
+        Registry().lock_files.push_back(lock_path_);
+      }
+    }
     const fs::path beside = parent / staging_.filename();
     fs::rename(staging_, beside, ec);
     if (ec) {
@@ -170,6 +288,7 @@ void OutputDir::Commit() {
     fs::rename(staging_, final_dir_, ec);
     if (ec) fail(ec.message());
     committed_ = true;
+    ReleaseLock(lock_path_, lock_fd_);
     FinishProgress();
     return;
   }
@@ -208,6 +327,7 @@ void OutputDir::Commit() {
   // staging_ now holds the previous results.
   committed_ = true;
   FinishProgress();
+  // Released once the folders are back (the destructor releases it if they cannot be).
   for (const fs::path& name : folders_to_move) {
     fs::rename(staging_ / name, final_dir_ / name, ec);
     if (ec) {
@@ -221,6 +341,7 @@ void OutputDir::Commit() {
                         kept.string());
     }
   }
+  ReleaseLock(lock_path_, lock_fd_);
 }
 
 void InstallInterruptCleanup(const std::string& program) {
@@ -236,6 +357,8 @@ void InstallInterruptCleanup(const std::string& program) {
     // commit starts after the clean-up.
     Registry().mutex.lock();
     for (const fs::path& folder : Registry().folders) RemoveStaging(folder);
+    // Still held: the locks go with the process.
+    for (const fs::path& file : Registry().lock_files) ::unlink(file.c_str());
     std::fprintf(stderr, "%s: interrupted by signal %d\n", program.c_str(), signal);
     std::fflush(stderr);
     std::_Exit(128 + signal);

@@ -83,10 +83,11 @@ void VisitServoKeys(KeyVisitor& v, ServoConfig& s) {
 
 // The test stand's keys (stand.*).
 void VisitStandKeys(KeyVisitor& v, StandConfig& s) {
+  // At least 10 g: a carriage of next to no mass (1e-300 kg) is a body ODE cannot integrate (its
+  // step fails an internal assertion), and no stand is built lighter than its slider.
   v.Key("load_kg", s.load_kg,
-        {.min = 0,
+        {.min = kMinStandLoadKg,
          .max = 10,
-         .min_open = true,
          .unit = "kg",
          .description = "mass the carriage carries besides the leg (a quarter of an ERS-210A); "
                         "a stand: section builds the single-leg test stand"});
@@ -171,7 +172,9 @@ namespace {
 
 // The stand's values, when it is built.
 void ValidateStand(const StandConfig& stand) {
-  RequirePositive("stand.load_kg", stand.load_kg);
+  if (!std::isfinite(stand.load_kg) || stand.load_kg < kMinStandLoadKg) {
+    Reject("stand.load_kg", "a finite number >= 0.01 kg", stand.load_kg);
+  }
   if (!std::isfinite(stand.stop_below_shoulder_mm) || stand.stop_below_shoulder_mm < 0.0) {
     Reject("stand.stop_below_shoulder_mm",
            "a finite number >= 0 (a stop at or below the shoulder's walking height)",

@@ -1,5 +1,7 @@
 // A seeded random mutator over the three readers of user files: the config loader (YAML,
-// extends:, --set), the desired-motion CSV reader and the URDF loader. Each execution mutates
+// extends:, --set), the desired-motion CSV reader and the URDF loader; and over the robot files
+// as far as the plant they build: the shipped leg.urdf and robot.yaml mutated in their
+// structure and numbers, loaded, built into the simulated plant and ticked. Each execution mutates
 // a seed input (the shipped files and a few hostile ones) and feeds it to the reader; the
 // contract is that the reader either accepts it with every number it returns finite, or
 // throws one of the bad-input exceptions the programs turn into exit status 2 (InputError,
@@ -13,15 +15,18 @@
 // the same inputs every run). Each test prints its executions and findings.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "leglab/core/plant.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/robot.h"
@@ -138,6 +143,8 @@ struct Runner {
   // Reads `file`; returns normally when accepted (after checking its numbers are finite),
   // throws when refused.
   std::function<void()> read;
+  // When set, makes each input from a seed instead of the byte mutator (same generator seed).
+  std::function<std::string(const std::string&, std::uint64_t)> mutate = nullptr;
 };
 
 // Runs the replayed regressions, then LEGLAB_FUZZ_EXECUTIONS mutated inputs; returns findings.
@@ -158,11 +165,16 @@ void Fuzz(Runner& runner) {
     }
   }
   const size_t replayed = inputs.size();
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
   long accepted = 0, refused = 0, found = 0;
   for (long i = 0; i < executions + static_cast<long>(replayed); ++i) {
     const std::string input =
-        i < static_cast<long>(replayed)
-            ? inputs[i]
+        i < static_cast<long>(replayed) ? inputs[i]
+        : runner.mutate
+            ? runner.mutate(
+                  runner.seeds[mutator.Pick(0, static_cast<int>(runner.seeds.size()) - 1)],
+                  static_cast<std::uint64_t>(i))
             : mutator.Mutate(
                   runner.seeds[mutator.Pick(0, static_cast<int>(runner.seeds.size()) - 1)]);
     WriteFile(runner.file, input);
@@ -192,10 +204,12 @@ void Fuzz(Runner& runner) {
       if (found >= 5) break;
     }
   }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf(
       "fuzz %s: %ld executions (+%zu regressions replayed), %ld accepted, %ld refused, "
-      "%ld findings\n",
-      runner.reader, executions, replayed, accepted, refused, found);
+      "%ld findings, %.0f inputs/s\n",
+      runner.reader, executions, replayed, accepted, refused, found,
+      static_cast<double>(executions + static_cast<long>(replayed)) / seconds);
 }
 
 void ExpectFinite(double v, const char* what) {
@@ -346,6 +360,261 @@ TEST_F(FuzzTest, UrdfLoader) {
       ExpectFinite(l.upper_rad, "limit");
     }
   };
+  Fuzz(runner);
+}
+
+// Structural mutations of a robot file (a URDF or a robot.yaml), drawn from a generator seeded
+// by the run's seed and the execution: a number scaled by a huge or tiny factor, its sign
+// flipped or replaced by an extreme value, an attribute, a line or an element (an XML element
+// or a YAML block) deleted or duplicated, the text cut short.
+class StructureMutator {
+ public:
+  StructureMutator(std::uint64_t seed, std::uint64_t execution)
+      : random_(seed * 0x9E3779B97F4A7C15ULL + execution) {}
+
+  std::string Mutate(std::string text) {
+    const int mutations = Pick(1, 3);
+    for (int m = 0; m < mutations && !text.empty(); ++m) {
+      switch (Pick(0, 9)) {
+        case 0:
+        case 1:
+        case 2:
+        case 3:
+          MutateNumber(text);
+          break;
+        case 4:
+          MutateAttribute(text, Pick(0, 1) == 0);
+          break;
+        case 5:
+          MutateLine(text, Pick(0, 1) == 0);
+          break;
+        case 6:
+        case 7:
+          MutateBlock(text, Pick(0, 1) == 0);
+          break;
+        case 8:
+          text.resize(Pick(0, static_cast<int>(text.size())));
+          break;
+        default:  // two numbers swapped for each other's extreme
+          MutateNumber(text);
+          MutateNumber(text);
+          break;
+      }
+    }
+    return text;
+  }
+
+ private:
+  int Pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(random_); }
+
+  // Where the numbers are: [begin, end) of each run of digits with its sign, point and exponent.
+  static std::vector<std::pair<size_t, size_t>> Numbers(const std::string& text) {
+    std::vector<std::pair<size_t, size_t>> found;
+    auto digit = [&](size_t i) {
+      return i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
+    };
+    for (size_t i = 0; i < text.size();) {
+      if (!digit(i) && !(text[i] == '.' && digit(i + 1))) {
+        ++i;
+        continue;
+      }
+      size_t begin = i;
+      if (begin > 0 && text[begin - 1] == '-') --begin;
+      while (digit(i) || text[i] == '.') ++i;
+      if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        size_t j = i + 1;
+        if (j < text.size() && (text[j] == '-' || text[j] == '+')) ++j;
+        if (digit(j)) {
+          i = j;
+          while (digit(i)) ++i;
+        }
+      }
+      found.emplace_back(begin, i);
+    }
+    return found;
+  }
+
+  void MutateNumber(std::string& text) {
+    const auto numbers = Numbers(text);
+    if (numbers.empty()) return;
+    const auto [begin, end] = numbers[Pick(0, static_cast<int>(numbers.size()) - 1)];
+    const double value = std::strtod(text.substr(begin, end - begin).c_str(), nullptr);
+    static const char* const kExtremes[] = {"nan",   "NaN",    ".nan",   "inf", "-inf", ".inf",
+                                            "1e308", "-1e308", "1e-308", "0",   "-0",   "1e400"};
+    std::string replacement;
+    char buffer[64];
+    switch (Pick(0, 3)) {
+      case 0: {  // scaled by a huge or tiny factor
+        static const double kFactors[] = {1e-300, 1e-12, 1e-6, 1e-3, 1e3, 1e6, 1e12, 1e300};
+        std::snprintf(buffer, sizeof buffer, "%.17g", value * kFactors[Pick(0, 7)]);
+        replacement = buffer;
+        break;
+      }
+      case 1:  // the sign flipped
+        std::snprintf(buffer, sizeof buffer, "%.17g", -value);
+        replacement = buffer;
+        break;
+      case 2:  // nudged (a limit pair crossed, a multiple of 8 missed)
+        std::snprintf(buffer, sizeof buffer, "%.17g", value * (1 + 0.5 * (Pick(0, 1) * 2 - 1)));
+        replacement = buffer;
+        break;
+      default:
+        replacement = kExtremes[Pick(0, 11)];
+        break;
+    }
+    text.replace(begin, end - begin, replacement);
+  }
+
+  // An XML attribute ` name="value"` deleted or written twice.
+  void MutateAttribute(std::string& text, bool remove) {
+    std::vector<size_t> quotes;  // the `="` of each attribute
+    for (size_t at = text.find("=\""); at != std::string::npos; at = text.find("=\"", at + 2)) {
+      quotes.push_back(at);
+    }
+    if (quotes.empty()) return MutateLine(text, remove);
+    const size_t equals = quotes[Pick(0, static_cast<int>(quotes.size()) - 1)];
+    const size_t begin = text.rfind(' ', equals);
+    const size_t close = text.find('"', equals + 2);
+    if (begin == std::string::npos || close == std::string::npos) return;
+    const std::string attribute = text.substr(begin, close + 1 - begin);
+    if (remove) {
+      text.erase(begin, attribute.size());
+    } else {
+      text.insert(close + 1, attribute);
+    }
+  }
+
+  // The line span [begin, end) (with its newline) of a randomly picked line.
+  std::pair<size_t, size_t> PickLine(const std::string& text) {
+    const size_t at = Pick(0, static_cast<int>(text.size()) - 1);
+    const size_t newline = text.rfind('\n', at);
+    const size_t begin = newline == std::string::npos ? 0 : newline + 1;
+    const size_t end = text.find('\n', at);
+    return {begin, end == std::string::npos ? text.size() : end + 1};
+  }
+
+  void MutateLine(std::string& text, bool remove) {
+    const auto [begin, end] = PickLine(text);
+    if (remove) {
+      text.erase(begin, end - begin);
+    } else {
+      text.insert(end, text.substr(begin, end - begin));
+    }
+  }
+
+  // An element (a `<tag` line through its `</tag>` or its `/>`) or a YAML block (a line and
+  // the more-indented lines under it) deleted or written twice.
+  void MutateBlock(std::string& text, bool remove) {
+    auto [begin, end] = PickLine(text);
+    const std::string line = text.substr(begin, end - begin);
+    const size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos) return;
+    if (line[indent] == '<' && indent + 1 < line.size() &&
+        std::isalpha(static_cast<unsigned char>(line[indent + 1])) != 0) {
+      const size_t name_end = line.find_first_of(" >/\n", indent + 1);
+      const std::string name = line.substr(indent + 1, name_end - indent - 1);
+      if (line.find("/>") == std::string::npos) {
+        const size_t close = text.find("</" + name + ">", begin);
+        if (close != std::string::npos) {
+          const size_t newline = text.find('\n', close);
+          end = newline == std::string::npos ? text.size() : newline + 1;
+        }
+      }
+    } else {
+      while (end < text.size()) {
+        const size_t next = text.find('\n', end);
+        const size_t next_end = next == std::string::npos ? text.size() : next + 1;
+        const size_t next_indent = text.find_first_not_of(' ', end);
+        if (next_indent >= next_end - 1 || next_indent - end <= indent) break;
+        end = next_end;
+      }
+    }
+    if (remove) {
+      text.erase(begin, end - begin);
+    } else {
+      text.insert(end, text.substr(begin, end - begin));
+    }
+  }
+
+  std::mt19937_64 random_;
+};
+
+// `text` without its XML comments: the mutations then fall on the content.
+std::string WithoutXmlComments(std::string text) {
+  for (size_t at = text.find("<!--"); at != std::string::npos; at = text.find("<!--", at)) {
+    const size_t end = text.find("-->", at);
+    text.erase(at, end == std::string::npos ? std::string::npos : end + 3 - at);
+  }
+  return text;
+}
+
+// `text` without its YAML comment lines.
+std::string WithoutYamlComments(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    const size_t first = line.find_first_not_of(' ');
+    if (first != std::string::npos && line[first] != '#') out += line + "\n";
+  }
+  return out;
+}
+
+// The experiment `config_path` names, loaded with its robot, built into a plant and ticked a few
+// times towards a pose away from rest: every reading finite, or a bad-input exception.
+void LoadBuildAndTick(const fs::path& config_path) {
+  const ExperimentConfig config = LoadExperimentConfig(config_path.string());
+  const Robot robot = LoadRobot(config.sim.urdf_path);
+  const std::unique_ptr<Plant> plant = MakePlant(config, robot);
+  for (int tick = 0; tick < 4; ++tick) {
+    const PlantReading& r = plant->Tick(LegAngles{30, 20, 60});
+    for (int j = 0; j < kLegJoints; ++j) {
+      ExpectFinite(r.measured_deg[j], "measured angle");
+      ExpectFinite(r.true_deg[j], "true angle");
+    }
+  }
+}
+
+std::function<std::string(const std::string&, std::uint64_t)> StructureMutations() {
+  return [](const std::string& seed, std::uint64_t execution) {
+    return StructureMutator(static_cast<std::uint64_t>(EnvLong("LEGLAB_FUZZ_SEED", 1)), execution)
+        .Mutate(seed);
+  };
+}
+
+// The shipped robot.yaml with its URDF beside it, and an experiment naming it by path.
+void WriteRobotFiles(const fs::path& dir) {
+  fs::copy_file(kSource / "robots/ers210a/leg.urdf", dir / "leg.urdf");
+  fs::copy_file(kSource / "robots/ers210a/robot.yaml", dir / "robot.yaml");
+  WriteFile(dir / "exp.yaml", "robot: " + (dir / "robot.yaml").string() + "\n");
+}
+
+// The shipped leg's URDF mutated in its structure and numbers (plant_urdf_* regressions), then
+// read as a robot and built into the simulated plant, which runs a few ticks.
+TEST_F(FuzzTest, UrdfToPlant) {
+  WriteRobotFiles(dir_);
+  Runner runner{"plant_urdf",
+                {WithoutXmlComments(ReadFile(kSource / "robots/ers210a/leg.urdf"))},
+                {},
+                dir_ / "leg.urdf",
+                [&] { LoadBuildAndTick(dir_ / "exp.yaml"); },
+                StructureMutations()};
+  Fuzz(runner);
+}
+
+// The shipped robot.yaml (in the air, and on the stand) mutated in its structure and numbers
+// (plant_robot_* regressions), loaded through an experiment that names it by path, then built
+// into the plant it describes, which runs a few ticks.
+TEST_F(FuzzTest, RobotYamlToPlant) {
+  WriteRobotFiles(dir_);
+  const std::string air = WithoutYamlComments(ReadFile(kSource / "robots/ers210a/robot.yaml"));
+  std::string stand = WithoutYamlComments(ReadFile(kSource / "robots/ers210a_stand/robot.yaml"));
+  stand = stand.substr(stand.find("stand:"));
+  Runner runner{"plant_robot",
+                {air, air + stand},
+                {},
+                dir_ / "robot.yaml",
+                [&] { LoadBuildAndTick(dir_ / "exp.yaml"); },
+                StructureMutations()};
   Fuzz(runner);
 }
 

@@ -4,9 +4,14 @@
 
 #include "leglab/experiments/config.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace leglab::experiments {
 namespace {
@@ -114,6 +119,95 @@ TEST(OutputDir, OutProblemsAreBadInput) {
   EXPECT_THROW(OutputDir(root / "file" / "out", {}), InputError);
   EXPECT_THROW(OutputDir(root / "out", {"table2."}), InputError);
   EXPECT_NO_THROW(OutputDir(root / "out", {"trace_"}));
+  fs::remove_all(root);
+}
+
+// What constructing an OutputDir on `out` throws as InputError ("" if it does not).
+std::string Refusal(const fs::path& out) {
+  try {
+    OutputDir dir(out, {"a."});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The names in `folder`.
+std::vector<std::string> Names(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(folder)) names.push_back(e.path().filename());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// One run at a time per --out: a second OutputDir on the same folder is refused, naming --out and
+// this process, while the first lives and has not committed; a folder beside it is not locked.
+TEST(OutputDir, ASecondRunIntoTheSameOutIsRefusedUntilTheFirstCommits) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_lock";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const fs::path out = root / "out";
+  const std::string expected = "--out '" + out.string() +
+                               "' is being written by another run (process " +
+                               std::to_string(::getpid()) + ")";
+  {
+    OutputDir first(out, {"a."});
+    std::ofstream(first.Path("a.txt")) << "first";
+    EXPECT_EQ(Refusal(out).rfind(expected, 0), 0U) << Refusal(out);
+    // The same folder by another path: refused, named as given.
+    EXPECT_EQ(Refusal(root / "." / "out")
+                  .rfind("--out '" + (root / "." / "out").string() + "' is being written", 0),
+              0U);
+    EXPECT_EQ(Refusal(root / "other"), "");
+    first.Commit();
+    EXPECT_EQ(Refusal(out), "");  // committed: free while `first` still exists
+  }
+  {
+    OutputDir first(out, {"a."});
+    EXPECT_NE(Refusal(out), "");
+  }  // destroyed without a commit: free again
+  {
+    OutputDir second(out, {"a."});
+    std::ofstream(second.Path("a.txt")) << "second";
+    second.Commit();
+  }
+  EXPECT_EQ(Read(out / "a.txt"), "second");
+  EXPECT_EQ(Names(root), std::vector<std::string>{"out"});  // no lock file left beside --out
+  // The lock file of a killed run (nobody holds it): taken over, then removed.
+  std::ofstream(root / ".out.lock") << "999999\n";
+  EXPECT_EQ(Refusal(out), "");
+  EXPECT_EQ(Names(root), std::vector<std::string>{"out"});
+  fs::remove_all(root);
+}
+
+// With no parent folder yet the lock is in the temporary folder; a run that starts once the
+// parent exists locks beside --out, and then the earlier run's commit is refused, not a silent
+// overwrite.
+TEST(OutputDir, ARunWithoutAParentFolderYetIsLockedToo) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_lock_nested";
+  fs::remove_all(root);
+  const fs::path out = root / "a" / "out";
+  {
+    OutputDir early(out, {"a."});
+    EXPECT_NE(Refusal(out).find("is being written by another run"), std::string::npos);
+    std::ofstream(early.Path("a.txt")) << "early";
+    fs::create_directories(root / "a");
+    OutputDir late(out, {"a."});
+    std::ofstream(late.Path("a.txt")) << "late";
+    EXPECT_THROW(early.Commit(), OutputError);
+    late.Commit();
+  }
+  EXPECT_EQ(Read(out / "a.txt"), "late");
+  EXPECT_EQ(Names(root / "a"), std::vector<std::string>{"out"});
+  fs::remove_all(root);
+  {
+    OutputDir only(out, {"a."});
+    std::ofstream(only.Path("a.txt")) << "only";
+    only.Commit();
+    EXPECT_EQ(Refusal(out), "");
+  }
+  EXPECT_EQ(Read(out / "a.txt"), "only");
+  EXPECT_EQ(Names(root / "a"), std::vector<std::string>{"out"});
   fs::remove_all(root);
 }
 

@@ -19,6 +19,8 @@
 #include <tuple>
 #include <vector>
 
+#include "leglab/experiments/output.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -216,7 +218,11 @@ TEST_F(ProgramsTest, BadStandValuesAreBadInput) {
       "theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set steps=1 --set warmup_steps=0";
   for (const std::string& program : {kIdentify, kTrack}) {
     const std::string& good = program == kIdentify ? id : track;
-    ExpectBadInput(program, good + " --set stand.load_kg=-0.1", "stand.load_kg must be in (0, 10]");
+    ExpectBadInput(program, good + " --set stand.load_kg=-0.1",
+                   "stand.load_kg must be in [0.01, 10] kg");
+    // Next to no mass: refused as bad input, not an ODE assertion in the run (exit 1).
+    ExpectBadInput(program, good + " --set stand.load_kg=1e-300",
+                   "stand.load_kg must be in [0.01, 10] kg");
     ExpectBadInput(program, good + " --set stand.friction=-0.5",
                    "stand.friction must be in [0, 5]");
     ExpectBadInput(program, good + " --set stand.stop_below_shoulder_mm=-3",
@@ -629,6 +635,36 @@ TEST_F(ProgramsTest, ACommitReplacesTheOldResultsWhole) {
   EXPECT_TRUE(fs::exists(out_ / "table1.json"));
   EXPECT_TRUE(fs::exists(out_ / "fig1.png"));
   EXPECT_TRUE(fs::exists(out_ / "hind" / "x.csv"));
+  EXPECT_EQ(EntriesStartingWith(dir_, ".out"), std::vector<std::string>{});
+}
+
+// Two runs into one --out: while another run holds it (here this test, through an OutputDir),
+// a program refuses at once with status 2 and one line naming --out and the holder, and writes
+// nothing; the folder then holds the first run's result only. Once that run has committed, the
+// program runs.
+TEST_F(ProgramsTest, ASecondRunIntoTheSameOutIsRefused) {
+  const std::string track =
+      kTrack +
+      " --config experiments/configs/controller_direct.yaml --set plant=model --set "
+      "'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}' --set "
+      "steps=100 --out '" +
+      out_.string() + "'";
+  {
+    leglab::experiments::OutputDir first(out_, {"table2."});
+    std::ofstream(first.Path("table2.md")) << "first";
+    const Result r = RunCommand(track);
+    EXPECT_EQ(r.status, 2) << r.stderr_text;
+    EXPECT_EQ(r.stderr_text, "track: error: --out '" + out_.string() +
+                                 "' is being written by another run (process " +
+                                 std::to_string(::getpid()) +
+                                 "): wait for it to finish or choose another folder\n");
+    EXPECT_FALSE(fs::exists(out_));
+    first.Commit();
+  }
+  EXPECT_EQ(FilesUnder(out_), (std::map<std::string, std::string>{{"table2.md", "first"}}));
+  const Result r = RunCommand(track);
+  EXPECT_EQ(r.status, 0) << r.stderr_text;
+  EXPECT_NE(FilesUnder(out_).at("table2.md"), "first");
   EXPECT_EQ(EntriesStartingWith(dir_, ".out"), std::vector<std::string>{});
 }
 

@@ -222,6 +222,10 @@ TEST(StandTest, BadStandValuesNameTheKey) {
   };
   EXPECT_NE(error_of([](StandConfig& s) { s.load_kg = -0.1; }).find("stand.load_kg"),
             std::string::npos);
+  // A carriage of next to no mass: refused, not left to fail inside ODE's step.
+  EXPECT_NE(error_of([](StandConfig& s) { s.load_kg = 1e-300; }).find("stand.load_kg"),
+            std::string::npos);
+  EXPECT_EQ(error_of([](StandConfig& s) { s.load_kg = 0.01; }), "");
   EXPECT_NE(error_of([](StandConfig& s) { s.friction = -0.5; }).find("stand.friction"),
             std::string::npos);
   EXPECT_NE(error_of([](StandConfig& s) {

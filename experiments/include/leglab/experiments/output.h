@@ -22,6 +22,15 @@ class OutputError : public std::runtime_error {
 /// are created), and so does one interrupted by SIGINT, SIGTERM or SIGHUP once
 /// InstallInterruptCleanup() has run. Destroying an uncommitted OutputDir removes the staging
 /// folder.
+///
+/// One run at a time per `--out`: an OutputDir holds an advisory lock (flock) on the lock file
+/// `.<name>.lock` beside `--out` from its construction until its commit or destruction, and a
+/// second OutputDir on the same folder, in this process or another, is refused at construction.
+/// When `--out`'s parent does not exist yet the lock file is in the temporary folder instead
+/// (named after `--out`'s absolute path), and the commit, once it has created the parents,
+/// takes the one beside `--out` before it moves the results in. The lock file is removed when the
+/// lock is released (and by the interrupt clean-up), so a finished run leaves nothing beside
+/// `--out`; one left by a killed process holds no lock and is taken over.
 class OutputDir {
  public:
   /// Checks `final_dir` before anything runs and stages beside it (in its parent, or when that
@@ -31,7 +40,8 @@ class OutputDir {
   /// name, and keeps every other file and folder of `final_dir` (another program's results,
   /// the user's own files, an earlier run's outputs this one did not write).
   /// Throws InputError naming `--out` when it is empty, exists and is not a folder, holds a
-  /// folder where this program writes a file, or lies where nothing can be created.
+  /// folder where this program writes a file, lies where nothing can be created, or is being
+  /// written by another run ("--out '<out>' is being written by another run (process <pid>)").
   OutputDir(std::filesystem::path final_dir, std::vector<std::string> owned_prefixes);
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
@@ -44,7 +54,9 @@ class OutputDir {
   /// did not write are linked (or moved, for folders) into the staging folder, which then
   /// replaces `final_dir` in one rename (renameat2 RENAME_EXCHANGE; where the file system
   /// lacks it, two renames with a moment in between where `final_dir` is missing). Creates
-  /// `final_dir`'s parents if needed. Throws OutputError if it cannot.
+  /// `final_dir`'s parents if needed, and releases the lock. Throws OutputError if it cannot
+  /// (also when, staged in the temporary folder, another run took the lock beside `final_dir`
+  /// in the meantime).
   void Commit();
 
  private:
@@ -52,6 +64,9 @@ class OutputDir {
   std::vector<std::string> owned_prefixes_;
   std::filesystem::path staging_;
   bool committed_ = false;
+  // The lock file held (see the class comment) and its descriptor; -1 when none is held.
+  std::filesystem::path lock_path_;
+  int lock_fd_ = -1;
 };
 
 /// From now on SIGINT, SIGTERM and SIGHUP remove every staging folder of this process and exit

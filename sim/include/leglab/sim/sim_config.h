@@ -40,6 +40,9 @@ struct SensorConfig {
   double noise_deg = 0.1;
 };
 
+/// The lightest carriage load a stand accepts, kg: a lighter one is refused as bad input.
+inline constexpr double kMinStandLoadKg = 0.01;
+
 /// The single-leg test stand (robot.yaml `stand.*`): the leg's root link mounted on
 /// a carriage that slides on a vertical rail (an ODE slider joint), carrying its share of the
 /// body, with a lower stop on the rail and a floor under the foot. Off (`enabled` false, no
@@ -58,8 +61,9 @@ struct SensorConfig {
 struct StandConfig {
   /// The stand is built (a `stand:` section was given).
   bool enabled = false;
-  /// Mass the carriage carries besides the leg, kg (> 0): default a quarter of an ERS-210A,
-  /// which weighs about 1.5 kg with battery and memory stick (Sony's ERS-210A specifications).
+  /// Mass the carriage carries besides the leg, kg (>= kMinStandLoadKg): default a quarter of an
+  /// ERS-210A, which weighs about 1.5 kg with battery and memory stick (Sony's ERS-210A
+  /// specifications).
   double load_kg = 0.375;
   /// How far below its walking height the rail's lower stop holds the shoulder, mm (>= 0; a
   /// negative value would put the stop above the shoulder's walking height, so that the foot
