@@ -135,6 +135,48 @@ TEST_F(ProgramsTest, TrackRefusesARobotOutsideThePhysicalRanges) {
   }
 }
 
+// Expects no staging folder of out_ beside it.
+void ExpectNoStagingFolder(const fs::path& out) {
+  for (const auto& entry : fs::directory_iterator(out.parent_path())) {
+    EXPECT_NE(
+        entry.path().filename().string().rfind("." + out.filename().string() + ".staging-", 0), 0u)
+        << entry.path();
+  }
+}
+
+// Servo settings each inside its range under which the leg comes apart mid-run (a joint's
+// anchors drift apart; sim::LegSim's state check) are the user's: status 2, one line naming the
+// settings of the moment, nothing written, whatever the thread count.
+TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
+  const std::string fast = " --set servo.max_speed_deg_s=3600 --set servo.gain_per_s=1000";
+  const std::string settings =
+      "the simulation broke down under these settings (servo.max_speed_deg_s 3600, "
+      "servo.gain_per_s 1000, servo.damping 1.3, servo.smoothing_ms 48, servo.max_torque_nm 5.45, "
+      "sim.physics_dt_ms 1, stand off): joint '";
+  for (const std::string threads : {"1", "3"}) {
+    ExpectBadInput(kIdentify,
+                   "--config experiments/configs/identify.yaml --threads " + threads + fast,
+                   settings);
+    ExpectNoStagingFolder(out_);
+    ExpectBadInput(kTrack, "--config experiments/configs/track.yaml --threads " + threads + fast,
+                   settings);
+    ExpectNoStagingFolder(out_);
+  }
+  // The same line from any thread count: the lowest joint's breakdown, not the first in time.
+  const std::string identify = kIdentify + " --config experiments/configs/identify.yaml" + fast +
+                               " --out '" + out_.string() + "'";
+  EXPECT_EQ(RunCommand(identify + " --threads 1").stderr_text,
+            RunCommand(identify + " --threads 3").stderr_text);
+  // A change of the running plant that breaks it down: the message names the settings after it.
+  ExpectBadInput(
+      kTrack,
+      "--config experiments/configs/track.yaml --set servo.max_speed_deg_s=3600 "
+      "--set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, "
+      "accel_ticks: 6}' --set 'controller.modes=[direct]' --set warmup_steps=1 "
+      "--set steps=3 --set 'plant_changes=[{at_step: 1, set: {servo.gain_per_s: 1000}}]'",
+      settings);
+}
+
 TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   // A given model skips identification, so each bad input is found at once.
   const std::string good =

@@ -275,6 +275,32 @@ TEST_F(SweepTest, ABrokenRobotIsItsPointsStatus) {
   EXPECT_EQ(results(table.rows[0]), results(table.rows[2]));
 }
 
+// A point whose simulation breaks down (settings each in range, the leg coming apart mid-run)
+// is that point's status; the other points' rows are whole and their own.
+TEST_F(SweepTest, ASimulationBreakdownIsItsPointsStatus) {
+  const SweepConfig sweep =
+      LoadSweepConfig(Write("s.yaml", "base: " + kConfigs + "track.yaml\n" +
+                                          "model: {v_max_deg_per_tick: 2.5, theta0_deg: 7, "
+                                          "lag_ticks: 4, accel_ticks: 6}\n"
+                                          "controller: {modes: [direct]}\n"
+                                          "warmup_steps: 1\n"
+                                          "steps: 2\n"
+                                          "servo: {max_speed_deg_s: 3600}\n"
+                                          "grid:\n  servo.gain_per_s: [72, 1000, 72]\n"));
+  const SweepTable table = RunSweep(sweep, Shard{}, 2);
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_EQ(table.not_ok, 1);
+  EXPECT_EQ(table.rows[1].rfind("1,1000,\"the simulation broke down under these settings "
+                                "(servo.max_speed_deg_s 3600, servo.gain_per_s 1000, ",
+                                0),
+            0u)
+      << table.rows[1];
+  const auto results = [](const std::string& row) { return row.substr(row.find(",ok,")); };
+  ASSERT_NE(table.rows[0].find(",ok,"), std::string::npos) << table.rows[0];
+  ASSERT_NE(table.rows[2].find(",ok,"), std::string::npos) << table.rows[2];
+  EXPECT_EQ(results(table.rows[0]), results(table.rows[2]));
+}
+
 // The sweep program: shards written where asked, merged into sweep.csv byte for byte; missing
 // shards named with the command that reruns them.
 TEST_F(SweepTest, TheProgramShardsAndMerges) {
