@@ -327,6 +327,7 @@ void ResolvePlant(ExperimentConfig& config) {
   urdf = urdf_path.string();
   try {
     sim::ValidateSimConfig(config.sim);
+    sim::CheckTurnPerPhysicsStep(config.sim);
   } catch (const std::invalid_argument& e) {
     FailConfig(e.what());
   }
@@ -393,7 +394,8 @@ std::vector<PlantSetting> ReadChangeSettings(const YAML::Node& set, const std::s
 }
 
 // Changes of the running plant: each checked against the plant the earlier ones left, with the
-// plant's own rules (sim::ValidateSimConfig, the model plant's SetPlantModelSetting).
+// plant's own rules (sim::ValidateSimConfig and CheckTurnPerPhysicsStep, the model plant's
+// SetPlantModelSetting).
 void ReadPlantChanges(const YAML::Node& list, ExperimentConfig& config) {
   if (list.IsDefined() && !list.IsNull() && !list.IsSequence()) {
     FailConfig("plant_changes must be a list of {at_step: N, set: {key: value, ...}}");
@@ -588,6 +590,7 @@ ExperimentConfig ConfigAfterChanges(const ExperimentConfig& config, size_t count
       } else {
         sim::SetSimSetting(after.sim, setting.key, setting.value);
         sim::ValidateSimConfig(after.sim);
+        sim::CheckTurnPerPhysicsStep(after.sim);
       }
     }
   }

@@ -55,7 +55,14 @@ class SimPlant final : public Plant {
   const PlantReading& Read() const override { return sim_.Read(); }
   std::string_view name() const override { return sim_.name(); }
 
+  // The config's bound on the top speed holds for changes made through the Plant interface
+  // too (the loader checks plant_changes; a Python controller's changes come here).
   void ChangeSettings(std::span<const PlantSetting> settings) override {
+    sim::SimConfig changed = sim_.config();
+    for (const PlantSetting& setting : settings) {
+      sim::SetSimSetting(changed, setting.key, setting.value);
+    }
+    sim::CheckTurnPerPhysicsStep(changed);
     sim_.ChangeSettings(settings);
   }
 
