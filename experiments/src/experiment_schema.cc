@@ -163,7 +163,7 @@ void VisitKeys(KeyVisitor& v, TrackConfig& t) {
     v.Key("csv", t.desired_csv,
           {.description = "a cycle of joint angles to follow instead of the locus "
                           "(tick,rotator_deg,abductor_deg,knee_deg; relative to the config file "
-                          "when not found from the working directory)"});
+                          "when not found from the working directory; at most 1 MiB)"});
     v.Section("locus", [&] { VisitKeys(v, t.locus); });
   });
   v.Section("track", [&] {
@@ -324,6 +324,7 @@ void ResolvePlant(ExperimentConfig& config) {
                                  ? fs::path(urdf)
                                  : fs::path(config.robot_yaml).parent_path() / urdf;
   if (!IsRegularFile(urdf_path)) FailConfig("urdf: '" + urdf_path.string() + "' does not exist");
+  CheckFileSize(urdf_path.string(), kMaxConfigFileBytes, "config: urdf");
   urdf = urdf_path.string();
   try {
     sim::ValidateSimConfig(config.sim);

@@ -227,6 +227,35 @@ TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
                  "servo.gain_per_s 1000, ");
 }
 
+// Files over their size limits (4 MiB for configs, sweep files and URDFs, 1 MiB for a
+// desired.csv) are refused before they are read: sparse files, so the test writes nothing.
+TEST_F(ProgramsTest, FilesOverTheirSizeLimitsAreRefusedUnread) {
+  const auto sparse = [this](const std::string& name, const std::string& start,
+                             std::uintmax_t bytes) {
+    std::string path = Write(name, start);
+    fs::resize_file(path, bytes);
+    return path;
+  };
+  const std::uintmax_t mib = 1 << 20;
+  ExpectBadInput(kTrack, "--config " + sparse("big.yaml", "steps: 1\n", 4 * mib + 1),
+                 "big.yaml' is 4194305 bytes, over the 4194304-byte limit");
+  std::ifstream in(LEGLAB_SOURCE_DIR "/robots/ers210a/leg.urdf");
+  const std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ExpectBadInput(kIdentify,
+                 "--config experiments/configs/identify.yaml --set urdf=" +
+                     sparse("big.urdf", urdf, 4 * mib + 1),
+                 "big.urdf' is 4194305 bytes, over the 4194304-byte limit");
+  const std::string track = "--config experiments/configs/track.yaml --set desired.csv=";
+  ExpectBadInput(kTrack, track + sparse("big.csv", DesiredCsv(88), mib + 1),
+                 "desired.csv '" + (dir_ / "big.csv").string() +
+                     "' is 1048577 bytes, over the 1048576-byte limit");
+  // At the limit a file is read: its own content decides (here the NUL bytes padding it).
+  const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + track +
+                              sparse("limit.csv", DesiredCsv(88), mib));
+  EXPECT_EQ(r.status, 2) << r.stderr_text;
+  EXPECT_EQ(r.stderr_text.find("-byte limit"), std::string::npos) << r.stderr_text;
+}
+
 TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   // A given model skips identification, so each bad input is found at once.
   const std::string good =
