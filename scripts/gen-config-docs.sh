@@ -39,7 +39,9 @@ list key's range holds for each element; a `plant_changes[i].set` value has the 
 key it sets. The run's size is checked too: (`warmup_steps` + `steps`) x `track.t_step_ticks`
 at most 10^8 ticks per run, the whole program at most 2 x 10^9 ticks (every mode, every
 searched time shift, the step tests), and an identification's (l, a) candidates x recorded
-ticks x step heights at most 10^6.
+ticks x step heights at most 10^6. So are the files' sizes, before any is read: a config,
+robot or sweep file and a URDF at most 4 MiB, a `desired.csv` at most 1 MiB (its 1000 rows at
+most, of up to about 1 KiB each); a larger one is one line naming it, its size and the limit.
 
 ## Experiment keys
 

@@ -163,7 +163,7 @@ void VisitKeys(KeyVisitor& v, TrackConfig& t) {
     v.Key("csv", t.desired_csv,
           {.description = "a cycle of joint angles to follow instead of the locus "
                           "(tick,rotator_deg,abductor_deg,knee_deg; relative to the config file "
-                          "when not found from the working directory)"});
+                          "when not found from the working directory; at most 1 MiB)"});
     v.Section("locus", [&] { VisitKeys(v, t.locus); });
   });
   v.Section("track", [&] {
@@ -324,9 +324,11 @@ void ResolvePlant(ExperimentConfig& config) {
                                  ? fs::path(urdf)
                                  : fs::path(config.robot_yaml).parent_path() / urdf;
   if (!IsRegularFile(urdf_path)) FailConfig("urdf: '" + urdf_path.string() + "' does not exist");
+  CheckFileSize(urdf_path.string(), kMaxConfigFileBytes, "config: urdf");
   urdf = urdf_path.string();
   try {
     sim::ValidateSimConfig(config.sim);
+    sim::CheckTurnPerPhysicsStep(config.sim);
   } catch (const std::invalid_argument& e) {
     FailConfig(e.what());
   }
@@ -393,7 +395,8 @@ std::vector<PlantSetting> ReadChangeSettings(const YAML::Node& set, const std::s
 }
 
 // Changes of the running plant: each checked against the plant the earlier ones left, with the
-// plant's own rules (sim::ValidateSimConfig, the model plant's SetPlantModelSetting).
+// plant's own rules (sim::ValidateSimConfig and CheckTurnPerPhysicsStep, the model plant's
+// SetPlantModelSetting).
 void ReadPlantChanges(const YAML::Node& list, ExperimentConfig& config) {
   if (list.IsDefined() && !list.IsNull() && !list.IsSequence()) {
     FailConfig("plant_changes must be a list of {at_step: N, set: {key: value, ...}}");
@@ -588,6 +591,7 @@ ExperimentConfig ConfigAfterChanges(const ExperimentConfig& config, size_t count
       } else {
         sim::SetSimSetting(after.sim, setting.key, setting.value);
         sim::ValidateSimConfig(after.sim);
+        sim::CheckTurnPerPhysicsStep(after.sim);
       }
     }
   }

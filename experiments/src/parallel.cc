@@ -18,14 +18,19 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
   const int workers = std::max(1, std::min(ThreadCount(threads), n));
   std::atomic<int> next{0};
   std::exception_ptr error;
+  int error_index = n;
   std::mutex error_mutex;
   auto work = [&] {
     for (int i; (i = next++) < n;) {
       try {
         fn(i);
       } catch (...) {
+        // The lowest i's, not the first in time: the error does not depend on the schedule.
         const std::lock_guard lock(error_mutex);
-        if (!error) error = std::current_exception();
+        if (i < error_index) {
+          error = std::current_exception();
+          error_index = i;
+        }
       }
     }
   };

@@ -19,6 +19,59 @@
 
 namespace leglab::experiments {
 
+namespace {
+
+// The settings a breakdown of the simulation hangs on, named as in robot.yaml.
+std::string BreakdownSettings(const sim::SimConfig& sim) {
+  const auto text = [](double v) { return FormatNumber(v, NumberStyle::kReadable); };
+  const sim::ServoConfig& servo = sim.servo;
+  std::string settings = "servo.max_speed_deg_s " + text(servo.max_speed_deg_s) +
+                         ", servo.gain_per_s " + text(servo.gain_per_s) + ", servo.damping " +
+                         text(servo.damping) + ", servo.smoothing_ms " + text(servo.smoothing_ms) +
+                         ", servo.max_torque_nm " + text(servo.max_torque_nm) +
+                         ", sim.physics_dt_ms " + text(sim.physics_dt_ms);
+  return settings + (sim.stand.enabled ? ", stand on, stand.load_kg " + text(sim.stand.load_kg)
+                                       : ", stand off");
+}
+
+// The simulated leg as the experiments drive it: a breakdown that its ranges let through is
+// the settings' (bad input, SimBreakdownError naming them), not a bug of the program.
+class SimPlant final : public Plant {
+ public:
+  explicit SimPlant(const sim::SimConfig& config) : sim_(config) {}
+
+  void Reset(const LegAngles& pose_deg) override { sim_.Reset(pose_deg); }
+
+  const PlantReading& Tick(const LegAngles& request_deg) override {
+    try {
+      return sim_.Tick(request_deg);
+    } catch (const sim::SimError& e) {
+      throw SimBreakdownError("the simulation broke down under these settings (" +
+                              BreakdownSettings(sim_.config()) + "): " + e.problem() + " (tick " +
+                              std::to_string(e.tick()) + " of its run)");
+    }
+  }
+
+  const PlantReading& Read() const override { return sim_.Read(); }
+  std::string_view name() const override { return sim_.name(); }
+
+  // The config's bound on the top speed holds for changes made through the Plant interface
+  // too (the loader checks plant_changes; a Python controller's changes come here).
+  void ChangeSettings(std::span<const PlantSetting> settings) override {
+    sim::SimConfig changed = sim_.config();
+    for (const PlantSetting& setting : settings) {
+      sim::SetSimSetting(changed, setting.key, setting.value);
+    }
+    sim::CheckTurnPerPhysicsStep(changed);
+    sim_.ChangeSettings(settings);
+  }
+
+ private:
+  sim::LegSim sim_;
+};
+
+}  // namespace
+
 std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& robot) {
   if (config.plant == PlantKind::kModel) {
     std::array<JointModelParams, kLegJoints> models;
@@ -26,9 +79,7 @@ std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& ro
     return std::make_unique<JointModelPlant>(models, robot.geometry.limits);
   }
   try {
-    return std::make_unique<sim::LegSim>(config.sim);
-  } catch (const sim::SimError&) {
-    throw;
+    return std::make_unique<SimPlant>(config.sim);
   } catch (const std::exception& e) {
     throw InputError(std::string("robot: ") + e.what());
   }

@@ -92,6 +92,7 @@ std::string DesiredCsvHeader() {
 
 DesiredCycle ReadDesiredCsv(const std::string& path, int period,
                             const std::array<JointLimits, kLegJoints>& limits) {
+  CheckFileSize(path, kMaxDesiredCsvBytes, "desired.csv");
   std::ifstream in(path);
   if (!in) throw InputError("desired.csv: cannot read '" + path + "'");
   const Fail fail = [&](const std::string& what) {

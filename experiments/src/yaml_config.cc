@@ -113,6 +113,14 @@ void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
   CheckNoDuplicateKeys(node, where, prefix, budget, 0);
 }
 
+void CheckFileSize(const std::string& path, std::uintmax_t limit_bytes, const std::string& what) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec || size <= limit_bytes) return;
+  throw InputError(what + " '" + path + "' is " + std::to_string(size) + " bytes, over the " +
+                   std::to_string(limit_bytes) + "-byte limit");
+}
+
 YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
   if (!IsRegularFile(path)) {
     std::error_code ec;
@@ -120,6 +128,7 @@ YAML::Node LoadYamlFile(const fs::path& path, const std::string& what) {
     FailConfig(what + " '" + path.string() + "' " +
                (folder ? "is a folder, not a file" : "does not exist"));
   }
+  CheckFileSize(path.string(), kMaxConfigFileBytes, "config: " + what);
   try {
     YAML::Node node = YAML::LoadFile(path.string());
     if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);

@@ -23,6 +23,13 @@ JointServo MakeServo(const SimConfig& config, const LegWorld& world, int joint) 
 
 }  // namespace
 
+SimError::SimError(long tick, std::string problem)
+    : std::runtime_error(
+          "leglab::sim: the simulation broke down during control tick " + std::to_string(tick) +
+          " (t = " + std::to_string(static_cast<double>(tick) * kTickMs) + " ms): " + problem),
+      tick_(tick),
+      problem_(std::move(problem)) {}
+
 LegSim::LegSim(const SimConfig& config)
     : config_(Validated(config)),
       world_(config_.urdf_path, config_.stand),
@@ -84,9 +91,7 @@ void LegSim::Tick() {
     for (int i = 0; i < 3; ++i) tick_force_n_[i] = force_sum[i] / steps_per_tick_;
   }
   if (std::string problem = world_.StateProblem(); !problem.empty()) {
-    throw SimError(
-        "leglab::sim: the simulation broke down during control tick " + std::to_string(tick_) +
-        " (t = " + std::to_string(static_cast<double>(tick_) * kTickMs) + " ms): " + problem);
+    throw SimError(tick_, std::move(problem));
   }
   ++tick_;
   SampleReading();

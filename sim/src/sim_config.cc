@@ -54,7 +54,9 @@ void VisitServoKeys(KeyVisitor& v, ServoConfig& s) {
         {.min = 30,
          .max = 3600,
          .unit = "deg/s",
-         .description = "top joint speed, from 0.24 deg a tick to 10 turns a second"});
+         .description = "top joint speed, from 0.24 deg a tick to 10 turns a second; at "
+                        "most 2000 / sim.physics_dt_ms (a joint turns at most 2 deg a physics "
+                        "step, or the simulated leg comes apart)"});
   v.Key("gain_per_s", s.gain_per_s,
         {.min = 1,
          .max = 1000,
@@ -145,10 +147,12 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
   v.Section("sim", [&] {
     v.Key("physics_dt_ms", config.physics_dt_ms,
           {.min = 0.1,
-           .max = 8,
+           .max = kMaxPhysicsDtMs,
            .unit = "ms",
            .description = "ODE's physics step; divides the 8 ms tick (below 0.1 ms a run takes "
-                          "minutes for nothing ODE needs)",
+                          "minutes for nothing ODE needs; above 2 ms the leg on the stand "
+                          "comes apart); servo.max_speed_deg_s x physics_dt_ms <= 2000 (a "
+                          "joint turns at most 2 deg a step)",
            .rule = DividesTick});
   });
   v.Section("servo", [&] { VisitServoKeys(v, config.servo); });
@@ -237,6 +241,22 @@ void ValidateSimConfig(const SimConfig& config) {
     Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
   }
   if (config.stand.enabled) ValidateStand(config.stand);
+}
+
+void CheckTurnPerPhysicsStep(const SimConfig& config) {
+  const ServoConfig& servo = config.servo;
+  const double dt = config.physics_dt_ms;
+  // The product, not the quotient: the boundary pairs (2000 deg/s at 1 ms) compare exactly.
+  if (servo.max_speed_deg_s * dt > 1000.0 * kMaxTurnPerPhysicsStepDeg) {
+    throw std::invalid_argument(
+        "servo.max_speed_deg_s " + FormatNumber(servo.max_speed_deg_s) +
+        " with sim.physics_dt_ms " + FormatNumber(dt) + " turns a joint " +
+        FormatNumber(servo.max_speed_deg_s * dt / 1000.0) + " deg in one physics step; at most " +
+        FormatNumber(kMaxTurnPerPhysicsStepDeg) +
+        " deg holds the simulated leg together: servo.max_speed_deg_s x sim.physics_dt_ms must "
+        "be at most " +
+        FormatNumber(1000.0 * kMaxTurnPerPhysicsStepDeg));
+  }
 }
 
 namespace {

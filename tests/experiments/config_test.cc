@@ -325,6 +325,10 @@ TEST(ConfigRanges, EveryNumericKeyHasARangeTheLoaderEnforces) {
       overrides.emplace_back("desired.locus.liftoff_ramp_ticks=40");
       overrides.emplace_back("desired.locus.height_mm=100");
     }
+    if (r.key == "servo.max_speed_deg_s") {
+      // The top of its range, 3600 deg/s, needs a physics step of at most 2000 / 3600 ms.
+      overrides.emplace_back("sim.physics_dt_ms=0.5");
+    }
     if (r.key.rfind("model.", 0) == 0) {  // model.* needs all four keys
       overrides.emplace_back(
           "model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}");

@@ -137,6 +137,127 @@ TEST_F(ProgramsTest, TrackRefusesARobotOutsideThePhysicalRanges) {
   }
 }
 
+// Expects no staging folder of out_ beside it.
+void ExpectNoStagingFolder(const fs::path& out) {
+  for (const auto& entry : fs::directory_iterator(out.parent_path())) {
+    EXPECT_NE(
+        entry.path().filename().string().rfind("." + out.filename().string() + ".staging-", 0), 0u)
+        << entry.path();
+  }
+}
+
+// The ERS-210A's leg with a shin reaching 0.5 m instead of 66 mm (the lower leg's centre of
+// mass 0.3 m below the knee): every value inside its range.
+std::string LongShinUrdf() {
+  std::ifstream in(LEGLAB_SOURCE_DIR "/robots/ers210a/leg.urdf");
+  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto replace = [&urdf](const std::string& from, const std::string& to) {
+    const size_t at = urdf.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) urdf.replace(at, from.size(), to);
+  };
+  replace(R"(<origin xyz="-0.011001 0 -0.038457")", R"(<origin xyz="-0.011001 0 -0.3")");
+  replace(R"(<origin xyz="-0.01888 0 -0.066")", R"(<origin xyz="-0.01888 0 -0.5")");
+  return urdf;
+}
+
+// A top speed the physics step cannot follow (3.6 deg a step at 1 ms) is refused at load,
+// naming both keys: status 2, one line, nothing written.
+TEST_F(ProgramsTest, ATopSpeedThePhysicsStepCannotFollowIsRefused) {
+  const std::string fast = " --set servo.max_speed_deg_s=3600 --set servo.gain_per_s=1000";
+  const std::string needle =
+      "servo.max_speed_deg_s 3600 with sim.physics_dt_ms 1 turns a joint 3.6 deg in one physics "
+      "step";
+  ExpectBadInput(kIdentify, "--config experiments/configs/identify.yaml" + fast, needle);
+  ExpectNoStagingFolder(out_);
+  ExpectBadInput(kTrack, "--config experiments/configs/track.yaml" + fast, needle);
+  ExpectNoStagingFolder(out_);
+  // A change of the running plant to that speed is refused at load too.
+  ExpectBadInput(kTrack,
+                 "--config experiments/configs/track.yaml --set 'plant_changes=[{at_step: 1, "
+                 "set: {servo.max_speed_deg_s: 3600}}]'",
+                 "plant_changes[0].set.servo.max_speed_deg_s 3600 with sim.physics_dt_ms 1 turns "
+                 "a joint 3.6 deg");
+  // The same speed at a finer step is accepted (a short run).
+  const Result r = RunCommand(kIdentify + " --config experiments/configs/identify.yaml" + fast +
+                              " --set sim.physics_dt_ms=0.5 --set identify.settle_cycles=1 "
+                              "--set identify.record_cycles=1 --out '" +
+                              out_.string() + "'");
+  EXPECT_EQ(r.stderr_text.find("physics step"), std::string::npos) << r.stderr_text;
+}
+
+// Settings each inside its range under which the leg still comes apart mid-run (a long shin:
+// the hinge's drift grows with the reach) are the user's: status 2, one line naming the
+// settings of the moment, nothing written, the same line whatever the thread count.
+TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
+  // Joint angles to walk (the long shin reaches no foot locus), and the identification's step
+  // tests, which break it down at a high gain.
+  const std::string robot = " --set urdf=" + Write("long_shin.urdf", LongShinUrdf()) +
+                            " --set servo.max_speed_deg_s=1000 --set servo.gain_per_s=1000";
+  const std::string track = "--config experiments/configs/track.yaml --set desired.csv=" +
+                            Write("wave.csv", DesiredCsv(88)) + robot;
+  const std::string settings =
+      "the simulation broke down under these settings (servo.max_speed_deg_s 1000, "
+      "servo.gain_per_s 1000, servo.damping 1.3, servo.smoothing_ms 48, servo.max_torque_nm 5.45, "
+      "sim.physics_dt_ms 1, stand off): joint '";
+  for (const std::string threads : {"1", "3"}) {
+    ExpectBadInput(kIdentify,
+                   "--config experiments/configs/identify.yaml --threads " + threads + robot,
+                   settings);
+    ExpectNoStagingFolder(out_);
+    ExpectBadInput(kTrack, track + " --threads " + threads, settings);
+    ExpectNoStagingFolder(out_);
+  }
+  // The same line from any thread count: the lowest joint's breakdown, not the first in time.
+  const std::string identify = kIdentify + " --config experiments/configs/identify.yaml" + robot +
+                               " --out '" + out_.string() + "'";
+  EXPECT_EQ(RunCommand(identify + " --threads 1").stderr_text,
+            RunCommand(identify + " --threads 3").stderr_text);
+  // The walk alone (a given model) holds together at 1000 deg/s; a change of the running plant
+  // to 2000 deg/s (2 deg a physics step, in range) breaks it down, and the line names the
+  // settings after the change.
+  const std::string walk = track +
+                           " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, "
+                           "accel_ticks: 6}' --set 'controller.modes=[direct]' --set "
+                           "warmup_steps=1 --set steps=3";
+  const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + walk);
+  EXPECT_EQ(r.status, 0) << r.stderr_text;
+  fs::remove_all(out_);
+  ExpectBadInput(kTrack,
+                 walk + " --set 'plant_changes=[{at_step: 1, set: {servo.max_speed_deg_s: 2000}}]'",
+                 "the simulation broke down under these settings (servo.max_speed_deg_s 2000, "
+                 "servo.gain_per_s 1000, ");
+}
+
+// Files over their size limits (4 MiB for configs, sweep files and URDFs, 1 MiB for a
+// desired.csv) are refused before they are read: sparse files, so the test writes nothing.
+TEST_F(ProgramsTest, FilesOverTheirSizeLimitsAreRefusedUnread) {
+  const auto sparse = [this](const std::string& name, const std::string& start,
+                             std::uintmax_t bytes) {
+    std::string path = Write(name, start);
+    fs::resize_file(path, bytes);
+    return path;
+  };
+  const std::uintmax_t mib = 1 << 20;
+  ExpectBadInput(kTrack, "--config " + sparse("big.yaml", "steps: 1\n", 4 * mib + 1),
+                 "big.yaml' is 4194305 bytes, over the 4194304-byte limit");
+  std::ifstream in(LEGLAB_SOURCE_DIR "/robots/ers210a/leg.urdf");
+  const std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ExpectBadInput(kIdentify,
+                 "--config experiments/configs/identify.yaml --set urdf=" +
+                     sparse("big.urdf", urdf, 4 * mib + 1),
+                 "big.urdf' is 4194305 bytes, over the 4194304-byte limit");
+  const std::string track = "--config experiments/configs/track.yaml --set desired.csv=";
+  ExpectBadInput(kTrack, track + sparse("big.csv", DesiredCsv(88), mib + 1),
+                 "desired.csv '" + (dir_ / "big.csv").string() +
+                     "' is 1048577 bytes, over the 1048576-byte limit");
+  // At the limit a file is read: its own content decides (here the NUL bytes padding it).
+  const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + track +
+                              sparse("limit.csv", DesiredCsv(88), mib));
+  EXPECT_EQ(r.status, 2) << r.stderr_text;
+  EXPECT_EQ(r.stderr_text.find("-byte limit"), std::string::npos) << r.stderr_text;
+}
+
 TEST_F(ProgramsTest, TrackRejectsBadInputWithOneLineAndStatus2) {
   // A given model skips identification, so each bad input is found at once.
   const std::string good =
@@ -253,7 +374,7 @@ TEST_F(ProgramsTest, HostileNumbersAreRefusedNamingTheKey) {
       {kIdentify, id + " --set 'identify.theta_test_deg=[1e300]'",
        "identify.theta_test_deg must be in [-180, 180] deg"},
       // row 4: nonsense tables
-      {kIdentify, id + " --set sim.physics_dt_ms=1e-300", "sim.physics_dt_ms must be in [0.1, 8]"},
+      {kIdentify, id + " --set sim.physics_dt_ms=1e-300", "sim.physics_dt_ms must be in [0.1, 2]"},
       {kIdentify, id + " --set sensor.noise_deg=1e300", "sensor.noise_deg must be in [0, 2] deg"},
       {kIdentify, id + " --set servo.max_speed_deg_s=1e-300", "servo.max_speed_deg_s must be in"},
       {kIdentify, id + " --set servo.max_torque_nm=1e-300", "servo.max_torque_nm must be in"},

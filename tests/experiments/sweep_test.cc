@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace leglab::experiments {
 namespace {
@@ -268,6 +269,53 @@ TEST_F(SweepTest, ABrokenRobotIsItsPointsStatus) {
   ASSERT_EQ(table.rows.size(), 3u);
   EXPECT_EQ(table.not_ok, 1);
   EXPECT_NE(table.rows[1].find("link 'upper_leg' mass must be in"), std::string::npos)
+      << table.rows[1];
+  const auto results = [](const std::string& row) { return row.substr(row.find(",ok,")); };
+  ASSERT_NE(table.rows[0].find(",ok,"), std::string::npos) << table.rows[0];
+  ASSERT_NE(table.rows[2].find(",ok,"), std::string::npos) << table.rows[2];
+  EXPECT_EQ(results(table.rows[0]), results(table.rows[2]));
+}
+
+// A point whose simulation breaks down (settings each in range: a leg with a shin reaching
+// 0.5 m comes apart mid-walk at 2000 deg/s) is that point's status; the other points' rows are
+// whole and their own.
+// A cycle of 88 joint-angle rows (a gentle wave inside every joint limit) for desired.csv.
+std::string WaveCsv() {
+  std::ostringstream csv;
+  csv << "tick,rotator_deg,abductor_deg,knee_deg\n";
+  for (int t = 0; t < 88; ++t) {
+    csv << t << "," << 10 + 20 * std::sin(2 * M_PI * t / 88) << ",5,"
+        << 60 + 15 * std::cos(2 * M_PI * t / 88) << "\n";
+  }
+  return csv.str();
+}
+
+TEST_F(SweepTest, ASimulationBreakdownIsItsPointsStatus) {
+  std::string urdf = ReadFile(std::string(LEGLAB_SOURCE_DIR) + "/robots/ers210a/leg.urdf");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{R"(<origin xyz="-0.011001 0 -0.038457")",
+                                            R"(<origin xyz="-0.011001 0 -0.3")"},
+        {R"(<origin xyz="-0.01888 0 -0.066")", R"(<origin xyz="-0.01888 0 -0.5")"}}) {
+    ASSERT_NE(urdf.find(from), std::string::npos) << from;
+    urdf.replace(urdf.find(from), from.size(), to);
+  }
+  const SweepConfig sweep = LoadSweepConfig(Write(
+      "s.yaml", "base: " + kConfigs + "track.yaml\n" + "urdf: " + Write("long_shin.urdf", urdf) +
+                    "\ndesired: {csv: " + Write("wave.csv", WaveCsv()) +
+                    "}\nmodel: {v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, "
+                    "accel_ticks: 6}\n"
+                    "controller: {modes: [direct]}\n"
+                    "warmup_steps: 1\n"
+                    "steps: 2\n"
+                    "servo: {gain_per_s: 1000}\n"
+                    "grid:\n  servo.max_speed_deg_s: [1000, 2000, 1000]\n"));
+  const SweepTable table = RunSweep(sweep, Shard{}, 2);
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_EQ(table.not_ok, 1);
+  EXPECT_EQ(table.rows[1].rfind("1,2000,\"the simulation broke down under these settings "
+                                "(servo.max_speed_deg_s 2000, servo.gain_per_s 1000, ",
+                                0),
+            0u)
       << table.rows[1];
   const auto results = [](const std::string& row) { return row.substr(row.find(",ok,")); };
   ASSERT_NE(table.rows[0].find(",ok,"), std::string::npos) << table.rows[0];

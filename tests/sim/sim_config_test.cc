@@ -65,6 +65,50 @@ TEST(SimConfigTest, EachBadValueNamesItsKey) {
   }
 }
 
+// A joint may turn at most 2 deg in one physics step: 2000 deg/s at 1 ms, 4000 at 0.5 ms,
+// 1000 at the coarsest step, 2 ms; just above each pair is refused naming both keys.
+std::string TurnRejectionOf(const std::function<void(SimConfig&)>& mutate) {
+  SimConfig config = ValidConfig();
+  mutate(config);
+  try {
+    CheckTurnPerPhysicsStep(config);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "accepted";
+}
+
+TEST(SimConfigTest, TopSpeedTimesPhysicsStepIsBounded) {
+  const struct {
+    double dt_ms;
+    double top_deg_s;
+  } pairs[] = {{1.0, 2000.0}, {0.5, 4000.0}, {2.0, 1000.0}, {0.1, 20000.0}};
+  for (const auto& p : pairs) {
+    EXPECT_EQ(TurnRejectionOf([&](SimConfig& c) {
+                c.physics_dt_ms = p.dt_ms;
+                c.servo.max_speed_deg_s = p.top_deg_s;
+              }),
+              "accepted")
+        << p.dt_ms;
+    const std::string message = TurnRejectionOf([&](SimConfig& c) {
+      c.physics_dt_ms = p.dt_ms;
+      c.servo.max_speed_deg_s = p.top_deg_s * 1.0001;
+    });
+    EXPECT_EQ(message.rfind("servo.max_speed_deg_s ", 0), 0u) << message;
+    EXPECT_NE(message.find(" with sim.physics_dt_ms "), std::string::npos) << message;
+    EXPECT_NE(message.find("must be at most 2000"), std::string::npos) << message;
+  }
+  EXPECT_EQ(TurnRejectionOf([](SimConfig& c) {
+              c.physics_dt_ms = 1.0;
+              c.servo.max_speed_deg_s = 2200;
+            }),
+            "servo.max_speed_deg_s 2200 with sim.physics_dt_ms 1 turns a joint 2.2 deg in one "
+            "physics step; at most 2 deg holds the simulated leg together: "
+            "servo.max_speed_deg_s x sim.physics_dt_ms must be at most 2000");
+  // ValidateSimConfig leaves it to the loader: a LegSim built directly may be driven apart.
+  EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.max_speed_deg_s = 3600; }), "accepted");
+}
+
 TEST(SimConfigTest, AcceptsEdgeValues) {
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.delay_ms = 0; }), "accepted");
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.smoothing_ms = 0; }), "accepted");

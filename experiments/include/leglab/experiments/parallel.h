@@ -9,8 +9,8 @@ int ThreadCount(int requested);
 
 /// Calls fn(i) for i = 0..n-1 on up to ThreadCount(threads) threads (the calling thread is
 /// one of them). Each i must write only its own results, so the outcome does not depend on
-/// the schedule or the thread count. The first exception thrown by any fn(i) is rethrown
-/// after every thread has stopped.
+/// the schedule or the thread count. The exception thrown by fn(i) with the lowest i that threw
+/// is rethrown after every thread has stopped (so it does not depend on the schedule either).
 void ParallelFor(int n, int threads, const std::function<void(int)>& fn);
 
 }  // namespace leglab::experiments

@@ -15,9 +15,21 @@
 
 namespace leglab::experiments {
 
+/// Bad input of one kind: settings, each inside its range, under which the simulated leg
+/// broke down during a run (sim::SimError from its state check: a link's state non-finite, a
+/// joint spinning or coming apart). The message is one line: "the simulation broke down under
+/// these settings (<servo.*, sim.physics_dt_ms and stand values>): <what broke> (tick <t> of
+/// its run)".
+class SimBreakdownError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// A fresh plant of the kind the config names (`plant: sim` or `model`), at rest at q = 0 (or
 /// the pose nearest it inside the limits). Bad robot input (a missing or malformed URDF, a
-/// bad servo value) is reported as InputError naming the file or key.
+/// bad servo value) is reported as InputError naming the file or key. The simulated leg's
+/// Tick() throws SimBreakdownError, naming its settings of the moment (after any
+/// ChangeSettings), where sim::LegSim throws sim::SimError.
 std::unique_ptr<Plant> MakePlant(const ExperimentConfig& config, const Robot& robot);
 
 /// One step-test recording of one joint (the data of the paper's figures 3 and 4).

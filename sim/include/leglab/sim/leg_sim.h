@@ -2,6 +2,7 @@
 
 #include <array>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "leglab/core/plant.h"
@@ -15,7 +16,19 @@ namespace leglab::sim {
 /// The simulation broke down (a non-finite or exploding state). The message names the tick.
 class SimError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  /// The breakdown found by the state check after control tick `tick` (counted from 0):
+  /// `problem` says what broke (e.g. "joint 'knee' came apart: ..."). what() is
+  /// "leglab::sim: the simulation broke down during control tick <tick> (t = <ms> ms): <problem>".
+  SimError(long tick, std::string problem);
+
+  /// The control tick during which the state check found the breakdown.
+  long tick() const { return tick_; }
+  /// What broke, without the tick.
+  const std::string& problem() const { return problem_; }
+
+ private:
+  long tick_;
+  std::string problem_;
 };
 
 /// The simulated plant: one ERS-210A leg held in the air (LegWorld physics), driven by servo

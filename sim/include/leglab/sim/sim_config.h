@@ -101,11 +101,24 @@ struct StandConfig {
   bool belt_follows_walk = true;
 };
 
+/// The coarsest physics step, ms: beyond it the leg on the stand breaks down even at the
+/// default servo speed (docs/design/sim-breakdown.md).
+inline constexpr double kMaxPhysicsDtMs = 2.0;
+
+/// The most a joint may turn in one physics step at the servo's top speed, deg:
+/// servo.max_speed_deg_s x sim.physics_dt_ms / 1000 must not exceed it. ODE's step moves a link
+/// along the tangent of the circle its hinge holds it on, which opens the hinge by about
+/// r theta^2 / 2 for a turn theta at reach r, and its error correction closes only a fraction
+/// of that each step: a joint comes apart once the turn per step is too large for the leg's
+/// reach. Set for the ERS-210A's leg; the derivation and the grid: docs/design/sim-breakdown.md.
+inline constexpr double kMaxTurnPerPhysicsStepDeg = 2.0;
+
 /// Everything the simulated plant needs (robot.yaml, with `urdf` resolved to a path).
 struct SimConfig {
   /// URDF of the leg, absolute or relative to the working directory.
   std::string urdf_path;
-  /// ODE physics step, ms (> 0); must divide kTickMs into a whole number of steps.
+  /// ODE physics step, ms (> 0); must divide kTickMs into a whole number of steps. The
+  /// config's range: at most kMaxPhysicsDtMs, with CheckTurnPerPhysicsStep.
   double physics_dt_ms = 1.0;
   /// Servo firmware parameters, shared by the three joints.
   ServoConfig servo{};
@@ -126,6 +139,13 @@ void VisitKeys(KeyVisitor& visitor, SimConfig& config);
 /// Throws std::invalid_argument naming the offending key as in robot.yaml (e.g.
 /// "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
 void ValidateSimConfig(const SimConfig& config);
+
+/// Checks the servo's top speed against the physics step: throws std::invalid_argument naming
+/// both keys ("servo.max_speed_deg_s 3600 with sim.physics_dt_ms 1 turns a joint 3.6 deg in
+/// one physics step; ...") when servo.max_speed_deg_s x physics_dt_ms / 1000 exceeds
+/// kMaxTurnPerPhysicsStepDeg. The config loader applies it, as it applies the keys' ranges;
+/// ValidateSimConfig does not, so that a LegSim built directly may still be driven apart.
+void CheckTurnPerPhysicsStep(const SimConfig& config);
 
 /// The settings a running LegSim can change (LegSim::ChangeSettings): the `servo.*` and
 /// `sensor.*` keys, named as in robot.yaml, in their declaration's order.
