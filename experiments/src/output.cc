@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -151,6 +152,35 @@ bool ExchangePaths(const fs::path& a, const fs::path& b) {
   return ::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0;
 }
 
+// Whether folder `path` is where a file system is mounted (its root): such a folder cannot be
+// renamed or moved, so a commit that swaps folders would leave it behind. statx says so
+// directly where the kernel reports STATX_ATTR_MOUNT_ROOT; elsewhere a device other than the
+// parent's gives it away (all but bind mounts within one file system).
+bool IsMountPoint(const fs::path& path) {
+  struct statx here {};
+  if (::statx(AT_FDCWD, path.c_str(), AT_SYMLINK_NOFOLLOW, STATX_BASIC_STATS, &here) != 0) {
+    return false;
+  }
+  if ((here.stx_attributes_mask & STATX_ATTR_MOUNT_ROOT) != 0) {
+    return (here.stx_attributes & STATX_ATTR_MOUNT_ROOT) != 0;
+  }
+  struct stat parent {};
+  if (::stat((path / "..").c_str(), &parent) != 0) return false;
+  return makedev(here.stx_dev_major, here.stx_dev_minor) != parent.st_dev;
+}
+
+// Whether `final_dir` or a folder in it is a mount point (IsMountPoint).
+bool HoldsMountPoint(const fs::path& final_dir) {
+  if (IsMountPoint(final_dir)) return true;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(final_dir, ec)) {
+    if (entry.is_directory(ec) && !entry.is_symlink(ec) && IsMountPoint(entry.path())) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 fs::path CheckOutFolder(const fs::path& out, const std::vector<std::string>& owned_prefixes) {
@@ -288,6 +318,31 @@ void OutputDir::Commit() {
     fs::rename(staging_, final_dir_, ec);
     if (ec) fail(ec.message());
     committed_ = true;
+    ReleaseLock(lock_path_, lock_fd_);
+    FinishProgress();
+    return;
+  }
+  if (HoldsMountPoint(final_dir_)) {
+    // A mount point cannot change folders: the staged files go into --out one by one instead
+    // (each whole, by rename), and nothing of --out is moved.
+    // (--out itself mounted: the staging folder beside it is on another file system, so each
+    // file is copied in under a hidden name first and renamed over its target.)
+    for (const auto& entry : fs::directory_iterator(staging_)) {
+      const std::string name = entry.path().filename().string();
+      fs::rename(entry.path(), final_dir_ / name, ec);
+      if (ec == std::errc::cross_device_link) {
+        const fs::path copy = final_dir_ / ("." + name + ".leglab-" + std::to_string(::getpid()));
+        fs::copy_file(entry.path(), copy, fs::copy_options::overwrite_existing, ec);
+        if (!ec) fs::rename(copy, final_dir_ / name, ec);
+        if (ec) {
+          std::error_code ignored;
+          fs::remove(copy, ignored);
+        }
+      }
+      if (ec) fail("cannot move " + name + " in: " + ec.message());
+    }
+    committed_ = true;
+    RemoveStaging(staging_);
     ReleaseLock(lock_path_, lock_fd_);
     FinishProgress();
     return;

@@ -4,6 +4,7 @@
 
 #include "leglab/experiments/config.h"
 
+#include <sys/mount.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -208,6 +209,42 @@ TEST(OutputDir, ARunWithoutAParentFolderYetIsLockedToo) {
   }
   EXPECT_EQ(Read(out / "a.txt"), "only");
   EXPECT_EQ(Names(root / "a"), std::vector<std::string>{"out"});
+  fs::remove_all(root);
+}
+
+// A file system mounted inside --out, or --out a mount point itself: no rename can move a
+// mount point, so the commit puts the new files in one by one and leaves --out's folders
+// where they are, the mounted one with the user's file in it; no staging folder is left.
+// Needs the right to mount (root in a container that allows it); skipped where there is none.
+TEST(OutputDir, MountPointsInsideOutStayWhereTheyAre) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_mount";
+  ::umount((root / "out" / "mounted").c_str());  // left by a failed run of this test, if any
+  fs::remove_all(root);
+  fs::create_directories(root / "out" / "mounted");
+  fs::create_directories(root / "out" / "plain");
+  if (::mount("none", (root / "out" / "mounted").c_str(), "tmpfs", 0, nullptr) != 0) {
+    fs::remove_all(root);
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  }
+  std::ofstream(root / "out" / "mounted" / "mine.txt") << "the user's";
+  std::ofstream(root / "out" / "plain" / "notes.txt") << "notes";
+  std::ofstream(root / "out" / "table2.md") << "old";
+  for (const fs::path& out : {root / "out", root / "out" / "mounted"}) {
+    OutputDir dir(out, {"table2."});
+    std::ofstream(dir.Path("table2.md")) << "new " + out.filename().string();
+    std::ofstream(dir.Path("table2.json")) << "{}";
+    dir.Commit();
+    EXPECT_EQ(Read(out / "table2.md"), "new " + out.filename().string());
+    EXPECT_EQ(Read(out / "table2.json"), "{}");
+  }
+  EXPECT_EQ(Read(root / "out" / "mounted" / "mine.txt"), "the user's");
+  EXPECT_EQ(Read(root / "out" / "plain" / "notes.txt"), "notes");
+  for (const fs::path& folder : {root, root / "out"}) {
+    for (const auto& e : fs::directory_iterator(folder)) {
+      EXPECT_EQ(e.path().filename().string().find("staging"), std::string::npos) << e.path();
+    }
+  }
+  EXPECT_EQ(::umount((root / "out" / "mounted").c_str()), 0);
   fs::remove_all(root);
 }
 

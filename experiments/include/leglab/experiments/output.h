@@ -53,7 +53,9 @@ class OutputDir {
   /// Makes the staged files `final_dir`'s: the files and folders of `final_dir` that this run
   /// did not write are linked (or moved, for folders) into the staging folder, which then
   /// replaces `final_dir` in one rename (renameat2 RENAME_EXCHANGE; where the file system
-  /// lacks it, two renames with a moment in between where `final_dir` is missing). Creates
+  /// lacks it, two renames with a moment in between where `final_dir` is missing). When
+  /// `final_dir` is a mount point or holds one (a folder no rename can move), the staged files
+  /// are renamed into it one by one instead, each whole, and nothing of it is moved. Creates
   /// `final_dir`'s parents if needed, and releases the lock. Throws OutputError if it cannot
   /// (also when, staged in the temporary folder, another run took the lock beside `final_dir`
   /// in the meantime).
