@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <stdexcept>
 #include <system_error>
@@ -201,6 +202,11 @@ fs::path CheckOutFolder(const fs::path& out, const std::vector<std::string>& own
       }
     }
     if (ec) BadOut(out, "cannot be read: " + ec.message());
+    // Its files are replaced in it (and, for a mount point, written in it): a read-only folder
+    // or file system is refused before the run, not at its commit.
+    if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+      BadOut(out, std::string("cannot be written: ") + std::strerror(errno));
+    }
   }
   // The nearest folder that exists is where the first new folder will be created.
   fs::path existing = folder.parent_path();

@@ -244,6 +244,21 @@ TEST(OutputDir, MountPointsInsideOutStayWhereTheyAre) {
       EXPECT_EQ(e.path().filename().string().find("staging"), std::string::npos) << e.path();
     }
   }
+  // Mounted read-only, the folder is refused before anything runs, and nothing is left.
+  ASSERT_EQ(
+      ::mount("none", (root / "out" / "mounted").c_str(), nullptr, MS_REMOUNT | MS_RDONLY, nullptr),
+      0);
+  try {
+    OutputDir refused(root / "out" / "mounted", {"table2."});
+    ADD_FAILURE() << "a read-only --out was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be written: Read-only file system"),
+              std::string::npos)
+        << e.what();
+  }
+  for (const auto& e : fs::directory_iterator(root / "out")) {
+    EXPECT_EQ(e.path().filename().string().find("staging"), std::string::npos) << e.path();
+  }
   EXPECT_EQ(::umount((root / "out" / "mounted").c_str()), 0);
   fs::remove_all(root);
 }
