@@ -244,9 +244,13 @@ void YamlKeyReader::CheckValue(std::string_view name, double value, const KeyDoc
 std::optional<long long> YamlKeyReader::Integer(std::string_view name, const KeyDoc& doc) {
   const YAML::Node child = Value(name);
   if (!child) return std::nullopt;
-  // Read wide, so that a value beyond the field's type is reported as out of range.
+  // Read wide, so that a value beyond the field's type is reported as out of range, as the
+  // integer written (a double would round 2^63 - 1 up to 9223372036854775808).
   const auto wide = As<long long>(child, name);
-  CheckValue(name, static_cast<double>(wide), doc);
+  if (const std::string problem = KeyValueProblem(static_cast<double>(wide), doc);
+      !problem.empty()) {
+    Fail(name, problem + ", got " + std::to_string(wide));
+  }
   return wide;
 }
 

@@ -68,6 +68,14 @@ TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
                                                 "ilc", "adaptive"}));  // every registered mode
 }
 
+// An integer out of its range is reported as written: 2^63 - 1 is not rounded to 2^63 on its
+// way through a double.
+TEST_F(ConfigTest, AnIntegerOutOfRangeIsReportedAsWritten) {
+  const std::string error = ErrorOf("robot: ers210a\n", {"seed=9223372036854775807"});
+  EXPECT_NE(error.find("got 9223372036854775807"), std::string::npos) << error;
+  EXPECT_NE(ErrorOf("robot: ers210a\n", {"steps=1000001"}).find("got 1000001"), std::string::npos);
+}
+
 TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
   const ExperimentConfig c = LoadExperimentConfig(
       Write(kRobot + "servo:\n  gain_per_s: 30\ncontroller:\n  mode: time_shift\n"),
