@@ -263,6 +263,38 @@ TEST(OutputDir, MountPointsInsideOutStayWhereTheyAre) {
   fs::remove_all(root);
 }
 
+// A disk that fills while the run writes: the write fails (OutputError, exit 1 in a program)
+// and no staging folder is left; the user's file in --out is untouched. Skipped where nothing
+// can be mounted.
+TEST(OutputDir, AFullDiskLeavesNothingBehind) {
+  const fs::path disk = fs::temp_directory_path() / "leglab_output_full";
+  ::umount(disk.c_str());  // left by a failed run of this test, if any
+  fs::remove_all(disk);
+  fs::create_directories(disk);
+  if (::mount("none", disk.c_str(), "tmpfs", 0, "size=64k") != 0) {
+    fs::remove_all(disk);
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  }
+  fs::create_directories(disk / "out");
+  std::ofstream(disk / "out" / "mine.txt") << "the user's";
+  EXPECT_THROW(
+      {
+        OutputDir dir(disk / "out", {"trace_"});
+        CsvWriter csv(dir.Path("trace_big.csv"), {"x"});
+        for (int i = 0; i < 100000; ++i) csv.Cell(static_cast<double>(i) + 0.125).EndRow();
+        csv.Close();
+        dir.Commit();
+      },
+      OutputError);
+  EXPECT_EQ(Read(disk / "out" / "mine.txt"), "the user's");
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(disk)) left.push_back(e.path().filename());
+  EXPECT_EQ(left, std::vector<std::string>{"out"});
+  EXPECT_FALSE(fs::exists(disk / "out" / "trace_big.csv"));
+  EXPECT_EQ(::umount(disk.c_str()), 0);
+  fs::remove_all(disk);
+}
+
 TEST(Csv, ShortestRoundTripNumbers) {
   EXPECT_EQ(FormatDouble(0.1), "0.1");
   EXPECT_EQ(FormatDouble(2.5), "2.5");
