@@ -329,28 +329,7 @@ void OutputDir::Commit() {
     return;
   }
   if (HoldsMountPoint(final_dir_)) {
-    // A mount point cannot change folders: the staged files go into --out one by one instead
-    // (each whole, by rename), and nothing of --out is moved.
-    // (--out itself mounted: the staging folder beside it is on another file system, so each
-    // file is copied in under a hidden name first and renamed over its target.)
-    for (const auto& entry : fs::directory_iterator(staging_)) {
-      const std::string name = entry.path().filename().string();
-      fs::rename(entry.path(), final_dir_ / name, ec);
-      if (ec == std::errc::cross_device_link) {
-        const fs::path copy = final_dir_ / ("." + name + ".leglab-" + std::to_string(::getpid()));
-        fs::copy_file(entry.path(), copy, fs::copy_options::overwrite_existing, ec);
-        if (!ec) fs::rename(copy, final_dir_ / name, ec);
-        if (ec) {
-          std::error_code ignored;
-          fs::remove(copy, ignored);
-        }
-      }
-      if (ec) fail("cannot move " + name + " in: " + ec.message());
-    }
-    committed_ = true;
-    RemoveStaging(staging_);
-    ReleaseLock(lock_path_, lock_fd_);
-    FinishProgress();
+    CommitFileByFile();
     return;
   }
   // --out exists: the staging folder takes over everything it holds but the files this run
@@ -403,6 +382,35 @@ void OutputDir::Commit() {
     }
   }
   ReleaseLock(lock_path_, lock_fd_);
+}
+
+void OutputDir::CommitFileByFile() {
+  std::error_code ec;
+  auto fail = [&](const std::string& what) {
+    throw OutputError("cannot commit into " + final_dir_.string() + ": " + what);
+  };
+  // A mount point cannot change folders: the staged files go into --out one by one instead
+  // (each whole, by rename), and nothing of --out is moved. With --out itself mounted, the
+  // staging folder beside it is on another file system: each file is copied in under a hidden
+  // name first and renamed over its target.
+  for (const auto& entry : fs::directory_iterator(staging_)) {
+    const std::string name = entry.path().filename().string();
+    fs::rename(entry.path(), final_dir_ / name, ec);
+    if (ec == std::errc::cross_device_link) {
+      const fs::path copy = final_dir_ / ("." + name + ".leglab-" + std::to_string(::getpid()));
+      fs::copy_file(entry.path(), copy, fs::copy_options::overwrite_existing, ec);
+      if (!ec) fs::rename(copy, final_dir_ / name, ec);
+      if (ec) {
+        std::error_code ignored;
+        fs::remove(copy, ignored);
+      }
+    }
+    if (ec) fail("cannot move " + name + " in: " + ec.message());
+  }
+  committed_ = true;
+  RemoveStaging(staging_);
+  ReleaseLock(lock_path_, lock_fd_);
+  FinishProgress();
 }
 
 void InstallInterruptCleanup(const std::string& program) {

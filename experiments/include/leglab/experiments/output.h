@@ -62,6 +62,10 @@ class OutputDir {
   void Commit();
 
  private:
+  // Commit's way for a `final_dir` that is or holds a mount point: the staged files renamed in
+  // one by one (copied under a hidden name first across a mount), nothing of it moved.
+  void CommitFileByFile();
+
   std::filesystem::path final_dir_;
   std::vector<std::string> owned_prefixes_;
   std::filesystem::path staging_;
