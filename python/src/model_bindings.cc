@@ -249,11 +249,14 @@ whole cycles of one request pattern when period_ticks is given.)doc");
                           std::to_string(models.size()));
         }
         std::vector<LegAngles> floor(rows.size());
-        for (int j = 0; j < kLegJoints; ++j) {
-          std::vector<double> d(rows.size());
-          for (size_t t = 0; t < rows.size(); ++t) d[t] = rows[t][j];
-          const std::vector<double> x = FloorTrajectory(d, models[j]);
-          for (size_t t = 0; t < rows.size(); ++t) floor[t][j] = x[t];
+        {
+          py::gil_scoped_release release;
+          for (int j = 0; j < kLegJoints; ++j) {
+            std::vector<double> d(rows.size());
+            for (size_t t = 0; t < rows.size(); ++t) d[t] = rows[t][j];
+            const std::vector<double> x = FloorTrajectory(d, models[j]);
+            for (size_t t = 0; t < rows.size(); ++t) floor[t][j] = x[t];
+          }
         }
         return ToArray(floor);
       },
