@@ -136,7 +136,7 @@ double ParseCell(const std::string& cell, const std::string& where) {
 }
 
 void ParseDesiredRow(const std::string& line, int row, const std::string& file,
-                     DesiredMotion& motion) {
+                     DesiredServoMotion& motion) {
   const std::string where = "--desired '" + file + "': row " + std::to_string(row);
   const size_t comma = line.find(',');
   if (comma == std::string::npos || line.find(',', comma + 1) != std::string::npos) {
@@ -155,7 +155,7 @@ void ParseDesiredRow(const std::string& line, int row, const std::string& file,
   motion.desired_deg.push_back(angle);
 }
 
-DesiredMotion ReadDesiredCsv(const std::string& path, const std::string& text) {
+DesiredServoMotion ReadDesiredCsv(const std::string& path, const std::string& text) {
   std::istringstream in(text);
   std::string line;
   std::getline(in, line);
@@ -165,7 +165,7 @@ DesiredMotion ReadDesiredCsv(const std::string& path, const std::string& text) {
                      "': the header must be time_s,desired_deg (or a servo log's), got '" +
                      line.substr(0, 40) + "'");
   }
-  DesiredMotion motion;
+  DesiredServoMotion motion;
   for (int row = 1; std::getline(in, line); ++row) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!line.empty()) ParseDesiredRow(line, row, path, motion);
@@ -176,8 +176,8 @@ DesiredMotion ReadDesiredCsv(const std::string& path, const std::string& text) {
   return motion;
 }
 
-DesiredMotion FromLog(const ServoLog& log, bool with_drive) {
-  DesiredMotion motion;
+DesiredServoMotion FromLog(const ServoLog& log, bool with_drive) {
+  DesiredServoMotion motion;
   motion.is_log = true;
   for (const ServoLogSample& s : log.samples) {
     motion.time_s.push_back(s.time_s);
@@ -190,7 +190,7 @@ DesiredMotion FromLog(const ServoLog& log, bool with_drive) {
   return motion;
 }
 
-long TickCount(const DesiredMotion& motion, double tick_s, const std::string& path) {
+long TickCount(const DesiredServoMotion& motion, double tick_s, const std::string& path) {
   const double span = (motion.time_s.back() - motion.time_s.front()) / tick_s;
   if (!(span < static_cast<double>(kMaxPlanTicks))) {
     throw InputError("--desired '" + path + "': spans more than " + std::to_string(kMaxPlanTicks) +
@@ -200,14 +200,14 @@ long TickCount(const DesiredMotion& motion, double tick_s, const std::string& pa
 }
 
 // Linear interpolation of the desired CSV at time `time`, from sample `i` on.
-double Interpolate(const DesiredMotion& m, double time, size_t& i) {
+double Interpolate(const DesiredServoMotion& m, double time, size_t& i) {
   while (i + 2 < m.time_s.size() && m.time_s[i + 1] <= time) ++i;
   const double span = m.time_s[i + 1] - m.time_s[i];
   const double w = std::clamp((time - m.time_s[i]) / span, 0.0, 1.0);
   return m.desired_deg[i] + w * (m.desired_deg[i + 1] - m.desired_deg[i]);
 }
 
-ServoDrive ChooseDrive(const PlanOptions& o, const DesiredMotion& motion,
+ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
                        const FittedModel& model) {
   if (motion.drive) {
     if (o.kp || o.mass_kg || o.length_m) {
@@ -260,7 +260,7 @@ double MeanAbsoluteError(const std::vector<double>& a, const std::vector<double>
 
 PlanResult Plan(const PlanOptions& o) {
   CheckOptions(o);
-  const DesiredMotion motion = ReadDesiredMotion(o.desired_path);
+  const DesiredServoMotion motion = ReadDesiredMotion(o.desired_path);
   PlanResult r;
   r.model = ReadFittedModel(o.model_path, o.rung, o.motor.empty() ? motion.motor : o.motor);
   r.drive = ChooseDrive(o, motion, r.model);
@@ -357,7 +357,7 @@ FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
   return model;
 }
 
-DesiredMotion ReadDesiredMotion(const std::string& path) {
+DesiredServoMotion ReadDesiredMotion(const std::string& path) {
   std::string extension = fs::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -369,7 +369,7 @@ DesiredMotion ReadDesiredMotion(const std::string& path) {
   return ReadDesiredCsv(path, text);
 }
 
-std::vector<double> ResampleDesired(const DesiredMotion& motion, double tick_s,
+std::vector<double> ResampleDesired(const DesiredServoMotion& motion, double tick_s,
                                     const std::string& path) {
   const long ticks = TickCount(motion, tick_s, path);
   if (motion.is_log) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "leglab/core/format.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/parallel.h"
 #include "leglab/experiments/tables.h"
@@ -268,14 +269,6 @@ FitResult Fit(const ExperimentConfig& base,
   return fit;
 }
 
-std::string Fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
-
 }  // namespace
 
 bool IsFittedWalkKey(std::string_view key) {
@@ -363,21 +356,22 @@ std::string WalkFitMarkdown(const WalkFitReport& report) {
         "and L-infinity, nothing else. Residuals from a run of "
      << report.check_warmup_steps << " + " << report.check_steps << " steps.\n\n"
      << "| unknown | range | fitted | why this range |\n|---|---|---|---|\n"
-     << "| forward / outward (mm) | 49 / 28 or 28 / 49 | " << Fixed(o.forward_mm, 0) << " / "
-     << Fixed(o.outward_mm, 0) << " | " << kOffsetWhy << " |\n";
+     << "| forward / outward (mm) | 49 / 28 or 28 / 49 | " << FormatFixed(o.forward_mm, 0) << " / "
+     << FormatFixed(o.outward_mm, 0) << " | " << kOffsetWhy << " |\n";
   for (size_t i = 0; i < kUnknowns.size(); ++i) {
     md << "| `" << kUnknowns[i].key << "` | [" << FormatDouble(kUnknowns[i].min) << ", "
-       << FormatDouble(kUnknowns[i].max) << "] | " << Fixed(report.walk.x[i], 3) << " | "
+       << FormatDouble(kUnknowns[i].max) << "] | " << FormatFixed(report.walk.x[i], 3) << " | "
        << kUnknowns[i].why << " |\n";
   }
   md << "\n| number | paper | fitted walk | residual | relative |\n|---|---|---|---|---|\n";
   for (int i = 0; i < kWalkFitTargets; ++i) {
     md << "| " << targets[i].name << " | " << FormatDouble(targets[i].paper) << " | "
-       << Fixed(check.values[i], 2) << " | " << Fixed(check.values[i] - targets[i].paper, 2)
-       << " | " << Fixed(100.0 * (check.values[i] - targets[i].paper) / targets[i].paper, 0)
+       << FormatFixed(check.values[i], 2) << " | "
+       << FormatFixed(check.values[i] - targets[i].paper, 2) << " | "
+       << FormatFixed(100.0 * (check.values[i] - targets[i].paper) / targets[i].paper, 0)
        << " % |\n";
   }
-  md << "\nCost (sum of squared relative residuals): " << Fixed(check.cost, 4) << "; "
+  md << "\nCost (sum of squared relative residuals): " << FormatFixed(check.cost, 4) << "; "
      << report.evaluations << " evaluations (" << report.feasible_evaluations
      << " of the grid's points reachable).\n";
   return md.str();

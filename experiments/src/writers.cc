@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "leglab/core/format.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/paper.h"
 
@@ -28,15 +29,6 @@ std::vector<double> ModelColumn(const JointModelParams& params, const std::vecto
   }
 }
 
-std::string Fixed(double value, int decimals) {
-  // As long as the number needs: %.2f of 1e300 is 303 characters.
-  const int size = std::snprintf(nullptr, 0, "%.*f", decimals, value);
-  std::string text(static_cast<size_t>(size) + 1, '\0');
-  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
-  text.resize(static_cast<size_t>(size));
-  return text;
-}
-
 std::string ThetaLabel(double theta) {
   return theta == std::round(theta) ? std::to_string(static_cast<long>(theta))
                                     : FormatDouble(theta);
@@ -51,7 +43,9 @@ Json ModelJson(const JointModelParams& p) {
 
 Json StatJson(const MeanStd& s) { return {{"mean", s.mean}, {"std", s.std}}; }
 
-std::string Cell(const MeanStd& s) { return Fixed(s.mean, 2) + " (± " + Fixed(s.std, 2) + ")"; }
+std::string Cell(const MeanStd& s) {
+  return FormatFixed(s.mean, 2) + " (± " + FormatFixed(s.std, 2) + ")";
+}
 
 }  // namespace
 
@@ -70,16 +64,16 @@ std::string Table1Markdown(const Table1& table) {
     for (const IdentificationResult& joint : table.joints) md << " | " << value_of(joint);
     md << " |\n";
   };
-  row("v_max", "Maximum angular speed (deg/t_u)", Fixed(paper.v_max_deg_per_tick, 1),
-      [](const IdentificationResult& j) { return Fixed(j.params.v_max_deg_per_tick, 2); });
-  row("theta_0", "Angle difference threshold (deg)", Fixed(paper.theta0_deg, 1),
-      [](const IdentificationResult& j) { return Fixed(j.params.theta0_deg, 2); });
+  row("v_max", "Maximum angular speed (deg/t_u)", FormatFixed(paper.v_max_deg_per_tick, 1),
+      [](const IdentificationResult& j) { return FormatFixed(j.params.v_max_deg_per_tick, 2); });
+  row("theta_0", "Angle difference threshold (deg)", FormatFixed(paper.theta0_deg, 1),
+      [](const IdentificationResult& j) { return FormatFixed(j.params.theta0_deg, 2); });
   row("l", "Lag time (t_u)", std::to_string(paper.lag_ticks),
       [](const IdentificationResult& j) { return std::to_string(j.params.lag_ticks); });
   row("a", "Acceleration time (t_u)", std::to_string(paper.accel_ticks),
       [](const IdentificationResult& j) { return std::to_string(j.params.accel_ticks); });
   row("", "Fit RMS residual (deg)", "",
-      [](const IdentificationResult& j) { return Fixed(j.rms_residual_deg, 3); });
+      [](const IdentificationResult& j) { return FormatFixed(j.rms_residual_deg, 3); });
   md << "\nt_u = 8 ms.\n";
   return md.str();
 }
@@ -196,7 +190,7 @@ std::string Table2Markdown(const Table2& table) {
   if (table.stand) {
     const StandTable& stand = *table.stand;
     md << "\n# The stand: the floor under the foot\n\n"
-       << "Carried weight " << Fixed(stand.carried_weight_n, 2)
+       << "Carried weight " << FormatFixed(stand.carried_weight_n, 2)
        << " N (load and leg). Stance: the ticks the foot carries more than 0.1 N; ground phase: "
           "the "
        << stand.stance_ticks.size()
@@ -207,18 +201,18 @@ std::string Table2Markdown(const Table2& table) {
           "|---|---|---|---|---|---|---|---|\n";
     for (const StandRow& row : stand.modes) {
       md << "| " << row.mode << " | " << Cell(row.stance_fz_n) << " | "
-         << Fixed(row.stance_fz_n.mean / stand.carried_weight_n, 3) << " | "
-         << Cell(row.ground_phase_fz_n) << " | " << Fixed(row.peak_fz_n, 2) << " | "
-         << Fixed(row.loaded_ticks, 1) << " | " << Cell(row.slip_stat_mm) << " | "
-         << Fixed(row.max_slip_mm, 3) << " |\n";
+         << FormatFixed(row.stance_fz_n.mean / stand.carried_weight_n, 3) << " | "
+         << Cell(row.ground_phase_fz_n) << " | " << FormatFixed(row.peak_fz_n, 2) << " | "
+         << FormatFixed(row.loaded_ticks, 1) << " | " << Cell(row.slip_stat_mm) << " | "
+         << FormatFixed(row.max_slip_mm, 3) << " |\n";
     }
   }
   auto models = [&md](const std::array<JointModelParams, kLegJoints>& params) {
     for (int j = 0; j < kLegJoints; ++j) {
       const JointModelParams& p = params[j];
-      // Fixed() grows with the number: a model's line is never cut.
-      md << kLegJointNames[j] << " v_max " << Fixed(p.v_max_deg_per_tick, 2) << ", theta_0 "
-         << Fixed(p.theta0_deg, 2) << ", l " << p.lag_ticks << ", a " << p.accel_ticks
+      // FormatFixed() grows with the number: a model's line is never cut.
+      md << kLegJointNames[j] << " v_max " << FormatFixed(p.v_max_deg_per_tick, 2) << ", theta_0 "
+         << FormatFixed(p.theta0_deg, 2) << ", l " << p.lag_ticks << ", a " << p.accel_ticks
          << (j + 1 < kLegJoints ? "; " : ".\n");
     }
   };

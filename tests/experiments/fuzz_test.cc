@@ -10,9 +10,13 @@
 // $TMPDIR/leglab_fuzz_findings/ and should become a file in tests/experiments/fuzz_regressions/,
 // which every run replays first.
 //
-// LEGLAB_FUZZ_EXECUTIONS sets the executions per reader (default 3000, so that the suite stays
-// quick; .ci/run asks for 100000 in the release build); LEGLAB_FUZZ_SEED the seed (default 1:
-// the same inputs every run). Each test prints its executions and findings.
+// Each harness gets a fixed time rather than a fixed count, so that a reader that becomes slower
+// costs no more suite time: LEGLAB_FUZZ_SECONDS per reader (default 2, so that the suite stays
+// quick; .ci/run gives the release build 30 and the sanitizer build 15). The inputs are one
+// seeded sequence whatever the budget, so a longer budget runs a longer prefix of the same
+// inputs. LEGLAB_FUZZ_EXECUTIONS, when set, runs exactly that many inputs instead (to replay a
+// run's count); LEGLAB_FUZZ_SEED sets the seed (default 1: the same inputs every run). Each test
+// prints its executions, findings and inputs per second.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -147,10 +151,18 @@ struct Runner {
   std::function<std::string(const std::string&, std::uint64_t)> mutate = nullptr;
 };
 
-// Runs the replayed regressions, then LEGLAB_FUZZ_EXECUTIONS mutated inputs; returns findings.
+double EnvDouble(const char* name, double fallback) {
+  const char* value = std::getenv(name);
+  return value != nullptr ? std::strtod(value, nullptr) : fallback;
+}
+
+// Runs the replayed regressions, then mutated inputs for LEGLAB_FUZZ_SECONDS (or exactly
+// LEGLAB_FUZZ_EXECUTIONS of them when that is set); reports findings as failures.
 void Fuzz(Runner& runner) {
   const fs::path findings_dir = fs::temp_directory_path() / "leglab_fuzz_findings";
-  const long executions = EnvLong("LEGLAB_FUZZ_EXECUTIONS", 3000);
+  const bool counted = std::getenv("LEGLAB_FUZZ_EXECUTIONS") != nullptr;
+  const long max_executions = counted ? EnvLong("LEGLAB_FUZZ_EXECUTIONS", 0) : -1;
+  const double budget_s = EnvDouble("LEGLAB_FUZZ_SECONDS", 2.0);
   Mutator mutator(static_cast<std::uint64_t>(EnvLong("LEGLAB_FUZZ_SEED", 1)), [&] {
     std::vector<std::string> d = runner.dictionary;
     d.insert(d.end(), kNumbers.begin(), kNumbers.end());
@@ -168,7 +180,13 @@ void Fuzz(Runner& runner) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
   long accepted = 0, refused = 0, found = 0;
-  for (long i = 0; i < executions + static_cast<long>(replayed); ++i) {
+  const auto more = [&](long i) {
+    if (i < static_cast<long>(replayed)) return true;
+    if (counted) return i < max_executions + static_cast<long>(replayed);
+    return std::chrono::duration<double>(Clock::now() - start).count() < budget_s;
+  };
+  long i = 0;
+  for (; more(i); ++i) {
     const std::string input =
         i < static_cast<long>(replayed) ? inputs[i]
         : runner.mutate
@@ -201,15 +219,21 @@ void Fuzz(Runner& runner) {
       WriteFile(saved, input);
       ADD_FAILURE() << runner.reader << " execution " << i << ": " << problem << " (input saved in "
                     << saved << ")";
-      if (found >= 5) break;
+      if (found >= 5) {
+        ++i;  // this input ran
+        break;
+      }
     }
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const long executions = i - static_cast<long>(replayed);
   std::printf(
-      "fuzz %s: %ld executions (+%zu regressions replayed), %ld accepted, %ld refused, "
+      "fuzz %s: %ld executions in %.1f s (+%zu regressions replayed), %ld accepted, %ld refused, "
       "%ld findings, %.0f inputs/s\n",
-      runner.reader, executions, replayed, accepted, refused, found,
-      static_cast<double>(executions + static_cast<long>(replayed)) / seconds);
+      runner.reader, executions, seconds, replayed, accepted, refused, found,
+      static_cast<double>(i) / seconds);
+  // A budget too short for a single mutated input would check nothing.
+  EXPECT_GT(executions, 0) << runner.reader << ": no mutated input ran";
 }
 
 void ExpectFinite(double v, const char* what) {

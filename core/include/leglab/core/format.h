@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace leglab {
@@ -42,6 +43,16 @@ inline std::string FormatNumber(double value, int significant_digits) {
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value,
                                     std::chars_format::general, significant_digits);
   return {buffer, result.ptr};
+}
+
+/// `value` with `decimals` digits after the point (printf's %.*f), as long as it needs: %.2f of
+/// 1e300 is 303 characters. For the tables people read ("2.50").
+inline std::string FormatFixed(double value, int decimals) {
+  const int size = std::snprintf(nullptr, 0, "%.*f", decimals, value);
+  std::string text(static_cast<size_t>(size) + 1, '\0');
+  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
+  text.resize(static_cast<size_t>(size));
+  return text;
 }
 
 }  // namespace leglab

@@ -44,7 +44,7 @@ FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
                             const std::string& motor);
 
 /// A desired motion read from --desired, before resampling.
-struct DesiredMotion {
+struct DesiredServoMotion {
   std::vector<double> time_s;       ///< strictly increasing
   std::vector<double> desired_deg;  ///< D at each time
   bool is_log = false;              ///< a servo log: its requests, held between samples
@@ -57,12 +57,12 @@ struct DesiredMotion {
 /// motion), any other file as a desired CSV: the header `time_s,desired_deg`, then rows of two
 /// plain decimal cells (as ReadServoLog's CSV), times strictly increasing, at least 2 rows.
 /// Throws InputError naming the file, the row and the column.
-DesiredMotion ReadDesiredMotion(const std::string& path);
+DesiredServoMotion ReadDesiredMotion(const std::string& path);
 
 /// `motion` on ticks of `tick_s` from its first time to its last (within 1e-9 s): a desired
 /// CSV interpolated linearly, a log's requests held (Resample). Throws InputError beyond
 /// 1,000,000 ticks.
-std::vector<double> ResampleDesired(const DesiredMotion& motion, double tick_s,
+std::vector<double> ResampleDesired(const DesiredServoMotion& motion, double tick_s,
                                     const std::string& path);
 
 /// Runs `plan`: reads the model and the desired motion, plans, writes requests.csv and plan.json
