@@ -1,16 +1,19 @@
 """Keys for scripts/check-tidy.sh's cache of files clang-tidy found clean.
 
-Usage: {clang-tidy --version; cat .clang-tidy;} | tidy_keys.py BUILD_DIR FILE...
+Usage, from the source tree's root:
+  {clang-tidy --version; cat .clang-tidy;} | tidy_keys.py BUILD_DIR FILE...
 Prints "<key> <file>" for each FILE, where the key is a SHA-256 of the standard input (the
 checker and its configuration), the file's compile commands in BUILD_DIR/compile_commands.json,
 and the contents of every file the build recorded as the object's dependencies (ninja -t deps:
 the source and every header it includes, system headers too). A file without a compile command
-or without recorded dependencies gets the key "-" (always checked).
+or without recorded dependencies gets the key "-" (always checked). The source tree's own path
+is replaced by a placeholder first, so that two clones of one commit have the same keys.
 """
 import collections
 import hashlib
 import json
 import os
+import shlex
 import subprocess
 import sys
 
@@ -38,20 +41,34 @@ def main():
                 content[path] = b"missing"
         return content[path]
 
+    # The clone's own folder is left out of the key, so that a clone elsewhere shares it.
+    root = os.getcwd()
+
+    def relative(text):
+        return text.replace(root, "<root>")
+
     for name in files:
         entries = by_file.get(os.path.realpath(name), [])
         h = hashlib.sha256(salt)
         complete = bool(entries)
-        for entry in sorted(entries, key=lambda e: e.get("output", "")):
-            h.update(json.dumps(entry, sort_keys=True).encode())
-            output = entry.get("output")
+        for entry in sorted(entries, key=output_of):
+            h.update(relative(json.dumps(entry, sort_keys=True)).encode())
+            output = output_of(entry)
             if output is None or output not in deps:
                 complete = False
                 break
             for dep in deps[output]:
                 path = os.path.normpath(os.path.join(build, dep))
-                h.update(path.encode() + b"\0" + digest(path))
+                h.update(relative(path).encode() + b"\0" + digest(path))
         print(f"{h.hexdigest() if complete else '-'} {name}")
+
+
+def output_of(entry):
+    """The object a compile command writes: its "output", or the argument of its -o."""
+    if "output" in entry:
+        return entry["output"]
+    args = entry.get("arguments") or shlex.split(entry["command"])
+    return args[args.index("-o") + 1] if "-o" in args else ""
 
 
 def parse_deps(text):
