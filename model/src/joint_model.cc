@@ -82,14 +82,24 @@ JointModelState RestState(const JointModelParams& p, double angle_deg) {
   return {angle_deg, std::vector<double>(p.lag_ticks + p.accel_ticks, angle_deg)};
 }
 
-double StepJointModel(const JointModelParams& p, JointModelState& state, double request_deg) {
-  auto& past = state.past_requests_deg;
+double AdvanceJointModel(const JointModelParams& p, JointModelState& state) {
+  const auto& past = state.past_requests_deg;
   assert(static_cast<int>(past.size()) == p.lag_ticks + p.accel_ticks);
   state.angle_deg += ModelVelocity(p, state.angle_deg, [&](int i) { return past[i - 1]; });
+  return state.angle_deg;
+}
+
+void PushJointModelRequest(JointModelState& state, double request_deg) {
+  auto& past = state.past_requests_deg;
   // Newest first: shift the history by one and put R(t) in front.
   std::copy_backward(past.begin(), past.end() - 1, past.end());
   past.front() = request_deg;
-  return state.angle_deg;
+}
+
+double StepJointModel(const JointModelParams& p, JointModelState& state, double request_deg) {
+  const double angle = AdvanceJointModel(p, state);
+  PushJointModelRequest(state, request_deg);
+  return angle;
 }
 
 std::vector<double> SimulateJointModel(const JointModelParams& p,

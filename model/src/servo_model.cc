@@ -139,18 +139,29 @@ double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive,
   return params.v_max_deg_s * (net - std::copysign(band, net));
 }
 
-double StepServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
-                      ServoModelState& state, double request_deg) {
-  std::vector<double>& past = state.past_requests_deg;
+double AdvanceServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                         ServoModelState& state) {
+  const std::vector<double>& past = state.past_requests_deg;
   const double target =
       ServoTargetSpeed(params, drive, state.angle_deg, past.back() - state.angle_deg);
   const double blend = -std::expm1(-tick_s / params.velocity_lag_s);
   state.velocity_deg_s += blend * (target - state.velocity_deg_s);
   state.angle_deg += state.velocity_deg_s * tick_s;
+  return state.angle_deg;
+}
+
+void PushServoModelRequest(ServoModelState& state, double request_deg) {
+  std::vector<double>& past = state.past_requests_deg;
   // R(t) joins the front; R(t-1-l), now used, leaves the back.
   std::rotate(past.rbegin(), past.rbegin() + 1, past.rend());
   past.front() = request_deg;
-  return state.angle_deg;
+}
+
+double StepServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                      ServoModelState& state, double request_deg) {
+  const double angle = AdvanceServoModel(params, drive, tick_s, state);
+  PushServoModelRequest(state, request_deg);
+  return angle;
 }
 
 std::vector<double> PredictServoRecording(const ServoModelParams& params,

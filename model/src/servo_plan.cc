@@ -7,35 +7,17 @@
 #include <type_traits>
 
 #include "leglab/core/format.h"
+#include "servo_plan_steps.h"
 
 namespace leglab {
 namespace {
 
-// The extended model as the planner steps it.
-struct ExtendedStepper {
-  using State = ServoModelState;
-  const ServoModelParams& params;
-  const ServoDrive& drive;
-  double tick_s;
-
-  int Lag() const { return params.lag_ticks; }
-  State Rest(double angle_deg) const { return ServoRestState(params, angle_deg); }
-  double Step(State& state, double request_deg) const {
-    return StepServoModel(params, drive, tick_s, state, request_deg);
-  }
-};
-
-// The paper's model (eq. 3) as the planner steps it.
-struct PaperStepper {
-  using State = JointModelState;
-  const JointModelParams& params;
-
-  int Lag() const { return params.lag_ticks; }
-  State Rest(double angle_deg) const { return RestState(params, angle_deg); }
-  double Step(State& state, double request_deg) const {
-    return StepJointModel(params, state, request_deg);
-  }
-};
+using servo_plan::Choice;
+using servo_plan::DesiredPathTick;
+using servo_plan::ExtendedStepper;
+using servo_plan::InvertAtPending;
+using servo_plan::PaperStepper;
+using servo_plan::PathStep;
 
 // What every plan is asked: follow `desired` with requests in [min_deg, max_deg] that change
 // by at most `max_step_deg` a tick, from R(-1) = desired[0].
@@ -92,72 +74,15 @@ double SquaredError(const Stepper& stepper, const Problem& p, std::span<const do
   return sum;
 }
 
-// M(t+l+1) when R(t) = `request` is stepped from `from` (which holds M(t-1)); the l + 1 steps
-// after it use the same request, which cannot reach M(t+l+1). `scratch` avoids allocations.
-template <class Stepper>
-double ReachedAngle(const Stepper& stepper, const typename Stepper::State& from,
-                    typename Stepper::State& scratch, double request) {
-  scratch = from;
-  double angle = 0.0;
-  for (int i = 0; i < stepper.Lag() + 2; ++i) angle = stepper.Step(scratch, request);
-  return angle;
-}
-
-// The least r in [lo, hi] with reach(r) >= value, to the resolution of a double (hi if none):
-// reach is non-decreasing.
-template <class Reach>
-double FirstAtLeast(const Reach& reach, double lo, double hi, double value) {
-  if (reach(lo) >= value) return lo;
-  for (double mid = lo + (hi - lo) / 2; mid > lo && mid < hi; mid = lo + (hi - lo) / 2) {
-    (reach(mid) >= value ? hi : lo) = mid;
-  }
-  return hi;
-}
-
-// The greatest r in [lo, hi] with reach(r) <= value (lo if none).
-template <class Reach>
-double LastAtMost(const Reach& reach, double lo, double hi, double value) {
-  if (reach(hi) <= value) return hi;
-  for (double mid = lo + (hi - lo) / 2; mid > lo && mid < hi; mid = lo + (hi - lo) / 2) {
-    (reach(mid) <= value ? lo : hi) = mid;
-  }
-  return lo;
-}
-
-struct Choice {
-  double request_deg;
-  double reached_deg;
-};
-
-// The least-effort request in [lo, hi] whose reached angle is nearest `target`: of the
-// interval of requests that reach the best angle, the one nearest `acting_deg`.
-template <class Reach>
-Choice ChooseRequest(const Reach& reach, double lo, double hi, double target, double acting_deg) {
-  const double at_lo = reach(lo);
-  const double at_hi = reach(hi);
-  double first = lo;
-  double last = hi;
-  if (target <= at_lo) {
-    last = LastAtMost(reach, lo, hi, at_lo);
-  } else if (target >= at_hi) {
-    first = FirstAtLeast(reach, lo, hi, at_hi);
-  } else {
-    first = FirstAtLeast(reach, lo, hi, target);
-    last = LastAtMost(reach, first, hi, target);
-  }
-  const double request = std::clamp(acting_deg, first, last);
-  return {request, reach(request)};
-}
-
 // kModelBased: R(t) by inversion, tick by tick; flags the desired angles it cannot reach.
 template <class Stepper>
 std::vector<double> ModelBasedRequests(const Stepper& stepper, const Problem& p,
                                        std::vector<uint8_t>& beyond_servo) {
   const size_t n = p.desired.size();
   const auto lag = static_cast<size_t>(stepper.Lag());
-  typename Stepper::State state = stepper.Rest(p.desired[0]);
-  typename Stepper::State scratch = state;
-  const auto reach = [&](double r) { return ReachedAngle(stepper, state, scratch, r); };
+  typename Stepper::State pending = stepper.Rest(p.desired[0]);
+  stepper.Advance(pending);
+  typename Stepper::State scratch = pending;
   std::vector<double> requests(n);
   double previous = p.desired[0];
   for (size_t t = 0; t < n; ++t) {
@@ -165,16 +90,13 @@ std::vector<double> ModelBasedRequests(const Stepper& stepper, const Problem& p,
     const double hi = std::min(p.max_deg, previous + p.max_step_deg);
     const size_t acts_at = t + lag + 1;
     const double target = p.desired[std::min(acts_at, n - 1)];
-    // M(t+l): one step fewer than ReachedAngle, so R(t) has not acted yet.
-    scratch = state;
-    double acting = state.angle_deg;
-    for (size_t i = 0; i < lag + 1; ++i) acting = stepper.Step(scratch, previous);
-    const Choice choice = ChooseRequest(reach, lo, hi, target, acting);
+    const Choice choice = InvertAtPending(stepper, pending, scratch, previous, lo, hi, target);
     if (acts_at < n && std::abs(choice.reached_deg - target) > kBeyondServoToleranceDeg) {
       beyond_servo[acts_at] = 1;
     }
     requests[t] = previous = choice.request_deg;
-    stepper.Step(state, previous);
+    Stepper::Push(pending, previous);
+    stepper.Advance(pending);
   }
   return requests;
 }
@@ -248,46 +170,27 @@ bool DescentStep(const Stepper& stepper, const Problem& p, std::vector<double>& 
   return false;
 }
 
-// The duty u that gives target speed `speed` (deg/s) at load duty `load` and friction band
-// `band` (the lines n..w* of ServoModelParams inverted), the least |u| where the speed is 0.
-double DutyForSpeed(const ServoModelParams& params, double speed, double load, double band) {
-  if (speed > 0.0) return load + speed / params.v_max_deg_s + band;
-  if (speed < 0.0) return load + speed / params.v_max_deg_s - band;
-  return load - std::clamp(load, -band, band);  // inside the band: as little duty as holds
-}
-
 // kModelBased for the extended model, the paper's method carried over: the model inverted
-// along the desired path. R(t) acts on tick k = t + l + 1; were the joint on the path at
-// k - 1 (angle D(k-1), velocity w_d(k-1)), its velocity at k is w_d(k) when the target speed is
-// w* = w_d(k-1) + (w_d(k) - w_d(k-1)) / (1 - exp(-tick / velocity_lag)); the duty giving w*
-// (DutyForSpeed) and the P-law give the request R(t) = D(k-1) + u / (gain * kp). A duty
-// beyond +-1 is saturated (the least request that saturates) and flagged. Open loop like the
-// paper's: the servo's own P-law pulls the joint back to the path, where a tick-by-tick
-// inversion of the predicted state would have to make the velocity jump.
+// along the desired path (DesiredPathTick), R(t) = D(k-1) + u / (gain * kp) for k = t + l + 1.
+// A duty beyond +-1 is saturated (the least request that saturates) and flagged. Open loop
+// like the paper's: the servo's own P-law pulls the joint back to the path, where a
+// tick-by-tick inversion of the predicted state would have to make the velocity jump.
 std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Problem& p,
                                         std::vector<uint8_t>& beyond_servo) {
-  const ServoModelParams& params = stepper.params;
   const size_t n = p.desired.size();
-  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
   const auto desired = [&](long k) {
     return p.desired[std::clamp<long>(k, 0, static_cast<long>(n) - 1)];
   };
-  const auto speed = [&](long k) { return (desired(k) - desired(k - 1)) / stepper.tick_s; };
   std::vector<double> requests(n);
   double previous = p.desired[0];
   for (size_t t = 0; t < n; ++t) {
-    const long k = static_cast<long>(t) + params.lag_ticks + 1;
-    const double target = speed(k - 1) + (speed(k) - speed(k - 1)) / blend;
-    const double angle = desired(k - 1);
-    const double load = ServoLoadDuty(params, stepper.drive, angle);
-    const double band = params.friction_duty + params.friction_load_ratio * std::abs(load);
-    const double duty = DutyForSpeed(params, target, load, band);
-    const double error = std::clamp(duty, -1.0, 1.0) / (params.gain_per_deg_kp * stepper.drive.kp);
-    const double wanted = angle + error;
-    double request = std::clamp(wanted, previous - p.max_step_deg, previous + p.max_step_deg);
+    const long k = static_cast<long>(t) + stepper.params.lag_ticks + 1;
+    const PathStep step = DesiredPathTick(stepper, desired(k - 2), desired(k - 1), desired(k));
+    double request =
+        std::clamp(step.request_deg, previous - p.max_step_deg, previous + p.max_step_deg);
     request = std::clamp(request, p.min_deg, p.max_deg);
-    const bool beyond =
-        std::abs(duty) > 1.0 || std::abs(request - wanted) > kBeyondServoToleranceDeg;
+    const bool beyond = std::abs(step.duty) > 1.0 ||
+                        std::abs(request - step.request_deg) > kBeyondServoToleranceDeg;
     if (beyond && static_cast<size_t>(k) < n) beyond_servo[static_cast<size_t>(k)] = 1;
     requests[t] = previous = request;
   }

@@ -59,6 +59,13 @@ JointModelState RestState(const JointModelParams& params, double angle_deg);
 /// R(t) = `request_deg` on return. Returns M(t). R(t) itself first acts at t + l + 1.
 double StepJointModel(const JointModelParams& params, JointModelState& state, double request_deg);
 
+/// StepJointModel in two halves, for a caller that must see M(t) before choosing R(t) (an
+/// online planner): AdvanceJointModel moves `state` from M(t-1) to M(t) and returns it (the
+/// requests are left as they were); PushJointModelRequest then remembers R(t). Advance and
+/// push together are StepJointModel, bit for bit.
+double AdvanceJointModel(const JointModelParams& params, JointModelState& state);
+void PushJointModelRequest(JointModelState& state, double request_deg);
+
 /// Runs eq. 3 over `requests_deg` R(0..N-1) from `initial` (M(-1) and the requests before
 /// t = 0). Returns M(0..N-1).
 std::vector<double> SimulateJointModel(const JointModelParams& params,

@@ -73,6 +73,14 @@ double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive,
 double StepServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                       ServoModelState& state, double request_deg);
 
+/// StepServoModel in two halves, for a caller that must see M(t) before choosing R(t) (an
+/// online planner): AdvanceServoModel moves `state` from M(t-1), w(t-1) to M(t), w(t) and
+/// returns M(t) (the requests are left as they were); PushServoModelRequest then remembers
+/// R(t). Advance and push together are StepServoModel, bit for bit.
+double AdvanceServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                         ServoModelState& state);
+void PushServoModelRequest(ServoModelState& state, double request_deg);
+
 /// A recorded run of a servo on a uniform tick, as the fit and the scores see it.
 struct ServoRecording {
   ServoDrive drive;

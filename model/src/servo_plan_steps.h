@@ -1,0 +1,163 @@
+#pragma once
+
+// The pieces the batch plan (servo_plan.cc) and the online planner (servo_planner.cc) share, so
+// that one tick of either is the same arithmetic: the two models as the planners step them, the
+// inversion of a model at a tick, and the extended model's inversion along the desired path.
+// Internal to leglab::model.
+
+#include <algorithm>
+#include <cmath>
+
+#include "leglab/model/joint_model.h"
+#include "leglab/model/servo_model.h"
+
+namespace leglab::servo_plan {
+
+// The extended model as the planners step it. A "pending" state has been advanced to M(t) but
+// does not yet hold R(t): Push(R(t)) then Advance() gives M(t+1); Step is the two in the
+// other order.
+struct ExtendedStepper {
+  using State = ServoModelState;
+  const ServoModelParams& params;
+  const ServoDrive& drive;
+  double tick_s;
+
+  int Lag() const { return params.lag_ticks; }
+  State Rest(double angle_deg) const { return ServoRestState(params, angle_deg); }
+  double Advance(State& state) const { return AdvanceServoModel(params, drive, tick_s, state); }
+  static void Push(State& state, double request_deg) { PushServoModelRequest(state, request_deg); }
+  double Step(State& state, double request_deg) const {
+    return StepServoModel(params, drive, tick_s, state, request_deg);
+  }
+};
+
+// The paper's model (eq. 3) as the planners step it.
+struct PaperStepper {
+  using State = JointModelState;
+  const JointModelParams& params;
+
+  int Lag() const { return params.lag_ticks; }
+  State Rest(double angle_deg) const { return RestState(params, angle_deg); }
+  double Advance(State& state) const { return AdvanceJointModel(params, state); }
+  static void Push(State& state, double request_deg) { PushJointModelRequest(state, request_deg); }
+  double Step(State& state, double request_deg) const {
+    return StepJointModel(params, state, request_deg);
+  }
+};
+
+// The least r in [lo, hi] with reach(r) >= value, to the resolution of a double (hi if none):
+// reach is non-decreasing.
+template <class Reach>
+double FirstAtLeast(const Reach& reach, double lo, double hi, double value) {
+  if (reach(lo) >= value) return lo;
+  for (double mid = lo + (hi - lo) / 2; mid > lo && mid < hi; mid = lo + (hi - lo) / 2) {
+    (reach(mid) >= value ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+// The greatest r in [lo, hi] with reach(r) <= value (lo if none).
+template <class Reach>
+double LastAtMost(const Reach& reach, double lo, double hi, double value) {
+  if (reach(hi) <= value) return hi;
+  for (double mid = lo + (hi - lo) / 2; mid > lo && mid < hi; mid = lo + (hi - lo) / 2) {
+    (reach(mid) <= value ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+struct Choice {
+  double request_deg;
+  double reached_deg;
+};
+
+// The least-effort request in [lo, hi] whose reached angle is nearest `target`: of the
+// interval of requests that reach the best angle, the one nearest `acting_deg`.
+template <class Reach>
+Choice ChooseRequest(const Reach& reach, double lo, double hi, double target, double acting_deg) {
+  const double at_lo = reach(lo);
+  const double at_hi = reach(hi);
+  double first = lo;
+  double last = hi;
+  if (target <= at_lo) {
+    last = LastAtMost(reach, lo, hi, at_lo);
+  } else if (target >= at_hi) {
+    first = FirstAtLeast(reach, lo, hi, at_hi);
+  } else {
+    first = FirstAtLeast(reach, lo, hi, target);
+    last = LastAtMost(reach, first, hi, target);
+  }
+  const double request = std::clamp(acting_deg, first, last);
+  return {request, reach(request)};
+}
+
+// The model-based inversion at tick t: from the `pending` state (M(t), requests up to
+// R(t-1), the last of them `previous`), the request R(t) in [lo, hi] that brings M(t+l+1)
+// nearest `target` (ChooseRequest, the least-effort one nearest M(t+l)). `scratch` is a state
+// of the same size (no allocation).
+template <class Stepper>
+Choice InvertAtPending(const Stepper& stepper, const typename Stepper::State& pending,
+                       typename Stepper::State& scratch, double previous, double lo, double hi,
+                       double target) {
+  const int lag = stepper.Lag();
+  // M(t+l+1) under R(t) = r: R(t) held for the l + 1 ticks before it, which it cannot reach.
+  const auto reach = [&](double r) {
+    scratch = pending;
+    double angle = 0.0;
+    for (int i = 0; i < lag + 1; ++i) {
+      Stepper::Push(scratch, r);
+      angle = stepper.Advance(scratch);
+    }
+    return angle;
+  };
+  // M(t+l): R(t) has not acted yet.
+  scratch = pending;
+  double acting = pending.angle_deg;
+  for (int i = 0; i < lag; ++i) {
+    Stepper::Push(scratch, previous);
+    acting = stepper.Advance(scratch);
+  }
+  return ChooseRequest(reach, lo, hi, target, acting);
+}
+
+// The duty u that gives target speed `speed` (deg/s) at load duty `load` and friction band
+// `band` (the lines n..w* of ServoModelParams inverted), the least |u| where the speed is 0.
+inline double DutyForSpeed(const ServoModelParams& params, double speed, double load, double band) {
+  if (speed > 0.0) return load + speed / params.v_max_deg_s + band;
+  if (speed < 0.0) return load + speed / params.v_max_deg_s - band;
+  return load - std::clamp(load, -band, band);  // inside the band: as little duty as holds
+}
+
+// The extended model's request, unclamped, to take the joint from angle `angle_deg` with
+// velocity `velocity_deg_s` at tick k-1 to angle `target_deg` at tick k (the request acting at
+// k), and the duty it needs (beyond +-1 where the servo cannot: the request is then the least
+// that saturates). The velocity at k must be (target - angle) / tick; with the velocity lag
+// that takes the target speed w* = w + (w(k) - w) / (1 - exp(-tick / velocity_lag)), and the
+// duty giving w* (DutyForSpeed) and the P-law give R = angle + u / (gain * kp).
+struct PathStep {
+  double request_deg;
+  double duty;
+};
+inline PathStep InvertExtendedTick(const ExtendedStepper& stepper, double angle_deg,
+                                   double velocity_deg_s, double target_deg) {
+  const ServoModelParams& params = stepper.params;
+  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
+  const double speed = (target_deg - angle_deg) / stepper.tick_s;
+  const double target_speed = velocity_deg_s + (speed - velocity_deg_s) / blend;
+  const double load = ServoLoadDuty(params, stepper.drive, angle_deg);
+  const double band = params.friction_duty + params.friction_load_ratio * std::abs(load);
+  const double duty = DutyForSpeed(params, target_speed, load, band);
+  return {angle_deg + std::clamp(duty, -1.0, 1.0) / (params.gain_per_deg_kp * stepper.drive.kp),
+          duty};
+}
+
+// The extended model's model-based request along the desired path (the paper's method carried
+// over): R(t) acts on tick k = t + l + 1, and were the joint on the path at k - 1, at angle
+// D(k-1) with velocity (D(k-1) - D(k-2)) / tick, InvertExtendedTick to D(k). `d_k2`, `d_k1`,
+// `d_k`: D(k-2), D(k-1), D(k).
+inline PathStep DesiredPathTick(const ExtendedStepper& stepper, double d_k2, double d_k1,
+                                double d_k) {
+  return InvertExtendedTick(stepper, d_k1, (d_k1 - d_k2) / stepper.tick_s, d_k);
+}
+
+}  // namespace leglab::servo_plan
