@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <span>
 
 #include "leglab/model/joint_model.h"
 #include "leglab/model/servo_model.h"
@@ -158,6 +160,114 @@ inline PathStep InvertExtendedTick(const ExtendedStepper& stepper, double angle_
 inline PathStep DesiredPathTick(const ExtendedStepper& stepper, double d_k2, double d_k1,
                                 double d_k) {
   return InvertExtendedTick(stepper, d_k1, (d_k1 - d_k2) / stepper.tick_s, d_k);
+}
+
+// A receding horizon from the pending state at tick t (M(t), requests up to R(t-1)): the
+// requests R(t..t+m-1) of `plan` (m >= 1; held beyond it) and the desired angles D(t..t+P)
+// (P >= 1; the horizon's error is over M(t+1..t+P)).
+
+// R(t + q): a past request of `pending` (q < 0) or the plan's (held beyond its end).
+template <class State>
+double HorizonRequest(const State& pending, std::span<const double> plan, int q) {
+  if (q < 0) return pending.past_requests_deg[static_cast<size_t>(-q - 1)];
+  return plan[std::min(static_cast<size_t>(q), plan.size() - 1)];
+}
+
+// The sum over j = 1..P of (M(t+j) - D(t+j))^2 under `plan`; `scratch` a state of the same
+// size. Non-empty `angles` (size P + 1) gets M(t..t+P), for HorizonGradient.
+template <class Stepper>
+double HorizonError(const Stepper& stepper, const typename Stepper::State& pending,
+                    typename Stepper::State& scratch, std::span<const double> plan,
+                    std::span<const double> desired, std::span<double> angles) {
+  scratch = pending;
+  if (!angles.empty()) angles[0] = scratch.angle_deg;
+  double sum = 0.0;
+  for (size_t j = 1; j < desired.size(); ++j) {
+    Stepper::Push(scratch, HorizonRequest(pending, plan, static_cast<int>(j) - 1));
+    const double angle = stepper.Advance(scratch);
+    if (!angles.empty()) angles[j] = angle;
+    sum += (angle - desired[j]) * (angle - desired[j]);
+  }
+  return sum;
+}
+
+// The derivatives of the extended model's target speed w* (ServoTargetSpeed) in the angle and
+// in the request acting, at `angle_deg` and `request_deg`. Where w* is not differentiable (a
+// saturated duty, the friction band's edge) the slope on the side the model's comparison takes.
+struct TargetSpeedSlopes {
+  double per_angle = 0.0;
+  double per_request = 0.0;
+};
+inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const ServoDrive& drive,
+                                                double angle_deg, double request_deg) {
+  constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+  constexpr double kGravity = 9.81;  // m/s^2, as ServoLoadDuty's
+  const double duty_raw = p.gain_per_deg_kp * drive.kp * (request_deg - angle_deg);
+  const double duty_slope = std::abs(duty_raw) < 1.0 ? p.gain_per_deg_kp * drive.kp : 0.0;
+  const double load_scale = drive.mass_kg * kGravity * drive.length_m / p.stall_torque_nm;
+  const double load = load_scale * std::sin(angle_deg * kRadPerDeg);
+  const double load_slope = load_scale * std::cos(angle_deg * kRadPerDeg) * kRadPerDeg;
+  const double net = std::clamp(duty_raw, -1.0, 1.0) - load;
+  const double band = p.friction_duty + p.friction_load_ratio * std::abs(load);
+  if (std::abs(net) <= band) return {};
+  const double load_sign = load > 0.0 ? 1.0 : (load < 0.0 ? -1.0 : 0.0);
+  const double band_slope = p.friction_load_ratio * load_sign * load_slope;
+  const double net_sign = net > 0.0 ? 1.0 : -1.0;
+  return {p.v_max_deg_s * (-duty_slope - load_slope - net_sign * band_slope),
+          p.v_max_deg_s * duty_slope};
+}
+
+// d HorizonError / d plan into `gradient` (size m), by the adjoint of the model's steps, from
+// the angles a HorizonError of the same plan recorded.
+inline void HorizonGradient(const ExtendedStepper& stepper, const ServoModelState& pending,
+                            std::span<const double> plan, std::span<const double> desired,
+                            std::span<const double> angles, std::span<double> gradient) {
+  std::fill(gradient.begin(), gradient.end(), 0.0);
+  const ServoModelParams& params = stepper.params;
+  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
+  const auto decisions = static_cast<int>(gradient.size());
+  double angle_adjoint = 0.0;     // dE/dM(t+j+1) through the ticks after it
+  double velocity_adjoint = 0.0;  // dE/dw(t+j+1) through the ticks after it
+  for (int j = static_cast<int>(desired.size()) - 2; j >= 0; --j) {
+    const auto k = static_cast<size_t>(j) + 1;
+    // M(t+j+1) = M(t+j) + w(t+j+1) tick, w(t+j+1) = w(t+j) + blend (w*(M(t+j), R(t+j-l)) - w(t+j)).
+    const double angle_total = 2.0 * (angles[k] - desired[k]) + angle_adjoint;
+    const double velocity_total = angle_total * stepper.tick_s + velocity_adjoint;
+    const int q = j - params.lag_ticks;
+    const TargetSpeedSlopes slopes = TargetSpeedDerivatives(
+        params, stepper.drive, angles[k - 1], HorizonRequest(pending, plan, q));
+    angle_adjoint = angle_total + velocity_total * blend * slopes.per_angle;
+    velocity_adjoint = velocity_total * (1.0 - blend);
+    if (q >= 0 && q < decisions) {
+      gradient[static_cast<size_t>(q)] += velocity_total * blend * slopes.per_request;
+    }
+  }
+}
+
+inline void HorizonGradient(const PaperStepper& stepper, const JointModelState& pending,
+                            std::span<const double> plan, std::span<const double> desired,
+                            std::span<const double> angles, std::span<double> gradient) {
+  std::fill(gradient.begin(), gradient.end(), 0.0);
+  const JointModelParams& params = stepper.params;
+  const double slope = params.v_max_deg_per_tick / params.theta0_deg;  // f' on its linear piece
+  const auto decisions = static_cast<int>(gradient.size());
+  double angle_adjoint = 0.0;  // dE/dM(t+j+1) through the ticks after it
+  for (int j = static_cast<int>(desired.size()) - 2; j >= 0; --j) {
+    const auto k = static_cast<size_t>(j) + 1;
+    // M(t+j+1) = M(t+j) + (1/a) sum_{i=l+1}^{l+a} f(R(t+j+1-i) - M(t+j)) (eq. 3).
+    const double angle_total = 2.0 * (angles[k] - desired[k]) + angle_adjoint;
+    double slopes = 0.0;
+    for (int i = params.lag_ticks + 1; i <= params.lag_ticks + params.accel_ticks; ++i) {
+      const int q = j + 1 - i;
+      const double x = HorizonRequest(pending, plan, q) - angles[k - 1];
+      if (!(x > -params.theta0_deg && x < params.theta0_deg)) continue;  // f saturated
+      slopes += slope;
+      if (q >= 0 && q < decisions) {
+        gradient[static_cast<size_t>(q)] += angle_total * slope / params.accel_ticks;
+      }
+    }
+    angle_adjoint = angle_total * (1.0 - slopes / params.accel_ticks);
+  }
 }
 
 }  // namespace leglab::servo_plan

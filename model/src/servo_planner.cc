@@ -1,0 +1,445 @@
+#include "leglab/model/servo_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "leglab/core/format.h"
+#include "servo_plan_steps.h"
+
+namespace leglab {
+namespace {
+
+using servo_plan::Choice;
+using servo_plan::DesiredPathTick;
+using servo_plan::HorizonError;
+using servo_plan::HorizonGradient;
+using servo_plan::ExtendedStepper;
+using servo_plan::InvertAtPending;
+using servo_plan::InvertExtendedTick;
+using servo_plan::PaperStepper;
+using servo_plan::PathStep;
+
+constexpr int kMaxPreviewTicks = 100'000;
+constexpr double kRejoinDeg = 1e-9;
+
+// The state at rest at `angle_deg`, in place (no allocation): as ServoRestState / RestState.
+void ResetInPlace(ServoModelState& state, double angle_deg) {
+  state.angle_deg = angle_deg;
+  state.velocity_deg_s = 0.0;
+  std::fill(state.past_requests_deg.begin(), state.past_requests_deg.end(), angle_deg);
+}
+void ResetInPlace(JointModelState& state, double angle_deg) {
+  state.angle_deg = angle_deg;
+  std::fill(state.past_requests_deg.begin(), state.past_requests_deg.end(), angle_deg);
+}
+
+
+}  // namespace
+
+struct ServoPlanner::Impl {
+  virtual ~Impl() = default;
+  virtual int Horizon() const = 0;
+  virtual int Preview() const = 0;
+  virtual void Reset(double angle_deg) = 0;
+  virtual double Request(std::span<const double> window_deg, double measured_deg) = 0;
+  virtual double Predicted() const = 0;
+  virtual bool Reanchored() const = 0;
+  virtual long Ticks() const = 0;
+};
+
+namespace {
+
+template <class Params>
+class Planner final : public ServoPlanner::Impl {
+ public:
+  using Stepper =
+      std::conditional_t<std::is_same_v<Params, ServoModelParams>, ExtendedStepper, PaperStepper>;
+  using State = typename Stepper::State;
+  static constexpr bool kExtended = std::is_same_v<Params, ServoModelParams>;
+
+  Planner(const Params& params, const ServoDrive& drive, double tick_s, const ServoLimits& limits,
+          const ServoPlannerOptions& options)
+      : params_(params),
+        drive_(drive),
+        tick_s_(tick_s),
+        limits_(limits),
+        max_step_deg_(limits.max_speed_deg_s * tick_s),
+        options_(options),
+        horizon_(params.lag_ticks + 1) {
+    if constexpr (kExtended) {
+      if (options.recovery_s) {
+        recovery_factor_ = std::exp(-tick_s / *options.recovery_s);
+        recovery_reach_deg_ = limits.max_speed_deg_s * *options.recovery_s;
+      }
+    }
+    preview_ = options.preview_ticks >= 0 ? options.preview_ticks
+               : options.method == PlanMethod::kOptimal ? horizon_ + kOptimalWindowTicks
+                                                        : horizon_;
+    if (options.method == PlanMethod::kOptimal && preview_ <= params.lag_ticks) {
+      throw std::invalid_argument("servo planner: preview_ticks " + std::to_string(preview_) +
+                                  " is too short for the optimal method: it needs more than the "
+                                  "model's lag (" +
+                                  std::to_string(params.lag_ticks) + " ticks)");
+    }
+    desired_.assign(static_cast<size_t>(std::max(preview_, horizon_)) + 1, 0.0);
+    anchored_ = stepper().Rest(0.0);
+    nominal_ = scratch_ = scratch_nominal_ = anchored_;
+    if (options.method == PlanMethod::kOptimal) {
+      const auto decisions = static_cast<size_t>(preview_ - params.lag_ticks);
+      plan_.assign(decisions, 0.0);
+      candidate_.assign(decisions, 0.0);
+      gradient_.assign(decisions, 0.0);
+      angles_.assign(static_cast<size_t>(preview_) + 1, 0.0);
+    }
+  }
+
+  int Horizon() const override { return horizon_; }
+  int Preview() const override { return preview_; }
+  double Predicted() const override { return predicted_; }
+  bool Reanchored() const override { return reanchored_; }
+  long Ticks() const override { return ticks_; }
+
+  void Reset(double angle_deg) override {
+    if (!std::isfinite(angle_deg)) {
+      throw std::invalid_argument("servo planner: the reset angle must be finite, got " +
+                                  FormatNumber(angle_deg));
+    }
+    ResetInPlace(anchored_, angle_deg);
+    stepper().Advance(anchored_);
+    nominal_differs_ = false;
+    if constexpr (kExtended) {
+      ResetInPlace(nominal_, angle_deg);
+      stepper().Advance(nominal_);
+    }
+    previous_ = previous_nominal_ = angle_deg;
+    has_measured_ = false;
+    started_ = true;
+    ticks_ = 0;
+    predicted_ = angle_deg;
+    reanchored_ = false;
+    alpha_ = 0.0;
+  }
+
+  double Request(std::span<const double> window_deg, double measured_deg) override {
+    if (window_deg.empty()) {
+      throw std::invalid_argument("servo planner: the window holds no desired angle");
+    }
+    const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
+    for (size_t j = 0; j < used; ++j) {
+      if (!std::isfinite(window_deg[j])) {
+        throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
+                                    " of the window is not finite, got " +
+                                    FormatNumber(window_deg[j]));
+      }
+    }
+    if (!std::isfinite(measured_deg)) {
+      throw std::invalid_argument("servo planner: the measured angle is not finite, got " +
+                                  FormatNumber(measured_deg));
+    }
+    if (!started_) Reset(window_deg[0]);
+    // D(t + j) for j = 0..preview, the window's last angle held beyond it.
+    for (size_t j = 0; j < desired_.size(); ++j) desired_[j] = window_deg[std::min(j, used - 1)];
+    if (ticks_ == 0) last_desired_ = desired_[0];
+    Anchor(measured_deg);
+
+    const double request = options_.method == PlanMethod::kOptimal ? OptimalRequest()
+                                                                    : ModelBasedRequest();
+    Stepper::Push(anchored_, request);
+    stepper().Advance(anchored_);
+    previous_ = request;
+    if constexpr (kExtended) {
+      if (nominal_differs_ && options_.method == PlanMethod::kModelBased) Rejoin();
+    }
+    last_desired_ = desired_[0];
+    last_measured_ = measured_deg;
+    has_measured_ = true;
+    ++ticks_;
+    return request;
+  }
+
+ private:
+  Stepper stepper() const {
+    if constexpr (kExtended) {
+      return ExtendedStepper{params_, drive_, tick_s_};
+    } else {
+      return PaperStepper{params_};
+    }
+  }
+
+  // D(t + j), j >= -1 (D(t - 1): the last tick's, or D(0) at tick 0, as the batch plan's).
+  double D(int j) const { return j < 0 ? last_desired_ : desired_[static_cast<size_t>(j)]; }
+
+  // The measurement against the model copy's M(t): beyond reanchor_deg the copy moves to it.
+  void Anchor(double measured_deg) {
+    predicted_ = anchored_.angle_deg;
+    reanchored_ = std::abs(measured_deg - predicted_) > options_.reanchor_deg;
+    if (!reanchored_) return;
+    anchored_.angle_deg = measured_deg;
+    if constexpr (kExtended) {
+      if (has_measured_) anchored_.velocity_deg_s = (measured_deg - last_measured_) / tick_s_;
+    }
+    nominal_differs_ = true;
+  }
+
+  double Clamp(double request, double previous) const {
+    request = std::clamp(request, previous - max_step_deg_, previous + max_step_deg_);
+    return std::clamp(request, limits_.min_deg, limits_.max_deg);
+  }
+
+  double ModelBasedRequest() {
+    const int lag = params_.lag_ticks;
+    if constexpr (kExtended) {
+      // The batch plan's request (DesiredPathRequests), sent while the copy is undisturbed.
+      const PathStep step = DesiredPathTick(stepper(), D(lag - 1), D(lag), D(lag + 1));
+      const double nominal = Clamp(step.request_deg, previous_nominal_);
+      double request = nominal;
+      if (nominal_differs_ && options_.recovery_s) {
+        // Where each copy is at t + l, when R(t) is about to act, and where the batch plan's
+        // R(t) takes the undisturbed one at t + l + 1.
+        const Ahead planned = LookAhead(nominal_, scratch_nominal_, nominal, true);
+        const Ahead disturbed = LookAhead(anchored_, scratch_, previous_, false);
+        const double gap = disturbed.angle_deg - planned.angle_deg;
+        const double target = planned.next_deg + recovery_factor_ * gap;
+        // No further from the batch plan's request than the speed limit brings it back in
+        // recovery_s, so that the plan's own requests can be rejoined in time.
+        const double wanted =
+            InvertExtendedTick(stepper(), disturbed.angle_deg, disturbed.velocity_deg_s, target)
+                .request_deg;
+        request = Clamp(std::clamp(wanted, nominal - recovery_reach_deg_,
+                                   nominal + recovery_reach_deg_),
+                        previous_);
+      }
+      Stepper::Push(nominal_, nominal);
+      stepper().Advance(nominal_);
+      previous_nominal_ = nominal;
+      return request;
+    } else {
+      const double lo = std::max(limits_.min_deg, previous_ - max_step_deg_);
+      const double hi = std::min(limits_.max_deg, previous_ + max_step_deg_);
+      return InvertAtPending(stepper(), anchored_, scratch_, previous_, lo, hi, D(lag + 1))
+          .request_deg;
+    }
+  }
+
+  struct Ahead {
+    double angle_deg;       // M(t+l)
+    double velocity_deg_s;  // w(t+l)
+    double next_deg;        // M(t+l+1) under `request` (when asked)
+  };
+
+  // From the pending state at M(t), with R(t) = `request`: M(t+l), w(t+l) and, with `next`,
+  // M(t+l+1). The requests after R(t) do not act before t + l + 2.
+  Ahead LookAhead(const State& pending, State& scratch, double request, bool next) const
+    requires kExtended
+  {
+    scratch = pending;
+    Stepper::Push(scratch, request);
+    for (int i = 0; i < params_.lag_ticks; ++i) {
+      stepper().Advance(scratch);
+      Stepper::Push(scratch, request);
+    }
+    Ahead ahead{scratch.angle_deg, scratch.velocity_deg_s, 0.0};
+    if (next) ahead.next_deg = stepper().Advance(scratch);
+    return ahead;
+  }
+
+  // Once the disturbed copy is within kRejoinDeg (deg, deg/s) of the undisturbed one in every
+  // field, it is the undisturbed one again, and the batch plan's requests resume.
+  void Rejoin()
+    requires kExtended
+  {
+    double largest = std::max(std::abs(anchored_.angle_deg - nominal_.angle_deg),
+                              std::abs(anchored_.velocity_deg_s - nominal_.velocity_deg_s));
+    for (size_t i = 0; i < anchored_.past_requests_deg.size(); ++i) {
+      largest = std::max(largest,
+                         std::abs(anchored_.past_requests_deg[i] - nominal_.past_requests_deg[i]));
+    }
+    if (largest > kRejoinDeg) return;
+    anchored_ = nominal_;  // same sizes: no allocation
+    previous_ = previous_nominal_;
+    nominal_differs_ = false;
+  }
+
+  // D(t..t+preview).
+  std::span<const double> Desired() const {
+    return std::span<const double>(desired_).first(static_cast<size_t>(preview_) + 1);
+  }
+
+  double Error(const std::vector<double>& plan, bool record) {
+    return HorizonError(stepper(), anchored_, scratch_, plan, Desired(),
+                        record ? std::span<double>(angles_) : std::span<double>());
+  }
+
+  // The requests clamped in time order to the limits and the speed limit from R(t-1).
+  void Project(std::vector<double>& plan) const {
+    double previous = previous_;
+    for (double& r : plan) previous = r = Clamp(r, previous);
+  }
+
+  // A first guess for R(t + i): the extended model's path request, the paper model's target.
+  double FirstGuess(int i) const {
+    const int lag = params_.lag_ticks;
+    if constexpr (kExtended) {
+      return DesiredPathTick(stepper(), D(i + lag - 1), D(i + lag), D(i + lag + 1)).request_deg;
+    } else {
+      return D(i + lag + 1);
+    }
+  }
+
+  // kOptimal: the horizon's plan, improved by a few projected gradient steps that each lower
+  // its error (as the batch's DescentStep), its first request sent.
+  double OptimalRequest() {
+    const auto decisions = static_cast<int>(plan_.size());
+    if (ticks_ == 0) {
+      for (int i = 0; i < decisions; ++i) plan_[static_cast<size_t>(i)] = FirstGuess(i);
+    } else {
+      std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
+      plan_.back() = FirstGuess(decisions - 1);
+    }
+    Project(plan_);
+    double error = Error(plan_, true);
+    for (int iteration = 0; iteration < options_.optimal_iterations_per_tick; ++iteration) {
+      HorizonGradient(stepper(), anchored_, plan_, Desired(), angles_, gradient_);
+      double largest = 0.0;
+      for (const double g : gradient_) largest = std::max(largest, std::abs(g));
+      if (largest == 0.0) break;
+      if (alpha_ == 0.0) alpha_ = 1.0 / largest;  // the steepest request moves 1 deg
+      bool lowered = false;
+      for (int tries = 0; tries < 40 && !lowered; ++tries, alpha_ /= 2) {
+        for (size_t i = 0; i < plan_.size(); ++i) candidate_[i] = plan_[i] - alpha_ * gradient_[i];
+        Project(candidate_);
+        const double candidate_error = Error(candidate_, false);
+        if (candidate_error < error) {
+          std::swap(plan_, candidate_);
+          error = candidate_error;
+          lowered = true;
+          if (tries == 0) alpha_ *= 4;  // taken at once: try a longer one next (after the /2)
+        }
+      }
+      if (!lowered) break;
+      Error(plan_, true);
+    }
+    return plan_[0];
+  }
+
+  Params params_;
+  ServoDrive drive_;
+  double tick_s_;
+  ServoLimits limits_;
+  double max_step_deg_;
+  ServoPlannerOptions options_;
+  int horizon_;
+  int preview_ = 0;
+
+  State anchored_;  // the model copy the requests drive, re-anchored on measurements
+  State nominal_;   // extended, model-based: the copy the batch plan's requests drive
+  State scratch_;
+  State scratch_nominal_;
+  bool nominal_differs_ = false;
+  double recovery_factor_ = 0.0;  // the share of the gap to the planned path kept a tick
+  double recovery_reach_deg_ = 0.0;  // how far the request may stray from the batch plan's
+  double previous_ = 0.0;          // R(t-1)
+  double previous_nominal_ = 0.0;  // the batch plan's R(t-1)
+  std::vector<double> desired_;    // D(t..t+max(preview, horizon))
+  double last_desired_ = 0.0;      // D(t-1)
+  double last_measured_ = 0.0;
+  bool has_measured_ = false;
+  bool started_ = false;
+  long ticks_ = 0;
+  double predicted_ = 0.0;
+  bool reanchored_ = false;
+
+  // kOptimal's receding horizon: R(t..t+preview-l-1) and its workspace.
+  std::vector<double> plan_;
+  std::vector<double> candidate_;
+  std::vector<double> gradient_;
+  std::vector<double> angles_;  // M(t..t+preview) under plan_
+  double alpha_ = 0.0;
+};
+
+}  // namespace
+
+namespace {
+
+void CheckPlannerInputs(double tick_s, const ServoLimits& limits,
+                        const ServoPlannerOptions& options) {
+  if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
+    throw std::invalid_argument("servo planner: tick_s must be positive, got " +
+                                FormatNumber(tick_s));
+  }
+  if (!std::isfinite(limits.min_deg) || !std::isfinite(limits.max_deg) ||
+      limits.min_deg >= limits.max_deg) {
+    throw std::invalid_argument("servo planner: the limits need finite min_deg < max_deg, got " +
+                                FormatNumber(limits.min_deg) + " and " +
+                                FormatNumber(limits.max_deg));
+  }
+  if (!(std::isfinite(limits.max_speed_deg_s) && limits.max_speed_deg_s > 0.0)) {
+    throw std::invalid_argument("servo planner: max_speed_deg_s must be positive, got " +
+                                FormatNumber(limits.max_speed_deg_s));
+  }
+  if (options.preview_ticks < -1 || options.preview_ticks > kMaxPreviewTicks) {
+    throw std::invalid_argument("servo planner: preview_ticks must be from 0 to " +
+                                std::to_string(kMaxPreviewTicks) + " (or -1: the method's), got " +
+                                std::to_string(options.preview_ticks));
+  }
+  if (!(options.reanchor_deg > 0.0)) {  // infinity is allowed: never re-anchor
+    throw std::invalid_argument("servo planner: reanchor_deg must be positive, got " +
+                                FormatNumber(options.reanchor_deg));
+  }
+  if (options.recovery_s && !(std::isfinite(*options.recovery_s) && *options.recovery_s > 0.0)) {
+    throw std::invalid_argument("servo planner: recovery_s must be positive, got " +
+                                FormatNumber(*options.recovery_s));
+  }
+  if (options.optimal_iterations_per_tick < 1 || options.optimal_iterations_per_tick > 1000) {
+    throw std::invalid_argument(
+        "servo planner: optimal_iterations_per_tick must be from 1 to 1000, got " +
+        std::to_string(options.optimal_iterations_per_tick));
+  }
+}
+
+}  // namespace
+
+ServoPlanner::ServoPlanner(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                           const ServoLimits& limits, const ServoPlannerOptions& options) {
+  const std::string problem = ServoModelParamsProblem(params);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: servo model: " + problem);
+  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
+    throw std::invalid_argument("servo planner: kp must be positive, got " +
+                                FormatNumber(drive.kp));
+  }
+  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
+      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
+    throw std::invalid_argument("servo planner: mass_kg and length_m must be zero or positive");
+  }
+  CheckPlannerInputs(tick_s, limits, options);
+  impl_ = std::make_unique<Planner<ServoModelParams>>(params, drive, tick_s, limits, options);
+}
+
+ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s,
+                           const ServoLimits& limits, const ServoPlannerOptions& options) {
+  const std::string problem = JointModelParamsProblem(params);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: joint model: " + problem);
+  CheckPlannerInputs(tick_s, limits, options);
+  impl_ = std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits,
+                                                      options);
+}
+
+ServoPlanner::ServoPlanner(ServoPlanner&&) noexcept = default;
+ServoPlanner& ServoPlanner::operator=(ServoPlanner&&) noexcept = default;
+ServoPlanner::~ServoPlanner() = default;
+
+int ServoPlanner::HorizonTicks() const { return impl_->Horizon(); }
+int ServoPlanner::PreviewTicks() const { return impl_->Preview(); }
+void ServoPlanner::Reset(double angle_deg) { impl_->Reset(angle_deg); }
+double ServoPlanner::Request(std::span<const double> window_deg, double measured_deg) {
+  return impl_->Request(window_deg, measured_deg);
+}
+double ServoPlanner::PredictedDeg() const { return impl_->Predicted(); }
+bool ServoPlanner::Reanchored() const { return impl_->Reanchored(); }
+long ServoPlanner::Ticks() const { return impl_->Ticks(); }
+
+}  // namespace leglab
