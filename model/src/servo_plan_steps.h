@@ -234,8 +234,8 @@ inline void HorizonGradient(const ExtendedStepper& stepper, const ServoModelStat
     const double angle_total = 2.0 * (angles[k] - desired[k]) + angle_adjoint;
     const double velocity_total = angle_total * stepper.tick_s + velocity_adjoint;
     const int q = j - params.lag_ticks;
-    const TargetSpeedSlopes slopes = TargetSpeedDerivatives(
-        params, stepper.drive, angles[k - 1], HorizonRequest(pending, plan, q));
+    const TargetSpeedSlopes slopes = TargetSpeedDerivatives(params, stepper.drive, angles[k - 1],
+                                                            HorizonRequest(pending, plan, q));
     angle_adjoint = angle_total + velocity_total * blend * slopes.per_angle;
     velocity_adjoint = velocity_total * (1.0 - blend);
     if (q >= 0 && q < decisions) {

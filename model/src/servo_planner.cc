@@ -15,16 +15,15 @@ namespace {
 
 using servo_plan::Choice;
 using servo_plan::DesiredPathTick;
+using servo_plan::ExtendedStepper;
 using servo_plan::HorizonError;
 using servo_plan::HorizonGradient;
-using servo_plan::ExtendedStepper;
 using servo_plan::InvertAtPending;
 using servo_plan::InvertExtendedTick;
 using servo_plan::PaperStepper;
 using servo_plan::PathStep;
 
 constexpr int kMaxPreviewTicks = 100'000;
-constexpr double kRejoinDeg = 1e-9;
 
 // The state at rest at `angle_deg`, in place (no allocation): as ServoRestState / RestState.
 void ResetInPlace(ServoModelState& state, double angle_deg) {
@@ -36,7 +35,6 @@ void ResetInPlace(JointModelState& state, double angle_deg) {
   state.angle_deg = angle_deg;
   std::fill(state.past_requests_deg.begin(), state.past_requests_deg.end(), angle_deg);
 }
-
 
 }  // namespace
 
@@ -70,13 +68,7 @@ class Planner final : public ServoPlanner::Impl {
         max_step_deg_(limits.max_speed_deg_s * tick_s),
         options_(options),
         horizon_(params.lag_ticks + 1) {
-    if constexpr (kExtended) {
-      if (options.recovery_s) {
-        recovery_factor_ = std::exp(-tick_s / *options.recovery_s);
-        recovery_reach_deg_ = limits.max_speed_deg_s * *options.recovery_s;
-      }
-    }
-    preview_ = options.preview_ticks >= 0 ? options.preview_ticks
+    preview_ = options.preview_ticks >= 0               ? options.preview_ticks
                : options.method == PlanMethod::kOptimal ? horizon_ + kOptimalWindowTicks
                                                         : horizon_;
     if (options.method == PlanMethod::kOptimal && preview_ <= params.lag_ticks) {
@@ -87,7 +79,7 @@ class Planner final : public ServoPlanner::Impl {
     }
     desired_.assign(static_cast<size_t>(std::max(preview_, horizon_)) + 1, 0.0);
     anchored_ = stepper().Rest(0.0);
-    nominal_ = scratch_ = scratch_nominal_ = anchored_;
+    scratch_ = anchored_;
     if (options.method == PlanMethod::kOptimal) {
       const auto decisions = static_cast<size_t>(preview_ - params.lag_ticks);
       plan_.assign(decisions, 0.0);
@@ -110,12 +102,7 @@ class Planner final : public ServoPlanner::Impl {
     }
     ResetInPlace(anchored_, angle_deg);
     stepper().Advance(anchored_);
-    nominal_differs_ = false;
-    if constexpr (kExtended) {
-      ResetInPlace(nominal_, angle_deg);
-      stepper().Advance(nominal_);
-    }
-    previous_ = previous_nominal_ = angle_deg;
+    previous_ = angle_deg;
     has_measured_ = false;
     started_ = true;
     ticks_ = 0;
@@ -146,14 +133,11 @@ class Planner final : public ServoPlanner::Impl {
     if (ticks_ == 0) last_desired_ = desired_[0];
     Anchor(measured_deg);
 
-    const double request = options_.method == PlanMethod::kOptimal ? OptimalRequest()
-                                                                    : ModelBasedRequest();
+    const double request =
+        options_.method == PlanMethod::kOptimal ? OptimalRequest() : ModelBasedRequest();
     Stepper::Push(anchored_, request);
     stepper().Advance(anchored_);
     previous_ = request;
-    if constexpr (kExtended) {
-      if (nominal_differs_ && options_.method == PlanMethod::kModelBased) Rejoin();
-    }
     last_desired_ = desired_[0];
     last_measured_ = measured_deg;
     has_measured_ = true;
@@ -182,7 +166,6 @@ class Planner final : public ServoPlanner::Impl {
     if constexpr (kExtended) {
       if (has_measured_) anchored_.velocity_deg_s = (measured_deg - last_measured_) / tick_s_;
     }
-    nominal_differs_ = true;
   }
 
   double Clamp(double request, double previous) const {
@@ -193,75 +176,16 @@ class Planner final : public ServoPlanner::Impl {
   double ModelBasedRequest() {
     const int lag = params_.lag_ticks;
     if constexpr (kExtended) {
-      // The batch plan's request (DesiredPathRequests), sent while the copy is undisturbed.
+      // The batch plan's request (DesiredPathRequests): open loop along the desired path.
       const PathStep step = DesiredPathTick(stepper(), D(lag - 1), D(lag), D(lag + 1));
-      const double nominal = Clamp(step.request_deg, previous_nominal_);
-      double request = nominal;
-      if (nominal_differs_ && options_.recovery_s) {
-        // Where each copy is at t + l, when R(t) is about to act, and where the batch plan's
-        // R(t) takes the undisturbed one at t + l + 1.
-        const Ahead planned = LookAhead(nominal_, scratch_nominal_, nominal, true);
-        const Ahead disturbed = LookAhead(anchored_, scratch_, previous_, false);
-        const double gap = disturbed.angle_deg - planned.angle_deg;
-        const double target = planned.next_deg + recovery_factor_ * gap;
-        // No further from the batch plan's request than the speed limit brings it back in
-        // recovery_s, so that the plan's own requests can be rejoined in time.
-        const double wanted =
-            InvertExtendedTick(stepper(), disturbed.angle_deg, disturbed.velocity_deg_s, target)
-                .request_deg;
-        request = Clamp(std::clamp(wanted, nominal - recovery_reach_deg_,
-                                   nominal + recovery_reach_deg_),
-                        previous_);
-      }
-      Stepper::Push(nominal_, nominal);
-      stepper().Advance(nominal_);
-      previous_nominal_ = nominal;
-      return request;
+      return Clamp(step.request_deg, previous_);
     } else {
+      // The batch plan's inversion, from the model's state (re-anchored when measured off it).
       const double lo = std::max(limits_.min_deg, previous_ - max_step_deg_);
       const double hi = std::min(limits_.max_deg, previous_ + max_step_deg_);
       return InvertAtPending(stepper(), anchored_, scratch_, previous_, lo, hi, D(lag + 1))
           .request_deg;
     }
-  }
-
-  struct Ahead {
-    double angle_deg;       // M(t+l)
-    double velocity_deg_s;  // w(t+l)
-    double next_deg;        // M(t+l+1) under `request` (when asked)
-  };
-
-  // From the pending state at M(t), with R(t) = `request`: M(t+l), w(t+l) and, with `next`,
-  // M(t+l+1). The requests after R(t) do not act before t + l + 2.
-  Ahead LookAhead(const State& pending, State& scratch, double request, bool next) const
-    requires kExtended
-  {
-    scratch = pending;
-    Stepper::Push(scratch, request);
-    for (int i = 0; i < params_.lag_ticks; ++i) {
-      stepper().Advance(scratch);
-      Stepper::Push(scratch, request);
-    }
-    Ahead ahead{scratch.angle_deg, scratch.velocity_deg_s, 0.0};
-    if (next) ahead.next_deg = stepper().Advance(scratch);
-    return ahead;
-  }
-
-  // Once the disturbed copy is within kRejoinDeg (deg, deg/s) of the undisturbed one in every
-  // field, it is the undisturbed one again, and the batch plan's requests resume.
-  void Rejoin()
-    requires kExtended
-  {
-    double largest = std::max(std::abs(anchored_.angle_deg - nominal_.angle_deg),
-                              std::abs(anchored_.velocity_deg_s - nominal_.velocity_deg_s));
-    for (size_t i = 0; i < anchored_.past_requests_deg.size(); ++i) {
-      largest = std::max(largest,
-                         std::abs(anchored_.past_requests_deg[i] - nominal_.past_requests_deg[i]));
-    }
-    if (largest > kRejoinDeg) return;
-    anchored_ = nominal_;  // same sizes: no allocation
-    previous_ = previous_nominal_;
-    nominal_differs_ = false;
   }
 
   // D(t..t+preview).
@@ -336,16 +260,10 @@ class Planner final : public ServoPlanner::Impl {
   int preview_ = 0;
 
   State anchored_;  // the model copy the requests drive, re-anchored on measurements
-  State nominal_;   // extended, model-based: the copy the batch plan's requests drive
   State scratch_;
-  State scratch_nominal_;
-  bool nominal_differs_ = false;
-  double recovery_factor_ = 0.0;  // the share of the gap to the planned path kept a tick
-  double recovery_reach_deg_ = 0.0;  // how far the request may stray from the batch plan's
-  double previous_ = 0.0;          // R(t-1)
-  double previous_nominal_ = 0.0;  // the batch plan's R(t-1)
-  std::vector<double> desired_;    // D(t..t+max(preview, horizon))
-  double last_desired_ = 0.0;      // D(t-1)
+  double previous_ = 0.0;        // R(t-1)
+  std::vector<double> desired_;  // D(t..t+max(preview, horizon))
+  double last_desired_ = 0.0;    // D(t-1)
   double last_measured_ = 0.0;
   bool has_measured_ = false;
   bool started_ = false;
@@ -390,10 +308,6 @@ void CheckPlannerInputs(double tick_s, const ServoLimits& limits,
     throw std::invalid_argument("servo planner: reanchor_deg must be positive, got " +
                                 FormatNumber(options.reanchor_deg));
   }
-  if (options.recovery_s && !(std::isfinite(*options.recovery_s) && *options.recovery_s > 0.0)) {
-    throw std::invalid_argument("servo planner: recovery_s must be positive, got " +
-                                FormatNumber(*options.recovery_s));
-  }
   if (options.optimal_iterations_per_tick < 1 || options.optimal_iterations_per_tick > 1000) {
     throw std::invalid_argument(
         "servo planner: optimal_iterations_per_tick must be from 1 to 1000, got " +
@@ -419,13 +333,13 @@ ServoPlanner::ServoPlanner(const ServoModelParams& params, const ServoDrive& dri
   impl_ = std::make_unique<Planner<ServoModelParams>>(params, drive, tick_s, limits, options);
 }
 
-ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s,
-                           const ServoLimits& limits, const ServoPlannerOptions& options) {
+ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s, const ServoLimits& limits,
+                           const ServoPlannerOptions& options) {
   const std::string problem = JointModelParamsProblem(params);
   if (!problem.empty()) throw std::invalid_argument("servo planner: joint model: " + problem);
   CheckPlannerInputs(tick_s, limits, options);
-  impl_ = std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits,
-                                                      options);
+  impl_ =
+      std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits, options);
 }
 
 ServoPlanner::ServoPlanner(ServoPlanner&&) noexcept = default;

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 #include <span>
 
 #include "leglab/model/joint_model.h"
@@ -23,12 +22,6 @@ struct ServoPlannerOptions {
   /// the last two measurements). Closer ones are taken as the model's own error and ignored,
   /// so that the requests do not chase noise. > 0; infinity: never.
   double reanchor_deg = 2.0;
-  /// kModelBased, extended model: when set, after a re-anchoring the requests steer the joint
-  /// back onto the batch plan's predicted path, the gap shrinking by exp(-tick / recovery_s) a
-  /// tick as far as the duty allows, each request within max_speed_deg_s * recovery_s of the
-  /// batch plan's. Unset: the batch plan's requests, open loop, whatever is measured: the
-  /// servo's own P-law brings it back (docs/results.md measures both). > 0.
-  std::optional<double> recovery_s;
   /// kOptimal: projected gradient iterations per tick on the receding horizon, each one
   /// gradient (adjoint, O(preview)) and a backtracking line search. >= 1.
   int optimal_iterations_per_tick = 4;
@@ -49,12 +42,10 @@ struct ServoPlannerOptions {
 /// reanchor_deg off that copy's prediction (the servo held or pushed) moves the copy to it.
 /// For the paper's model, whose model-based request is the model inverted from its state
 /// each tick, the inversion then starts from the measured angle. The extended model's
-/// model-based request follows the desired path open loop, as the batch plan does; with
-/// recovery_s set, once the copy has been moved the request is instead the one
-/// (InvertExtendedTick) that takes the moved copy, at t + l, to the batch plan's predicted
-/// angle at t + l + 1 plus the last gap shrunk by exp(-tick / recovery_s), until the copy is
-/// back within 1e-9 of the undisturbed one. PredictedDeg() against the measured angle shows
-/// a disturbance either way.
+/// model-based request follows the desired path open loop, as the batch plan does, whatever
+/// is measured: the servo's own P-law brings a held or pushed joint back, and steering it
+/// back through the model was measured to do no better (docs/design/servo-planner.md).
+/// PredictedDeg() against the measured angle shows a disturbance either way.
 ///
 /// kOptimal is a receding horizon: each tick it minimises the squared error over the preview
 /// from the (re-anchored) model state, warm-started from the last tick's solution shifted by
