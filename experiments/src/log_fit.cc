@@ -25,8 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// The rungs of the ladder, in the order tables show them.
-constexpr std::array<const char*, 4> kRungs{"direct", "best_shift", "paper", "extended"};
+constexpr const std::array<std::string_view, 4>& kRungs = kLogFitRungs;
 
 // A log as identify uses it: read, resampled at its motor's tick, and named for its outputs.
 struct Log {
@@ -135,8 +134,11 @@ std::vector<std::string> ExpandAll(const std::vector<std::string>& entries,
   return files;
 }
 
-std::vector<Log> ReadLogs(const LogFitConfig& config) {
-  if (config.train.empty()) FailConfig("logs.train: no log to fit on");
+std::vector<Log> ReadLogs(const LogFitConfig& config, const std::vector<GivenServoLog>& given) {
+  if (config.train.empty() &&
+      std::none_of(given.begin(), given.end(), [](const auto& g) { return g.train; })) {
+    FailConfig("logs.train: no log to fit on");
+  }
   const std::vector<std::string> train = ExpandAll(config.train, "logs.train");
   const std::vector<std::string> validate = ExpandAll(config.validate, "logs.validate");
   std::vector<Log> logs;
@@ -158,6 +160,19 @@ std::vector<Log> ReadLogs(const LogFitConfig& config) {
     }
     logs.push_back(std::move(log));
   }
+  for (const GivenServoLog& g : given) {
+    CheckServoLog(g.log);
+    Log log;
+    log.log = g.log;
+    log.train = g.train;
+    log.name = Sanitized(log.log.motor + "_" + fs::path(g.log.file).stem().string());
+    if (!names.insert(log.name).second) {
+      FailConfig("logs: two logs would both be named " + log.name + " ('" + g.log.file + "')");
+    }
+    logs.push_back(std::move(log));
+  }
+  // Training logs first, in the order given (each motor's fits see them in this order).
+  std::stable_partition(logs.begin(), logs.end(), [](const Log& l) { return l.train; });
   return logs;
 }
 
@@ -316,7 +331,7 @@ std::string HeldOutBy(const Row& row, const LogFitConfig& config) {
 Json ScoresJson(const Row& row, bool rms) {
   Json j;
   for (size_t k = 0; k < kRungs.size(); ++k) {
-    j[kRungs[k]] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
+    j[std::string(kRungs[k])] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
   }
   return j;
 }
@@ -438,18 +453,21 @@ std::string ReportMarkdown(const Report& report) {
   return md.str();
 }
 
-void WriteLogCsv(const Log& log, const Predictions& p, double tick_s, const OutputDir& out) {
+void WriteLogCsv(const LogFitCurves& c, const OutputDir& out) {
   std::string text = "time_s,request_deg,measured_deg,torque_enabled";
-  for (const char* rung : kRungs) text += std::string(",") + rung + "_deg";
+  for (const std::string_view rung : kRungs) {
+    text += ',';
+    text += rung;
+    text += "_deg";
+  }
   text += '\n';
-  const ServoRecording& r = log.recording;
-  for (size_t t = 0; t < r.request_deg.size(); ++t) {
-    text += FormatNumber(static_cast<double>(t) * tick_s) + ',' + FormatNumber(r.request_deg[t]) +
-            ',' + FormatNumber(r.measured_deg[t]) + ',' + (r.scored[t] != 0 ? "1" : "0");
-    for (const auto& angles : p.angle_deg) text += ',' + FormatNumber(angles[t]);
+  for (size_t t = 0; t < c.request_deg.size(); ++t) {
+    text += FormatNumber(static_cast<double>(t) * c.tick_s) + ',' + FormatNumber(c.request_deg[t]) +
+            ',' + FormatNumber(c.measured_deg[t]) + ',' + (c.torque_enabled[t] != 0 ? "1" : "0");
+    for (const auto& angles : c.predicted_deg) text += ',' + FormatNumber(angles[t]);
     text += '\n';
   }
-  WriteTextFile(out.Path("log_" + log.name + ".csv"), text);
+  WriteTextFile(out.Path("log_" + c.name + ".csv"), text);
 }
 
 double DrivenMae(std::span<const double> angles, const ServoRecording& r) {
@@ -515,9 +533,10 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
 
 }  // namespace
 
-std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int threads) {
+LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
+                          const std::vector<GivenServoLog>& given) {
   Report report;
-  report.logs = ReadLogs(config);
+  report.logs = ReadLogs(config, given);
   report.groups = GroupByMotor(report.logs, config);
   for (const MotorGroup& g : report.groups) {
     for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
@@ -527,15 +546,32 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
   report.jobs = Jobs(report.groups, config);
   RunJobs(report.jobs, report.groups, report.logs, config, threads);
   ScoreAll(report, config);
-  std::string md = ReportMarkdown(report);
-  WriteTextFile(out.Path("log_fit.json"), ReportJson(report, config).dump(2) + "\n");
-  WriteTextFile(out.Path("log_fit.md"), md);
+  LogFitResult result;
+  result.markdown = ReportMarkdown(report);
+  result.json = ReportJson(report, config).dump(2) + "\n";
   for (const MotorGroup& g : report.groups) {
     for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
-      for (size_t i : *list) WriteLogCsv(report.logs[i], report.figures[i], g.tick_s, out);
+      for (size_t i : *list) {
+        Log& log = report.logs[i];
+        LogFitCurves c{
+            .name = log.name, .file = log.log.file, .motor = g.motor, .tick_s = g.tick_s};
+        c.request_deg = std::move(log.recording.request_deg);
+        c.measured_deg = std::move(log.recording.measured_deg);
+        c.torque_enabled = std::move(log.recording.scored);
+        c.predicted_deg = std::move(report.figures[i].angle_deg);
+        result.curves.push_back(std::move(c));
+      }
     }
   }
-  return md;
+  return result;
+}
+
+std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int threads) {
+  const LogFitResult result = FitServoLogs(config, threads);
+  WriteTextFile(out.Path("log_fit.json"), result.json);
+  WriteTextFile(out.Path("log_fit.md"), result.markdown);
+  for (const LogFitCurves& c : result.curves) WriteLogCsv(c, out);
+  return result.markdown;
 }
 
 }  // namespace leglab::experiments

@@ -113,3 +113,27 @@ void ReadLogFitStructured(YamlKeyReader& reader, LogFitConfig& c) {
 }
 
 }  // namespace leglab::experiments
+
+namespace leglab::experiments {
+
+LogFitConfig LogFitConfigFromOverrides(const std::vector<std::string>& overrides) {
+  YAML::Node root(YAML::NodeType::Map);
+  for (const std::string& assignment : overrides) ApplyOverride(root, assignment);
+  for (const auto& entry : root) {
+    const std::string key = KeyText(entry.first);
+    if (key != "logs") {
+      FailConfig(key + " is not a logs.* key (a fit of logs given as values reads only those)");
+    }
+  }
+  LogFitConfig config;
+  YamlKeyReader reader(root);
+  reader.Section("logs", [&] {
+    VisitKeys(reader, config);
+    ReadLogFitStructured(reader, config);
+  });
+  reader.Finish();
+  config.given = true;
+  return config;
+}
+
+}  // namespace leglab::experiments

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "leglab/core/format.h"
 #include "leglab/core/units.h"
 #include "leglab/experiments/config.h"
 
@@ -375,6 +376,49 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
                                                                 : ReadBamJson(path, text);
   CheckSamples(path, log.samples);
   return log;
+}
+
+void CheckServoLog(const ServoLog& log) {
+  const std::string& path = log.file;
+  if (log.motor.empty()) Fail(path, "motor is empty (a model is fitted per motor)");
+  CheckSetting(path, "kp", log.kp);
+  CheckSetting(path, "mass", log.mass_kg);
+  CheckSetting(path, "length", log.length_m);
+  if (log.samples.size() > kMaxServoLogSamples) {
+    Fail(path, std::to_string(log.samples.size()) + " samples, more than the limit of " +
+                   std::to_string(kMaxServoLogSamples));
+  }
+  const char* const names[] = {"time_s", "request_deg", "measured_deg"};
+  for (size_t i = 0; i < log.samples.size(); ++i) {
+    const ServoLogSample& s = log.samples[i];
+    const double values[] = {s.time_s, s.request_deg, s.measured_deg};
+    for (size_t c = 0; c < 3; ++c) {
+      if (!std::isfinite(values[c])) {
+        Fail(path, "sample " + std::to_string(i) + ", " + names[c] + ": " + Number(values[c]) +
+                       " is not finite");
+      }
+    }
+    if (i > 0) {
+      CheckNotBefore(path, log.samples[i - 1].time_s, s.time_s,
+                     "sample " + std::to_string(i) + ", time_s", "sample " + std::to_string(i - 1));
+    }
+  }
+  CheckSamples(path, log.samples);
+}
+
+std::string ServoLogCsvText(const ServoLog& log) {
+  CheckServoLog(log);
+  std::string text(kCsvHeaderWithTorque);
+  text += '\n';
+  for (const ServoLogSample& s : log.samples) {
+    AppendNumber(text, s.time_s);
+    text += ',';
+    AppendNumber(text, s.request_deg);
+    text += ',';
+    AppendNumber(text, s.measured_deg);
+    text += s.torque_enabled ? ",1\n" : ",0\n";
+  }
+  return text;
 }
 
 }  // namespace leglab::experiments

@@ -53,11 +53,11 @@ std::string Names(const Json& object) {
 const Json& Member(const Json& object, const std::string& name, const std::string& where,
                    const std::string& file) {
   if (!object.is_object() || !object.contains(name)) {
-    throw InputError("--model '" + file + "': " + where + name + " is missing");
+    throw InputError(file + ": " + where + name + " is missing");
   }
   const Json& member = object.at(name);
   if (!member.is_object()) {
-    throw InputError("--model '" + file + "': " + where + name + " is not an object");
+    throw InputError(file + ": " + where + name + " is not an object");
   }
   return member;
 }
@@ -66,10 +66,10 @@ double Number(const Json& object, const std::string& name, const std::string& wh
               const std::string& file) {
   const auto found = object.find(name);
   if (found == object.end()) {
-    throw InputError("--model '" + file + "': " + where + name + " is missing");
+    throw InputError(file + ": " + where + name + " is missing");
   }
   if (!found->is_number()) {
-    throw InputError("--model '" + file + "': " + where + name + " is not a number");
+    throw InputError(file + ": " + where + name + " is not a number");
   }
   return found->get<double>();
 }
@@ -79,8 +79,8 @@ int Ticks(const Json& object, const std::string& name, const std::string& where,
   const double value = Number(object, name, where, file);
   // Beyond 1000 ticks a model's memory makes planning quadratic; no servo lags that long.
   if (value != std::floor(value) || value < 0.0 || value > 1000.0) {
-    throw InputError("--model '" + file + "': " + where + name +
-                     " must be a whole number from 0 to 1000, got " + FormatNumber(value));
+    throw InputError(file + ": " + where + name + " must be a whole number from 0 to 1000, got " +
+                     FormatNumber(value));
   }
   return static_cast<int>(value);
 }
@@ -90,13 +90,12 @@ std::string ChooseMotor(const Json& rung_models, const std::string& motor, const
                         const std::string& file) {
   if (!motor.empty()) {
     if (rung_models.contains(motor)) return motor;
-    throw InputError("--model '" + file + "': " + where + " has no motor '" + motor +
+    throw InputError(file + ": " + where + " has no motor '" + motor +
                      "' (it has: " + Names(rung_models) + ")");
   }
   if (rung_models.size() != 1) {
-    throw InputError("--model '" + file + "': " + where + " has " +
-                     std::to_string(rung_models.size()) + " motors; choose one with --motor (" +
-                     Names(rung_models) + ")");
+    throw InputError(file + ": " + where + " has " + std::to_string(rung_models.size()) +
+                     " motors; choose one with --motor (" + Names(rung_models) + ")");
   }
   return rung_models.items().begin().key();
 }
@@ -121,7 +120,7 @@ void ReadRungParams(const Json& entry, const std::string& where, const std::stri
     problem = ServoModelParamsProblem(model.extended);
     model.top_speed_deg_s = model.extended.v_max_deg_s;
   }
-  if (!problem.empty()) throw InputError("--model '" + file + "': " + where + ": " + problem);
+  if (!problem.empty()) throw InputError(file + ": " + where + ": " + problem);
 }
 
 // One plain decimal cell (the whole cell, no '+', hex or spaces), finite.
@@ -243,15 +242,6 @@ void CheckOptions(const PlanOptions& o) {
   }
 }
 
-struct PlanResult {
-  FittedModel model;
-  ServoDrive drive;
-  ServoLimits limits;
-  std::vector<double> desired;
-  ServoPlan plan;
-  std::vector<double> direct;  // the model's angles with the desired angles as requests
-};
-
 double MeanAbsoluteError(const std::vector<double>& a, const std::vector<double>& b) {
   double sum = 0.0;
   for (size_t t = 0; t < a.size(); ++t) sum += std::abs(a[t] - b[t]);
@@ -261,25 +251,16 @@ double MeanAbsoluteError(const std::vector<double>& a, const std::vector<double>
 PlanResult Plan(const PlanOptions& o) {
   CheckOptions(o);
   const DesiredServoMotion motion = ReadDesiredMotion(o.desired_path);
-  PlanResult r;
-  r.model = ReadFittedModel(o.model_path, o.rung, o.motor.empty() ? motion.motor : o.motor);
-  r.drive = ChooseDrive(o, motion, r.model);
-  r.desired = ResampleDesired(motion, r.model.tick_s, o.desired_path);
-  r.limits = {o.min_deg, o.max_deg, r.model.top_speed_deg_s};
-  if (r.desired[0] < o.min_deg || r.desired[0] > o.max_deg) {
+  const FittedModel model =
+      ReadFittedModel(o.model_path, o.rung, o.motor.empty() ? motion.motor : o.motor);
+  const ServoDrive drive = ChooseDrive(o, motion, model);
+  std::vector<double> desired = ResampleDesired(motion, model.tick_s, o.desired_path);
+  if (desired[0] < o.min_deg || desired[0] > o.max_deg) {
     throw InputError("--desired '" + o.desired_path + "': its first angle " +
-                     FormatNumber(r.desired[0]) + " deg is outside --min-deg/--max-deg");
+                     FormatNumber(desired[0]) + " deg is outside --min-deg/--max-deg");
   }
   const PlanMethod method = o.method == "optimal" ? PlanMethod::kOptimal : PlanMethod::kModelBased;
-  if (r.model.rung == "paper") {
-    r.plan = PlanJointModelRequests(r.model.paper, r.model.tick_s, r.desired, r.limits, method);
-    r.direct = PredictJointModelAngles(r.model.paper, r.desired);
-  } else {
-    r.plan =
-        PlanServoRequests(r.model.extended, r.drive, r.model.tick_s, r.desired, r.limits, method);
-    r.direct = PredictServoAngles(r.model.extended, r.drive, r.model.tick_s, r.desired);
-  }
-  return r;
+  return PlanDesired(model, drive, std::move(desired), o.min_deg, o.max_deg, method);
 }
 
 void WriteRequests(const PlanResult& r, const fs::path& path) {
@@ -332,29 +313,34 @@ std::string Summary(const PlanOptions& o, const PlanResult& r) {
 
 }  // namespace
 
-FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
-                            const std::string& motor) {
-  const std::string text = ReadWholeFile(path, "--model");
+FittedModel ParseFittedModel(const std::string& text, const std::string& rung,
+                             const std::string& motor, const std::string& source) {
   Json root;
   try {
     root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw InputError("--model '" + path + "': not valid JSON (" + e.what() + ")");
+  } catch (const Json::exception& e) {  // malformed, or a number too large for a double
+    throw InputError(source + ": not valid JSON (" + e.what() + ")");
   }
-  const Json& models = Member(root, "models", "", path);
-  const Json& rung_models = Member(models, rung, "models.", path);
+  const std::string& file = source;
+  const Json& models = Member(root, "models", "", file);
+  const Json& rung_models = Member(models, rung, "models.", file);
   FittedModel model;
   model.rung = rung;
-  model.motor = ChooseMotor(rung_models, motor, "models." + rung, path);
+  model.motor = ChooseMotor(rung_models, motor, "models." + rung, file);
   const std::string where = "models." + rung + "." + model.motor;
-  const Json& entry = Member(rung_models, model.motor, "models." + rung + ".", path);
-  model.tick_s = Number(entry, "tick_s", where + ".", path);
+  const Json& entry = Member(rung_models, model.motor, "models." + rung + ".", file);
+  model.tick_s = Number(entry, "tick_s", where + ".", file);
   if (!(std::isfinite(model.tick_s) && model.tick_s > 0.0)) {
-    throw InputError("--model '" + path + "': " + where + ".tick_s must be positive, got " +
+    throw InputError(source + ": " + where + ".tick_s must be positive, got " +
                      FormatNumber(model.tick_s));
   }
-  ReadRungParams(entry, where + ".", path, model);
+  ReadRungParams(entry, where + ".", file, model);
   return model;
+}
+
+FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
+                            const std::string& motor) {
+  return ParseFittedModel(ReadWholeFile(path, "--model"), rung, motor, "--model '" + path + "'");
 }
 
 DesiredServoMotion ReadDesiredMotion(const std::string& path) {
@@ -385,6 +371,24 @@ std::vector<double> ResampleDesired(const DesiredServoMotion& motion, double tic
     desired[t] = Interpolate(motion, motion.time_s.front() + static_cast<double>(t) * tick_s, i);
   }
   return desired;
+}
+
+PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
+                       std::vector<double> desired_deg, double min_deg, double max_deg,
+                       PlanMethod method) {
+  PlanResult r;
+  r.model = model;
+  r.drive = drive;
+  r.desired = std::move(desired_deg);
+  r.limits = {min_deg, max_deg, model.top_speed_deg_s};
+  if (model.rung == "paper") {
+    r.plan = PlanJointModelRequests(model.paper, model.tick_s, r.desired, r.limits, method);
+    r.direct = PredictJointModelAngles(model.paper, r.desired);
+  } else {
+    r.plan = PlanServoRequests(model.extended, drive, model.tick_s, r.desired, r.limits, method);
+    r.direct = PredictServoAngles(model.extended, drive, model.tick_s, r.desired);
+  }
+  return r;
 }
 
 std::string RunPlan(const PlanOptions& options) {

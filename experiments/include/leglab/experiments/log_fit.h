@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <string_view>
@@ -46,6 +47,47 @@ struct LogFitConfig {
 /// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
 /// ReadLogFitStructured.
 void VisitKeys(KeyVisitor& v, LogFitConfig& c);
+
+/// The rungs of the model ladder, in the order tables show them: the request as the
+/// prediction, the best time shift in hindsight, the paper's model, the extended model.
+inline constexpr std::array<std::string_view, 4> kLogFitRungs{"direct", "best_shift", "paper",
+                                                              "extended"};
+
+/// One log as a log fit saw it and predicted it: the columns of log_<name>.csv.
+struct LogFitCurves {
+  std::string name;  ///< <motor>_<file stem>: identify writes log_<name>.csv
+  std::string file;  ///< the log's file as given (or the name of a log given as values)
+  std::string motor;
+  double tick_s = 0.0;                  ///< the motor's tick the log was resampled to (s)
+  std::vector<double> request_deg;      ///< on that tick, t = k * tick_s from the first sample
+  std::vector<double> measured_deg;     ///< ...
+  std::vector<uint8_t> torque_enabled;  ///< ...
+  /// Each rung's prediction (kLogFitRungs), held out where cross-validated (deg).
+  std::array<std::vector<double>, kLogFitRungs.size()> predicted_deg;
+};
+
+/// What a log fit computed, as values: what identify writes in its log mode.
+struct LogFitResult {
+  std::string json;                  ///< log_fit.json's text
+  std::string markdown;              ///< log_fit.md's text
+  std::vector<LogFitCurves> curves;  ///< each log's log_<name>.csv, training logs first
+};
+
+/// A log given as a value rather than a file (`leglab.servo.fit` on ServoLog objects).
+struct GivenServoLog {
+  ServoLog log;       ///< checked as CheckServoLog checks; `file` names it in messages and tables
+  bool train = true;  ///< else a validation log
+};
+
+/// RunLogFit's work without the files: the models fitted and scored on the configured logs and
+/// `given` (after them; config.train may then be empty). Throws as RunLogFit.
+LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
+                          const std::vector<GivenServoLog>& given = {});
+
+/// `logs.*` from `overrides` alone ("cross_validate=none", "iterations=500": keys under
+/// `logs`, as --set writes them without the `logs.` prefix) over the defaults, as the config
+/// loader reads them. Throws InputError naming the key (unknown, wrong type, out of range).
+LogFitConfig LogFitConfigFromOverrides(const std::vector<std::string>& overrides);
 
 /// Fits and scores the model ladder (direct, best shift in hindsight, the paper's model, the
 /// extended model) on the configured logs, one parameter set per motor and rung, and writes

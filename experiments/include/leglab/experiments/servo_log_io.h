@@ -54,4 +54,17 @@ inline constexpr std::size_t kMaxServoLogSamples = 2'000'000;
 ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
                       const ServoLogDefaults& csv_defaults);
 
+/// Checks a log given as values (built in memory, not read) as ReadServoLog checks a file:
+/// a motor named, kp, mass and length finite and not negative, at least 2 and at most
+/// kMaxServoLogSamples samples, every time, request and measurement finite, the times strictly
+/// increasing, the torque on in one sample at least. Throws InputError "servo log '<file>':
+/// sample <i>, <column>: ..." (samples counted from 0).
+void CheckServoLog(const ServoLog& log);
+
+/// `log`'s samples in leglab's CSV form, with the torque column: each number as the shortest
+/// text that reads back as the same double, so ReadServoLog of it gives `log`'s samples bit for
+/// bit (motor, kp, mass and length are not in the CSV form: a CSV log takes them from its
+/// config keys). Throws as CheckServoLog.
+std::string ServoLogCsvText(const ServoLog& log);
+
 }  // namespace leglab::experiments

@@ -43,6 +43,29 @@ struct FittedModel {
 FittedModel ReadFittedModel(const std::string& path, const std::string& rung,
                             const std::string& motor);
 
+/// ReadFittedModel on the text of a log_fit.json; `source` starts its messages ("--model
+/// '<file>'").
+FittedModel ParseFittedModel(const std::string& text, const std::string& rung,
+                             const std::string& motor, const std::string& source);
+
+/// A plan as `plan` writes it (requests.csv, plan.json).
+struct PlanResult {
+  FittedModel model;
+  ServoDrive drive;             ///< kp, mass and length (the paper's rung ignores them)
+  ServoLimits limits;           ///< the requests' bounds; the speed limit is the model's
+  std::vector<double> desired;  ///< D on the model's tick (deg)
+  ServoPlan plan;               ///< the requests and their prediction
+  std::vector<double> direct;   ///< the model's angles with the desired angles as requests
+};
+
+/// What `plan` computes once the model, drive and desired motion are read: PlanServoRequests
+/// (extended rung) or PlanJointModelRequests (paper rung) with requests in [min_deg, max_deg]
+/// changing at most at the model's top speed, and the direct prediction. Throws
+/// std::invalid_argument as those do.
+PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
+                       std::vector<double> desired_deg, double min_deg, double max_deg,
+                       PlanMethod method);
+
 /// A desired motion read from --desired, before resampling.
 struct DesiredServoMotion {
   std::vector<double> time_s;       ///< strictly increasing
