@@ -15,12 +15,9 @@
 
 int main(int argc, char** argv) {
   using namespace leglab::experiments;
-  // identify reads the plant's keys and its own; a track key given to it is an error.
-  const ConfigScope scope{"identify",
-                          {"extends", "robot", "urdf", "plant", "plant_model", "sim", "servo",
-                           "sensor", "seed", "identify", "stand", "logs"}};
-  return RunProgram("identify", "Table 1: identify the joint model from step responses", scope,
-                    argc, argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
+  return RunProgram("identify", "Table 1: identify the joint model from step responses",
+                    kIdentifyScope, argc, argv,
+                    [](const ProgramArgs& args, const ExperimentConfig& config) {
                       if (config.logs.given) {
                         // Recorded servo logs instead of step tests on the plant.
                         std::vector<std::string> owned = kLogFitOutputPrefixes;

@@ -16,4 +16,8 @@ void BindPlant(pybind11::module_& m);
 /// ControllerContext, TrackRun, run_track (the experiments' Table 2 with Python controllers).
 void BindTrack(pybind11::module_& m);
 
+/// ServoModel, ServoPlanner and the private functions of leglab.servo (servo logs, the log
+/// fit, plans).
+void BindServo(pybind11::module_& m);
+
 }  // namespace leglab::python

@@ -34,7 +34,9 @@ void TranslateException(std::exception_ptr p) {  // NOLINT(performance-unnecessa
 }  // namespace
 
 PYBIND11_MODULE(_leglab, m) {
-  m.doc() = "leglab's C++ core: plants, joint models and Table 2's experiment (see leglab).";
+  m.doc() =
+      "leglab's C++ core: plants, joint models, Table 2's experiment and real servos (see "
+      "leglab, leglab.servo).";
   // Each docstring starts with its Python signature, written for people (pybind11's would name
   // the C++ types it converts through).
   py::options options;
@@ -45,4 +47,5 @@ PYBIND11_MODULE(_leglab, m) {
   leglab::python::BindModel(m);
   leglab::python::BindPlant(m);
   leglab::python::BindTrack(m);
+  leglab::python::BindServo(m);
 }

@@ -173,6 +173,11 @@ struct ConfigScope {
   std::vector<std::string> sections;  ///< top-level keys, e.g. "servo", "identify", "seed"
 };
 
+/// What identify reads: the plant's keys and its own (a track key given to it is an error).
+inline const ConfigScope kIdentifyScope{"identify",
+                                        {"extends", "robot", "urdf", "plant", "plant_model", "sim",
+                                         "servo", "sensor", "seed", "identify", "stand", "logs"}};
+
 /// Whether top-level key `section` ("servo", "steps") is in `scope`.
 bool InScope(const ConfigScope& scope, const std::string& section);
 

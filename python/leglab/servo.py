@@ -1,0 +1,263 @@
+"""leglab.servo: your own servo, from its logs to its requests, offline and online.
+
+The same numbers as the programs, to the bit: fit() is `identify` with a `logs` section
+(LogFit.to_json() is its log_fit.json), plan() is `plan` (its requests.csv's columns), and a
+ServoPlanner streams plan()'s requests one tick at a time for a loop that drives a servo.
+
+    import leglab.servo as servo
+    fit = servo.fit(leglab.config_path("identify_logs.yaml"))
+    model = fit.model("xl330")                      # the extended rung
+    planned = servo.plan(model, desired, kp=400, mass_kg=0.5, length_m=0.12)
+    planner = servo.ServoPlanner(model, kp=400, mass_kg=0.5, length_m=0.12)
+    planner.reset(angle_now)
+    request = planner.request(desired[t:t + planner.horizon_ticks + 1], measured)
+
+Angles are in degrees and times in seconds; arrays are numpy float64. Bad input raises
+ValueError with the programs' one-line message. See docs/real-servos.md ("From Python",
+"Online") and examples/python/your_servo.py.
+"""
+
+import json as _json
+import os as _os
+import tempfile as _tempfile
+
+import numpy as _np
+
+from . import _leglab
+from ._leglab import ServoModel, ServoPlanner
+
+ServoModel.__module__ = "leglab.servo"
+ServoPlanner.__module__ = "leglab.servo"
+
+_META_KEYS = ("motor", "kp", "mass_kg", "length_m")
+
+
+def _real_vector(values, what):
+    array = _np.asarray(values)
+    if array.dtype.kind not in "fiu":
+        raise ValueError(f"{what}: expected real numbers, got dtype {array.dtype}")
+    if array.ndim != 1:
+        raise ValueError(f"{what}: expected a 1-D array, got shape {array.shape}")
+    return _np.ascontiguousarray(array, dtype=_np.float64)
+
+
+def _number(value, what):
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer,
+                                                                     _np.floating)):
+        raise ValueError(f"{what}: expected a number, got {value!r}")
+    return float(value)
+
+
+class ServoLog:
+    """A recorded run of one servo: what it was asked, what it did, and what it drove.
+
+    Attributes (arrays of one length, one sample each):
+        time_s: time stamps, s, strictly increasing.
+        request_deg: the position request sent, deg.
+        measured_deg: the position the servo reported, deg.
+        torque_enabled: bool, False while the servo was limp (not scored, not fitted).
+    and motor (the servo type: one model is fitted per type), kp (its gain register), mass_kg
+    and length_m (the load: a point mass on an arm, 0 deg hanging straight down), trajectory
+    (the request's shape: cross-validation leaves each one out in turn) and file (where it was
+    read from, or its name: log_<motor>_<stem of file>.csv is what identify writes for it).
+
+    Build one from your own recording:
+
+        log = ServoLog(t, requests, measured, motor="my_servo", kp=32, mass_kg=0.2,
+                       length_m=0.1, trajectory="sweep", file="sweep_1.csv")
+
+    It is checked as identify checks a file: ValueError naming the sample and column.
+    """
+
+    def __init__(self, time_s, request_deg, measured_deg, torque_enabled=None, *, motor, kp,
+                 mass_kg=0.0, length_m=0.0, trajectory="", file=""):
+        time_s = _real_vector(time_s, "time_s")
+        request_deg = _real_vector(request_deg, "request_deg")
+        measured_deg = _real_vector(measured_deg, "measured_deg")
+        if torque_enabled is None:
+            torque_enabled = _np.ones(time_s.shape, dtype=bool)
+        else:
+            torque = _np.asarray(torque_enabled)
+            if torque.dtype.kind not in "biu" or (torque.dtype.kind != "b" and
+                                                  not _np.isin(torque, (0, 1)).all()):
+                raise ValueError("torque_enabled: expected booleans (or 0 and 1)")
+            torque_enabled = _np.ascontiguousarray(torque, dtype=bool)
+        for name, value in (("motor", motor), ("trajectory", trajectory), ("file", file)):
+            if not isinstance(value, str):
+                raise ValueError(f"{name}: expected a str, got {value!r}")
+        self._fields = {
+            "file": file or trajectory or "log", "motor": motor, "trajectory": trajectory,
+            "kp": _number(kp, "kp"), "mass_kg": _number(mass_kg, "mass_kg"),
+            "length_m": _number(length_m, "length_m"), "time_s": time_s,
+            "request_deg": request_deg, "measured_deg": measured_deg,
+            "torque_enabled": torque_enabled,
+        }
+        _leglab._check_log(self._fields)
+
+    @classmethod
+    def _from_fields(cls, fields):
+        log = cls.__new__(cls)
+        log._fields = fields
+        return log
+
+    def __getattr__(self, name):
+        fields = self.__dict__.get("_fields", {})
+        if name in fields:
+            return fields[name]
+        raise AttributeError(name)
+
+    def __len__(self):
+        return len(self._fields["time_s"])
+
+    def __repr__(self):
+        f = self._fields
+        return (f"ServoLog(file={f['file']!r}, motor={f['motor']!r}, kp={f['kp']!r}, "
+                f"samples={len(self)})")
+
+
+def read_log(path, format="auto", **meta):
+    """The servo log at `path`: BAM's JSON (`.json`) or leglab's CSV (`.csv`), as identify reads
+    it. format: "auto" (by extension), "csv" or "bam_json". A CSV log does not say its motor, kp,
+    mass_kg and length_m: give them as keywords (a BAM log's own are used, and these ignored)."""
+    unknown = sorted(set(meta) - set(_META_KEYS))
+    if unknown:
+        raise ValueError(f"read_log: unknown keyword {unknown[0]!r} (expected one of "
+                         f"{', '.join(_META_KEYS)})")
+    motor = meta.get("motor", "")
+    if not isinstance(motor, str):
+        raise ValueError(f"motor: expected a str, got {motor!r}")
+    numbers = [_number(meta.get(key, 0.0), key) for key in _META_KEYS[1:]]
+    return ServoLog._from_fields(_leglab._read_log(path, format, motor, *numbers))
+
+
+def write_log(log, path):
+    """Writes `log` in leglab's CSV form (time_s,request_deg,measured_deg,torque_enabled; every
+    number as the shortest text that reads back as the same double), all at once: a failed write
+    leaves no file behind and an existing one as it was. read_log(path, motor=..., kp=...,
+    mass_kg=..., length_m=...) reads it back to the same samples."""
+    if not isinstance(log, ServoLog):
+        raise ValueError(f"write_log: expected a ServoLog, got {type(log).__name__}")
+    text = _leglab._log_csv_text(log._fields)
+    path = _os.fspath(path)
+    folder = _os.path.dirname(_os.path.abspath(path))
+    fd, staging = _tempfile.mkstemp(prefix="." + _os.path.basename(path) + ".", dir=folder)
+    try:
+        with _os.fdopen(fd, "w", encoding="ascii", newline="") as out:
+            out.write(text)
+        _os.replace(staging, path)
+    except BaseException:
+        if _os.path.exists(staging):
+            _os.unlink(staging)
+        raise
+
+
+class LogFit:
+    """What fit() computed, as `identify` writes it.
+
+    Attributes:
+        json: log_fit.json as a dict (models, cross_validate, folds, logs).
+        markdown: log_fit.md's text.
+        curves: {name: {column: array}}, the columns of each log_<name>.csv (time_s,
+            request_deg, measured_deg, torque_enabled, direct_deg, best_shift_deg, paper_deg,
+            extended_deg: the predictions held out where cross-validated); empty when loaded
+            from a file.
+        folds: the cross-validation's fits (json["folds"]).
+        rows: every scored log, in sample and held out (json["logs"]): file, role,
+            held_out_by, motor, trajectory, kp, ticks_scored, best_shift_s, mae_deg, rms_deg
+            and plan.
+        motors: the motors fitted.
+    """
+
+    def __init__(self, text, markdown="", curves=None, source="LogFit"):
+        self._text = text
+        self._source = source
+        self.json = _json.loads(text)
+        self.markdown = markdown
+        self.curves = curves or {}
+        self.folds = self.json.get("folds", [])
+        self.rows = self.json.get("logs", [])
+        self.motors = sorted(self.json.get("models", {}).get("extended", {}))
+
+    @classmethod
+    def load(cls, path):
+        """The log_fit.json `identify` wrote (its models, folds and rows; no curves)."""
+        path = _os.fspath(path)
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except UnicodeDecodeError as e:
+            raise ValueError(f"LogFit.load '{path}': not UTF-8 text ({e.reason})") from None
+        try:
+            _json.loads(text)
+        except ValueError as e:
+            raise ValueError(f"LogFit.load '{path}': not valid JSON ({e})") from None
+        return cls(text, source=f"LogFit.load '{path}'")
+
+    def to_json(self):
+        """log_fit.json's text, as identify writes it for the same logs and keys."""
+        return self._text
+
+    def model(self, motor=None, rung="extended"):
+        """The fitted ServoModel of `motor` (None: the only one) and `rung` ("extended" or
+        "paper")."""
+        return _leglab._model_from_json(self._text, rung, motor or "", self._source)
+
+    def __repr__(self):
+        return (f"LogFit(motors={self.motors}, cross_validate={self.json.get('cross_validate')!r}"
+                f", logs={len(self.rows)})")
+
+
+def fit(config, overrides=None, *, validate=(), threads=0):
+    """Fits and scores the model ladder on servo logs, as `identify` does with a `logs` section.
+
+    Args:
+        config: an experiment YAML file with a `logs` section (str or os.PathLike), or a list
+            of ServoLog to fit on.
+        overrides: a dict of config keys, as the programs' --set: {"logs.cross_validate":
+            "none", "logs.iterations": 500}. With a list of logs, only logs.* keys.
+        validate: ServoLogs to score the fitted models on, unchanged (with a list of logs).
+        threads: worker threads, 0 for one per core; the numbers do not depend on it.
+
+    Returns a LogFit. Raises ValueError with identify's one-line message for a bad config,
+    key or log.
+    """
+    if isinstance(config, ServoLog):
+        config = [config]
+    if isinstance(config, (list, tuple)):
+        given = []
+        for role, logs in ((True, config), (False, validate)):
+            for log in logs:
+                if not isinstance(log, ServoLog):
+                    raise ValueError(f"fit: expected ServoLog objects, got {type(log).__name__}")
+                given.append((log._fields, role))
+        parts = _leglab._fit(None, overrides, given, threads)
+    else:
+        if validate:
+            raise ValueError("fit: validate= goes with a list of logs; a config names its "
+                             "validation logs in logs.validate")
+        parts = _leglab._fit(config, overrides, [], threads)
+    curves = {c.pop("name"): c for c in parts["curves"]}
+    return LogFit(parts["json"], parts["markdown"], curves)
+
+
+def plan(model, desired_deg, method="model_based", *, kp=None, mass_kg=0.0, length_m=0.0,
+         min_deg=-180.0, max_deg=180.0):
+    """Requests for `model` to follow `desired_deg` (one angle a tick of model.tick_s, deg), as
+    the `plan` program computes them.
+
+    method: "model_based" (the model inverted along the path) or "optimal" (least squared
+    predicted error). kp, mass_kg, length_m: the servo's gain register and load (kp required
+    for the extended rung). Requests stay in [min_deg, max_deg] and change at most at the
+    model's top speed.
+
+    Returns a dict of arrays: the columns of plan's requests.csv (time_s, desired_deg,
+    request_deg, predicted_deg, beyond_servo) and direct_deg, the model's prediction with the
+    desired angles sent as they are.
+    """
+    if not isinstance(model, ServoModel):
+        raise ValueError(f"plan: expected a ServoModel (LogFit.model), got {type(model).__name__}")
+    return _leglab._plan(model, desired_deg, method, kp, mass_kg, length_m, min_deg, max_deg)
+
+
+__all__ = ["ServoLog", "read_log", "write_log", "fit", "LogFit", "ServoModel", "plan",
+           "ServoPlanner"]

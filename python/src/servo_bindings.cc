@@ -1,0 +1,377 @@
+// leglab.servo's compiled part: servo logs, the log fit, fitted servo models, plans and the
+// online planner, on numpy arrays. python/leglab/servo.py holds the Python classes around it.
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.h"
+#include "convert.h"
+#include "leglab/experiments/config.h"
+#include "leglab/experiments/log_fit.h"
+#include "leglab/experiments/servo_log_io.h"
+#include "leglab/experiments/servo_plan_io.h"
+#include "leglab/model/servo_plan.h"
+#include "leglab/model/servo_planner.h"
+
+namespace leglab::python {
+namespace {
+
+using experiments::FittedModel;
+
+// A log as the Python ServoLog holds it: a dict of its fields and arrays.
+py::dict LogToDict(const ServoLog& log) {
+  const size_t n = log.samples.size();
+  DoubleArray time(static_cast<py::ssize_t>(n));
+  DoubleArray request(static_cast<py::ssize_t>(n));
+  DoubleArray measured(static_cast<py::ssize_t>(n));
+  py::array_t<bool> torque(static_cast<py::ssize_t>(n));
+  for (size_t i = 0; i < n; ++i) {
+    time.mutable_at(i) = log.samples[i].time_s;
+    request.mutable_at(i) = log.samples[i].request_deg;
+    measured.mutable_at(i) = log.samples[i].measured_deg;
+    torque.mutable_at(i) = log.samples[i].torque_enabled;
+  }
+  py::dict d;
+  d["file"] = log.file;
+  d["motor"] = log.motor;
+  d["trajectory"] = log.trajectory;
+  d["kp"] = log.kp;
+  d["mass_kg"] = log.mass_kg;
+  d["length_m"] = log.length_m;
+  d["time_s"] = time;
+  d["request_deg"] = request;
+  d["measured_deg"] = measured;
+  d["torque_enabled"] = torque;
+  return d;
+}
+
+// The dict of a Python ServoLog (its arrays already float64 and bool of one length) as a log.
+ServoLog DictToLog(const py::dict& d) {
+  ServoLog log;
+  log.file = d["file"].cast<std::string>();
+  log.motor = d["motor"].cast<std::string>();
+  log.trajectory = d["trajectory"].cast<std::string>();
+  log.kp = d["kp"].cast<double>();
+  log.mass_kg = d["mass_kg"].cast<double>();
+  log.length_m = d["length_m"].cast<double>();
+  const auto time = d["time_s"].cast<DoubleArray>();
+  const auto request = d["request_deg"].cast<DoubleArray>();
+  const auto measured = d["measured_deg"].cast<DoubleArray>();
+  const auto torque = d["torque_enabled"].cast<py::array_t<bool, py::array::c_style>>();
+  const auto n = static_cast<size_t>(time.size());
+  if (static_cast<size_t>(request.size()) != n || static_cast<size_t>(measured.size()) != n ||
+      static_cast<size_t>(torque.size()) != n) {
+    ThrowValueError("servo log '" + log.file +
+                    "': time_s, request_deg, measured_deg and torque_enabled differ in length");
+  }
+  log.samples.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    log.samples[i] = {time.at(i), request.at(i), measured.at(i), torque.at(i)};
+  }
+  return log;
+}
+
+py::dict CurvesToDict(const experiments::LogFitCurves& c) {
+  py::dict d;
+  d["name"] = c.name;
+  d["file"] = c.file;
+  d["motor"] = c.motor;
+  d["tick_s"] = c.tick_s;
+  DoubleArray time(static_cast<py::ssize_t>(c.request_deg.size()));
+  for (size_t t = 0; t < c.request_deg.size(); ++t) {
+    time.mutable_at(t) = static_cast<double>(t) * c.tick_s;
+  }
+  d["time_s"] = time;
+  d["request_deg"] = ToArray(c.request_deg);
+  d["measured_deg"] = ToArray(c.measured_deg);
+  py::array_t<bool> torque(static_cast<py::ssize_t>(c.torque_enabled.size()));
+  for (size_t t = 0; t < c.torque_enabled.size(); ++t) {
+    torque.mutable_at(t) = c.torque_enabled[t] != 0;
+  }
+  d["torque_enabled"] = torque;
+  for (size_t k = 0; k < experiments::kLogFitRungs.size(); ++k) {
+    d[py::str(std::string(experiments::kLogFitRungs[k]) + "_deg")] = ToArray(c.predicted_deg[k]);
+  }
+  return d;
+}
+
+py::dict Fit(py::handle config, py::handle overrides, const py::list& given, int threads) {
+  experiments::LogFitConfig logs;
+  if (config.is_none()) {
+    logs = experiments::LogFitConfigFromOverrides(ToOverrides(overrides));
+  } else {
+    const std::string path = ToPath(config, "config");
+    logs =
+        experiments::LoadExperimentConfig(path, ToOverrides(overrides), experiments::kIdentifyScope)
+            .logs;
+    if (!logs.given) {
+      ThrowValueError("config '" + path +
+                      "': has no logs section (leglab.servo.fit fits servo logs; step tests "
+                      "are leglab.identify)");
+    }
+  }
+  std::vector<experiments::GivenServoLog> logs_given;
+  for (const py::handle item : given) {
+    const auto pair = item.cast<py::tuple>();
+    logs_given.push_back({DictToLog(pair[0].cast<py::dict>()), pair[1].cast<bool>()});
+  }
+  if (threads < 0) ThrowValueError("threads: expected 0 (one per core) or more");
+  experiments::LogFitResult result;
+  {
+    py::gil_scoped_release release;
+    result = experiments::FitServoLogs(logs, threads, logs_given);
+  }
+  py::dict d;
+  d["json"] = result.json;
+  d["markdown"] = result.markdown;
+  py::list curves;
+  for (const experiments::LogFitCurves& c : result.curves) curves.append(CurvesToDict(c));
+  d["curves"] = curves;
+  return d;
+}
+
+std::string ModelRepr(const FittedModel& m) {
+  return "ServoModel(rung='" + m.rung + "', motor='" + m.motor +
+         "', tick_s=" + std::string(py::repr(py::float_(m.tick_s))) + ")";
+}
+
+py::dict ModelToDict(const FittedModel& m) {
+  py::dict d;
+  d["tick_s"] = m.tick_s;
+  if (m.rung == "paper") {
+    d["v_max_deg_per_tick"] = m.paper.v_max_deg_per_tick;
+    d["theta0_deg"] = m.paper.theta0_deg;
+    d["lag_ticks"] = m.paper.lag_ticks;
+    d["accel_ticks"] = m.paper.accel_ticks;
+    d["v_max_deg_s"] = m.top_speed_deg_s;
+  } else {
+    d["gain_per_deg_kp"] = m.extended.gain_per_deg_kp;
+    d["v_max_deg_s"] = m.extended.v_max_deg_s;
+    d["stall_torque_nm"] = m.extended.stall_torque_nm;
+    d["friction_duty"] = m.extended.friction_duty;
+    d["friction_load_ratio"] = m.extended.friction_load_ratio;
+    d["velocity_lag_s"] = m.extended.velocity_lag_s;
+    d["lag_ticks"] = m.extended.lag_ticks;
+  }
+  return d;
+}
+
+// kp, mass and length for a model: the extended rung needs kp; the paper's ignores them.
+ServoDrive ToDrive(const FittedModel& m, std::optional<double> kp, double mass_kg,
+                   double length_m) {
+  if (m.rung == "extended" && !kp) {
+    ThrowValueError("kp is required for the extended rung (the servo's gain register)");
+  }
+  const ServoDrive drive{kp.value_or(1.0), mass_kg, length_m};
+  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
+    ThrowValueError("kp must be positive, got " + std::string(py::repr(py::float_(drive.kp))));
+  }
+  if (!(std::isfinite(mass_kg) && mass_kg >= 0.0) ||
+      !(std::isfinite(length_m) && length_m >= 0.0)) {
+    ThrowValueError("mass_kg and length_m must be zero or positive");
+  }
+  return drive;
+}
+
+PlanMethod ToMethod(const std::string& method) {
+  if (method == "model_based") return PlanMethod::kModelBased;
+  if (method == "optimal") return PlanMethod::kOptimal;
+  ThrowValueError("method: expected 'model_based' or 'optimal', got '" + method + "'");
+}
+
+DoubleArray Simulate(const FittedModel& m, py::handle requests, std::optional<double> kp,
+                     double mass_kg, double length_m) {
+  const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
+  const std::vector<double> r = ToFiniteVector(requests, "requests_deg");
+  std::vector<double> angles;
+  {
+    py::gil_scoped_release release;
+    angles = m.rung == "paper" ? PredictJointModelAngles(m.paper, r)
+                               : PredictServoAngles(m.extended, drive, m.tick_s, r);
+  }
+  return ToArray(angles);
+}
+
+py::dict Plan(const FittedModel& m, py::handle desired, const std::string& method,
+              std::optional<double> kp, double mass_kg, double length_m, double min_deg,
+              double max_deg) {
+  const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
+  std::vector<double> d = ToFiniteVector(desired, "desired_deg", 1);
+  if (!(std::isfinite(min_deg) && std::isfinite(max_deg) && min_deg < max_deg)) {
+    ThrowValueError("min_deg and max_deg: expected finite min_deg < max_deg");
+  }
+  if (d[0] < min_deg || d[0] > max_deg) {
+    ThrowValueError("desired_deg: its first angle " + std::string(py::repr(py::float_(d[0]))) +
+                    " deg is outside min_deg/max_deg");
+  }
+  const PlanMethod how = ToMethod(method);
+  experiments::PlanResult r;
+  {
+    py::gil_scoped_release release;
+    r = experiments::PlanDesired(m, drive, std::move(d), min_deg, max_deg, how);
+  }
+  DoubleArray time(static_cast<py::ssize_t>(r.desired.size()));
+  py::array_t<uint8_t> beyond(static_cast<py::ssize_t>(r.desired.size()));
+  for (size_t t = 0; t < r.desired.size(); ++t) {
+    time.mutable_at(t) = static_cast<double>(t) * m.tick_s;
+    beyond.mutable_at(t) = r.plan.beyond_servo[t];
+  }
+  py::dict out;
+  out["time_s"] = time;
+  out["desired_deg"] = ToArray(r.desired);
+  out["request_deg"] = ToArray(r.plan.request_deg);
+  out["predicted_deg"] = ToArray(r.plan.predicted_deg);
+  out["beyond_servo"] = beyond;
+  out["direct_deg"] = ToArray(r.direct);
+  return out;
+}
+
+ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, std::optional<double> kp,
+                         double mass_kg, double length_m, std::optional<int> preview_ticks,
+                         double min_deg, double max_deg, double reanchor_deg,
+                         int optimal_iterations_per_tick) {
+  const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
+  ServoPlannerOptions options;
+  options.method = ToMethod(method);
+  if (preview_ticks && *preview_ticks < 0) {
+    ThrowValueError("preview_ticks: expected 0 or more (None: the method's own)");
+  }
+  options.preview_ticks = preview_ticks.value_or(-1);
+  options.reanchor_deg = reanchor_deg;
+  options.optimal_iterations_per_tick = optimal_iterations_per_tick;
+  const ServoLimits limits{min_deg, max_deg, m.top_speed_deg_s};
+  if (m.rung == "paper") return {m.paper, m.tick_s, limits, options};
+  return {m.extended, drive, m.tick_s, limits, options};
+}
+
+double Request(ServoPlanner& planner, py::handle window, double measured) {
+  // Fast path: a float64 array as it is (no copy); anything else through numpy's checks.
+  if (DoubleArray::check_(window)) {
+    const auto array = py::reinterpret_borrow<DoubleArray>(window);
+    if (array.ndim() == 1) {
+      return planner.Request(std::span<const double>(array.data(), array.size()), measured);
+    }
+  }
+  const DoubleArray array = RealArray(window, "window_deg");
+  if (array.ndim() != 1) ThrowValueError("window_deg: expected a 1-D array of desired angles");
+  return planner.Request(std::span<const double>(array.data(), array.size()), measured);
+}
+
+}  // namespace
+
+void BindServo(py::module_& m) {
+  m.def(
+      "_read_log",
+      [](py::handle path, const std::string& format, const std::string& motor, double kp,
+         double mass_kg, double length_m) {
+        experiments::ServoLogFormat f = experiments::ServoLogFormat::kAuto;
+        if (format == "csv") {
+          f = experiments::ServoLogFormat::kCsv;
+        } else if (format == "bam_json") {
+          f = experiments::ServoLogFormat::kBamJson;
+        } else if (format != "auto") {
+          ThrowValueError("format: expected 'auto', 'csv' or 'bam_json', got '" + format + "'");
+        }
+        const std::string file = ToPath(path, "path");
+        ServoLog log;
+        {
+          py::gil_scoped_release release;
+          log = experiments::ReadServoLog(file, f, {motor, kp, mass_kg, length_m});
+        }
+        return LogToDict(log);
+      },
+      "_read_log(path, format, motor, kp, mass_kg, length_m): the log's fields as a dict");
+  m.def(
+      "_check_log", [](const py::dict& d) { experiments::CheckServoLog(DictToLog(d)); },
+      "_check_log(fields): ValueError unless the log is one identify accepts");
+  m.def(
+      "_log_csv_text", [](const py::dict& d) { return experiments::ServoLogCsvText(DictToLog(d)); },
+      "_log_csv_text(fields): the log in leglab's CSV form");
+  m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
+        "_fit(config, overrides, given, threads): identify's log fit");
+  m.def(
+      "_model_from_json",
+      [](const std::string& text, const std::string& rung, const std::string& motor,
+         const std::string& source) {
+        if (rung != "paper" && rung != "extended") {
+          ThrowValueError("rung: expected 'extended' or 'paper', got '" + rung + "'");
+        }
+        return experiments::ParseFittedModel(text, rung, motor, source);
+      },
+      "_model_from_json(text, rung, motor, source)");
+
+  py::class_<FittedModel>(m, "ServoModel", R"doc(
+A servo model fitted to logs: one rung (extended or paper) of one motor, on its tick.
+
+Get one from a LogFit: fit.model("xl330") or LogFit.load(path).model("xl330", rung="paper").
+The extended model takes the servo's gain register kp and its load (mass_kg on an arm of
+length_m, 0 hanging straight down); the paper's model ignores them.
+)doc")
+      .def_readonly("rung", &FittedModel::rung, "'extended' or 'paper'.")
+      .def_readonly("motor", &FittedModel::motor, "The servo type, e.g. 'xl330'.")
+      .def_readonly("tick_s", &FittedModel::tick_s, "The tick the model was fitted on, s.")
+      .def_readonly("top_speed_deg_s", &FittedModel::top_speed_deg_s,
+                    "The model's top speed (deg/s): a plan's requests change no faster.")
+      .def_property_readonly(
+          "lag_ticks",
+          [](const FittedModel& f) {
+            return f.rung == "paper" ? f.paper.lag_ticks : f.extended.lag_ticks;
+          },
+          "l: ticks before a request starts to act.")
+      .def("to_dict", &ModelToDict,
+           "to_dict() -> dict: the model as log_fit.json's models.<rung>.<motor> holds it.")
+      .def("simulate", &Simulate, py::arg("requests_deg"), py::kw_only(),
+           py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0, py::arg("length_m") = 0.0,
+           R"doc(simulate(requests_deg, *, kp=None, mass_kg=0.0, length_m=0.0) -> ndarray
+
+The angles (deg) the model predicts, one a tick, with the requests sent as they are, from rest
+at the first request. kp is required for the extended rung.)doc")
+      .def("__repr__", &ModelRepr);
+
+  m.def("_plan", &Plan, py::arg("model"), py::arg("desired_deg"), py::arg("method"), py::arg("kp"),
+        py::arg("mass_kg"), py::arg("length_m"), py::arg("min_deg"), py::arg("max_deg"),
+        "_plan(model, desired_deg, method, kp, mass_kg, length_m, ...)");
+
+  py::class_<ServoPlanner>(m, "ServoPlanner", R"doc(
+ServoPlanner(model, method="model_based", *, kp=None, mass_kg=0.0, length_m=0.0,
+             preview_ticks=None, min_deg=-180.0, max_deg=180.0, reanchor_deg=2.0,
+             optimal_iterations_per_tick=4)
+
+Requests for a servo one tick at a time (leglab.servo.plan, online). Each tick call
+request(window_deg, measured_deg) with the desired angles from this tick on (as many as you
+know, up to preview_ticks + 1; the last one is held beyond them) and the angle just measured;
+send what it returns. model_based given horizon_ticks + 1 desired angles, and as measured what
+the plan predicts, returns plan()'s requests bit for bit. A measured angle more than
+reanchor_deg off the model's prediction moves the planner's model there (see
+docs/real-servos.md, "Online"). optimal is a receding horizon of preview_ticks ticks.
+Requests stay within [min_deg, max_deg] and change at most at the model's top speed.
+)doc")
+      .def(py::init(&MakePlanner), py::arg("model"), py::arg("method") = "model_based",
+           py::kw_only(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
+           py::arg("length_m") = 0.0, py::arg("preview_ticks") = py::none(),
+           py::arg("min_deg") = -180.0, py::arg("max_deg") = 180.0, py::arg("reanchor_deg") = 2.0,
+           py::arg("optimal_iterations_per_tick") = 4)
+      .def_property_readonly("horizon_ticks", &ServoPlanner::HorizonTicks,
+                             "l + 1: the desired angles after this tick's a request depends on.")
+      .def_property_readonly("preview_ticks", &ServoPlanner::PreviewTicks,
+                             "The desired angles after this tick's that request() uses.")
+      .def("reset", &ServoPlanner::Reset, py::arg("angle_deg"),
+           "reset(angle_deg): the servo at rest there; the next request is tick 0.")
+      .def("request", &Request, py::arg("window_deg"), py::arg("measured_deg"),
+           R"doc(request(window_deg, measured_deg) -> float
+
+R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg = M(t).)doc")
+      .def_property_readonly("predicted_deg", &ServoPlanner::PredictedDeg,
+                             "What the model predicted for the last measured angle.")
+      .def_property_readonly("reanchored", &ServoPlanner::Reanchored,
+                             "Whether the last measured angle moved the model.")
+      .def_property_readonly("ticks", &ServoPlanner::Ticks, "Requests since the last reset.");
+}
+
+}  // namespace leglab::python
