@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 
 #include "leglab/core/format.h"
@@ -16,6 +17,7 @@
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/servo_log_io.h"
+#include "leglab/model/servo_planner.h"
 
 namespace leglab::experiments {
 namespace {
@@ -236,6 +238,9 @@ void CheckOptions(const PlanOptions& o) {
   if ((o.mass_kg && *o.mass_kg < 0.0) || (o.length_m && *o.length_m < 0.0)) {
     throw InputError("--mass-kg and --length-m must be zero or positive");
   }
+  if (o.preview_ticks && !o.online) {
+    throw InputError("--preview-ticks goes with --online (the batch plan sees the whole motion)");
+  }
   if (o.min_deg >= o.max_deg) {
     throw InputError("--min-deg " + FormatNumber(o.min_deg) + " must be below --max-deg " +
                      FormatNumber(o.max_deg));
@@ -260,6 +265,10 @@ PlanResult Plan(const PlanOptions& o) {
                      FormatNumber(desired[0]) + " deg is outside --min-deg/--max-deg");
   }
   const PlanMethod method = o.method == "optimal" ? PlanMethod::kOptimal : PlanMethod::kModelBased;
+  if (o.online) {
+    return PlanDesiredOnline(model, drive, std::move(desired), o.min_deg, o.max_deg, method,
+                             o.preview_ticks.value_or(-1));
+  }
   return PlanDesired(model, drive, std::move(desired), o.min_deg, o.max_deg, method);
 }
 
@@ -292,6 +301,7 @@ std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
   if (r.model.rung == "extended") {
     j["drive"] = {{"kp", r.drive.kp}, {"mass_kg", r.drive.mass_kg}, {"length_m", r.drive.length_m}};
   }
+  if (r.preview_ticks) j["online"] = {{"preview_ticks", *r.preview_ticks}};
   j["model_file"] = o.model_path;
   j["desired_file"] = o.desired_path;
   return j.dump(2) + "\n";
@@ -391,6 +401,30 @@ PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
   return r;
 }
 
+PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
+                             std::vector<double> desired_deg, double min_deg, double max_deg,
+                             PlanMethod method, int preview_ticks) {
+  ServoPlannerOptions options;
+  options.method = method;
+  options.preview_ticks = preview_ticks;
+  const ServoLimits limits{min_deg, max_deg, model.top_speed_deg_s};
+  ServoPlanner planner = model.rung == "paper"
+                             ? ServoPlanner(model.paper, model.tick_s, limits, options)
+                             : ServoPlanner(model.extended, drive, model.tick_s, limits, options);
+  PlanResult r = PlanDesired(model, drive, std::move(desired_deg), min_deg, max_deg,
+                             PlanMethod::kModelBased);
+  r.preview_ticks = planner.PreviewTicks();
+  const std::span<const double> desired(r.desired);
+  const auto window = static_cast<size_t>(planner.PreviewTicks()) + 1;
+  planner.Reset(desired[0]);
+  for (size_t t = 0; t < desired.size(); ++t) {
+    r.plan.predicted_deg[t] = planner.ExpectedDeg();
+    r.plan.request_deg[t] = planner.Request(
+        desired.subspan(t, std::min(window, desired.size() - t)), r.plan.predicted_deg[t]);
+  }
+  return r;
+}
+
 std::string RunPlan(const PlanOptions& options) {
   OutputDir out(options.out_dir, {"requests.", "plan."});
   const PlanResult result = Plan(options);
@@ -421,6 +455,13 @@ int PlanMain(int argc, char** argv) {
   app.add_option("--length-m", o.length_m, "the load's arm (m, default 0)");
   app.add_option("--min-deg", o.min_deg, "least request (deg, default -180)");
   app.add_option("--max-deg", o.max_deg, "greatest request (deg, default 180)");
+  app.add_flag("--online", o.online,
+               "the online planner's requests, tick by tick on the model, instead of the batch "
+               "plan's");
+  app.add_option("--preview-ticks", o.preview_ticks,
+                 "with --online: desired angles ahead the planner is given (default: the "
+                 "method's own)")
+      ->check(CLI::Range(0, 100000));
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

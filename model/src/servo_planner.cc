@@ -45,6 +45,7 @@ struct ServoPlanner::Impl {
   virtual void Reset(double angle_deg) = 0;
   virtual double Request(std::span<const double> window_deg, double measured_deg) = 0;
   virtual double Predicted() const = 0;
+  virtual double Expected() const = 0;
   virtual bool Reanchored() const = 0;
   virtual long Ticks() const = 0;
 };
@@ -92,6 +93,7 @@ class Planner final : public ServoPlanner::Impl {
   int Horizon() const override { return horizon_; }
   int Preview() const override { return preview_; }
   double Predicted() const override { return predicted_; }
+  double Expected() const override { return anchored_.angle_deg; }
   bool Reanchored() const override { return reanchored_; }
   long Ticks() const override { return ticks_; }
 
@@ -353,6 +355,7 @@ double ServoPlanner::Request(std::span<const double> window_deg, double measured
   return impl_->Request(window_deg, measured_deg);
 }
 double ServoPlanner::PredictedDeg() const { return impl_->Predicted(); }
+double ServoPlanner::ExpectedDeg() const { return impl_->Expected(); }
 bool ServoPlanner::Reanchored() const { return impl_->Reanchored(); }
 long ServoPlanner::Ticks() const { return impl_->Ticks(); }
 

@@ -369,6 +369,9 @@ Requests stay within [min_deg, max_deg] and change at most at the model's top sp
 R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg = M(t).)doc")
       .def_property_readonly("predicted_deg", &ServoPlanner::PredictedDeg,
                              "What the model predicted for the last measured angle.")
+      .def_property_readonly("expected_deg", &ServoPlanner::ExpectedDeg,
+                             "What the model predicts the next measured angle to be (after "
+                             "reset, tick 0's): a servo that is the model measures it.")
       .def_property_readonly("reanchored", &ServoPlanner::Reanchored,
                              "Whether the last measured angle moved the model.")
       .def_property_readonly("ticks", &ServoPlanner::Ticks, "Requests since the last reset.");

@@ -23,6 +23,10 @@ struct PlanOptions {
   std::optional<double> length_m;      ///< --length-m
   double min_deg = -180.0;             ///< --min-deg
   double max_deg = 180.0;              ///< --max-deg
+  /// --online: the requests of a ServoPlanner run tick by tick on the model itself, given
+  /// `preview_ticks` desired angles ahead (unset: the method's own), instead of the batch plan.
+  bool online = false;
+  std::optional<int> preview_ticks;  ///< --preview-ticks (with --online)
 };
 
 /// One rung's fitted model of one motor, as log_fit.json's "models" gives it.
@@ -56,6 +60,8 @@ struct PlanResult {
   std::vector<double> desired;  ///< D on the model's tick (deg)
   ServoPlan plan;               ///< the requests and their prediction
   std::vector<double> direct;   ///< the model's angles with the desired angles as requests
+  /// Online (PlanDesiredOnline): the desired angles after each tick's the planner was given.
+  std::optional<int> preview_ticks;
 };
 
 /// What `plan` computes once the model, drive and desired motion are read: PlanServoRequests
@@ -65,6 +71,14 @@ struct PlanResult {
 PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
                        std::vector<double> desired_deg, double min_deg, double max_deg,
                        PlanMethod method);
+
+/// PlanDesired online: a ServoPlanner (`preview_ticks` desired angles ahead, -1: the method's
+/// own) run tick by tick on the model itself, each tick measuring what the model predicts.
+/// The requests and predictions are the planner's; beyond_servo is the batch model-based
+/// plan's (a property of the desired motion). Throws std::invalid_argument as ServoPlanner.
+PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
+                             std::vector<double> desired_deg, double min_deg, double max_deg,
+                             PlanMethod method, int preview_ticks);
 
 /// A desired motion read from --desired, before resampling.
 struct DesiredServoMotion {

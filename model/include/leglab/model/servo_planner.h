@@ -79,6 +79,9 @@ class ServoPlanner {
   double Request(std::span<const double> window_deg, double measured_deg);
   /// The model's prediction of the last Request's measured angle, before any re-anchoring.
   double PredictedDeg() const;
+  /// The model's prediction of the next Request's measured angle M(t) (after Reset, M(0)):
+  /// what a servo that is the model would measure.
+  double ExpectedDeg() const;
   /// Whether the last Request's measurement re-anchored the model.
   bool Reanchored() const;
   /// Requests since the last Reset.
