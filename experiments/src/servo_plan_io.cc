@@ -411,8 +411,8 @@ PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
   ServoPlanner planner = model.rung == "paper"
                              ? ServoPlanner(model.paper, model.tick_s, limits, options)
                              : ServoPlanner(model.extended, drive, model.tick_s, limits, options);
-  PlanResult r = PlanDesired(model, drive, std::move(desired_deg), min_deg, max_deg,
-                             PlanMethod::kModelBased);
+  PlanResult r =
+      PlanDesired(model, drive, std::move(desired_deg), min_deg, max_deg, PlanMethod::kModelBased);
   r.preview_ticks = planner.PreviewTicks();
   const std::span<const double> desired(r.desired);
   const auto window = static_cast<size_t>(planner.PreviewTicks()) + 1;
