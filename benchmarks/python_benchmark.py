@@ -18,7 +18,12 @@ of a ratio or difference taken within one round, never a single timing):
   (d) a controller written in Python in run_track: the direct mode as a leglab.Controller
       against the built-in `direct` (one thread, models given so nothing is identified),
       as the ratio of their runs' wall times. Skipped with a message while leglab.run_track's
-      C++ half is not built.
+      C++ half is not built;
+  (e) leglab.servo.ServoPlanner.request from a Python loop, one call a tick along the XL330's
+      sin_time_square log (the planner measuring what its model predicts), model_based and
+      optimal, against servo_planner_benchmark's BM_PlannerTick (the same loop in C++): the
+      time per tick as a share of the XL330's 5.3 ms tick (target at most 10 % for
+      model_based from Python).
 
 Both languages are timed alike: each repetition is the mean wall time per call over
 --min-time seconds (Google Benchmark's iteration time; Python repeats the call as long), and a
@@ -37,6 +42,7 @@ import time
 import numpy as np
 
 import leglab
+import leglab.servo as servo
 
 RUN_TICKS = 1760     # BM_PlantRun1760's ticks: 20 steps of the 88-tick walk
 TICK_CALLS = 20000   # Python tick calls timed per repetition in (c)
@@ -97,6 +103,54 @@ def cpp_times_s(program, min_time_s):
         name = b.get("run_name", b["name"]).split("/")[0]
         seconds = b["real_time"] * scale[b["time_unit"]]
         times[name] = min(times.get(name, float("inf")), seconds)
+    return times
+
+
+# servo_planner_benchmark's XL330 models (identify's fit of identify_logs.yaml).
+XL330_FIT = {"models": {"extended": {"xl330": {
+    "tick_s": 0.005292177200317383, "gain_per_deg_kp": 6.164324274979596e-05,
+    "v_max_deg_s": 856.3316406008295, "stall_torque_nm": 0.504851487618676,
+    "friction_duty": 2.3869350476813286e-14, "friction_load_ratio": 0.37634236423778544,
+    "velocity_lag_s": 0.14366047744528795, "lag_ticks": 1}}}}
+XL330_LOG = "data/servo_logs/dynamixel-xl330/sin_time_square_kp400_2026-01-15_10h29m37.json"
+
+
+def planner_tick_s(method, min_time_s):
+    """One ServoPlanner.request call from a Python loop along the log's requests, s: the
+    fastest of REPETITIONS repetitions, each the mean over min_time_s."""
+    model = servo.LogFit(json.dumps(XL330_FIT)).model("xl330")
+    log = servo.read_log(os.path.join(leglab.data_dir(), XL330_LOG))
+    ticks = np.arange(log.time_s[0], log.time_s[-1] + 1e-9, model.tick_s)
+    desired = log.request_deg[np.searchsorted(log.time_s, ticks, side="right") - 1]
+    planner = servo.ServoPlanner(model, method, kp=log.kp, mass_kg=log.mass_kg,
+                                 length_m=log.length_m)
+    window = planner.preview_ticks + 1
+    request = planner.request
+
+    def work():
+        planner.reset(desired[0])
+        for t in range(len(desired)):
+            request(desired[t:t + window], planner.expected_deg)
+
+    return min(mean_s(work, min_time_s) for _ in range(REPETITIONS)) / len(desired)
+
+
+def cpp_planner_times_s(program, min_time_s):
+    """{"model_based": s, "optimal": s}: servo_planner_benchmark's BM_PlannerTick."""
+    out = subprocess.run(
+        [program, "--benchmark_filter=BM_PlannerTick", "--benchmark_format=json",
+         f"--benchmark_min_time={min_time_s}", f"--benchmark_repetitions={REPETITIONS}",
+         "--rounds=1"],
+        check=True, capture_output=True, text=True).stdout
+    out = out[:out.rindex("}") + 1]  # the side-by-side report printed after the JSON
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+    times = {}
+    for b in json.loads(out)["benchmarks"]:
+        if b.get("run_type", "iteration") != "iteration":
+            continue
+        name = "model_based" if b.get("run_name", b["name"]).endswith("/0") else "optimal"
+        times[name] = min(times.get(name, float("inf")),
+                          b["real_time"] * scale[b["time_unit"]])
     return times
 
 
@@ -186,6 +240,25 @@ def main():
                       f"direct run's | "
                       f"{statistics.median(ratios):.2f} | - |")
 
+    planner_program = os.path.join(args.build, "bin", "servo_planner_benchmark")
+    planner_py = {"model_based": [], "optimal": []}
+    planner_cpp = {"model_based": [], "optimal": []}
+    if os.access(planner_program, os.X_OK):
+        for round_ in range(args.rounds):
+            def planner_python():
+                """(e) from Python, this round."""
+                for method in planner_py:
+                    planner_py[method].append(planner_tick_s(method, args.min_time))
+
+            if round_ % 2 == 0:
+                planner_python()
+                cpp = cpp_planner_times_s(planner_program, args.min_time)
+            else:
+                cpp = cpp_planner_times_s(planner_program, args.min_time)
+                planner_python()
+            for method in planner_cpp:
+                planner_cpp[method].append(cpp[method])
+
     median = statistics.median
     print(f"Python package cost: medians of {args.rounds} interleaved rounds, fastest of "
           f"{REPETITIONS} repetitions of {args.min_time:g} s within each")
@@ -202,6 +275,15 @@ def main():
           f"| <= 5 us |")
     print(f"| (c) Plant.tick overhead per call, list of floats | {median(list_over) * 1e6:.2f} us "
           f"| <= 5 us |")
+    tick_s = XL330_FIT["models"]["extended"]["xl330"]["tick_s"]
+    if planner_py["model_based"]:
+        for method, target in (("model_based", "<= 10 %"), ("optimal", "-")):
+            py_s, cpp_s = median(planner_py[method]), median(planner_cpp[method])
+            print(f"| (e) ServoPlanner.request, {method}, per tick from Python (C++) | "
+                  f"{py_s * 1e6:.2f} us ({cpp_s * 1e6:.2f} us): {100 * py_s / tick_s:.3f} % "
+                  f"({100 * cpp_s / tick_s:.3f} %) of the 5.3 ms tick | {target} |")
+    else:
+        print(f"| (e) ServoPlanner.request | skipped: no {planner_program} | - |")
     if track_line:
         print(track_line)
     else:

@@ -1,0 +1,191 @@
+// Cost of the online planner's tick (ServoPlanner::Request) against one tick of the model
+// itself, on the XL330's fitted models and a shipped log's requests as the desired motion:
+//
+//   BM_ModelTick                   one StepServoModel tick of the extended model;
+//   BM_PlannerTick/model_based     one Request, the extended model, its horizon as preview;
+//   BM_PlannerTick/optimal         one Request, the receding horizon (its default preview);
+//   BM_PaperPlannerTick            one Request, the paper's model, model-based.
+//
+// Each planner case runs along the desired motion, measuring what the model predicts, and
+// starts over at its end. Then the four side by side in interleaved rounds (the machine is
+// shared and noisy): each one's time per tick, as a share of the servo's tick and as a
+// multiple of a model tick. Usage: servo_planner_benchmark [--benchmark_* flags] [--rounds=N]
+//
+// The models are identify's fit of experiments/configs/identify_logs.yaml (log_fit.json's
+// models.*.xl330), written here so that the benchmark needs no fit.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "leglab/experiments/servo_plan_io.h"
+#include "leglab/model/servo_model.h"
+#include "leglab/model/servo_planner.h"
+#include "rounds_flag.h"
+
+namespace {
+
+using namespace leglab;
+
+constexpr double kTickS = 0.005292177200317383;
+const ServoModelParams kExtended{.gain_per_deg_kp = 6.164324274979596e-05,
+                                 .v_max_deg_s = 856.3316406008295,
+                                 .stall_torque_nm = 0.504851487618676,
+                                 .friction_duty = 2.3869350476813286e-14,
+                                 .friction_load_ratio = 0.37634236423778544,
+                                 .velocity_lag_s = 0.14366047744528795,
+                                 .lag_ticks = 1};
+const JointModelParams kPaper{.v_max_deg_per_tick = 2.99219136623082,
+                              .theta0_deg = 1202.7878161114627,
+                              .lag_ticks = 0,
+                              .accel_ticks = 1};
+
+struct Case {
+  std::vector<double> desired;
+  ServoDrive drive;
+  ServoLimits limits;
+};
+
+// The sin_time_square log at kp 400 (the XL330's fastest motion) as the desired motion.
+const Case& TheCase() {
+  static const Case c = [] {
+    const std::string log = std::string(LEGLAB_SOURCE_DIR) +
+                            "/data/servo_logs/dynamixel-xl330/"
+                            "sin_time_square_kp400_2026-01-15_10h29m37.json";
+    const experiments::DesiredServoMotion motion = experiments::ReadDesiredMotion(log);
+    return Case{experiments::ResampleDesired(motion, kTickS, log), *motion.drive,
+                ServoLimits{-180.0, 180.0, kExtended.v_max_deg_s}};
+  }();
+  return c;
+}
+
+ServoPlanner MakePlanner(PlanMethod method, bool paper) {
+  const Case& c = TheCase();
+  ServoPlannerOptions options;
+  options.method = method;
+  if (paper) {
+    return {kPaper, kTickS, {c.limits.min_deg, c.limits.max_deg, 565.3989375207187}, options};
+  }
+  return {kExtended, c.drive, kTickS, c.limits, options};
+}
+
+// Runs `ticks` Requests along the desired motion from where `t` is, starting over at its end.
+void PlannerTicks(ServoPlanner& planner, size_t& t, int ticks) {
+  const std::span<const double> desired(TheCase().desired);
+  const auto window = static_cast<size_t>(planner.PreviewTicks()) + 1;
+  for (int i = 0; i < ticks; ++i) {
+    if (t == desired.size()) {
+      planner.Reset(desired[0]);
+      t = 0;
+    }
+    benchmark::DoNotOptimize(planner.Request(
+        desired.subspan(t, std::min(window, desired.size() - t)), planner.ExpectedDeg()));
+    ++t;
+  }
+}
+
+void ModelTicks(ServoModelState& state, size_t& t, int ticks) {
+  const std::vector<double>& desired = TheCase().desired;
+  for (int i = 0; i < ticks; ++i) {
+    benchmark::DoNotOptimize(
+        StepServoModel(kExtended, TheCase().drive, kTickS, state, desired[t++ % desired.size()]));
+  }
+}
+
+void BM_ModelTick(benchmark::State& state) {
+  ServoModelState model = ServoRestState(kExtended, TheCase().desired[0]);
+  size_t t = 0;
+  for (auto _ : state) ModelTicks(model, t, 1);
+}
+BENCHMARK(BM_ModelTick);
+
+void BM_PlannerTick(benchmark::State& state) {
+  ServoPlanner planner =
+      MakePlanner(state.range(0) == 0 ? PlanMethod::kModelBased : PlanMethod::kOptimal, false);
+  planner.Reset(TheCase().desired[0]);
+  size_t t = 0;
+  for (auto _ : state) PlannerTicks(planner, t, 1);
+  state.SetLabel(state.range(0) == 0 ? "model_based" : "optimal");
+}
+BENCHMARK(BM_PlannerTick)->Arg(0)->Arg(1);
+
+void BM_PaperPlannerTick(benchmark::State& state) {
+  ServoPlanner planner = MakePlanner(PlanMethod::kModelBased, true);
+  planner.Reset(TheCase().desired[0]);
+  size_t t = 0;
+  for (auto _ : state) PlannerTicks(planner, t, 1);
+}
+BENCHMARK(BM_PaperPlannerTick);
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+template <typename F>
+double MicrosecondsPerTick(const F& run, int ticks) {
+  const auto start = std::chrono::steady_clock::now();
+  run(ticks);
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+             .count() /
+         ticks;
+}
+
+void ReportSideBySide(int rounds) {
+  const int ticks = static_cast<int>(TheCase().desired.size());
+  ServoModelState model = ServoRestState(kExtended, TheCase().desired[0]);
+  ServoPlanner based = MakePlanner(PlanMethod::kModelBased, false);
+  ServoPlanner optimal = MakePlanner(PlanMethod::kOptimal, false);
+  ServoPlanner paper = MakePlanner(PlanMethod::kModelBased, true);
+  size_t t_model = 0, t_based = 0, t_optimal = 0, t_paper = 0;
+  for (ServoPlanner* p : {&based, &optimal, &paper}) p->Reset(TheCase().desired[0]);
+  std::vector<double> model_us, based_us, optimal_us, paper_us;
+  for (int round = 0; round < rounds; ++round) {
+    const auto one = [&](int which) {
+      switch (which) {
+        case 0:
+          model_us.push_back(
+              MicrosecondsPerTick([&](int n) { ModelTicks(model, t_model, n); }, ticks));
+          break;
+        case 1:
+          based_us.push_back(
+              MicrosecondsPerTick([&](int n) { PlannerTicks(based, t_based, n); }, ticks));
+          break;
+        case 2:
+          optimal_us.push_back(
+              MicrosecondsPerTick([&](int n) { PlannerTicks(optimal, t_optimal, n); }, ticks));
+          break;
+        default:
+          paper_us.push_back(
+              MicrosecondsPerTick([&](int n) { PlannerTicks(paper, t_paper, n); }, ticks));
+      }
+    };
+    for (int k = 0; k < 4; ++k) one((k + round) % 4);  // a different order each round
+  }
+  const double tick_us = kTickS * 1e6;
+  const double m = Median(model_us);
+  std::printf(
+      "per tick, medians of %d interleaved rounds of %d ticks (the servo's tick %.0f us):\n",
+      rounds, ticks, tick_us);
+  std::printf("  model tick             %8.3f us\n", m);
+  const auto line = [&](const char* what, const std::vector<double>& us) {
+    const double x = Median(us);
+    std::printf("  %-22s %8.3f us  %6.3f %% of the tick  %7.1f model ticks\n", what, x,
+                100.0 * x / tick_us, x / m);
+  };
+  line("model_based (extended)", based_us);
+  line("optimal (extended)", optimal_us);
+  line("model_based (paper)", paper_us);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return leglab::benchmarks::RunThenReport(argc, argv, 9, ReportSideBySide);
+}
