@@ -62,7 +62,8 @@ fi
 # Real servos: the model ladder on the shipped logs of two hobby servos (data/servo_logs/), one
 # parameter set per servo type, each trajectory held out in turn (servo_logs/); the XL330 with
 # each gain setting held out in turn (servo_logs/by_kp/); requests planned through the fitted
-# extended model for an XL330 log's motion (servo_logs/plan/).
+# extended model for an XL330 log's motion (servo_logs/plan/), and online by preview length
+# (servo_logs/online/).
 if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
   build/bin/identify --config experiments/configs/identify_logs.yaml --out "$out/servo_logs"
   build/bin/identify --config experiments/configs/identify_logs.yaml --out "$out/servo_logs/by_kp" \
@@ -70,6 +71,9 @@ if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
   build/bin/plan --model "$out/servo_logs/log_fit.json" --method optimal \
     --desired data/servo_logs/dynamixel-xl330/sin_time_square_kp400_2026-01-15_10h29m37.json \
     --out "$out/servo_logs/plan"
+  # The online planner against the batch plan, by preview length (servo_logs/online/).
+  /usr/bin/python3 scripts/online_preview_table.py --model "$out/servo_logs/log_fit.json" \
+    --out "$out/servo_logs/online" > /dev/null
   /usr/bin/python3 scripts/plot_logs.py "$out/servo_logs" "$out/servo_logs/by_kp" \
     "$out/servo_logs/plan"
 fi
