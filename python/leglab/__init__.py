@@ -8,7 +8,8 @@ float64; a leg's per-joint values are ordered rotator, abductor, knee.
     plant = leglab.Plant(leglab.config_path("track.yaml"), {"steps": 5})
     reading = plant.tick([10.0, 0.0, 20.0])
 
-See docs/python.md for the whole API and examples/python/ for three short scripts.
+See docs/python.md for the whole API and examples/python/ for four short scripts; leglab.servo
+is the real-servo workflow (docs/real-servos.md).
 """
 
 import os as _os

@@ -127,7 +127,16 @@ def read_log(path, format="auto", **meta):
     if not isinstance(motor, str):
         raise ValueError(f"motor: expected a str, got {motor!r}")
     numbers = [_number(meta.get(key, 0.0), key) for key in _META_KEYS[1:]]
-    return ServoLog._from_fields(_leglab._read_log(path, format, motor, *numbers))
+    fields = _leglab._read_log(path, format, motor, *numbers)
+    # A CSV log names neither its motor nor its gain: without them it could be read but not
+    # fitted, planned for or scored, so say so here, naming the keywords.
+    if not fields["motor"]:
+        raise ValueError(f"read_log '{fields['file']}': no motor (a CSV log takes it from "
+                         f"motor=)")
+    if not fields["kp"] > 0:
+        raise ValueError(f"read_log '{fields['file']}': kp must be positive, got "
+                         f"{fields['kp']:g} (a CSV log takes it from kp=)")
+    return ServoLog._from_fields(fields)
 
 
 def write_log(log, path):

@@ -16,6 +16,8 @@
 #include "leglab/experiments/log_fit.h"
 #include "leglab/experiments/servo_log_io.h"
 #include "leglab/experiments/servo_plan_io.h"
+#include "leglab/model/joint_model.h"
+#include "leglab/model/servo_model.h"
 #include "leglab/model/servo_plan.h"
 #include "leglab/model/servo_planner.h"
 
@@ -185,15 +187,26 @@ PlanMethod ToMethod(const std::string& method) {
   ThrowValueError("method: expected 'model_based' or 'optimal', got '" + method + "'");
 }
 
-DoubleArray Simulate(const FittedModel& m, py::handle requests, std::optional<double> kp,
-                     double mass_kg, double length_m) {
+DoubleArray Simulate(const FittedModel& m, py::handle requests, std::optional<double> start_deg,
+                     std::optional<double> kp, double mass_kg, double length_m) {
   const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
   const std::vector<double> r = ToFiniteVector(requests, "requests_deg");
-  std::vector<double> angles;
+  if (start_deg && !std::isfinite(*start_deg))
+    ThrowValueError("start_deg: expected a finite angle");
+  std::vector<double> angles(r.size());
+  if (r.empty()) return ToArray(angles);
+  const double start = start_deg.value_or(r[0]);
   {
     py::gil_scoped_release release;
-    angles = m.rung == "paper" ? PredictJointModelAngles(m.paper, r)
-                               : PredictServoAngles(m.extended, drive, m.tick_s, r);
+    if (m.rung == "paper") {
+      JointModelState state = RestState(m.paper, start);
+      for (size_t t = 0; t < r.size(); ++t) angles[t] = StepJointModel(m.paper, state, r[t]);
+    } else {
+      ServoModelState state = ServoRestState(m.extended, start);
+      for (size_t t = 0; t < r.size(); ++t) {
+        angles[t] = StepServoModel(m.extended, drive, m.tick_s, state, r[t]);
+      }
+    }
   }
   return ToArray(angles);
 }
@@ -326,12 +339,15 @@ length_m, 0 hanging straight down); the paper's model ignores them.
           "l: ticks before a request starts to act.")
       .def("to_dict", &ModelToDict,
            "to_dict() -> dict: the model as log_fit.json's models.<rung>.<motor> holds it.")
-      .def("simulate", &Simulate, py::arg("requests_deg"), py::kw_only(),
-           py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0, py::arg("length_m") = 0.0,
-           R"doc(simulate(requests_deg, *, kp=None, mass_kg=0.0, length_m=0.0) -> ndarray
+      .def(
+          "simulate", &Simulate, py::arg("requests_deg"), py::kw_only(),
+          py::arg("start_deg") = py::none(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
+          py::arg("length_m") = 0.0,
+          R"doc(simulate(requests_deg, *, start_deg=None, kp=None, mass_kg=0.0, length_m=0.0) -> ndarray
 
 The angles (deg) the model predicts, one a tick, with the requests sent as they are, from rest
-at the first request. kp is required for the extended rung.)doc")
+at start_deg (None: the first request). A plan's predicted_deg is simulate(request_deg,
+start_deg=desired_deg[0], ...). kp is required for the extended rung.)doc")
       .def("__repr__", &ModelRepr);
 
   m.def("_plan", &Plan, py::arg("model"), py::arg("desired_deg"), py::arg("method"), py::arg("kp"),

@@ -122,6 +122,11 @@ def test_plan_is_the_plan_program(identified, tmp_path):
                              mass_kg=log.mass_kg, length_m=log.length_m)
             for column, values in written.items():
                 assert np.array_equal(got[column].astype(float), values), (rung, method, column)
+            start = got["desired_deg"][0]
+            drive = dict(kp=log.kp, mass_kg=log.mass_kg, length_m=log.length_m)
+            assert np.array_equal(model.simulate(got["request_deg"], start_deg=start, **drive),
+                                  got["predicted_deg"])
+            assert np.array_equal(model.simulate(got["desired_deg"], **drive), got["direct_deg"])
             summary = json.loads((folder / "plan.json").read_text())
             assert np.mean(np.abs(got["direct_deg"] - got["desired_deg"])) == pytest.approx(
                 summary["predicted_mae_deg"]["direct"], rel=0, abs=1e-12)
@@ -174,6 +179,8 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
     _, fit = identified
     t = np.arange(5) * 0.01
     good = dict(motor="m", kp=1.0)
+    csv_log = tmp_path / "log.csv"
+    servo.write_log(servo.ServoLog(t, t, t, **good), csv_log)
     cases = [
         (lambda: servo.ServoLog(t, t, t[:4], **good), "differ in length"),
         (lambda: servo.ServoLog(t, t, t.astype(complex), **good), "measured_deg: expected real"),
@@ -188,6 +195,8 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
         (lambda: servo.ServoLog(t, t, t, motor="m", kp=-1), "kp"),
         (lambda: servo.read_log(tmp_path / "none.csv", motor="m", kp=1), "no such file"),
         (lambda: servo.read_log(XL330_LOG, speed=3), "unknown keyword 'speed'"),
+        (lambda: servo.read_log(csv_log, kp=1), "no motor"),
+        (lambda: servo.read_log(csv_log, motor="m"), "kp must be positive, got 0"),
         (lambda: servo.fit(IDENTIFY_LOGS, {"logs.nope": 1}), "nope"),
         (lambda: servo.fit([], {"logs.iterations": 10}), "no log to fit on"),
         (lambda: servo.fit(str(SOURCE_DIR / "experiments/configs/identify.yaml")),
