@@ -6,14 +6,16 @@ against the batch `plan`, on a motor's logs taken as desired motions.
 
 Writes preview.md (the table docs/results.md shows) and preview.json (every run's predicted
 mean absolute error from the desired motion, deg, over all its ticks: plan.json's
-predicted_mae_deg.planned) into --out. Each run's files are kept in --out/runs/.
+predicted_mae_deg.planned) into --out; each run's own files go to a temporary folder.
 """
 
 import argparse
 import json
 import pathlib
+import shutil
 import subprocess
 import sys
+import tempfile
 
 MODEL_BASED_PREVIEWS = (0, 1, 2)
 OPTIMAL_PREVIEWS = (2, 5, 10, 20, 40, 62, 120, 250)
@@ -47,7 +49,7 @@ def main():
     if not logs:
         sys.exit(f"online_preview_table: no {args.motor} log at kp {args.kp}")
     out = pathlib.Path(args.out)
-    runs = out / "runs"
+    runs = pathlib.Path(tempfile.mkdtemp(prefix="online_preview_"))
     rows = [("batch model_based", "model_based", None), ("batch optimal", "optimal", None)]
     rows += [(f"online model_based, preview {p}", "model_based", p) for p in MODEL_BASED_PREVIEWS]
     rows += [(f"online optimal, preview {p}", "optimal", p) for p in OPTIMAL_PREVIEWS]
@@ -58,6 +60,7 @@ def main():
         for name, log in zip(names, logs):
             folder = runs / f"{name}_{method}_{'batch' if preview is None else preview}"
             table[label][name] = planned_mae(plan, args, log, method, folder, preview)
+    shutil.rmtree(runs)
     out.mkdir(parents=True, exist_ok=True)
     (out / "preview.json").write_text(json.dumps(table, indent=2) + "\n")
     lines = [f"| plan ({args.motor}, kp {args.kp}) | " + " | ".join(names) + " |",

@@ -111,6 +111,8 @@ RUN_DESCRIPTIONS = {
     "servo_logs/by_kp": "Real servos: the XL330 with each gain setting held out in turn.",
     "servo_logs/plan": "Requests planned through the fitted extended model for an XL330 log's "
                        "motion (plan).",
+    "servo_logs/online": "The online planner against the batch plan by preview length: the "
+                         "XL330's kp 400 logs as desired motions (plan --online).",
     "sweeps": "The sweeps: track over a grid of config values, one folder each.",
     "sweeps/walk_speed": "Sweep: the walk's step time from 40 to 120 ticks, every mode.",
     "sweeps/model_mismatch": "Sweep: the plant's servo delay and top speed around a fixed "
