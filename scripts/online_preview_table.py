@@ -55,12 +55,14 @@ def main():
     rows += [(f"online optimal, preview {p}", "optimal", p) for p in OPTIMAL_PREVIEWS]
     names = [log.name.split(f"_kp{args.kp}_")[0] for log in logs]
     table = {}
-    for label, method, preview in rows:
-        table[label] = {}
-        for name, log in zip(names, logs):
-            folder = runs / f"{name}_{method}_{'batch' if preview is None else preview}"
-            table[label][name] = planned_mae(plan, args, log, method, folder, preview)
-    shutil.rmtree(runs)
+    try:
+        for label, method, preview in rows:
+            table[label] = {}
+            for name, log in zip(names, logs):
+                folder = runs / f"{name}_{method}_{'batch' if preview is None else preview}"
+                table[label][name] = planned_mae(plan, args, log, method, folder, preview)
+    finally:
+        shutil.rmtree(runs)
     out.mkdir(parents=True, exist_ok=True)
     (out / "preview.json").write_text(json.dumps(table, indent=2) + "\n")
     lines = [f"| plan ({args.motor}, kp {args.kp}) | " + " | ".join(names) + " |",

@@ -23,7 +23,7 @@ using servo_plan::InvertExtendedTick;
 using servo_plan::PaperStepper;
 using servo_plan::PathStep;
 
-constexpr int kMaxPreviewTicks = 100'000;
+constexpr int kMaxPreviewTicks = 100000;
 
 // The state at rest at `angle_deg`, in place (no allocation): as ServoRestState / RestState.
 void ResetInPlace(ServoModelState& state, double angle_deg) {
