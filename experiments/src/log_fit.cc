@@ -209,7 +209,20 @@ std::vector<MotorGroup> GroupByMotor(std::vector<Log>& logs, const LogFitConfig&
   return result;
 }
 
-ServoRecording ToRecording(const ServoLog& log, double tick_s) {
+// The most ticks a log is resampled to: twice the most samples a log may have.
+constexpr double kMaxResampledTicks = 2.0 * static_cast<double>(kMaxServoLogSamples);
+
+ServoRecording ToRecording(const ServoLog& log, double tick_s, const LogFitConfig& config) {
+  const double ticks = (log.samples.back().time_s - log.samples.front().time_s) / tick_s + 1.0;
+  if (!(ticks <= kMaxResampledTicks)) {
+    FailConfig("logs.tick_s" +
+               std::string(config.tick_s > 0.0 ? "" : " (0: the motor's median sample interval)") +
+               " = " + FormatNumber(tick_s) + " s would resample the log '" + log.file + "' (" +
+               FormatNumber(log.samples.back().time_s - log.samples.front().time_s) + " s) to " +
+               FormatNumber(std::ceil(ticks), NumberStyle::kReadable) +
+               " ticks, over the limit of " +
+               FormatNumber(kMaxResampledTicks, NumberStyle::kReadable));
+  }
   ResampledLog resampled = Resample(log.samples, tick_s);
   ServoRecording r;
   r.drive = {log.kp, log.mass_kg, log.length_m};
@@ -482,7 +495,9 @@ double DrivenMae(std::span<const double> angles, const ServoRecording& r) {
 }
 
 PlanGain PlanLog(const ServoModelParams& model, const ServoRecording& r, double tick_s) {
-  const ServoLimits limits{-180.0, 180.0, model.v_max_deg_s};
+  // -180..180 deg, widened to the log's own requests (a servo whose angles run 0..360).
+  const auto [least, most] = std::minmax_element(r.request_deg.begin(), r.request_deg.end());
+  const ServoLimits limits{std::min(-180.0, *least), std::max(180.0, *most), model.v_max_deg_s};
   PlanGain gain;
   gain.direct_mae_deg = DrivenMae(PredictServoAngles(model, r.drive, tick_s, r.request_deg), r);
   const ServoPlan based =
@@ -540,7 +555,9 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
   report.groups = GroupByMotor(report.logs, config);
   for (const MotorGroup& g : report.groups) {
     for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
-      for (size_t i : *list) report.logs[i].recording = ToRecording(report.logs[i].log, g.tick_s);
+      for (size_t i : *list) {
+        report.logs[i].recording = ToRecording(report.logs[i].log, g.tick_s, config);
+      }
     }
   }
   report.jobs = Jobs(report.groups, config);

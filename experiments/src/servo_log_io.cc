@@ -16,6 +16,7 @@
 #include "leglab/core/format.h"
 #include "leglab/core/units.h"
 #include "leglab/experiments/config.h"
+#include "leglab/model/servo_plan.h"
 
 namespace leglab::experiments {
 namespace {
@@ -132,9 +133,21 @@ ServoLogFormat FormatOf(const std::string& path, ServoLogFormat format) {
 }
 
 // A setting (kp, mass, length) must be finite and not negative.
-void CheckSetting(const std::string& path, const std::string& name, double value) {
+void CheckSetting(const std::string& path, const std::string& name, double value, double max) {
   if (!std::isfinite(value) || value < 0.0) {
     Fail(path, name + " = " + Number(value) + " must be finite and not negative");
+  }
+  if (value > max) {
+    Fail(path, name + " = " + Number(value) + " must be at most " +
+                   FormatNumber(max, NumberStyle::kReadable));
+  }
+}
+
+// A request or measured angle (deg) is physically possible: within kMaxPlanAngleDeg.
+void CheckAngle(const std::string& path, const std::string& where, double angle_deg) {
+  if (!(std::abs(angle_deg) <= kMaxPlanAngleDeg)) {
+    Fail(path, where + " = " + Number(angle_deg) + " deg is beyond +-" +
+                   FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg");
   }
 }
 
@@ -201,6 +214,8 @@ ServoLogSample ParseCsvRow(const std::string& path, std::string_view line, long 
   sample.time_s = ParseNumber(path, row, 0, cells[0]);
   sample.request_deg = ParseNumber(path, row, 1, cells[1]);
   sample.measured_deg = ParseNumber(path, row, 2, cells[2]);
+  CheckAngle(path, RowName(row) + ", request_deg", sample.request_deg);
+  CheckAngle(path, RowName(row) + ", measured_deg", sample.measured_deg);
   if (columns == 4) sample.torque_enabled = ParseTorque(path, row, cells[3]);
   return sample;
 }
@@ -247,9 +262,9 @@ std::vector<ServoLogSample> ParseCsvSamples(const std::string& path, std::string
 
 ServoLog ReadCsv(const std::string& path, const std::string& text,
                  const ServoLogDefaults& defaults) {
-  CheckSetting(path, "kp (given for a CSV log)", defaults.kp);
-  CheckSetting(path, "mass_kg (given for a CSV log)", defaults.mass_kg);
-  CheckSetting(path, "length_m (given for a CSV log)", defaults.length_m);
+  CheckSetting(path, "kp (given for a CSV log)", defaults.kp, kMaxServoKp);
+  CheckSetting(path, "mass_kg (given for a CSV log)", defaults.mass_kg, kMaxServoMassKg);
+  CheckSetting(path, "length_m (given for a CSV log)", defaults.length_m, kMaxServoLengthM);
   ServoLog log{.file = path,
                .motor = defaults.motor,
                .trajectory = fs::path(path).stem().string(),
@@ -306,10 +321,14 @@ ServoLogSample JsonSample(const std::string& path, const Json& entry, long i) {
   }
   const Json& torque = Field(path, entry, "torque_enable", i);
   if (!torque.is_boolean()) FailType(path, torque, "torque_enable", i, "true or false");
-  return {.time_s = NumberField(path, entry, "timestamp", i),
-          .request_deg = NumberField(path, entry, "goal_position", i, RadToDeg(1.0)),
-          .measured_deg = NumberField(path, entry, "position", i, RadToDeg(1.0)),
-          .torque_enabled = torque.get<bool>()};
+  const ServoLogSample sample{
+      .time_s = NumberField(path, entry, "timestamp", i),
+      .request_deg = NumberField(path, entry, "goal_position", i, RadToDeg(1.0)),
+      .measured_deg = NumberField(path, entry, "position", i, RadToDeg(1.0)),
+      .torque_enabled = torque.get<bool>()};
+  CheckAngle(path, EntryName(i) + ".goal_position", sample.request_deg);
+  CheckAngle(path, EntryName(i) + ".position", sample.measured_deg);
+  return sample;
 }
 
 std::vector<ServoLogSample> JsonSamples(const std::string& path, const Json& entries) {
@@ -360,9 +379,9 @@ ServoLog ReadBamJson(const std::string& path, const std::string& text) {
                .kp = NumberField(path, doc, "kp", -1),
                .mass_kg = NumberField(path, doc, "mass", -1),
                .length_m = NumberField(path, doc, "length", -1)};
-  CheckSetting(path, "kp", log.kp);
-  CheckSetting(path, "mass", log.mass_kg);
-  CheckSetting(path, "length", log.length_m);
+  CheckSetting(path, "kp", log.kp, kMaxServoKp);
+  CheckSetting(path, "mass", log.mass_kg, kMaxServoMassKg);
+  CheckSetting(path, "length", log.length_m, kMaxServoLengthM);
   log.samples = JsonSamples(path, Field(path, doc, "entries", -1));
   return log;
 }
@@ -381,9 +400,9 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
 void CheckServoLog(const ServoLog& log) {
   const std::string& path = log.file;
   if (log.motor.empty()) Fail(path, "motor is empty (a model is fitted per motor)");
-  CheckSetting(path, "kp", log.kp);
-  CheckSetting(path, "mass", log.mass_kg);
-  CheckSetting(path, "length", log.length_m);
+  CheckSetting(path, "kp", log.kp, kMaxServoKp);
+  CheckSetting(path, "mass", log.mass_kg, kMaxServoMassKg);
+  CheckSetting(path, "length", log.length_m, kMaxServoLengthM);
   if (log.samples.size() > kMaxServoLogSamples) {
     Fail(path, std::to_string(log.samples.size()) + " samples, more than the limit of " +
                    std::to_string(kMaxServoLogSamples));
@@ -398,6 +417,8 @@ void CheckServoLog(const ServoLog& log) {
                        " is not finite");
       }
     }
+    CheckAngle(path, "sample " + std::to_string(i) + ", request_deg", s.request_deg);
+    CheckAngle(path, "sample " + std::to_string(i) + ", measured_deg", s.measured_deg);
     if (i > 0) {
       CheckNotBefore(path, log.samples[i - 1].time_s, s.time_s,
                      "sample " + std::to_string(i) + ", time_s", "sample " + std::to_string(i - 1));

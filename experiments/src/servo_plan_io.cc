@@ -224,19 +224,26 @@ ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
 }
 
 void CheckOptions(const PlanOptions& o) {
-  const std::pair<const char*, std::optional<double>> values[] = {{"--kp", o.kp},
-                                                                  {"--mass-kg", o.mass_kg},
-                                                                  {"--length-m", o.length_m},
-                                                                  {"--min-deg", o.min_deg},
-                                                                  {"--max-deg", o.max_deg}};
-  for (const auto& [name, value] : values) {
-    if (value && !std::isfinite(*value)) {
-      throw InputError(std::string(name) + " must be a finite number, got " + FormatNumber(*value));
+  struct Bound {
+    const char* name;
+    std::optional<double> value;
+    double min;
+    double max;
+    bool min_open;
+  };
+  const Bound bounds[] = {{"--kp", o.kp, 0.0, kMaxServoKp, true},
+                          {"--mass-kg", o.mass_kg, 0.0, kMaxServoMassKg, false},
+                          {"--length-m", o.length_m, 0.0, kMaxServoLengthM, false},
+                          {"--min-deg", o.min_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false},
+                          {"--max-deg", o.max_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false}};
+  for (const Bound& b : bounds) {
+    if (!b.value) continue;
+    const double v = *b.value;
+    if (!(v <= b.max && (b.min_open ? v > b.min : v >= b.min))) {
+      throw InputError(std::string(b.name) + " must be in " + (b.min_open ? "(" : "[") +
+                       FormatNumber(b.min, NumberStyle::kReadable) + ", " +
+                       FormatNumber(b.max, NumberStyle::kReadable) + "], got " + FormatNumber(v));
     }
-  }
-  if (o.kp && *o.kp <= 0.0) throw InputError("--kp must be positive, got " + FormatNumber(*o.kp));
-  if ((o.mass_kg && *o.mass_kg < 0.0) || (o.length_m && *o.length_m < 0.0)) {
-    throw InputError("--mass-kg and --length-m must be zero or positive");
   }
   if (o.preview_ticks && !o.online) {
     throw InputError("--preview-ticks goes with --online (the batch plan sees the whole motion)");
@@ -340,8 +347,10 @@ FittedModel ParseFittedModel(const std::string& text, const std::string& rung,
   const std::string where = "models." + rung + "." + model.motor;
   const Json& entry = Member(rung_models, model.motor, "models." + rung + ".", file);
   model.tick_s = Number(entry, "tick_s", where + ".", file);
-  if (!(std::isfinite(model.tick_s) && model.tick_s > 0.0)) {
-    throw InputError(source + ": " + where + ".tick_s must be positive, got " +
+  if (!(model.tick_s >= kMinPlanTickS && model.tick_s <= kMaxPlanTickS)) {
+    throw InputError(source + ": " + where + ".tick_s must be from " +
+                     FormatNumber(kMinPlanTickS, NumberStyle::kReadable) + " to " +
+                     FormatNumber(kMaxPlanTickS, NumberStyle::kReadable) + " s, got " +
                      FormatNumber(model.tick_s));
   }
   ReadRungParams(entry, where + ".", file, model);

@@ -12,8 +12,6 @@
 namespace leglab {
 namespace {
 
-constexpr double kGravity = 9.81;  // m/s^2
-
 std::string Positive(const char* field, double value) {
   if (std::isfinite(value) && value > 0.0) return {};
   return std::string(field) + " must be positive, got " + FormatNumber(value);
@@ -69,7 +67,7 @@ std::vector<double> StartPoint(std::span<const ServoRecording> recordings, bool 
   double load_nm = 0.0;
   for (const ServoRecording& r : recordings) {
     kps.push_back(r.drive.kp);
-    load_nm = std::max(load_nm, r.drive.mass_kg * kGravity * r.drive.length_m);
+    load_nm = std::max(load_nm, r.drive.mass_kg * kGravityMS2 * r.drive.length_m);
   }
   std::nth_element(kps.begin(), kps.begin() + static_cast<long>(kps.size() / 2), kps.end());
   const double kp = kps[kps.size() / 2];
@@ -125,7 +123,7 @@ ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg)
 }
 
 double ServoLoadDuty(const ServoModelParams& params, const ServoDrive& drive, double angle_deg) {
-  return drive.mass_kg * kGravity * drive.length_m *
+  return drive.mass_kg * kGravityMS2 * drive.length_m *
          std::sin(angle_deg * std::numbers::pi / 180.0) / params.stall_torque_nm;
 }
 

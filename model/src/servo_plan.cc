@@ -28,25 +28,33 @@ struct Problem {
   double max_step_deg;
 };
 
+std::string TickProblem(double tick_s) {
+  if (std::isfinite(tick_s) && tick_s >= kMinPlanTickS && tick_s <= kMaxPlanTickS) return {};
+  return "tick_s must be from " + FormatNumber(kMinPlanTickS, NumberStyle::kReadable) + " to " +
+         FormatNumber(kMaxPlanTickS, NumberStyle::kReadable) + " s, got " + FormatNumber(tick_s);
+}
+
+// An angle is within kMaxPlanAngleDeg.
+bool InRange(double angle_deg) { return std::abs(angle_deg) <= kMaxPlanAngleDeg; }
+
 Problem CheckProblem(std::span<const double> desired, const ServoLimits& limits, double tick_s) {
-  if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
-    throw std::invalid_argument("servo plan: tick_s must be positive, got " + FormatNumber(tick_s));
-  }
-  if (!std::isfinite(limits.min_deg) || !std::isfinite(limits.max_deg) ||
-      limits.min_deg >= limits.max_deg) {
-    throw std::invalid_argument("servo plan: the limits need finite min_deg < max_deg, got " +
-                                FormatNumber(limits.min_deg) + " and " +
+  if (!InRange(limits.min_deg) || !InRange(limits.max_deg) || limits.min_deg >= limits.max_deg) {
+    throw std::invalid_argument("servo plan: the limits need min_deg < max_deg within +-" +
+                                FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                " deg, got " + FormatNumber(limits.min_deg) + " and " +
                                 FormatNumber(limits.max_deg));
   }
-  if (!(std::isfinite(limits.max_speed_deg_s) && limits.max_speed_deg_s > 0.0)) {
-    throw std::invalid_argument("servo plan: max_speed_deg_s must be positive, got " +
+  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
+    throw std::invalid_argument("servo plan: max_speed_deg_s must be positive and at most " +
+                                FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
                                 FormatNumber(limits.max_speed_deg_s));
   }
   if (desired.empty()) throw std::invalid_argument("servo plan: no desired angles");
   for (size_t t = 0; t < desired.size(); ++t) {
-    if (!std::isfinite(desired[t])) {
-      throw std::invalid_argument("servo plan: desired angle " + std::to_string(t) +
-                                  " is not finite");
+    if (!InRange(desired[t])) {
+      throw std::invalid_argument("servo plan: desired angle " + std::to_string(t) + " is " +
+                                  FormatNumber(desired[t]) + ", beyond +-" +
+                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg");
     }
   }
   if (desired[0] < limits.min_deg || desired[0] > limits.max_deg) {
@@ -229,35 +237,96 @@ ServoPlan Plan(const Stepper& stepper, const Problem& p, PlanMethod method) {
   return plan;
 }
 
-void CheckDrive(const ServoDrive& drive) {
-  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
-    throw std::invalid_argument("servo plan: kp must be positive, got " + FormatNumber(drive.kp));
-  }
-  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
-      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
-    throw std::invalid_argument("servo plan: mass_kg and length_m must be zero or positive");
+// Never a NaN or an infinity in a plan: the bounds above keep them out; this says so if not.
+void CheckFinite(const ServoPlan& plan) {
+  for (size_t t = 0; t < plan.request_deg.size(); ++t) {
+    if (!std::isfinite(plan.request_deg[t]) || !std::isfinite(plan.predicted_deg[t])) {
+      throw std::invalid_argument(
+          "servo plan: the plan is not finite at tick " + std::to_string(t) + " (request " +
+          FormatNumber(plan.request_deg[t]) + ", predicted " + FormatNumber(plan.predicted_deg[t]) +
+          "): the model's numbers are out of its range");
+    }
   }
 }
 
 }  // namespace
 
+std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& drive,
+                             double tick_s) {
+  if (std::string problem = ServoModelParamsProblem(params); !problem.empty()) {
+    return "servo model: " + problem;
+  }
+  if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
+  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
+    return "kp must be positive, got " + FormatNumber(drive.kp);
+  }
+  const double duty_per_deg = params.gain_per_deg_kp * drive.kp;
+  if (!std::isfinite(duty_per_deg) || !std::isfinite(1.0 / duty_per_deg)) {
+    return "gain_per_deg_kp x kp = " + FormatNumber(duty_per_deg) + " (duty per deg) and its " +
+           "inverse must be finite";
+  }
+  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
+      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
+    return "mass_kg and length_m must be zero or positive, got " + FormatNumber(drive.mass_kg) +
+           " and " + FormatNumber(drive.length_m);
+  }
+  const double load = drive.mass_kg * kGravityMS2 * drive.length_m / params.stall_torque_nm;
+  if (!(load <= kMaxLoadToStall)) {
+    return "mass_kg x 9.81 x length_m / stall_torque_nm = " + FormatNumber(load) +
+           ": the load is over " + FormatNumber(kMaxLoadToStall, NumberStyle::kReadable) +
+           " times the stall torque";
+  }
+  if (params.v_max_deg_s > kMaxPlanSpeedDegS) {
+    return "v_max_deg_s must be at most " +
+           FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
+           FormatNumber(params.v_max_deg_s);
+  }
+  if (!(params.velocity_lag_s / tick_s <= kMaxLagOverTick)) {
+    return "velocity_lag_s must be at most " +
+           FormatNumber(kMaxLagOverTick, NumberStyle::kReadable) + " ticks of " +
+           FormatNumber(tick_s) + " s, got " + FormatNumber(params.velocity_lag_s);
+  }
+  return {};
+}
+
+std::string JointModelPlanProblem(const JointModelParams& params, double tick_s) {
+  if (std::string problem = JointModelParamsProblem(params); !problem.empty()) {
+    return "joint model: " + problem;
+  }
+  if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
+  const double slope = params.v_max_deg_per_tick / params.theta0_deg;
+  if (!(slope <= kMaxSpeedSlopePerTick)) {
+    return "v_max_deg_per_tick / theta0_deg = " + FormatNumber(slope) + " must be at most " +
+           FormatNumber(kMaxSpeedSlopePerTick, NumberStyle::kReadable) + " (theta0_deg " +
+           FormatNumber(params.theta0_deg) + " is too small)";
+  }
+  if (!(params.v_max_deg_per_tick / tick_s <= kMaxPlanSpeedDegS)) {
+    return "v_max_deg_per_tick / tick_s = " + FormatNumber(params.v_max_deg_per_tick / tick_s) +
+           " deg/s must be at most " + FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable);
+  }
+  return {};
+}
+
 ServoPlan PlanServoRequests(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                             std::span<const double> desired_deg, const ServoLimits& limits,
                             PlanMethod method) {
-  const std::string problem = ServoModelParamsProblem(params);
-  if (!problem.empty()) throw std::invalid_argument("servo plan: servo model: " + problem);
-  CheckDrive(drive);
+  const std::string problem = ServoPlanProblem(params, drive, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo plan: " + problem);
   const Problem p = CheckProblem(desired_deg, limits, tick_s);
-  return Plan(ExtendedStepper{params, drive, tick_s}, p, method);
+  ServoPlan plan = Plan(ExtendedStepper{params, drive, tick_s}, p, method);
+  CheckFinite(plan);
+  return plan;
 }
 
 ServoPlan PlanJointModelRequests(const JointModelParams& params, double tick_s,
                                  std::span<const double> desired_deg, const ServoLimits& limits,
                                  PlanMethod method) {
-  const std::string problem = JointModelParamsProblem(params);
-  if (!problem.empty()) throw std::invalid_argument("servo plan: joint model: " + problem);
+  const std::string problem = JointModelPlanProblem(params, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo plan: " + problem);
   const Problem p = CheckProblem(desired_deg, limits, tick_s);
-  return Plan(PaperStepper{params}, p, method);
+  ServoPlan plan = Plan(PaperStepper{params}, p, method);
+  CheckFinite(plan);
+  return plan;
 }
 
 std::vector<double> PredictServoAngles(const ServoModelParams& params, const ServoDrive& drive,

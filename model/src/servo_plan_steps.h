@@ -201,10 +201,9 @@ struct TargetSpeedSlopes {
 inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const ServoDrive& drive,
                                                 double angle_deg, double request_deg) {
   constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-  constexpr double kGravity = 9.81;  // m/s^2, as ServoLoadDuty's
   const double duty_raw = p.gain_per_deg_kp * drive.kp * (request_deg - angle_deg);
   const double duty_slope = std::abs(duty_raw) < 1.0 ? p.gain_per_deg_kp * drive.kp : 0.0;
-  const double load_scale = drive.mass_kg * kGravity * drive.length_m / p.stall_torque_nm;
+  const double load_scale = drive.mass_kg * kGravityMS2 * drive.length_m / p.stall_torque_nm;
   const double load = load_scale * std::sin(angle_deg * kRadPerDeg);
   const double load_slope = load_scale * std::cos(angle_deg * kRadPerDeg) * kRadPerDeg;
   const double net = std::clamp(duty_raw, -1.0, 1.0) - load;

@@ -98,9 +98,10 @@ class Planner final : public ServoPlanner::Impl {
   long Ticks() const override { return ticks_; }
 
   void Reset(double angle_deg) override {
-    if (!std::isfinite(angle_deg)) {
-      throw std::invalid_argument("servo planner: the reset angle must be finite, got " +
-                                  FormatNumber(angle_deg));
+    if (!(std::abs(angle_deg) <= kMaxPlanAngleDeg)) {
+      throw std::invalid_argument("servo planner: the reset angle must be finite and within +-" +
+                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                  " deg, got " + FormatNumber(angle_deg));
     }
     ResetInPlace(anchored_, angle_deg);
     stepper().Advance(anchored_);
@@ -119,15 +120,17 @@ class Planner final : public ServoPlanner::Impl {
     }
     const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
     for (size_t j = 0; j < used; ++j) {
-      if (!std::isfinite(window_deg[j])) {
+      if (!(std::abs(window_deg[j]) <= kMaxPlanAngleDeg)) {
         throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
-                                    " of the window is not finite, got " +
-                                    FormatNumber(window_deg[j]));
+                                    " of the window must be finite and within +-" +
+                                    FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                    " deg, got " + FormatNumber(window_deg[j]));
       }
     }
-    if (!std::isfinite(measured_deg)) {
-      throw std::invalid_argument("servo planner: the measured angle is not finite, got " +
-                                  FormatNumber(measured_deg));
+    if (!(std::abs(measured_deg) <= kMaxPlanAngleDeg)) {
+      throw std::invalid_argument("servo planner: the measured angle must be finite and within +-" +
+                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                  " deg, got " + FormatNumber(measured_deg));
     }
     if (!started_) Reset(window_deg[0]);
     // D(t + j) for j = 0..preview, the window's last angle held beyond it.
@@ -285,20 +288,17 @@ class Planner final : public ServoPlanner::Impl {
 
 namespace {
 
-void CheckPlannerInputs(double tick_s, const ServoLimits& limits,
-                        const ServoPlannerOptions& options) {
-  if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
-    throw std::invalid_argument("servo planner: tick_s must be positive, got " +
-                                FormatNumber(tick_s));
-  }
-  if (!std::isfinite(limits.min_deg) || !std::isfinite(limits.max_deg) ||
-      limits.min_deg >= limits.max_deg) {
-    throw std::invalid_argument("servo planner: the limits need finite min_deg < max_deg, got " +
-                                FormatNumber(limits.min_deg) + " and " +
+void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& options) {
+  if (!(std::abs(limits.min_deg) <= kMaxPlanAngleDeg &&
+        std::abs(limits.max_deg) <= kMaxPlanAngleDeg && limits.min_deg < limits.max_deg)) {
+    throw std::invalid_argument("servo planner: the limits need min_deg < max_deg within +-" +
+                                FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                " deg, got " + FormatNumber(limits.min_deg) + " and " +
                                 FormatNumber(limits.max_deg));
   }
-  if (!(std::isfinite(limits.max_speed_deg_s) && limits.max_speed_deg_s > 0.0)) {
-    throw std::invalid_argument("servo planner: max_speed_deg_s must be positive, got " +
+  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
+    throw std::invalid_argument("servo planner: max_speed_deg_s must be positive and at most " +
+                                FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
                                 FormatNumber(limits.max_speed_deg_s));
   }
   if (options.preview_ticks < -1 || options.preview_ticks > kMaxPreviewTicks) {
@@ -321,25 +321,17 @@ void CheckPlannerInputs(double tick_s, const ServoLimits& limits,
 
 ServoPlanner::ServoPlanner(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                            const ServoLimits& limits, const ServoPlannerOptions& options) {
-  const std::string problem = ServoModelParamsProblem(params);
-  if (!problem.empty()) throw std::invalid_argument("servo planner: servo model: " + problem);
-  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
-    throw std::invalid_argument("servo planner: kp must be positive, got " +
-                                FormatNumber(drive.kp));
-  }
-  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
-      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
-    throw std::invalid_argument("servo planner: mass_kg and length_m must be zero or positive");
-  }
-  CheckPlannerInputs(tick_s, limits, options);
+  const std::string problem = ServoPlanProblem(params, drive, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckPlannerInputs(limits, options);
   impl_ = std::make_unique<Planner<ServoModelParams>>(params, drive, tick_s, limits, options);
 }
 
 ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s, const ServoLimits& limits,
                            const ServoPlannerOptions& options) {
-  const std::string problem = JointModelParamsProblem(params);
-  if (!problem.empty()) throw std::invalid_argument("servo planner: joint model: " + problem);
-  CheckPlannerInputs(tick_s, limits, options);
+  const std::string problem = JointModelPlanProblem(params, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckPlannerInputs(limits, options);
   impl_ =
       std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits, options);
 }

@@ -203,6 +203,42 @@ TEST_F(LogFitTest, BadListsAndLogsAreOneLineAndStatus2) {
                  "row 3");
 }
 
+// A tick that would resample a log to more ticks than the budget is refused before any fit,
+// naming the key and the log (a 6 s log at 1e-9 s: 6e9 ticks).
+TEST_F(LogFitTest, ATickTooShortForALogIsRefusedNamingTheKeyAndTheLog) {
+  ExpectBadInput("--set 'logs.train=[" + kSts + "]' --set logs.tick_s=1e-9",
+                 "logs.tick_s = 1e-09 s would resample the log '");
+  EXPECT_NE(err_.find("over the limit of 4000000"), std::string::npos) << err_;
+}
+
+// A servo whose angles run 130..270 deg (a 0..360 servo): its log fits and its plan is scored,
+// the plan's range widened from -180..180 to the log's requests.
+TEST_F(LogFitTest, ALogBeyond180DegreesIsFittedAndPlanned) {
+  std::string text = "time_s,request_deg,measured_deg\n";
+  for (int k = 0; k < 400; ++k) {
+    const double t = 0.01 * k;
+    const double request = 200.0 + 70.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t);
+    const double measured = 200.0 + 70.0 * std::sin(2.0 * std::numbers::pi * 0.5 * (t - 0.03));
+    text +=
+        std::to_string(t) + "," + std::to_string(request) + "," + std::to_string(measured) + "\n";
+  }
+  std::ofstream(dir_ / "wide_a.csv") << text;
+  std::ofstream(dir_ / "wide_b.csv") << text;
+  ASSERT_EQ(Identify("--set 'logs.train=[" + dir_.string() +
+                     "]' --set logs.cross_validate=none --set logs.kp=32 --set logs.motor=wide "
+                     "--set logs.iterations=100"),
+            0)
+      << err_;
+  const Json fit = LogFit();
+  ASSERT_EQ(fit["logs"].size(), 2u);
+  for (const Json& row : fit["logs"]) {
+    EXPECT_TRUE(row["plan"]["model_based_mae_deg"].is_number()) << row;
+    EXPECT_LT(row["plan"]["model_based_mae_deg"].get<double>(),
+              row["plan"]["direct_mae_deg"].get<double>())
+        << row;
+  }
+}
+
 // The XL330's twelve logs, every kp with one parameter set, each trajectory held out in turn:
 // the extended model's held-out mean below BAM's physics models' 4.0-4.7 deg on these logs.
 // About a minute in a release build; the sanitizer build skips it for time.

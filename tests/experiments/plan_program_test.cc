@@ -119,6 +119,17 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
   Write("out_of_range.json",
         std::string(kLogFit).replace(std::string(kLogFit).find("\"velocity_lag_s\": 0.02"), 22,
                                      "\"velocity_lag_s\": 0.0"));
+  // Numbers that would have made NaN requests before they were bounded: each its field named.
+  const auto replaced = [](std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+  };
+  Write("huge.json", replaced(kLogFit, "\"v_max_deg_s\": 400.0", "\"v_max_deg_s\": 1e400"));
+  Write("tiny_stall.json",
+        replaced(kLogFit, "\"stall_torque_nm\": 3.0", "\"stall_torque_nm\": 5e-324"));
+  Write("tiny_theta.json", replaced(kLogFit, "\"theta0_deg\": 8.0", "\"theta0_deg\": 5e-324"));
+  Write("tiny_tick.json",
+        replaced(kLogFit, "\"tick_s\": 0.005, \"gain", "\"tick_s\": 5e-324, \"gain"));
+  Write("far.csv", "time_s,desired_deg\n0,1\n0.01,1e308\n");
   Write("bad_header.csv", "time,desired_deg\n0,1\n1,2\n");
   Write("bad_cell.csv", "time_s,desired_deg\n0,1\n1,+2\n");
   Write("backwards.csv", "time_s,desired_deg\n0,1\n1,2\n0.5,3\n");
@@ -142,10 +153,19 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
       {Model() + " " + Desired() + " " + Out(), "--kp is required"},
       {Model() + log + " --kp 40", "leave them out"},
       {Model() + ok + " --min-deg 10 --max-deg 10", "--min-deg 10 must be below --max-deg 10"},
+      {Model() + ok + " --min-deg -1e6", "--min-deg must be in [-100000, 100000]"},
       {Model() + ok + " --mass-kg nan", "--mass-kg"},
       {Model() + ok + " --min-deg 5", "outside --min-deg/--max-deg"},
       {Model() + ok + " --rung neither", "--rung"},
       {Model() + ok + " --method best", "--method"},
+      {models + "huge.json'" + ok, "not valid JSON"},
+      {models + "tiny_stall.json'" + ok + " --mass-kg 0.1 --length-m 0.1",
+       "mass_kg x 9.81 x length_m / stall_torque_nm"},
+      {models + "tiny_theta.json'" + ok + " --rung paper", "v_max_deg_per_tick / theta0_deg"},
+      {models + "tiny_tick.json'" + ok, "models.extended.sts3250.tick_s must be from 1e-06"},
+      {Model() + ok + " --mass-kg 1e300 --length-m 1e300", "--mass-kg must be in [0, 1000]"},
+      {Model() + " " + Desired() + " " + Out() + " --kp 1e300", "--kp must be in (0, 1000000]"},
+      {Model() + " " + Out() + " --kp 40" + desired + "far.csv'", "beyond +-100000 deg"},
   };
   for (const auto& [args, named] : cases) {
     SCOPED_TRACE(args);

@@ -280,4 +280,31 @@ TEST_F(ServoLogIoTest, BadBamLogs) {
 }
 
 }  // namespace
+// A number a servo cannot have is refused as the file is read, naming where it is: an angle
+// beyond +-100000 deg (1e300 rad, a request of 1e308 deg), a gain, mass or arm beyond its
+// bound. Just inside each bound the log reads.
+TEST_F(ServoLogIoTest, PhysicallyImpossibleValuesAreRefusedWhereTheyAre) {
+  const std::string h = "time_s,request_deg,measured_deg\n";
+  EXPECT_MESSAGE(CsvError(h + "0,0,0\n1,1e308,0\n"),
+                 "row 2, request_deg = 1e+308 deg is beyond +-100000 deg");
+  EXPECT_MESSAGE(CsvError(h + "0,0,-100000.5\n1,0,0\n"), "row 1, measured_deg");
+  EXPECT_EQ(CsvError(h + "0,0,-100000\n1,100000,0\n"), "");
+  EXPECT_MESSAGE(
+      JsonError(Bam(kEntry0 + R"(, {"timestamp": 1, "goal_position": 0, "position": 1e300,
+                                    "torque_enable": true})")),
+      "entries[1].position = ", "beyond +-100000 deg");
+  EXPECT_MESSAGE(
+      JsonError(Bam(kEntry0 + "," + kEntry1,
+                    R"("mass": 1e200, "length": 0.1, "kp": 100, "motor": "m", "trajectory": "t")")),
+      "mass = 1e+200 must be at most 1000");
+  EXPECT_MESSAGE(
+      JsonError(Bam(kEntry0 + "," + kEntry1,
+                    R"("mass": 0.5, "length": 10.5, "kp": 100, "motor": "m", "trajectory": "t")")),
+      "length = 10.5 must be at most 10");
+  EXPECT_MESSAGE(
+      JsonError(Bam(kEntry0 + "," + kEntry1,
+                    R"("mass": 0.5, "length": 0.1, "kp": 2e6, "motor": "m", "trajectory": "t")")),
+      "kp = 2e+06 must be at most 1000000");
+}
+
 }  // namespace leglab::experiments

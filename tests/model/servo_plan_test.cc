@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace leglab {
@@ -223,6 +224,59 @@ TEST(ServoPlanTest, BadInputThrows) {
   EXPECT_THROW(plan(Extended(), drive, kTickS, {20, 0}, {-10, 10, 100}), std::invalid_argument);
   EXPECT_THROW(PlanJointModelRequests({2.0, 0.0, 0, 1}, kTickS, desired, ok, PlanMethod::kOptimal),
                std::invalid_argument);
+}
+
+// Numbers each in its own range that together would make a NaN or an infinity somewhere in the
+// plan (a load of 1e300 duty, a slope of 1e324, a tick of 5e-324 s, a desired angle of 1e308)
+// are refused, naming what is wrong; just inside each bound the plan is finite.
+TEST(ServoPlanTest, WhatWouldMakeANaNIsRefusedAndJustInsideIsFinite) {
+  const std::vector<double> desired = {0, 5, 10, 5, 0};
+  const ServoLimits limits{-180, 180, 1000};
+  const auto problem = [&](const ServoModelParams& p, const ServoDrive& d, double tick,
+                           const std::vector<double>& des) -> std::string {
+    for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
+      try {
+        const ServoPlan plan = PlanServoRequests(p, d, tick, des, limits, method);
+        for (size_t t = 0; t < des.size(); ++t) {
+          EXPECT_TRUE(std::isfinite(plan.request_deg[t]) && std::isfinite(plan.predicted_deg[t]));
+        }
+      } catch (const std::invalid_argument& e) {
+        return e.what();
+      }
+    }
+    return "";
+  };
+  ServoModelParams weak = Extended();
+  weak.stall_torque_nm = 5e-324;
+  EXPECT_NE(problem(weak, {.kp = 10, .mass_kg = 0.1, .length_m = 0.1}, kTickS, desired)
+                .find("mass_kg x 9.81 x length_m / stall_torque_nm"),
+            std::string::npos);
+  // A load of 1000 times the stall torque is the most: 0.1 x 9.81 x 1 / 0.000981.
+  weak.stall_torque_nm = 0.1 * 9.81 * 1.0 / 1000.0 * (1 + 1e-12);
+  EXPECT_EQ(problem(weak, {.kp = 10, .mass_kg = 0.1, .length_m = 1.0}, kTickS, desired), "");
+  EXPECT_NE(problem(Extended(), {.kp = 10, .mass_kg = 1e300, .length_m = 1e300}, kTickS, desired)
+                .find("stall_torque_nm"),
+            std::string::npos);
+  EXPECT_NE(problem(Extended(), {.kp = 10}, 5e-324, desired).find("tick_s must be from"),
+            std::string::npos);
+  EXPECT_NE(problem(Extended(), {.kp = 10}, kTickS, {0, 1e308}).find("desired angle 1 is"),
+            std::string::npos);
+  EXPECT_EQ(problem(Extended(), {.kp = 10}, kTickS, {0, kMaxPlanAngleDeg}), "");
+  ServoModelParams sluggish = Extended();
+  sluggish.velocity_lag_s = 1e300;
+  EXPECT_NE(problem(sluggish, {.kp = 10}, kTickS, desired).find("velocity_lag_s must be at most"),
+            std::string::npos);
+  const auto paper_problem = [&](const JointModelParams& p) -> std::string {
+    try {
+      PlanJointModelRequests(p, kTickS, desired, limits, PlanMethod::kOptimal);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(paper_problem({2.0, 5e-324, 0, 1}).find("v_max_deg_per_tick / theta0_deg"),
+            std::string::npos);
+  EXPECT_EQ(paper_problem({2.0, 2e-9, 0, 1}), "");
 }
 
 }  // namespace

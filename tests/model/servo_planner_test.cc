@@ -229,7 +229,7 @@ TEST(ServoPlanner, TicksMakeNoAllocation) {
       planner->Reset(d[0]);
       for (size_t t = 0; t < d.size(); ++t) {
         // Pushed 5 deg off the prediction every 50th tick: the re-anchoring path too.
-        const double measured = planner->PredictedDeg() + (t % 50 == 49 ? 5.0 : 0.0);
+        const double measured = planner->ExpectedDeg() + (t % 50 == 49 ? 5.0 : 0.0);
         planner->Request(Window(d, t, 100), measured);
       }
       EXPECT_EQ(g_allocations.load() - before, 0) << static_cast<int>(method);

@@ -15,6 +15,11 @@ enum class ServoLogFormat {
   kBamJson,  ///< the JSON object of Rhoban/bam's logs, as shipped in data/servo_logs/
 };
 
+/// The physical bounds of a servo's settings, in a log (and the logs.* keys) or a plan's drive.
+inline constexpr double kMaxServoKp = 1e6;       ///< the gain register (its own units)
+inline constexpr double kMaxServoMassKg = 1000;  ///< the load's mass (kg)
+inline constexpr double kMaxServoLengthM = 10;   ///< the load's arm (m)
+
 /// What a CSV log does not say itself: given by config keys.
 struct ServoLogDefaults {
   std::string motor;      ///< servo type, e.g. "xl330"
@@ -46,7 +51,8 @@ inline constexpr std::size_t kMaxServoLogSamples = 2'000'000;
 /// other fields are ignored. `csv_defaults` is not used.
 ///
 /// Both: time stamps strictly increasing, at least 2 samples, at least one with torque on,
-/// kp, mass and length finite and not negative, at most kMaxServoLogBytes and
+/// every request and measurement within +-kMaxPlanAngleDeg (servo_plan.h), kp, mass and length
+/// from 0 to kMaxServoKp, kMaxServoMassKg and kMaxServoLengthM, at most kMaxServoLogBytes and
 /// kMaxServoLogSamples. Throws InputError (config.h), one line of at most about 300
 /// characters naming the file and the row (CSV, counted from 1 after the header) or entry
 /// (JSON, `entries[i]` from 0) and the column or field at fault, echoed cells cut to 40
@@ -55,9 +61,9 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
                       const ServoLogDefaults& csv_defaults);
 
 /// Checks a log given as values (built in memory, not read) as ReadServoLog checks a file:
-/// a motor named, kp, mass and length finite and not negative, at least 2 and at most
-/// kMaxServoLogSamples samples, every time, request and measurement finite, the times strictly
-/// increasing, the torque on in one sample at least. Throws InputError "servo log '<file>':
+/// a motor named, kp, mass and length within their bounds, at least 2 and at most
+/// kMaxServoLogSamples samples, every time, request and measurement finite and the angles
+/// within kMaxPlanAngleDeg, the times strictly increasing, the torque on in one sample at least. Throws InputError "servo log '<file>':
 /// sample <i>, <column>: ..." (samples counted from 0).
 void CheckServoLog(const ServoLog& log);
 

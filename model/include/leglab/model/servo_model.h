@@ -8,6 +8,9 @@
 
 namespace leglab {
 
+/// Gravity's acceleration in the load's torque (m/s^2).
+inline constexpr double kGravityMS2 = 9.81;
+
 /// What a servo is asked to do besides following its request: its position-gain setting and
 /// the load it holds, a point mass on a massless arm (a pendulum whose angle 0 hangs straight
 /// down). These come from the log or the plan, never from a fit.

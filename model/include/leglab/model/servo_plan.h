@@ -43,6 +43,34 @@ inline constexpr int kOptimalMaxIterations = 200;
 /// the servo: the bisection itself is exact to about 1e-10 deg.
 inline constexpr double kBeyondServoToleranceDeg = 1e-6;
 
+/// The bounds a plan holds its inputs to, so that every number it computes is finite: a plan
+/// never holds a NaN or an infinity, and what would make one is refused, naming the field.
+inline constexpr double kMaxPlanAngleDeg = 1e5;   ///< |desired angle|, |limit| (deg): 278 turns
+inline constexpr double kMinPlanTickS = 1e-6;     ///< the shortest tick (s)
+inline constexpr double kMaxPlanTickS = 10.0;     ///< the longest tick (s)
+inline constexpr double kMaxPlanSpeedDegS = 1e7;  ///< max_speed_deg_s and a model's top speed
+/// m g L / stall torque: a load a thousand times what the servo can hold still.
+inline constexpr double kMaxLoadToStall = 1e3;
+/// velocity_lag_s / tick_s: the velocity moves at least a 10^-9th of its way a tick.
+inline constexpr double kMaxLagOverTick = 1e9;
+/// The paper's model's slope v_max / theta_0 (per tick): theta_0 at least 10^-9 v_max.
+inline constexpr double kMaxSpeedSlopePerTick = 1e9;
+
+/// Empty when PlanServoRequests of this model and drive on ticks of `tick_s` keeps every
+/// number finite for any desired motion and limits within kMaxPlanAngleDeg (the model in
+/// range, ServoModelParamsProblem; kp positive and the duty per degree gain_per_deg_kp * kp
+/// and its inverse finite; mass and length zero or positive with the load at most
+/// kMaxLoadToStall times the stall torque; v_max_deg_s at most kMaxPlanSpeedDegS;
+/// velocity_lag_s at most kMaxLagOverTick ticks; tick_s from kMinPlanTickS to kMaxPlanTickS);
+/// otherwise what is wrong, naming the fields.
+std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& drive,
+                             double tick_s);
+
+/// The same for PlanJointModelRequests: the model in range (JointModelParamsProblem), its slope
+/// v_max / theta_0 at most kMaxSpeedSlopePerTick, its top speed v_max / tick_s at most
+/// kMaxPlanSpeedDegS, tick_s from kMinPlanTickS to kMaxPlanTickS.
+std::string JointModelPlanProblem(const JointModelParams& params, double tick_s);
+
 /// A plan: the requests, what the model predicts under them, and where the desired angles
 /// are beyond the servo. All vectors have the desired trajectory's size N.
 struct ServoPlan {
@@ -56,17 +84,17 @@ struct ServoPlan {
 
 /// Requests (deg) for the extended model to follow `desired_deg` D(0..N-1), one a tick of
 /// `tick_s` seconds, within `limits`, chosen by `method`; the model starts at rest at D(0), and
-/// D(N-1) is held beyond the end. Throws std::invalid_argument on a model out of range
-/// (ServoModelParamsProblem), kp <= 0, a negative mass or length, tick_s <= 0, an empty or
-/// non-finite desired trajectory, limits that are not finite or min_deg >= max_deg or
-/// max_speed_deg_s <= 0, or D(0) outside [min_deg, max_deg].
+/// D(N-1) is held beyond the end. Throws std::invalid_argument on a model, drive or tick
+/// ServoPlanProblem refuses, an empty desired trajectory or an angle in it beyond
+/// kMaxPlanAngleDeg, limits beyond kMaxPlanAngleDeg or min_deg >= max_deg, max_speed_deg_s not
+/// in (0, kMaxPlanSpeedDegS], or D(0) outside [min_deg, max_deg].
 ServoPlan PlanServoRequests(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                             std::span<const double> desired_deg, const ServoLimits& limits,
                             PlanMethod method);
 
 /// PlanServoRequests for the paper's model (eq. 3), whose ticks are those of `desired_deg`,
 /// `tick_s` seconds each (it converts the speed limit). Throws as PlanServoRequests does, on
-/// a model out of range as JointModelParamsProblem says.
+/// a model or tick as JointModelPlanProblem says.
 ServoPlan PlanJointModelRequests(const JointModelParams& params, double tick_s,
                                  std::span<const double> desired_deg, const ServoLimits& limits,
                                  PlanMethod method);
