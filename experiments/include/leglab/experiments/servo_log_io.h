@@ -63,8 +63,8 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
 /// Checks a log given as values (built in memory, not read) as ReadServoLog checks a file:
 /// a motor named, kp, mass and length within their bounds, at least 2 and at most
 /// kMaxServoLogSamples samples, every time, request and measurement finite and the angles
-/// within kMaxPlanAngleDeg, the times strictly increasing, the torque on in one sample at least. Throws InputError "servo log '<file>':
-/// sample <i>, <column>: ..." (samples counted from 0).
+/// within kMaxPlanAngleDeg, the times strictly increasing, the torque on in one sample at least.
+/// Throws InputError "servo log '<file>': sample <i>, <column>: ..." (samples counted from 0).
 void CheckServoLog(const ServoLog& log);
 
 /// `log`'s samples in leglab's CSV form, with the torque column: each number as the shortest
