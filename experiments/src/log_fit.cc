@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include "leglab/core/format.h"
@@ -33,6 +34,9 @@ struct Log {
   bool train = false;  // else a validation log
   std::string name;    // <motor>_<file stem>: the log_<name>.csv it writes
   ServoRecording recording;
+  std::vector<double> time_s;  // each tick's time from the first sample (LogFitCurves::time_s)
+  int segments = 0;            // of at least 2 samples, split at pauses over logs.gap_s
+  int samples_dropped = 0;     // samples alone between two pauses: no segment
 };
 
 // One motor's logs and the tick they are resampled to.
@@ -212,31 +216,72 @@ std::vector<MotorGroup> GroupByMotor(std::vector<Log>& logs, const LogFitConfig&
 // The most ticks a log is resampled to: twice the most samples a log may have.
 constexpr double kMaxResampledTicks = 2.0 * static_cast<double>(kMaxServoLogSamples);
 
-ServoRecording ToRecording(const ServoLog& log, double tick_s, const LogFitConfig& config) {
-  const double ticks = (log.samples.back().time_s - log.samples.front().time_s) / tick_s + 1.0;
+// The log's samples split at every pause longer than logs.gap_s.
+std::vector<std::span<const ServoLogSample>> Segments(const ServoLog& log, double gap_s) {
+  std::vector<std::span<const ServoLogSample>> segments;
+  const std::span<const ServoLogSample> all(log.samples);
+  size_t start = 0;
+  for (size_t i = 1; i <= all.size(); ++i) {
+    if (i == all.size() || all[i].time_s - all[i - 1].time_s > gap_s) {
+      segments.push_back(all.subspan(start, i - start));
+      start = i;
+    }
+  }
+  return segments;
+}
+
+// `log` resampled on `tick_s`, segment by segment (Segments), into its recording and times.
+void Resample(Log& log, double tick_s, const LogFitConfig& config) {
+  const std::vector<std::span<const ServoLogSample>> segments = Segments(log.log, config.gap_s);
+  double ticks = 0.0;
+  for (const auto& segment : segments) {
+    if (segment.size() >= 2) ticks += (segment.back().time_s - segment.front().time_s) / tick_s + 2;
+  }
+  const ServoLog& l = log.log;
   if (!(ticks <= kMaxResampledTicks)) {
     FailConfig("logs.tick_s" +
                std::string(config.tick_s > 0.0 ? "" : " (0: the motor's median sample interval)") +
-               " = " + FormatNumber(tick_s) + " s would resample the log '" + log.file + "' (" +
-               FormatNumber(log.samples.back().time_s - log.samples.front().time_s) + " s) to " +
+               " = " + FormatNumber(tick_s) + " s would resample the log '" + l.file + "' (" +
+               FormatNumber(l.samples.back().time_s - l.samples.front().time_s) + " s) to " +
                FormatNumber(std::ceil(ticks), NumberStyle::kReadable) +
                " ticks, over the limit of " +
                FormatNumber(kMaxResampledTicks, NumberStyle::kReadable));
   }
-  ResampledLog resampled = Resample(log.samples, tick_s);
-  ServoRecording r;
-  r.drive = {log.kp, log.mass_kg, log.length_m};
-  r.request_deg = std::move(resampled.request_deg);
-  r.measured_deg = std::move(resampled.measured_deg);
-  r.scored = std::move(resampled.torque_enabled);
+  ServoRecording& r = log.recording;
+  r.drive = {l.kp, l.mass_kg, l.length_m};
+  const double first = l.samples.front().time_s;
+  for (const auto& segment : segments) {
+    if (segment.size() < 2) {
+      log.samples_dropped += static_cast<int>(segment.size());
+      continue;
+    }
+    if (!r.scored.empty()) {  // one tick, torque off, between segments: the model restarts
+      log.time_s.push_back(log.time_s.back() + tick_s);
+      r.request_deg.push_back(r.request_deg.back());
+      r.measured_deg.push_back(r.measured_deg.back());
+      r.scored.push_back(0);
+    }
+    const ResampledLog part = leglab::Resample(segment, tick_s);
+    const double offset = segment.front().time_s - first;
+    for (size_t k = 0; k < part.request_deg.size(); ++k) {
+      log.time_s.push_back(offset + static_cast<double>(k) * tick_s);
+    }
+    r.request_deg.insert(r.request_deg.end(), part.request_deg.begin(), part.request_deg.end());
+    r.measured_deg.insert(r.measured_deg.end(), part.measured_deg.begin(), part.measured_deg.end());
+    r.scored.insert(r.scored.end(), part.torque_enabled.begin(), part.torque_enabled.end());
+    ++log.segments;
+  }
+  if (log.segments == 0) {
+    throw InputError("servo log '" + l.file + "': no two samples are within logs.gap_s = " +
+                     FormatNumber(config.gap_s) + " s of each other");
+  }
   if (std::find(r.scored.begin(), r.scored.end(), 1) == r.scored.end()) {
-    throw InputError("servo log '" + log.file + "': no tick at " + FormatNumber(tick_s) +
+    throw InputError("servo log '" + l.file + "': no tick at " + FormatNumber(tick_s) +
                      " s has the torque on");
   }
   if (!(r.drive.kp > 0.0)) {
-    throw InputError("servo log '" + log.file + "': kp must be positive (logs.kp for a CSV log)");
+    throw InputError("servo log '" + l.file + "': kp must be positive (logs.kp for a CSV log)");
   }
-  return r;
 }
 
 int Ticks(double seconds, double tick_s) { return static_cast<int>(std::lround(seconds / tick_s)); }
@@ -358,6 +403,16 @@ struct Report {
   std::vector<Predictions> figures;  // per log: held out where cross-validated
 };
 
+// What the log holds, before any fit: its samples, their spacing and its segments.
+Json DataJson(const Log& l) {
+  const std::vector<ServoLogSample>& samples = l.log.samples;
+  return {{"samples", samples.size()},
+          {"duration_s", samples.back().time_s - samples.front().time_s},
+          {"median_interval_s", MedianSampleInterval(samples)},
+          {"segments", l.segments},
+          {"samples_dropped", l.samples_dropped}};
+}
+
 Json ReportJson(const Report& report, const LogFitConfig& config) {
   Json json;
   for (const FitJob& job : report.jobs) {
@@ -392,6 +447,7 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
                             {"best_shift_s", row.shift_ticks * row.tick_s},
                             {"mae_deg", ScoresJson(row, false)},
                             {"rms_deg", ScoresJson(row, true)}});
+    json["logs"].back()["data"] = DataJson(report.logs[row.log]);
     if (row.plan) {
       json["logs"].back()["plan"] = {{"direct_mae_deg", row.plan->direct_mae_deg},
                                      {"model_based_mae_deg", row.plan->model_based_mae_deg},
@@ -409,6 +465,24 @@ std::string Fixed2(double value) {
   std::snprintf(text.data(), text.size(), "%.2f", value);
   text.resize(static_cast<size_t>(size));
   return text;
+}
+
+// Each log's data: samples, spacing, segments (split at pauses over logs.gap_s).
+void DataMarkdown(const Report& report, const MotorGroup& g, std::ostringstream& md) {
+  md << "\nThe logs (segments: split at pauses over logs.gap_s, each fitted and scored on its "
+        "own; dropped: samples alone between two pauses):\n\n"
+     << "| log | samples | duration (s) | median interval (ms) | segments | dropped |\n"
+     << "|---|---|---|---|---|---|\n";
+  for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
+    for (const size_t i : *list) {
+      const Log& l = report.logs[i];
+      const std::vector<ServoLogSample>& samples = l.log.samples;
+      md << "| " << l.name << " | " << samples.size() << " | "
+         << Fixed2(samples.back().time_s - samples.front().time_s) << " | "
+         << Fixed2(1000.0 * MedianSampleInterval(samples)) << " | " << l.segments << " | "
+         << l.samples_dropped << " |\n";
+    }
+  }
 }
 
 // Each log's request column as a desired motion through the motor's final extended model.
@@ -461,6 +535,7 @@ std::string ReportMarkdown(const Report& report) {
       for (size_t k = 0; k < kRungs.size(); ++k) md << " | **" << Fixed2(sums[k] / held) << "**";
       md << " |\n";
     }
+    DataMarkdown(report, g, md);
     PlanMarkdown(report, g, md);
   }
   return md.str();
@@ -475,8 +550,8 @@ void WriteLogCsv(const LogFitCurves& c, const OutputDir& out) {
   }
   text += '\n';
   for (size_t t = 0; t < c.request_deg.size(); ++t) {
-    text += FormatNumber(static_cast<double>(t) * c.tick_s) + ',' + FormatNumber(c.request_deg[t]) +
-            ',' + FormatNumber(c.measured_deg[t]) + ',' + (c.torque_enabled[t] != 0 ? "1" : "0");
+    text += FormatNumber(c.time_s[t]) + ',' + FormatNumber(c.request_deg[t]) + ',' +
+            FormatNumber(c.measured_deg[t]) + ',' + (c.torque_enabled[t] != 0 ? "1" : "0");
     for (const auto& angles : c.predicted_deg) text += ',' + FormatNumber(angles[t]);
     text += '\n';
   }
@@ -555,9 +630,7 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
   report.groups = GroupByMotor(report.logs, config);
   for (const MotorGroup& g : report.groups) {
     for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
-      for (size_t i : *list) {
-        report.logs[i].recording = ToRecording(report.logs[i].log, g.tick_s, config);
-      }
+      for (size_t i : *list) Resample(report.logs[i], g.tick_s, config);
     }
   }
   report.jobs = Jobs(report.groups, config);
@@ -572,6 +645,7 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
         Log& log = report.logs[i];
         LogFitCurves c{
             .name = log.name, .file = log.log.file, .motor = g.motor, .tick_s = g.tick_s};
+        c.time_s = std::move(log.time_s);
         c.request_deg = std::move(log.recording.request_deg);
         c.measured_deg = std::move(log.recording.measured_deg);
         c.torque_enabled = std::move(log.recording.scored);

@@ -56,6 +56,13 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
          .max = 10,
          .unit = "s",
          .description = "longest time shift the best-shift oracle searches"});
+  v.Key("gap_s", c.gap_s,
+        {.min = 0,
+         .max = 1e6,
+         .min_open = true,
+         .unit = "s",
+         .description = "a pause between two samples longer than this splits a log into "
+                        "segments, each fitted and scored on its own, never interpolated across"});
   v.Key("iterations", c.iterations,
         {.min = 1,
          .max = 1'000'000,

@@ -85,11 +85,7 @@ py::dict CurvesToDict(const experiments::LogFitCurves& c) {
   d["file"] = c.file;
   d["motor"] = c.motor;
   d["tick_s"] = c.tick_s;
-  DoubleArray time(static_cast<py::ssize_t>(c.request_deg.size()));
-  for (size_t t = 0; t < c.request_deg.size(); ++t) {
-    time.mutable_at(t) = static_cast<double>(t) * c.tick_s;
-  }
-  d["time_s"] = time;
+  d["time_s"] = ToArray(c.time_s);
   d["request_deg"] = ToArray(c.request_deg);
   d["measured_deg"] = ToArray(c.measured_deg);
   py::array_t<bool> torque(static_cast<py::ssize_t>(c.torque_enabled.size()));

@@ -239,6 +239,54 @@ TEST_F(LogFitTest, ALogBeyond180DegreesIsFittedAndPlanned) {
   }
 }
 
+// A log that pauses for 10^4 s (a recording stopped and restarted) is two segments, each
+// resampled and scored on its own: the pause adds one torque-off tick, not 10^4 s of
+// interpolated ones, and a sample alone between two pauses is dropped and counted.
+TEST_F(LogFitTest, APauseSplitsALogIntoSegmentsNeverInterpolatedAcross) {
+  const auto part = [](double start_s, int samples) {
+    std::string text;
+    for (int k = 0; k < samples; ++k) {
+      const double t = 0.01 * k;
+      text += std::to_string(start_s + t) + "," + std::to_string(30.0 * std::sin(3.0 * t)) + "," +
+              std::to_string(30.0 * std::sin(3.0 * (t - 0.02))) + "\n";
+    }
+    return text;
+  };
+  const std::string header = "time_s,request_deg,measured_deg\n";
+  std::ofstream(dir_ / "paused.csv")
+      << header << part(0.0, 300) << part(5000.0, 1) << part(10000.0, 300);
+  std::ofstream(dir_ / "steady.csv") << header << part(0.0, 300);
+  ASSERT_EQ(Identify("--set 'logs.train=[" + dir_.string() +
+                     "]' --set logs.cross_validate=none --set logs.kp=32 --set logs.motor=m "
+                     "--set logs.iterations=100 --set logs.tick_s=0.01"),
+            0)
+      << err_;
+  const Json fit = LogFit();
+  for (const Json& row : fit["logs"]) {
+    const bool paused = row["file"].get<std::string>().find("paused") != std::string::npos;
+    EXPECT_EQ(row["data"]["segments"], paused ? 2 : 1) << row;
+    EXPECT_EQ(row["data"]["samples_dropped"], paused ? 1 : 0) << row;
+    EXPECT_EQ(row["data"]["samples"], paused ? 601 : 300) << row;
+    EXPECT_EQ(row["ticks_scored"], paused ? 600 : 300) << row;  // the separator is not scored
+    EXPECT_LT(row["mae_deg"]["extended"].get<double>(), 1.0) << row;
+  }
+  // log_m_paused.csv: 300 + 1 + 300 rows, the second segment's times from 10^4 s on.
+  std::ifstream csv(out_ / "log_m_paused.csv");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(csv, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 1u + 601u);
+  const auto cells = [](const std::string& row) {
+    std::vector<std::string> out;
+    std::stringstream in(row);
+    for (std::string cell; std::getline(in, cell, ',');) out.push_back(cell);
+    return out;
+  };
+  EXPECT_NEAR(std::stod(cells(rows[300])[0]), 2.99, 1e-9);  // the first segment's last tick
+  EXPECT_NEAR(std::stod(cells(rows[301])[0]), 3.0, 1e-9);   // the separator, a tick later
+  EXPECT_EQ(cells(rows[301])[3], "0") << rows[301];         // with the torque off
+  EXPECT_EQ(cells(rows[302])[0], "10000") << rows[302];     // the second segment's first
+}
+
 // The XL330's twelve logs, every kp with one parameter set, each trajectory held out in turn:
 // the extended model's held-out mean below BAM's physics models' 4.0-4.7 deg on these logs.
 // About a minute in a release build; the sanitizer build skips it for time.

@@ -42,6 +42,9 @@ struct LogFitConfig {
   double window_max_s = 0.2;  ///< longest averaging window the paper's model's fit searches
   double shift_max_s = 1.0;   ///< longest time shift the hindsight oracle searches
   int iterations = 3000;      ///< Nelder-Mead iterations per run of the extended fit
+  /// A pause between two samples longer than this (s) splits a log into segments, each
+  /// resampled, fitted and scored on its own: nothing is interpolated across it.
+  double gap_s = 0.25;
 };
 
 /// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
@@ -58,8 +61,12 @@ struct LogFitCurves {
   std::string name;  ///< <motor>_<file stem>: identify writes log_<name>.csv
   std::string file;  ///< the log's file as given (or the name of a log given as values)
   std::string motor;
-  double tick_s = 0.0;                  ///< the motor's tick the log was resampled to (s)
-  std::vector<double> request_deg;      ///< on that tick, t = k * tick_s from the first sample
+  double tick_s = 0.0;  ///< the motor's tick the log was resampled to (s)
+  /// Each tick's time from the log's first sample (s): k * tick_s within its first segment,
+  /// each later segment's ticks from its own first sample, and one tick (torque off, the
+  /// values of the tick before) between segments.
+  std::vector<double> time_s;
+  std::vector<double> request_deg;      ///< on that tick
   std::vector<double> measured_deg;     ///< ...
   std::vector<uint8_t> torque_enabled;  ///< ...
   /// Each rung's prediction (kLogFitRungs), held out where cross-validated (deg).
