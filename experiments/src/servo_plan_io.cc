@@ -79,10 +79,10 @@ double Number(const Json& object, const std::string& name, const std::string& wh
 int Ticks(const Json& object, const std::string& name, const std::string& where,
           const std::string& file) {
   const double value = Number(object, name, where, file);
-  // Beyond 1000 ticks a model's memory makes planning quadratic; no servo lags that long.
-  if (value != std::floor(value) || value < 0.0 || value > 1000.0) {
-    throw InputError(file + ": " + where + name + " must be a whole number from 0 to 1000, got " +
-                     FormatNumber(value));
+  // Beyond kMaxServoLagTicks a model's memory makes planning quadratic; no servo lags that long.
+  if (value != std::floor(value) || value < 0.0 || value > kMaxServoLagTicks) {
+    throw InputError(file + ": " + where + name + " must be a whole number from 0 to " +
+                     std::to_string(kMaxServoLagTicks) + ", got " + FormatNumber(value));
   }
   return static_cast<int>(value);
 }
@@ -430,6 +430,10 @@ PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
     r.plan.predicted_deg[t] = planner.ExpectedDeg();
     r.plan.request_deg[t] = planner.Request(
         desired.subspan(t, std::min(window, desired.size() - t)), r.plan.predicted_deg[t]);
+    if (!std::isfinite(r.plan.request_deg[t]) || !std::isfinite(r.plan.predicted_deg[t])) {
+      throw std::invalid_argument("servo planner: the plan is not finite at tick " +
+                                  std::to_string(t) + ": the model's numbers are out of its range");
+    }
   }
   return r;
 }
@@ -470,7 +474,7 @@ int PlanMain(int argc, char** argv) {
   app.add_option("--preview-ticks", o.preview_ticks,
                  "with --online: desired angles ahead the planner is given (default: the "
                  "method's own)")
-      ->check(CLI::Range(0, 100000));
+      ->check(CLI::Range(0, kMaxServoPreviewTicks));
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -23,8 +23,6 @@ using servo_plan::InvertExtendedTick;
 using servo_plan::PaperStepper;
 using servo_plan::PathStep;
 
-constexpr int kMaxPreviewTicks = 100000;
-
 // The state at rest at `angle_deg`, in place (no allocation): as ServoRestState / RestState.
 void ResetInPlace(ServoModelState& state, double angle_deg) {
   state.angle_deg = angle_deg;
@@ -98,10 +96,10 @@ class Planner final : public ServoPlanner::Impl {
   long Ticks() const override { return ticks_; }
 
   void Reset(double angle_deg) override {
-    if (!(std::abs(angle_deg) <= kMaxPlanAngleDeg)) {
-      throw std::invalid_argument("servo planner: the reset angle must be finite and within +-" +
-                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
-                                  " deg, got " + FormatNumber(angle_deg));
+    if (!(angle_deg >= limits_.min_deg && angle_deg <= limits_.max_deg)) {
+      throw std::invalid_argument("servo planner: the reset angle " + FormatNumber(angle_deg) +
+                                  " deg is outside the limits [" + FormatNumber(limits_.min_deg) +
+                                  ", " + FormatNumber(limits_.max_deg) + "]");
     }
     ResetInPlace(anchored_, angle_deg);
     stepper().Advance(anchored_);
@@ -238,7 +236,7 @@ class Planner final : public ServoPlanner::Impl {
       if (largest == 0.0) break;
       if (alpha_ == 0.0) alpha_ = 1.0 / largest;  // the steepest request moves 1 deg
       bool lowered = false;
-      for (int tries = 0; tries < 40 && !lowered; ++tries, alpha_ /= 2) {
+      for (int tries = 0; tries < 40; ++tries) {
         for (size_t i = 0; i < plan_.size(); ++i) candidate_[i] = plan_[i] - alpha_ * gradient_[i];
         Project(candidate_);
         const double candidate_error = Error(candidate_, false);
@@ -246,10 +244,15 @@ class Planner final : public ServoPlanner::Impl {
           std::swap(plan_, candidate_);
           error = candidate_error;
           lowered = true;
-          if (tries == 0) alpha_ *= 4;  // taken at once: try a longer one next (after the /2)
+          if (tries == 0) alpha_ *= 2;  // taken at once: try a longer one next time
+          break;
         }
+        alpha_ /= 2;
       }
-      if (!lowered) break;
+      if (!lowered) {
+        alpha_ = 0.0;  // no step helped: the next search starts again from 1 deg
+        break;
+      }
       Error(plan_, true);
     }
     return plan_[0];
@@ -288,6 +291,15 @@ class Planner final : public ServoPlanner::Impl {
 
 namespace {
 
+void CheckLag(int ticks) {
+  if (ticks > kMaxServoLagTicks) {
+    throw std::invalid_argument(
+        "servo planner: a model's lag (or averaging window) must be at "
+        "most " +
+        std::to_string(kMaxServoLagTicks) + " ticks, got " + std::to_string(ticks));
+  }
+}
+
 void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& options) {
   if (!(std::abs(limits.min_deg) <= kMaxPlanAngleDeg &&
         std::abs(limits.max_deg) <= kMaxPlanAngleDeg && limits.min_deg < limits.max_deg)) {
@@ -301,10 +313,10 @@ void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& op
                                 FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
                                 FormatNumber(limits.max_speed_deg_s));
   }
-  if (options.preview_ticks < -1 || options.preview_ticks > kMaxPreviewTicks) {
-    throw std::invalid_argument("servo planner: preview_ticks must be from 0 to " +
-                                std::to_string(kMaxPreviewTicks) + " (or -1: the method's), got " +
-                                std::to_string(options.preview_ticks));
+  if (options.preview_ticks < -1 || options.preview_ticks > kMaxServoPreviewTicks) {
+    throw std::invalid_argument(
+        "servo planner: preview_ticks must be from 0 to " + std::to_string(kMaxServoPreviewTicks) +
+        " (or -1: the method's), got " + std::to_string(options.preview_ticks));
   }
   if (!(options.reanchor_deg > 0.0)) {  // infinity is allowed: never re-anchor
     throw std::invalid_argument("servo planner: reanchor_deg must be positive, got " +
@@ -323,6 +335,7 @@ ServoPlanner::ServoPlanner(const ServoModelParams& params, const ServoDrive& dri
                            const ServoLimits& limits, const ServoPlannerOptions& options) {
   const std::string problem = ServoPlanProblem(params, drive, tick_s);
   if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckLag(params.lag_ticks);
   CheckPlannerInputs(limits, options);
   impl_ = std::make_unique<Planner<ServoModelParams>>(params, drive, tick_s, limits, options);
 }
@@ -331,6 +344,8 @@ ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s, const 
                            const ServoPlannerOptions& options) {
   const std::string problem = JointModelPlanProblem(params, tick_s);
   if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckLag(params.lag_ticks);
+  CheckLag(params.accel_ticks);
   CheckPlannerInputs(limits, options);
   impl_ =
       std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits, options);

@@ -24,10 +24,19 @@ import tempfile as _tempfile
 import numpy as _np
 
 from . import _leglab
-from ._leglab import ServoModel, ServoPlanner
+from ._leglab import ServoModel
 
 ServoModel.__module__ = "leglab.servo"
-ServoPlanner.__module__ = "leglab.servo"
+
+
+class ServoPlanner(_leglab.ServoPlanner):
+    __doc__ = _leglab.ServoPlanner.__doc__
+
+    def __init__(self, model, *args, **kwargs):
+        if not isinstance(model, ServoModel):
+            raise ValueError(f"ServoPlanner: expected a ServoModel (LogFit.model), got "
+                             f"{type(model).__name__}")
+        super().__init__(model, *args, **kwargs)
 
 _META_KEYS = ("motor", "kp", "mass_kg", "length_m")
 
@@ -38,7 +47,7 @@ def _real_vector(values, what):
         raise ValueError(f"{what}: expected real numbers, got dtype {array.dtype}")
     if array.ndim != 1:
         raise ValueError(f"{what}: expected a 1-D array, got shape {array.shape}")
-    return _np.ascontiguousarray(array, dtype=_np.float64)
+    return _np.array(array, dtype=_np.float64, order="C", copy=True)  # not the caller's buffer
 
 
 def _number(value, what):
@@ -81,7 +90,7 @@ class ServoLog:
             if torque.dtype.kind not in "biu" or (torque.dtype.kind != "b" and
                                                   not _np.isin(torque, (0, 1)).all()):
                 raise ValueError("torque_enabled: expected booleans (or 0 and 1)")
-            torque_enabled = _np.ascontiguousarray(torque, dtype=bool)
+            torque_enabled = _np.array(torque, dtype=bool, order="C", copy=True)
         for name, value in (("motor", motor), ("trajectory", trajectory), ("file", file)):
             if not isinstance(value, str):
                 raise ValueError(f"{name}: expected a str, got {value!r}")

@@ -26,8 +26,12 @@ void* operator new(std::size_t size) {
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
+// The replaced operator new allocates with malloc, so free is its match (GCC cannot tell).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t /*size*/) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace leglab {
 namespace {
@@ -237,9 +241,54 @@ TEST(ServoPlanner, TicksMakeNoAllocation) {
   }
 }
 
+// Online optimal on the model itself: within the limits, and below the model-based plan's
+// error (its first guess) and near the batch optimum, through the speed-limited step where
+// line searches fail.
+TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
+  const std::vector<double> d = Desired();
+  ServoPlannerOptions options;
+  options.method = PlanMethod::kOptimal;
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits, options);
+  EXPECT_EQ(planner.PreviewTicks(), 3 + kOptimalWindowTicks);
+  std::vector<double> predicted(d.size());
+  double previous = d[0];
+  planner.Reset(d[0]);
+  for (size_t t = 0; t < d.size(); ++t) {
+    predicted[t] = planner.ExpectedDeg();
+    const double r = planner.Request(Window(d, t, 64), predicted[t]);
+    ASSERT_LE(std::abs(r - previous), kLimits.max_speed_deg_s * kTickS + 1e-12) << t;
+    ASSERT_GE(r, kLimits.min_deg);
+    ASSERT_LE(r, kLimits.max_deg);
+    previous = r;
+  }
+  const auto mae = [&](const std::vector<double>& angles) {
+    double sum = 0.0;
+    for (size_t t = 0; t < d.size(); ++t) sum += std::abs(angles[t] - d[t]);
+    return sum / static_cast<double>(d.size());
+  };
+  const double based =
+      mae(PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased)
+              .predicted_deg);
+  const double batch =
+      mae(PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kOptimal)
+              .predicted_deg);
+  EXPECT_LT(mae(predicted), based);
+  EXPECT_LT(mae(predicted), batch + 0.1);
+}
+
+TEST(ServoPlanner, ARequestBeforeAnyResetStartsAtItsWindow) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
+  EXPECT_EQ(planner.Request(Window(d, 0, 4), batch.predicted_deg[0]), batch.request_deg[0]);
+  EXPECT_EQ(planner.Ticks(), 1);
+}
+
 TEST(ServoPlanner, BadInputThrowsAndLeavesThePlannerAsItWas) {
   ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
   planner.Reset(0.0);
+  const double expected = planner.ExpectedDeg();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<double> good{0.0, 1.0, 2.0, 3.0};
   const std::vector<double> bad{0.0, 1.0, nan, 3.0};
@@ -247,7 +296,12 @@ TEST(ServoPlanner, BadInputThrowsAndLeavesThePlannerAsItWas) {
   EXPECT_THROW(planner.Request(bad, 0.0), std::invalid_argument);
   EXPECT_THROW(planner.Request(good, nan), std::invalid_argument);
   EXPECT_THROW(planner.Reset(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(planner.Reset(kLimits.max_deg + 1.0), std::invalid_argument);
   EXPECT_EQ(planner.Ticks(), 0);
+  EXPECT_EQ(planner.ExpectedDeg(), expected);
+  ServoPlanner fresh(Extended(), kDrive, kTickS, kLimits);
+  fresh.Reset(0.0);
+  EXPECT_EQ(planner.Request(good, expected), fresh.Request(good, fresh.ExpectedDeg()));
   ServoModelParams broken = Extended();
   broken.velocity_lag_s = 0.0;
   EXPECT_THROW(ServoPlanner(broken, kDrive, kTickS, kLimits), std::invalid_argument);
@@ -262,6 +316,9 @@ TEST(ServoPlanner, BadInputThrowsAndLeavesThePlannerAsItWas) {
   options.preview_ticks = -1;
   options.reanchor_deg = 0.0;
   EXPECT_THROW(ServoPlanner(Paper(), kTickS, kLimits, options), std::invalid_argument);
+  ServoModelParams long_lag = Extended();
+  long_lag.lag_ticks = kMaxServoLagTicks + 1;
+  EXPECT_THROW(ServoPlanner(long_lag, kDrive, kTickS, kLimits), std::invalid_argument);
 }
 
 }  // namespace

@@ -91,8 +91,8 @@ struct GivenServoLog {
 LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
                           const std::vector<GivenServoLog>& given = {});
 
-/// `logs.*` from `overrides` alone ("cross_validate=none", "iterations=500": keys under
-/// `logs`, as --set writes them without the `logs.` prefix) over the defaults, as the config
+/// `logs.*` from `overrides` alone ("logs.cross_validate=none", "logs.iterations=500", as
+/// --set writes them; any key outside `logs` is refused) over the defaults, as the config
 /// loader reads them. Throws InputError naming the key (unknown, wrong type, out of range).
 LogFitConfig LogFitConfigFromOverrides(const std::vector<std::string>& overrides);
 

@@ -9,13 +9,19 @@
 
 namespace leglab {
 
+/// The most desired angles ahead a planner is given, and the longest lag (ticks) of a model it
+/// plans for (a model's memory is this long).
+inline constexpr int kMaxServoPreviewTicks = 100000;
+inline constexpr int kMaxServoLagTicks = 1000;
+
 /// How an online planner chooses its requests and uses what is measured.
 struct ServoPlannerOptions {
-  PlanMethod method = PlanMethod::kModelBased;
+  PlanMethod method = PlanMethod::kModelBased;  ///< as PlanServoRequests's (below)
   /// Desired angles after this tick's that Request is given (and uses) each tick. -1: the
   /// method's own, HorizonTicks() for kModelBased (all it needs: more is ignored) and
   /// HorizonTicks() + kOptimalWindowTicks for kOptimal (the batch's gradient window).
-  /// kOptimal needs more than HorizonTicks().
+  /// kOptimal needs more than the model's lag l (at least HorizonTicks()); at most
+  /// kMaxServoPreviewTicks.
   int preview_ticks = -1;
   /// A measured angle further than this (deg) from the model's prediction of it re-anchors the
   /// planner's copy of the model there (angle and, for the extended model, the velocity from
@@ -43,8 +49,8 @@ struct ServoPlannerOptions {
 /// For the paper's model, whose model-based request is the model inverted from its state
 /// each tick, the inversion then starts from the measured angle. The extended model's
 /// model-based request follows the desired path open loop, as the batch plan does, whatever
-/// is measured: the servo's own P-law brings a held or pushed joint back, and steering it
-/// back through the model was measured to do no better (docs/design/servo-planner.md).
+/// is measured: the servo's own P-law brings a held or pushed joint back
+/// (docs/design/servo-planner.md says why it is not steered back through the model).
 /// PredictedDeg() against the measured angle shows a disturbance either way.
 ///
 /// kOptimal is a receding horizon: each tick it minimises the squared error over the preview
@@ -55,8 +61,8 @@ struct ServoPlannerOptions {
 class ServoPlanner {
  public:
   /// For the extended model with `drive` on ticks of `tick_s` (s), requests within `limits`.
-  /// Throws std::invalid_argument on a model out of range (ServoModelParamsProblem), a bad
-  /// drive, tick or limits (as PlanServoRequests), or options out of range.
+  /// Throws std::invalid_argument on a model, drive or tick ServoPlanProblem refuses, a lag
+  /// over kMaxServoLagTicks, limits as PlanServoRequests refuses them, or options out of range.
   ServoPlanner(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                const ServoLimits& limits, const ServoPlannerOptions& options = {});
   /// For the paper's model, whose ticks are `tick_s` seconds (to convert the speed limit).
@@ -70,8 +76,9 @@ class ServoPlanner {
   int HorizonTicks() const;
   /// The desired angles after this tick's that Request uses (ServoPlannerOptions).
   int PreviewTicks() const;
-  /// The servo at rest at `angle_deg` (finite): the model's state, R(-1) = `angle_deg`, and the
-  /// next Request is tick 0. A Request before any Reset resets at its window's first angle.
+  /// The servo at rest at `angle_deg`, within the limits (else std::invalid_argument): the
+  /// model's state, R(-1) = `angle_deg`, and the next Request is tick 0. A Request before any
+  /// Reset resets at its window's first angle.
   void Reset(double angle_deg);
   /// R(t) (deg), within the limits. `window_deg`: D(t), D(t+1), ..., at least one angle, all
   /// finite (those beyond PreviewTicks() + 1 are ignored); `measured_deg`: M(t), finite.
@@ -87,6 +94,8 @@ class ServoPlanner {
   /// Requests since the last Reset.
   long Ticks() const;
 
+  /// The implementation (servo_planner.cc), not part of the API: public so that the source
+  /// file's planners can derive from it.
   struct Impl;
 
  private:
