@@ -38,16 +38,8 @@ std::string TickProblem(double tick_s) {
 bool InRange(double angle_deg) { return std::abs(angle_deg) <= kMaxPlanAngleDeg; }
 
 Problem CheckProblem(std::span<const double> desired, const ServoLimits& limits, double tick_s) {
-  if (!InRange(limits.min_deg) || !InRange(limits.max_deg) || limits.min_deg >= limits.max_deg) {
-    throw std::invalid_argument("servo plan: the limits need min_deg < max_deg within +-" +
-                                FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
-                                " deg, got " + FormatNumber(limits.min_deg) + " and " +
-                                FormatNumber(limits.max_deg));
-  }
-  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
-    throw std::invalid_argument("servo plan: max_speed_deg_s must be positive and at most " +
-                                FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
-                                FormatNumber(limits.max_speed_deg_s));
+  if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
+    throw std::invalid_argument("servo plan: " + problem);
   }
   if (desired.empty()) throw std::invalid_argument("servo plan: no desired angles");
   for (size_t t = 0; t < desired.size(); ++t) {
@@ -250,6 +242,20 @@ void CheckFinite(const ServoPlan& plan) {
 }
 
 }  // namespace
+
+std::string ServoLimitsProblem(const ServoLimits& limits) {
+  if (!InRange(limits.min_deg) || !InRange(limits.max_deg) || limits.min_deg >= limits.max_deg) {
+    return "the limits need min_deg < max_deg within +-" +
+           FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg, got " +
+           FormatNumber(limits.min_deg) + " and " + FormatNumber(limits.max_deg);
+  }
+  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
+    return "max_speed_deg_s must be positive and at most " +
+           FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
+           FormatNumber(limits.max_speed_deg_s);
+  }
+  return {};
+}
 
 std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& drive,
                              double tick_s) {

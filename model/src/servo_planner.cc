@@ -301,17 +301,8 @@ void CheckLag(int ticks) {
 }
 
 void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& options) {
-  if (!(std::abs(limits.min_deg) <= kMaxPlanAngleDeg &&
-        std::abs(limits.max_deg) <= kMaxPlanAngleDeg && limits.min_deg < limits.max_deg)) {
-    throw std::invalid_argument("servo planner: the limits need min_deg < max_deg within +-" +
-                                FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
-                                " deg, got " + FormatNumber(limits.min_deg) + " and " +
-                                FormatNumber(limits.max_deg));
-  }
-  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
-    throw std::invalid_argument("servo planner: max_speed_deg_s must be positive and at most " +
-                                FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
-                                FormatNumber(limits.max_speed_deg_s));
+  if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
+    throw std::invalid_argument("servo planner: " + problem);
   }
   if (options.preview_ticks < -1 || options.preview_ticks > kMaxServoPreviewTicks) {
     throw std::invalid_argument(

@@ -66,6 +66,10 @@ inline constexpr double kMaxSpeedSlopePerTick = 1e9;
 std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& drive,
                              double tick_s);
 
+/// Empty when `limits` are ones a plan takes: min_deg < max_deg, both within
+/// kMaxPlanAngleDeg, and max_speed_deg_s in (0, kMaxPlanSpeedDegS]; otherwise what is wrong.
+std::string ServoLimitsProblem(const ServoLimits& limits);
+
 /// The same for PlanJointModelRequests: the model in range (JointModelParamsProblem), its slope
 /// v_max / theta_0 at most kMaxSpeedSlopePerTick, its top speed v_max / tick_s at most
 /// kMaxPlanSpeedDegS, tick_s from kMinPlanTickS to kMaxPlanTickS.
