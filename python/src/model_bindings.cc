@@ -93,9 +93,8 @@ IdentificationResult Identify(py::handle requests, py::handle measured,
   return experiments::FitStepTests(recordings, identify);
 }
 
-}  // namespace
-
-void BindModel(py::module_& m) {
+// JointModel and PAPER_MODEL.
+void BindJointModel(py::module_& m) {
   py::class_<JointModelParams>(m, "JointModel", R"doc(
 The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks.
 
@@ -193,7 +192,12 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
           }));
 
   m.attr("PAPER_MODEL") = paper::kTable1;
+}
 
+}  // namespace
+
+void BindModel(py::module_& m) {
+  BindJointModel(m);
   py::class_<IdentificationResult>(m, "Identification",
                                    "A model fitted to recordings, with how well it predicts them.")
       .def_readonly("model", &IdentificationResult::params, "The fitted JointModel.")

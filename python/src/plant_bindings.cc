@@ -121,9 +121,8 @@ std::string ReadingRepr(const PlantReading& r) {
          ", applied=" + angles(r.applied_deg) + ")";
 }
 
-}  // namespace
-
-void BindPlant(py::module_& m) {
+// Robot, Walk and Reading: what a Plant's users read.
+void BindRobotWalkReading(py::module_& m) {
   py::class_<Robot>(m, "Robot", R"doc(
 A leg as the experiments see it: read from its URDF (the one source of its geometry).
 Make one with Robot(config) from an experiment config, or take Plant.robot.
@@ -209,7 +208,12 @@ stand's instruments are for scoring and plotting.
           "sled_y_mm", [](const PlantReading& r) { return r.telemetry.sled_y_mm; },
           "The stand's sled to the left of its rest, mm; 0 without a sled.")
       .def("__repr__", &ReadingRepr);
+}
 
+}  // namespace
+
+void BindPlant(py::module_& m) {
+  BindRobotWalkReading(m);
   py::class_<PlantHandle>(m, "Plant", R"doc(
 The plant an experiment config describes: `plant: sim` (the simulated leg, any robot, the
 test stand) or `plant: model` (the joint model as an ideal plant). It takes one request per
