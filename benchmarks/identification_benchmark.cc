@@ -304,11 +304,7 @@ double TimeFit(const Fit& fit, IdentificationResult* result) {
   return elapsed.count();
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using leglab::benchmarks::Median;
 
 void Print(const char* name, const IdentificationResult& r) {
   std::printf("%s fit: v_max %.17g deg/tick, theta_0 %.17g deg, l %d, a %d, rms %.17g deg\n", name,

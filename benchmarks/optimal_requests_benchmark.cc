@@ -97,11 +97,7 @@ void BM_StructuredStep(benchmark::State& state) {
 }
 BENCHMARK(BM_StructuredStep)->Unit(benchmark::kMicrosecond);
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using leglab::benchmarks::Median;
 
 template <typename F>
 double MicrosecondsPerCall(const F& f, int calls) {

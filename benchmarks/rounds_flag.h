@@ -1,13 +1,23 @@
 #pragma once
-// The side-by-side benchmarks' one own flag, and their main, shared by the benchmark programs.
+// The side-by-side benchmarks' one own flag, their median and their main, shared by the
+// benchmark programs.
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 namespace leglab::benchmarks {
+
+/// The median of `values`, at least one: of an even count, the mean of the two middle ones.
+inline double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
 
 /// Takes every `--rounds=N` out of argv (before Google Benchmark sees the arguments) and
 /// returns the last N given (at least 1), or `fallback` when there is none.

@@ -122,11 +122,7 @@ void BM_PaperPlannerTick(benchmark::State& state) {
 }
 BENCHMARK(BM_PaperPlannerTick);
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using leglab::benchmarks::Median;
 
 template <typename F>
 double MicrosecondsPerTick(const F& run, int ticks) {

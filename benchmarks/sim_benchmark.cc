@@ -139,11 +139,7 @@ double TimeSim(LegSim& sim, int ticks, int steps_per_tick) {
   return elapsed.count() / (static_cast<double>(ticks) * steps_per_tick);
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using leglab::benchmarks::Median;
 
 // Times `first` and `second` (each returns seconds) in `rounds` interleaved rounds, the
 // order alternating: the per-round ratios second / first and both times, ns.

@@ -78,11 +78,7 @@ double TimePhysics(const ExperimentConfig& config, const TrackResult& shape, lon
   return Seconds(start);
 }
 
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
+using leglab::benchmarks::Median;
 
 void ReportSideBySide(int rounds) {
   const ExperimentConfig config = Config();
