@@ -286,30 +286,33 @@ void Resample(Log& log, double tick_s, const LogFitConfig& config) {
 
 int Ticks(double seconds, double tick_s) { return static_cast<int>(std::lround(seconds / tick_s)); }
 
-Models Fit(const std::vector<const ServoRecording*>& train, double tick_s, const std::string& motor,
-           const LogFitConfig& config) {
-  std::vector<ServoRecording> recordings;
-  recordings.reserve(train.size());
-  for (const ServoRecording* r : train) recordings.push_back(*r);
+IdentificationOptions PaperOptions(double tick_s, const LogFitConfig& config) {
   IdentificationOptions paper;
   paper.lag_min_ticks = 0;
   paper.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
   paper.accel_min_ticks = 1;
   paper.accel_max_ticks = std::max(1, Ticks(config.window_max_s, tick_s));
+  return paper;
+}
+
+ServoFitOptions ExtendedOptions(double tick_s, const std::string& motor,
+                                const LogFitConfig& config) {
   ServoFitOptions extended;
   extended.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
   extended.iterations = config.iterations;
   if (const auto it = config.v_max_deg_s.find(motor); it != config.v_max_deg_s.end()) {
     extended.v_max_deg_s = it->second;
   }
-  Models models;
+  return extended;
+}
+
+JointModelParams FitPaper(std::span<const ServoRecording> train, double tick_s,
+                          const std::string& motor, const LogFitConfig& config) {
   try {
-    models.paper = FitJointModelToRecordings(recordings, paper).params;
+    return FitJointModelToRecordings(train, PaperOptions(tick_s, config)).params;
   } catch (const std::invalid_argument& e) {
     FailConfig("logs: the paper's model cannot be fitted to motor '" + motor + "': " + e.what());
   }
-  models.extended = FitServoModel(recordings, tick_s, extended);
-  return models;
 }
 
 Predictions Predict(const Models& models, const ServoRecording& r, double tick_s,
@@ -343,18 +346,48 @@ std::vector<FitJob> Jobs(const std::vector<MotorGroup>& groups, const LogFitConf
   return jobs;
 }
 
+// Every job's fits, as tasks run in parallel: each job's paper model, and its extended model
+// lag by lag (FitServoModelAtLag), the lag of least error kept as FitServoModel keeps it.
 void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
              const std::vector<Log>& logs, const LogFitConfig& config, int threads) {
-  ParallelFor(static_cast<int>(jobs.size()), threads, [&](int j) {
-    FitJob& job = jobs[static_cast<size_t>(j)];
-    const MotorGroup& g = groups[job.group];
-    std::vector<const ServoRecording*> train;
+  std::vector<std::vector<ServoRecording>> train(jobs.size());
+  struct Task {
+    size_t job = 0;
+    int lag = -1;  // -1: the paper model's fit
+  };
+  std::vector<Task> tasks;
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    const MotorGroup& g = groups[jobs[j].group];
     for (size_t i : g.train) {
-      if (job.held_out && FoldKey(logs[i].log, config.cross_validate) == *job.held_out) continue;
-      train.push_back(&logs[i].recording);
+      if (jobs[j].held_out && FoldKey(logs[i].log, config.cross_validate) == *jobs[j].held_out) {
+        continue;
+      }
+      train[j].push_back(logs[i].recording);
     }
-    job.models = Fit(train, g.tick_s, g.motor, config);
+    tasks.push_back({j, -1});
+    const int lags = ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks;
+    for (int lag = 0; lag <= lags; ++lag) tasks.push_back({j, lag});
+  }
+  std::vector<ServoLagFit> lag_fits(tasks.size());
+  ParallelFor(static_cast<int>(tasks.size()), threads, [&](int k) {
+    const Task& task = tasks[static_cast<size_t>(k)];
+    FitJob& job = jobs[task.job];
+    const MotorGroup& g = groups[job.group];
+    if (task.lag < 0) {
+      job.models.paper = FitPaper(train[task.job], g.tick_s, g.motor, config);
+    } else {
+      lag_fits[static_cast<size_t>(k)] = FitServoModelAtLag(
+          train[task.job], g.tick_s, ExtendedOptions(g.tick_s, g.motor, config), task.lag);
+    }
   });
+  // Tasks are in lag order within a job: a later lag replaces only a strictly better one.
+  std::vector<std::optional<ServoLagFit>> best(jobs.size());
+  for (size_t k = 0; k < tasks.size(); ++k) {
+    if (tasks[k].lag < 0) continue;
+    std::optional<ServoLagFit>& b = best[tasks[k].job];
+    if (!b || lag_fits[k].squared_error < b->squared_error) b = lag_fits[k];
+  }
+  for (size_t j = 0; j < jobs.size(); ++j) jobs[j].models.extended = best[j]->params;
 }
 
 Json PaperJson(const JointModelParams& p, double tick_s) {

@@ -139,10 +139,24 @@ struct ServoFitOptions {
 /// both frictions and the velocity lag; on logarithms where they must stay positive) for every
 /// lag, by Nelder-Mead (NelderMead) on the sum over recordings of each one's mean squared
 /// open-loop prediction error over its driven ticks (every recording weighs alike whatever its
-/// length), and returns the best lag's. Deterministic. Throws std::invalid_argument on no
-/// recordings, one without a driven tick, mismatched sizes, non-finite samples, a drive out of
-/// range, tick_s <= 0, a negative lag_max_ticks, or fewer than one restart or iteration.
+/// length), and returns the best lag's (FitServoModelAtLag for each lag, the smallest lag on a
+/// tie). Deterministic. Throws std::invalid_argument on no recordings, one without a driven
+/// tick, mismatched sizes, non-finite samples, a drive out of range, tick_s <= 0, a negative
+/// lag_max_ticks, or fewer than one restart or iteration.
 ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, double tick_s,
                                const ServoFitOptions& options = {});
+
+/// The fit at one lag: its parameters and the objective there (FitServoModel's sum of mean
+/// squared errors, deg^2).
+struct ServoLagFit {
+  ServoModelParams params;
+  double squared_error = 0.0;
+};
+
+/// FitServoModel's work at lag `lag` alone (0 <= lag <= options.lag_max_ticks), so that a
+/// caller may fit the lags in parallel: FitServoModel is the fit of least squared_error over
+/// the lags, the smallest lag on a tie. Throws as FitServoModel, and on a lag out of range.
+ServoLagFit FitServoModelAtLag(std::span<const ServoRecording> recordings, double tick_s,
+                               const ServoFitOptions& options, int lag);
 
 }  // namespace leglab
