@@ -536,7 +536,8 @@ ExperimentConfig LoadExperimentConfigUnguarded(const std::string& config_path,
   ChooseModes(state, config);
   if (state.model_given) config.model = state.model;
   CheckWalk(config, config_path);
-  config.planned_ticks = PlannedTicks(config, InScope(scope, "steps"));
+  // A log fit plans its work once it has read the logs (ReplanProgress).
+  config.planned_ticks = config.logs.given ? 0 : PlannedTicks(config, InScope(scope, "steps"));
   return config;
 }
 

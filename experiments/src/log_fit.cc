@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "leglab/core/format.h"
 #include "leglab/experiments/data_dir.h"
 #include "leglab/experiments/parallel.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/model/servo_ladder.h"
 #include "leglab/model/servo_log.h"
 #include "leglab/model/servo_plan.h"
@@ -368,6 +370,20 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
     const int lags = ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks;
     for (int lag = 0; lag <= lags; ++lag) tasks.push_back({j, lag});
   }
+  // Progress: each task counts its training ticks when it ends.
+  std::vector<long> task_ticks(tasks.size());
+  long long planned = 0;
+  for (size_t k = 0; k < tasks.size(); ++k) {
+    for (const ServoRecording& r : train[tasks[k].job]) {
+      task_ticks[k] += static_cast<long>(r.scored.size());
+    }
+    planned += task_ticks[k];
+  }
+  ReplanProgress(planned, "training ticks over " + std::to_string(tasks.size()) + " fits");
+  std::atomic<int> done{0};
+  const std::string of = " of " + std::to_string(tasks.size()) + " fits done, for " +
+                         std::to_string(jobs.size()) + " models (final and folds)";
+  SetProgressPhase("fitting: 0" + of);
   std::vector<ServoLagFit> lag_fits(tasks.size());
   ParallelFor(static_cast<int>(tasks.size()), threads, [&](int k) {
     const Task& task = tasks[static_cast<size_t>(k)];
@@ -379,7 +395,10 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
       lag_fits[static_cast<size_t>(k)] = FitServoModelAtLag(
           train[task.job], g.tick_s, ExtendedOptions(g.tick_s, g.motor, config), task.lag);
     }
+    CountProgressTicks(task_ticks[static_cast<size_t>(k)]);
+    SetProgressPhase("fitting: " + std::to_string(++done) + of);
   });
+  SetProgressPhase("scoring and planning each log");
   // Tasks are in lag order within a job: a later lag replaces only a strictly better one.
   std::vector<std::optional<ServoLagFit>> best(jobs.size());
   for (size_t k = 0; k < tasks.size(); ++k) {
@@ -659,6 +678,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
 LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
                           const std::vector<GivenServoLog>& given) {
   Report report;
+  SetProgressPhase("reading the logs");
   report.logs = ReadLogs(config, given);
   report.groups = GroupByMotor(report.logs, config);
   for (const MotorGroup& g : report.groups) {

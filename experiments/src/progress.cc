@@ -18,6 +18,11 @@ struct ProgressState {
   std::atomic<bool> finished{false};
   std::mutex mutex;  // guards phase, and stderr against the display's redraws
   std::string phase = "starting";
+  // Set by ReplanProgress (guarded by mutex): the plan that replaces the display's own.
+  long long planned = 0;
+  std::string unit = "ticks";
+  Clock::time_point plan_start;
+  bool replanned = false;
   bool bar_drawn = false;
 };
 
@@ -58,6 +63,15 @@ void SetProgressPhase(const std::string& phase) {
   State().phase = phase;
 }
 
+void ReplanProgress(long long units, const std::string& unit) {
+  const std::lock_guard<std::mutex> lock(State().mutex);
+  State().ticks = 0;
+  State().planned = std::max(1LL, units);
+  State().unit = unit;
+  State().plan_start = Clock::now();
+  State().replanned = true;
+}
+
 void FinishProgress() {
   const std::lock_guard<std::mutex> lock(State().mutex);
   State().finished = true;
@@ -67,7 +81,7 @@ void FinishProgress() {
 ProgressDisplay::ProgressDisplay(std::string program, ProgressStyle style, long long planned_ticks)
     : program_(std::move(program)),
       style_(style),
-      planned_ticks_(std::max(1LL, planned_ticks)),
+      planned_ticks_(std::max(0LL, planned_ticks)),
       start_(Clock::now()) {
   if (style_ == ProgressStyle::kOff) return;
   // The first line before any work, on this thread: a run shorter than the redraw period still
@@ -99,12 +113,19 @@ void ProgressDisplay::Loop() {
 bool ProgressDisplay::Draw() {
   const std::lock_guard<std::mutex> lock(State().mutex);
   if (State().finished) return false;
-  const long long done = std::min(State().ticks.load(), planned_ticks_);
-  const double share = static_cast<double>(done) / static_cast<double>(planned_ticks_);
+  const ProgressState& state = State();
+  const long long planned = state.replanned ? state.planned : planned_ticks_;
+  const long long done = std::min(state.ticks.load(), planned);
+  const double share = planned > 0 ? static_cast<double>(done) / static_cast<double>(planned) : 0.0;
   const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-  const std::string left = done > 0 && elapsed > 1.0
-                               ? "about " + Duration(elapsed * (1.0 - share) / share) + " left"
-                               : "estimating the time left";
+  // The rate since the plan began: a replanned run's earlier work (reading) is not its rate.
+  const double planned_elapsed =
+      state.replanned ? std::chrono::duration<double>(Clock::now() - state.plan_start).count()
+                      : elapsed;
+  const std::string left =
+      done > 0 && planned_elapsed > 1.0
+          ? "about " + Duration(planned_elapsed * (1.0 - share) / share) + " left"
+          : "estimating the time left";
   char line[256];
   if (style_ == ProgressStyle::kBar) {
     constexpr int kWidth = 30;
@@ -114,9 +135,12 @@ bool ProgressDisplay::Draw() {
                   bar.c_str(), 100.0 * share, left.c_str(), State().phase.c_str());
     State().bar_drawn = true;
   } else {
-    std::snprintf(line, sizeof line, "%s: %.0f%% of %lld ticks after %s, %s (%s)\n",
-                  program_.c_str(), 100.0 * share, planned_ticks_, Duration(elapsed).c_str(),
-                  left.c_str(), State().phase.c_str());
+    // Nothing planned yet (a log fit before it has read its logs): no share to state.
+    const std::string of = planned > 0 ? " of " + std::to_string(planned) + " " + state.unit
+                                       : " of work not yet known";
+    std::snprintf(line, sizeof line, "%s: %.0f%%%s after %s, %s (%s)\n", program_.c_str(),
+                  100.0 * share, of.c_str(), Duration(elapsed).c_str(), left.c_str(),
+                  state.phase.c_str());
   }
   std::fputs(line, stderr);
   std::fflush(stderr);

@@ -26,6 +26,12 @@ long long CountedProgressTicks();
 /// Names what the program does now, e.g. "writing trace_direct.csv"; shown beside the share.
 void SetProgressPhase(const std::string& phase);
 
+/// Replaces the plan the display measures against, for a program whose work is known only
+/// once its input is read (a log fit): `units` of work called `unit` in the plain lines (e.g.
+/// "fit-ticks"), counted from zero by CountProgressTicks from now on, the time left
+/// extrapolated from the rate since this call.
+void ReplanProgress(long long units, const std::string& unit);
+
 /// Marks the work done: the display stops drawing and clears its bar, so that the tables
 /// printed next stand alone on a terminal.
 void FinishProgress();
