@@ -66,6 +66,8 @@ struct FitJob {
   size_t group = 0;
   std::optional<std::string> held_out;  // the fold left out (FoldKey)
   Models models;
+  long training_ticks = 0;  // the driven ticks of its training logs
+  long fitted_ticks = 0;    // of those, the ones its fits saw (FitSample)
 };
 
 // Every rung's prediction of one log, and the oracle's shift.
@@ -348,6 +350,16 @@ std::vector<FitJob> Jobs(const std::vector<MotorGroup>& groups, const LogFitConf
   return jobs;
 }
 
+// Ticks [begin, end) of `from` onto the end of `to`, the first `undriven` of them scored 0.
+void AppendTicks(const ServoRecording& from, size_t begin, size_t end, size_t undriven,
+                 ServoRecording& to) {
+  for (size_t t = begin; t < end; ++t) {
+    to.request_deg.push_back(from.request_deg[t]);
+    to.measured_deg.push_back(from.measured_deg[t]);
+    to.scored.push_back(t < begin + undriven ? 0 : from.scored[t]);
+  }
+}
+
 // Every job's fits, as tasks run in parallel: each job's paper model, and its extended model
 // lag by lag (FitServoModelAtLag), the lag of least error kept as FitServoModel keeps it.
 void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
@@ -365,6 +377,15 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
         continue;
       }
       train[j].push_back(logs[i].recording);
+    }
+    for (const ServoRecording& r : train[j]) {
+      for (const uint8_t on : r.scored) jobs[j].training_ticks += on;
+    }
+    // The lead: the longest lag the extended fit searches, and the tick before it.
+    train[j] = FitSample(train[j], config.fit_ticks,
+                         ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks + 1);
+    for (const ServoRecording& r : train[j]) {
+      for (const uint8_t on : r.scored) jobs[j].fitted_ticks += on;
     }
     tasks.push_back({j, -1});
     const int lags = ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks;
@@ -471,6 +492,8 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
     if (job.held_out) continue;
     const MotorGroup& g = report.groups[job.group];
     json["models"]["paper"][g.motor] = PaperJson(job.models.paper, g.tick_s);
+    json["fit_sample"][g.motor] = {{"training_ticks", job.training_ticks},
+                                   {"fitted_ticks", job.fitted_ticks}};
     json["models"]["extended"][g.motor] =
         ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0);
   }
@@ -482,6 +505,8 @@ Json ReportJson(const Report& report, const LogFitConfig& config) {
     const MotorGroup& g = report.groups[job.group];
     json["folds"].push_back({{"motor", g.motor},
                              {"held_out", *job.held_out},
+                             {"training_ticks", job.training_ticks},
+                             {"fitted_ticks", job.fitted_ticks},
                              {"paper", PaperJson(job.models.paper, g.tick_s)},
                              {"extended", ExtendedJson(job.models.extended, g.tick_s,
                                                        config.v_max_deg_s.count(g.motor) > 0)}});
@@ -588,6 +613,15 @@ std::string ReportMarkdown(const Report& report) {
       md << " |\n";
     }
     DataMarkdown(report, g, md);
+    for (const FitJob& job : report.jobs) {
+      if (job.held_out || report.groups[job.group].motor != g.motor) continue;
+      if (job.fitted_ticks < job.training_ticks) {
+        md << "\nThe final models were fitted on " << job.fitted_ticks << " of the "
+           << job.training_ticks
+           << " driven training ticks: evenly spaced chunks of every training log "
+              "(logs.fit_ticks); every score uses every tick.\n";
+      }
+    }
     PlanMarkdown(report, g, md);
   }
   return md.str();
@@ -674,6 +708,33 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
 }
 
 }  // namespace
+
+std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
+                                      int lead_ticks) {
+  if (budget < 0 || lead_ticks < 0) {
+    throw std::invalid_argument("FitSample: the budget and the lead must be >= 0");
+  }
+  double total = 0.0;
+  for (const ServoRecording& r : train) total += static_cast<double>(r.scored.size());
+  if (budget == 0 || total <= static_cast<double>(budget)) return {train.begin(), train.end()};
+  std::vector<ServoRecording> sample;
+  for (const ServoRecording& r : train) {
+    const size_t n = r.scored.size();
+    const auto keep = std::max<size_t>(
+        1, static_cast<size_t>(static_cast<double>(budget) * static_cast<double>(n) / total));
+    const size_t chunks = (keep + kFitChunkTicks - 1) / kFitChunkTicks;
+    const size_t length = keep / chunks;
+    ServoRecording s{.drive = r.drive, .request_deg = {}, .measured_deg = {}, .scored = {}};
+    for (size_t c = 0; c < chunks; ++c) {
+      // Evenly from the start to the end: chunk c begins at c (n - L) / (chunks - 1).
+      const size_t begin = chunks == 1 ? (n - length) / 2 : c * (n - length) / (chunks - 1);
+      const size_t lead = std::min(begin, static_cast<size_t>(lead_ticks));
+      AppendTicks(r, begin - lead, begin + length, lead, s);
+    }
+    sample.push_back(std::move(s));
+  }
+  return sample;
+}
 
 LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
                           const std::vector<GivenServoLog>& given) {

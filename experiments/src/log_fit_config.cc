@@ -63,6 +63,13 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
          .unit = "s",
          .description = "a pause between two samples longer than this splits a log into "
                         "segments, each fitted and scored on its own, never interpolated across"});
+  v.Key("fit_ticks", c.fit_ticks,
+        {.min = 0,
+         .max = 1e9,
+         .unit = "ticks",
+         .description = "the most resampled training ticks one model's fit sees (0: all); "
+                        "above it the fit sees evenly spaced chunks of every training log "
+                        "totalling this many, and the scores still use every tick"});
   v.Key("iterations", c.iterations,
         {.min = 1,
          .max = 1'000'000,

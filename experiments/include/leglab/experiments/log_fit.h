@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "leglab/core/config_keys.h"
 #include "leglab/experiments/output.h"
 #include "leglab/experiments/servo_log_io.h"
+#include "leglab/model/servo_model.h"
 
 namespace leglab::experiments {
 
@@ -22,6 +24,9 @@ enum class CrossValidation {
 inline constexpr std::array<std::string_view, 3> kCrossValidationNames{
     "none", "leave_one_trajectory_out", "leave_one_kp_out"};
 inline constexpr std::array<std::string_view, 3> kServoLogFormatNames{"auto", "csv", "bam_json"};
+
+/// LogFitConfig::fit_ticks' default: above the 13,605 training ticks of the shipped XL330 logs.
+inline constexpr int kDefaultFitTicks = 20'000;
 
 /// `logs.*`: identify fits the joint models to recorded servo logs instead of step tests.
 struct LogFitConfig {
@@ -45,11 +50,30 @@ struct LogFitConfig {
   /// A pause between two samples longer than this (s) splits a log into segments, each
   /// resampled, fitted and scored on its own: nothing is interpolated across it.
   double gap_s = 0.25;
+  /// The most resampled training ticks one model's fit sees (0: all). Above it the fit sees
+  /// evenly spaced chunks of every training log, in proportion to its length and totalling
+  /// this many (FitSample); scores and plans use every tick. Bounds a fit's cost whatever the
+  /// logs' length; the shipped logs are under it, so it does not change their fit.
+  int fit_ticks = kDefaultFitTicks;
 };
 
 /// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
 /// ReadLogFitStructured.
 void VisitKeys(KeyVisitor& v, LogFitConfig& c);
+
+/// The longest chunk FitSample cuts (ticks): 5.3 s at the XL330's tick, long against the
+/// servos' settling, so that the restart at each chunk's start weighs little.
+inline constexpr int kFitChunkTicks = 1000;
+
+/// The training recordings as one model's fit sees them (LogFitConfig::fit_ticks): as they are
+/// when they hold `budget` ticks or fewer in all, or `budget` is 0. Else recording k of n_k
+/// ticks (T in all) keeps floor(budget n_k / T) of them (at least 1) in c = ceil(that /
+/// kFitChunkTicks) chunks of equal length L spread evenly over it, the first at its start and
+/// the last at its end, each after `lead_ticks` ticks marked undriven (scored 0: the requests
+/// the model remembers when a run starts at the chunk, and the break between chunks); its
+/// drive is kept. Deterministic. Throws std::invalid_argument on a negative budget or lead.
+std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
+                                      int lead_ticks);
 
 /// The rungs of the model ladder, in the order tables show them: the request as the
 /// prediction, the best time shift in hindsight, the paper's model, the extended model.
