@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -111,63 +112,51 @@ void Project(const Problem& p, std::vector<double>& requests) {
   }
 }
 
-// d/dR(t) of the squared error over the ticks t+l+1 .. t+l+1+kOptimalWindowTicks, by central
-// differences from the states the requests pass through.
+// d/dR(t) of SquaredError, exactly, by the adjoint of the model's steps (HorizonGradient
+// over the whole plan): one pass forward and one back, O(N).
 template <class Stepper>
-std::vector<double> WindowGradient(const Stepper& stepper, const Problem& p,
-                                   const std::vector<double>& requests) {
-  constexpr double kStepDeg = 1e-4;
+std::vector<double> ErrorGradient(const Stepper& stepper, const Problem& p,
+                                  const std::vector<double>& requests) {
   const size_t n = requests.size();
-  const auto lag = static_cast<size_t>(stepper.Lag());
-  std::vector<typename Stepper::State> states(n, stepper.Rest(p.desired[0]));
-  for (size_t t = 0; t + 1 < n; ++t) {
-    states[t + 1] = states[t];
-    stepper.Step(states[t + 1], requests[t]);
-  }
-  typename Stepper::State scratch = states[0];
-  const auto window_error = [&](size_t t, double request) {
-    scratch = states[t];
-    const size_t end = std::min(n, t + lag + 2 + static_cast<size_t>(kOptimalWindowTicks));
-    double sum = 0.0;
-    for (size_t k = t; k < end; ++k) {
-      const double angle = stepper.Step(scratch, k == t ? request : requests[k]);
-      if (k >= t + lag + 1) sum += std::pow(angle - p.desired[k], 2);
-    }
-    return sum;
-  };
+  // As Simulate's state before pushing R(0): M(0) is the first tick's angle, SquaredError's
+  // first term, which no request changes.
+  typename Stepper::State pending = stepper.Rest(p.desired[0]);
+  stepper.Advance(pending);
+  typename Stepper::State scratch = pending;
+  std::vector<double> angles(n);
+  servo_plan::HorizonError(stepper, pending, scratch, requests, p.desired, angles);
   std::vector<double> gradient(n);
-  for (size_t t = 0; t < n; ++t) {
-    gradient[t] =
-        (window_error(t, requests[t] + kStepDeg) - window_error(t, requests[t] - kStepDeg)) /
-        (2 * kStepDeg);
-  }
+  servo_plan::HorizonGradient(stepper, pending, requests, p.desired, angles, gradient);
   return gradient;
 }
 
-// One projected gradient step that lowers `error`, halving the step length `alpha` until one
-// does (at most 40 times). Returns false, leaving `requests` as they are, if none does.
-template <class Stepper>
-bool DescentStep(const Stepper& stepper, const Problem& p, std::vector<double>& requests,
-                 double& error, double& alpha) {
-  const std::vector<double> gradient = WindowGradient(stepper, p, requests);
-  double largest = 0.0;
-  for (const double g : gradient) largest = std::max(largest, std::abs(g));
-  if (largest == 0.0) return false;
-  // The first step moves the steepest request by 1 deg.
-  if (alpha == 0.0) alpha = 1.0 / largest;
-  for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
-    std::vector<double> candidate(requests);
-    for (size_t t = 0; t < candidate.size(); ++t) candidate[t] -= alpha * gradient[t];
-    Project(p, candidate);
-    const double candidate_error = SquaredError(stepper, p, candidate);
-    if (candidate_error < error) {
-      requests = std::move(candidate);
-      error = candidate_error;
-      if (tries == 0) alpha *= 2;  // a step taken at once: try a longer one next time
-      return true;
-    }
+// The limited-memory BFGS direction -H g (Nocedal and Wright, algorithm 7.4) from the last
+// steps s and gradient changes y, oldest first; H0 = (s.y / y.y) I from the newest pair.
+std::vector<double> QuasiNewtonDirection(const std::vector<double>& gradient,
+                                         const std::deque<std::vector<double>>& steps,
+                                         const std::deque<std::vector<double>>& changes) {
+  const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    return sum;
+  };
+  std::vector<double> q = gradient;
+  const size_t m = steps.size();
+  std::vector<double> alpha(m);
+  std::vector<double> rho(m);
+  for (size_t k = m; k-- > 0;) {
+    rho[k] = 1.0 / dot(changes[k], steps[k]);
+    alpha[k] = rho[k] * dot(steps[k], q);
+    for (size_t i = 0; i < q.size(); ++i) q[i] -= alpha[k] * changes[k][i];
   }
-  return false;
+  const double scale = dot(steps.back(), changes.back()) / dot(changes.back(), changes.back());
+  for (double& v : q) v *= scale;
+  for (size_t k = 0; k < m; ++k) {
+    const double beta = rho[k] * dot(changes[k], q);
+    for (size_t i = 0; i < q.size(); ++i) q[i] += (alpha[k] - beta) * steps[k][i];
+  }
+  for (double& v : q) v = -v;
+  return q;
 }
 
 // kModelBased for the extended model, the paper's method carried over: the model inverted
@@ -197,15 +186,70 @@ std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Pr
   return requests;
 }
 
-// kOptimal from the kModelBased requests: never worse than them.
+// kOptimal from the kModelBased requests: never worse than them. Projected limited-memory
+// BFGS on SquaredError with its exact gradient (ErrorGradient): each iteration tries the
+// quasi-Newton step, projected (Project), halving it until the error falls (at most 40
+// times); with no memory yet, or when that fails, the steepest descent step that moves the
+// steepest request by 1 deg, halved likewise; it stops when neither lowers the error, when an
+// iteration gains at most 1e-12 of it, or after kOptimalMaxIterations.
 template <class Stepper>
 std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
                                     std::vector<double> requests) {
+  constexpr size_t kMemory = 8;
   double error = SquaredError(stepper, p, requests);
-  double alpha = 0.0;
+  std::vector<double> gradient = ErrorGradient(stepper, p, requests);
+  std::deque<std::vector<double>> steps;
+  std::deque<std::vector<double>> changes;
+  std::vector<double> candidate(requests.size());
+  // Tries requests + alpha direction, projected, halving alpha; true once the error falls.
+  const auto search = [&](const std::vector<double>& direction, double alpha) {
+    for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
+      for (size_t t = 0; t < candidate.size(); ++t) {
+        candidate[t] = requests[t] + alpha * direction[t];
+      }
+      Project(p, candidate);
+      const double candidate_error = SquaredError(stepper, p, candidate);
+      if (candidate_error < error) {
+        error = candidate_error;
+        return true;
+      }
+    }
+    return false;
+  };
   for (int i = 0; i < kOptimalMaxIterations; ++i) {
     const double before = error;
-    if (!DescentStep(stepper, p, requests, error, alpha)) break;
+    double largest = 0.0;
+    for (const double g : gradient) largest = std::max(largest, std::abs(g));
+    if (largest == 0.0) break;
+    bool moved = !steps.empty() && search(QuasiNewtonDirection(gradient, steps, changes), 1.0);
+    if (!moved) {
+      steps.clear();
+      changes.clear();
+      std::vector<double> descent(gradient.size());
+      for (size_t t = 0; t < descent.size(); ++t) descent[t] = -gradient[t] / largest;
+      moved = search(descent, 1.0);
+    }
+    if (!moved) break;
+    std::vector<double> next_gradient = ErrorGradient(stepper, p, candidate);
+    std::vector<double> step(requests.size());
+    std::vector<double> change(requests.size());
+    double curvature = 0.0;
+    for (size_t t = 0; t < step.size(); ++t) {
+      step[t] = candidate[t] - requests[t];
+      change[t] = next_gradient[t] - gradient[t];
+      curvature += step[t] * change[t];
+    }
+    requests.swap(candidate);
+    gradient.swap(next_gradient);
+    // Only pairs of positive curvature keep H positive definite.
+    if (curvature > 0.0) {
+      steps.push_back(std::move(step));
+      changes.push_back(std::move(change));
+      if (steps.size() > kMemory) {
+        steps.pop_front();
+        changes.pop_front();
+      }
+    }
     if (before - error <= 1e-12 * before) break;
   }
   return requests;

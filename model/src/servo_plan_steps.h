@@ -208,7 +208,9 @@ inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const
   const double load_slope = load_scale * std::cos(angle_deg * kRadPerDeg) * kRadPerDeg;
   const double net = std::clamp(duty_raw, -1.0, 1.0) - load;
   const double band = p.friction_duty + p.friction_load_ratio * std::abs(load);
-  if (std::abs(net) <= band) return {};
+  // Inside the band w* is 0. With no band (band == 0) w* = v_max net is smooth through
+  // net = 0, where the model's comparison would give the slope 0 and stall a descent at rest.
+  if (band > 0.0 && std::abs(net) <= band) return {};
   const double load_sign = load > 0.0 ? 1.0 : (load < 0.0 ? -1.0 : 0.0);
   const double band_slope = p.friction_load_ratio * load_sign * load_slope;
   const double net_sign = net > 0.0 ? 1.0 : -1.0;

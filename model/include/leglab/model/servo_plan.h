@@ -26,16 +26,16 @@ enum class PlanMethod {
   /// the least-effort one: the nearest to M(t+l), the angle the model has when R(t) first acts.
   kModelBased,
   /// Least sum over the trajectory of (M(t) - D(t))^2 within the limits, by projected
-  /// gradient descent from the kModelBased plan, accepting only steps that lower the sum (so
-  /// never worse than kModelBased). The gradient is by central differences of the error over
-  /// a window of l + 1 + kOptimalWindowTicks ticks after each request; the projection clamps
-  /// the requests in time order to the limits and the speed limit. Cost per iteration: about
-  /// 2 N (l + 2 + kOptimalWindowTicks) model steps for the gradient and N per tried step; at
-  /// most kOptimalMaxIterations iterations.
+  /// limited-memory BFGS from the kModelBased plan, accepting only steps that lower the sum (so
+  /// never worse than kModelBased; a local optimum). The gradient is exact, by the adjoint of
+  /// the model's steps (one pass forward and one back); the projection clamps the requests in
+  /// time order to the limits and the speed limit. Cost per iteration: about 3 N model steps
+  /// for the gradient and N per tried step, so O(N); at most kOptimalMaxIterations iterations.
   kOptimal,
 };
 
-/// The window (ticks after R(t) first acts) over which kOptimal differentiates the error.
+/// The online planner's look-ahead beyond its horizon for kOptimal (ServoPlanner), ticks after
+/// R(t) first acts.
 inline constexpr int kOptimalWindowTicks = 60;
 /// kOptimal's most iterations (each one gradient and a backtracking line search).
 inline constexpr int kOptimalMaxIterations = 200;

@@ -19,7 +19,7 @@ struct ServoPlannerOptions {
   PlanMethod method = PlanMethod::kModelBased;  ///< as PlanServoRequests's (below)
   /// Desired angles after this tick's that Request is given (and uses) each tick. -1: the
   /// method's own, HorizonTicks() for kModelBased (all it needs: more is ignored) and
-  /// HorizonTicks() + kOptimalWindowTicks for kOptimal (the batch's gradient window).
+  /// HorizonTicks() + kOptimalWindowTicks for kOptimal.
   /// kOptimal needs more than the model's lag l (at least HorizonTicks()); at most
   /// kMaxServoPreviewTicks.
   int preview_ticks = -1;
