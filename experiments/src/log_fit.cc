@@ -39,6 +39,9 @@ struct Log {
   std::vector<double> time_s;  // each tick's time from the first sample (LogFitCurves::time_s)
   int segments = 0;            // of at least 2 samples, split at pauses over logs.gap_s
   int samples_dropped = 0;     // samples alone between two pauses: no segment
+  int glitches = 0;            // samples whose measurement was left out (logs.glitch_deg)
+  int ticks_at_top_speed = 0;  // driven ticks measured at 90 % of the final model's v_max or more
+  int ticks_at_full_duty = 0;  // driven ticks whose request error saturates the final model's duty
 };
 
 // One motor's logs and the tick they are resampled to.
@@ -234,6 +237,33 @@ std::vector<std::span<const ServoLogSample>> Segments(const ServoLog& log, doubl
   return segments;
 }
 
+// `segment` with each glitch's measurement replaced by the line through its neighbours: a
+// sample (not a segment's first or last) measured more than `glitch_deg` from that line, and
+// further from it than either neighbour is from its own (a glitch pulls its neighbours' lines
+// half as far). Counts them into `glitches`.
+std::vector<ServoLogSample> WithoutGlitches(std::span<const ServoLogSample> segment,
+                                            double glitch_deg, int& glitches) {
+  std::vector<ServoLogSample> out(segment.begin(), segment.end());
+  if (glitch_deg <= 0.0 || segment.size() < 3) return out;
+  const auto line = [&](size_t i) {
+    const ServoLogSample& a = segment[i - 1];
+    const ServoLogSample& b = segment[i + 1];
+    const double w = (segment[i].time_s - a.time_s) / (b.time_s - a.time_s);
+    return a.measured_deg + w * (b.measured_deg - a.measured_deg);
+  };
+  const auto off = [&](size_t i) {
+    return i == 0 || i + 1 == segment.size() ? 0.0 : std::abs(segment[i].measured_deg - line(i));
+  };
+  for (size_t i = 1; i + 1 < segment.size(); ++i) {
+    const double d = off(i);
+    if (d > glitch_deg && d > off(i - 1) && d >= off(i + 1)) {
+      out[i].measured_deg = line(i);
+      ++glitches;
+    }
+  }
+  return out;
+}
+
 // `log` resampled on `tick_s`, segment by segment (Segments), into its recording and times.
 void Resample(Log& log, double tick_s, const LogFitConfig& config) {
   const std::vector<std::span<const ServoLogSample>> segments = Segments(log.log, config.gap_s);
@@ -265,7 +295,8 @@ void Resample(Log& log, double tick_s, const LogFitConfig& config) {
       r.measured_deg.push_back(r.measured_deg.back());
       r.scored.push_back(0);
     }
-    const ResampledLog part = leglab::Resample(segment, tick_s);
+    const ResampledLog part =
+        leglab::Resample(WithoutGlitches(segment, config.glitch_deg, log.glitches), tick_s);
     const double offset = segment.front().time_s - first;
     for (size_t k = 0; k < part.request_deg.size(); ++k) {
       log.time_s.push_back(offset + static_cast<double>(k) * tick_s);
@@ -476,14 +507,32 @@ struct Report {
   std::vector<Predictions> figures;  // per log: held out where cross-validated
 };
 
-// What the log holds, before any fit: its samples, their spacing and its segments.
+// The median absolute deviation of the sample intervals from their median (s): how unevenly
+// the log was sampled.
+double IntervalJitter(const std::vector<ServoLogSample>& samples) {
+  const double median = MedianSampleInterval(samples);
+  std::vector<double> spread;
+  for (size_t i = 1; i < samples.size(); ++i) {
+    spread.push_back(std::abs(samples[i].time_s - samples[i - 1].time_s - median));
+  }
+  std::sort(spread.begin(), spread.end());
+  const size_t mid = spread.size() / 2;
+  return spread.size() % 2 == 1 ? spread[mid] : 0.5 * (spread[mid - 1] + spread[mid]);
+}
+
+// What the log holds: its samples, their spacing, its segments and glitches, and how often it
+// drives its servo to the final model's top speed or full duty.
 Json DataJson(const Log& l) {
   const std::vector<ServoLogSample>& samples = l.log.samples;
   return {{"samples", samples.size()},
           {"duration_s", samples.back().time_s - samples.front().time_s},
           {"median_interval_s", MedianSampleInterval(samples)},
+          {"interval_jitter_s", IntervalJitter(samples)},
           {"segments", l.segments},
-          {"samples_dropped", l.samples_dropped}};
+          {"samples_dropped", l.samples_dropped},
+          {"glitches", l.glitches},
+          {"ticks_at_top_speed", l.ticks_at_top_speed},
+          {"ticks_at_full_duty", l.ticks_at_full_duty}};
 }
 
 Json ReportJson(const Report& report, const LogFitConfig& config) {
@@ -546,18 +595,25 @@ std::string Fixed2(double value) {
 
 // Each log's data: samples, spacing, segments (split at pauses over logs.gap_s).
 void DataMarkdown(const Report& report, const MotorGroup& g, std::ostringstream& md) {
-  md << "\nThe logs (segments: split at pauses over logs.gap_s, each fitted and scored on its "
-        "own; dropped: samples alone between two pauses):\n\n"
-     << "| log | samples | duration (s) | median interval (ms) | segments | dropped |\n"
-     << "|---|---|---|---|---|---|\n";
+  md << "\nThe logs (jitter: the median absolute deviation of the sample intervals; segments: "
+        "split at pauses over logs.gap_s, each fitted and scored on its own; dropped: samples "
+        "alone between two pauses; glitches: samples whose measurement was left out, over "
+        "logs.glitch_deg from the line through their neighbours; top speed and full duty: "
+        "driven ticks measured at 90 % of the final extended model's v_max or more, and whose "
+        "request error saturates its duty):\n\n"
+     << "| log | samples | duration (s) | median interval (ms) | jitter (ms) | segments | dropped "
+        "| glitches | top speed | full duty |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
     for (const size_t i : *list) {
       const Log& l = report.logs[i];
       const std::vector<ServoLogSample>& samples = l.log.samples;
       md << "| " << l.name << " | " << samples.size() << " | "
          << Fixed2(samples.back().time_s - samples.front().time_s) << " | "
-         << Fixed2(1000.0 * MedianSampleInterval(samples)) << " | " << l.segments << " | "
-         << l.samples_dropped << " |\n";
+         << Fixed2(1000.0 * MedianSampleInterval(samples)) << " | "
+         << Fixed2(1000.0 * IntervalJitter(samples)) << " | " << l.segments << " | "
+         << l.samples_dropped << " | " << l.glitches << " | " << l.ticks_at_top_speed << " | "
+         << l.ticks_at_full_duty << " |\n";
     }
   }
 }
@@ -673,6 +729,23 @@ PlanGain PlanLog(const ServoModelParams& model, const ServoRecording& r, double 
   return gain;
 }
 
+// How often `log` drives its servo to the limits of the final extended model `model`, on its
+// driven ticks: measured speed from the tick before at least 90 % of v_max, and a request error
+// (the request acting, R(t-1-l), less the angle measured at t-1) whose duty saturates.
+void CountLimits(const ServoModelParams& model, double tick_s, Log& log) {
+  const ServoRecording& r = log.recording;
+  log.ticks_at_top_speed = 0;
+  log.ticks_at_full_duty = 0;
+  const auto lag = static_cast<size_t>(model.lag_ticks);
+  for (size_t t = 1; t < r.scored.size(); ++t) {
+    if (r.scored[t] == 0 || r.scored[t - 1] == 0) continue;
+    const double speed = std::abs(r.measured_deg[t] - r.measured_deg[t - 1]) / tick_s;
+    log.ticks_at_top_speed += speed >= 0.9 * model.v_max_deg_s ? 1 : 0;
+    const double error = r.request_deg[t > lag ? t - 1 - lag : 0] - r.measured_deg[t - 1];
+    log.ticks_at_full_duty += std::abs(model.gain_per_deg_kp * r.drive.kp * error) >= 1.0 ? 1 : 0;
+  }
+}
+
 // The rows and figures: every training log in sample (and held out when cross-validated),
 // every validation log by its motor's final models.
 void ScoreAll(Report& report, const LogFitConfig& config) {
@@ -686,7 +759,10 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
       Row row = Score(i, log.recording, p, g.tick_s);
       row.train_role = !job.held_out;
       row.held_out = job.held_out;
-      if (!job.held_out) row.plan = PlanLog(job.models.extended, log.recording, g.tick_s);
+      if (!job.held_out) {
+        row.plan = PlanLog(job.models.extended, log.recording, g.tick_s);
+        CountLimits(job.models.extended, g.tick_s, report.logs[i]);
+      }
       report.rows.push_back(row);
       if (job.held_out || config.cross_validate == CrossValidation::kNone) {
         report.figures[i] = std::move(p);
@@ -697,6 +773,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
       Predictions p = Predict(job.models, report.logs[i].recording, g.tick_s, config);
       report.rows.push_back(Score(i, report.logs[i].recording, p, g.tick_s));
       report.rows.back().plan = PlanLog(job.models.extended, report.logs[i].recording, g.tick_s);
+      CountLimits(job.models.extended, g.tick_s, report.logs[i]);
       report.figures[i] = std::move(p);
     }
   }

@@ -63,6 +63,12 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
          .unit = "s",
          .description = "a pause between two samples longer than this splits a log into "
                         "segments, each fitted and scored on its own, never interpolated across"});
+  v.Key("glitch_deg", c.glitch_deg,
+        {.min = 0,
+         .max = 1e5,
+         .unit = "deg",
+         .description = "a sample measured this far from the line through its two neighbours "
+                        "is a glitch: its measurement is left out and counted (0: no check)"});
   v.Key("fit_ticks", c.fit_ticks,
         {.min = 0,
          .max = 1e9,

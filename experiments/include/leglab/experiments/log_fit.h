@@ -50,6 +50,10 @@ struct LogFitConfig {
   /// A pause between two samples longer than this (s) splits a log into segments, each
   /// resampled, fitted and scored on its own: nothing is interpolated across it.
   double gap_s = 0.25;
+  /// A sample whose measured angle is more than this (deg) from the line through its two
+  /// neighbours in time (same segment) is a glitch: its measurement is left out (the resampled
+  /// angle interpolates its neighbours), its request kept, and it is counted. 0: no check.
+  double glitch_deg = 15.0;
   /// The most resampled training ticks one model's fit sees (0: all). Above it the fit sees
   /// evenly spaced chunks of every training log, in proportion to its length and totalling
   /// this many (FitSample); scores and plans use every tick. Bounds a fit's cost whatever the
