@@ -11,7 +11,7 @@
 // one's time per tick and its ratio to the smallest size's. Usage: long_log_benchmark
 // [--benchmark_* flags] [--rounds=N]
 //
-// The log is the extended model fitted to the shipped XL330 logs (identify_logs.yaml's fit),
+// The log is the extended model fitted to the shipped XL330 logs (xl330_model.h),
 // at kp 400 with the shipped pendulum, driven by a sum of four sines with drifting amplitudes,
 // with 0.05 deg of seeded Gaussian noise on the measurement.
 
@@ -28,19 +28,14 @@
 #include "leglab/model/servo_model.h"
 #include "leglab/model/servo_plan.h"
 #include "rounds_flag.h"
+#include "xl330_model.h"
 
 namespace {
 
 using namespace leglab;
 
-constexpr double kTickS = 0.005292177200317383;
-const ServoModelParams kModel{.gain_per_deg_kp = 6.164324274979596e-05,
-                              .v_max_deg_s = 856.3316406008295,
-                              .stall_torque_nm = 0.504851487618676,
-                              .friction_duty = 2.3869350476813286e-14,
-                              .friction_load_ratio = 0.37634236423778544,
-                              .velocity_lag_s = 0.14366047744528795,
-                              .lag_ticks = 1};
+constexpr double kTickS = benchmarks::kXl330TickS;
+constexpr const ServoModelParams& kModel = benchmarks::kXl330Extended;
 const ServoDrive kDrive{.kp = 400.0, .mass_kg = 0.49, .length_m = 0.1};
 
 // The desired motion or request at tick t (deg).

@@ -11,8 +11,7 @@
 // shared and noisy): each one's time per tick, as a share of the servo's tick and as a
 // multiple of a model tick. Usage: servo_planner_benchmark [--benchmark_* flags] [--rounds=N]
 //
-// The models are identify's fit of experiments/configs/identify_logs.yaml (log_fit.json's
-// models.*.xl330), written here so that the benchmark needs no fit.
+// The models are identify's fit of the shipped logs (xl330_model.h).
 
 #include <benchmark/benchmark.h>
 
@@ -27,23 +26,15 @@
 #include "leglab/model/servo_model.h"
 #include "leglab/model/servo_planner.h"
 #include "rounds_flag.h"
+#include "xl330_model.h"
 
 namespace {
 
 using namespace leglab;
 
-constexpr double kTickS = 0.005292177200317383;
-const ServoModelParams kExtended{.gain_per_deg_kp = 6.164324274979596e-05,
-                                 .v_max_deg_s = 856.3316406008295,
-                                 .stall_torque_nm = 0.504851487618676,
-                                 .friction_duty = 2.3869350476813286e-14,
-                                 .friction_load_ratio = 0.37634236423778544,
-                                 .velocity_lag_s = 0.14366047744528795,
-                                 .lag_ticks = 1};
-const JointModelParams kPaper{.v_max_deg_per_tick = 2.99219136623082,
-                              .theta0_deg = 1202.7878161114627,
-                              .lag_ticks = 0,
-                              .accel_ticks = 1};
+constexpr double kTickS = benchmarks::kXl330TickS;
+constexpr const ServoModelParams& kExtended = benchmarks::kXl330Extended;
+constexpr const JointModelParams& kPaper = benchmarks::kXl330Paper;
 
 struct Case {
   std::vector<double> desired;
