@@ -132,8 +132,10 @@ template <typename Input, typename Make, typename Run>
 void SideBySide(const char* what, const std::vector<size_t>& sizes, int rounds, Make make,
                 Run run) {
   std::vector<Input> inputs;
+  inputs.reserve(sizes.size());
   for (const size_t n : sizes) inputs.push_back(make(n));
   std::vector<std::vector<double>> us(sizes.size());
+  for (std::vector<double>& times : us) times.reserve(static_cast<size_t>(rounds));
   for (int round = 0; round < rounds; ++round) {
     for (size_t k = 0; k < sizes.size(); ++k) {
       const size_t i = (k + static_cast<size_t>(round)) % sizes.size();
