@@ -14,7 +14,7 @@ Run from the repository root after building the package:
 
 A CSV log does not say its motor, gain and load: --motor, --kp, --mass-kg and --length-m give
 them (a BAM .json log has its own). The motion is driven at the first log's kp, mass and length
-unless those flags are given. The fit takes about 15 s on the shipped logs (--iterations 300).
+unless those flags are given. The fit takes about 5 s on the shipped logs (--iterations 300).
 """
 
 import argparse
