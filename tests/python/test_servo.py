@@ -106,6 +106,29 @@ def test_a_log_built_from_arrays_fits_like_its_file(tmp_path):
     assert a["logs"][0]["best_shift_s"] == pytest.approx(0.02, abs=1e-12)
 
 
+def test_a_glitch_is_left_out_and_the_sample_is_reported():
+    # A 40 deg misread at tick 150 of a smooth log: found and counted, the fit as on the clean
+    # log; a budget below the log's ticks fits a sample of it and says so.
+    t = np.arange(400) * 0.01
+    request = 30.0 * np.sin(2 * np.pi * 0.5 * t)
+    measured = np.concatenate([[0.0, 0.0], request[:-2]])
+    glitched = measured.copy()
+    glitched[150] += 40.0
+    keys = {"logs.iterations": 100, "logs.cross_validate": "none"}
+    fits = {}
+    for name, angles in (("clean", measured), ("glitched", glitched)):
+        log = servo.ServoLog(t, request, angles, motor="toy", kp=10, trajectory="sine",
+                             file=name + ".csv")
+        fits[name] = json.loads(servo.fit([log], keys).to_json())
+    clean, dirty = fits["clean"]["logs"][0], fits["glitched"]["logs"][0]
+    assert (clean["data"]["glitches"], dirty["data"]["glitches"]) == (0, 1)
+    assert dirty["mae_deg"]["extended"] == pytest.approx(clean["mae_deg"]["extended"], abs=0.05)
+    assert fits["clean"]["fit_sample"]["toy"] == {"training_ticks": 400, "fitted_ticks": 400}
+    log = servo.ServoLog(t, request, measured, motor="toy", kp=10, file="clean.csv")
+    sampled = json.loads(servo.fit([log], keys | {"logs.fit_ticks": 100}).to_json())
+    assert sampled["fit_sample"]["toy"] == {"training_ticks": 400, "fitted_ticks": 100}
+
+
 def test_plan_is_the_plan_program(identified, tmp_path):
     out, fit = identified
     log = servo.read_log(XL330_LOG)
