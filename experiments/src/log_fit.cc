@@ -1,7 +1,5 @@
 #include "leglab/experiments/log_fit.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -20,84 +18,14 @@
 #include "leglab/model/servo_ladder.h"
 #include "leglab/model/servo_log.h"
 #include "leglab/model/servo_plan.h"
+#include "log_fit_report.h"
 #include "yaml_config.h"
 
 namespace leglab::experiments {
 namespace {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::ordered_json;
-
-constexpr const std::array<std::string_view, 4>& kRungs = kLogFitRungs;
-
-// A log as identify uses it: read, resampled at its motor's tick, and named for its outputs.
-struct Log {
-  ServoLog log;
-  bool train = false;  // else a validation log
-  std::string name;    // <motor>_<file stem>: the log_<name>.csv it writes
-  ServoRecording recording;
-  std::vector<double> time_s;  // each tick's time from the first sample (LogFitCurves::time_s)
-  int segments = 0;            // of at least 2 samples, split at pauses over logs.gap_s
-  int samples_dropped = 0;     // samples alone between two pauses: no segment
-  int glitches = 0;            // samples whose measurement was left out (logs.glitch_deg)
-  int ticks_at_top_speed = 0;  // driven ticks measured at 90 % of the final model's v_max or more
-  int ticks_at_full_duty = 0;  // driven ticks whose request error saturates the final model's duty
-};
-
-// One motor's logs and the tick they are resampled to.
-struct MotorGroup {
-  std::string motor;
-  double tick_s = 0.0;
-  std::vector<size_t> train;       // indices into the logs
-  std::vector<size_t> validate;    // ...
-  std::vector<std::string> folds;  // the training logs' fold keys (FoldKey), sorted
-};
-
-// Both rungs' models of one motor, fitted on some of its training logs.
-struct Models {
-  JointModelParams paper;
-  ServoModelParams extended;
-};
-
-// What a log is held out by under cross-validation: its trajectory or its gain setting.
-std::string FoldKey(const ServoLog& log, CrossValidation cv) {
-  return cv == CrossValidation::kLeaveOneKpOut ? "kp " + FormatNumber(log.kp) : log.trajectory;
-}
-
-// A fit to do: the motor, the training logs it leaves out (none: the final models).
-struct FitJob {
-  size_t group = 0;
-  std::optional<std::string> held_out;  // the fold left out (FoldKey)
-  Models models;
-  long training_ticks = 0;  // the driven ticks of its training logs
-  long fitted_ticks = 0;    // of those, the ones its fits saw (FitSample)
-};
-
-// Every rung's prediction of one log, and the oracle's shift.
-struct Predictions {
-  std::array<std::vector<double>, kRungs.size()> angle_deg;
-  int shift_ticks = 0;
-};
-
-// A log's request column taken as a desired motion and played through its motor's extended
-// model: the predicted error of sending it as it is, and of each method's plan (driven ticks).
-struct PlanGain {
-  double direct_mae_deg = 0.0;
-  double model_based_mae_deg = 0.0;
-  double optimal_mae_deg = 0.0;
-  int beyond_servo_ticks = 0;  // of the model-based plan, driven ticks only
-};
-
-// A scored log: which log, as what, by which fit.
-struct Row {
-  size_t log = 0;
-  bool train_role = false;              // scored by the models fitted on it
-  std::optional<std::string> held_out;  // the fold's key (cross-validation)
-  std::array<PredictionScore, kRungs.size()> scores;
-  int shift_ticks = 0;
-  double tick_s = 0.0;
-  std::optional<PlanGain> plan;  // for the rows scored by the final models
-};
+using namespace log_fit;  // NOLINT: this file's half of the log fit
 
 std::string Sanitized(const std::string& text) {
   std::string out = text;
@@ -461,245 +389,6 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
   for (size_t j = 0; j < jobs.size(); ++j) jobs[j].models.extended = best[j]->params;
 }
 
-Json PaperJson(const JointModelParams& p, double tick_s) {
-  return {{"tick_s", tick_s},
-          {"v_max_deg_per_tick", p.v_max_deg_per_tick},
-          {"theta0_deg", p.theta0_deg},
-          {"lag_ticks", p.lag_ticks},
-          {"accel_ticks", p.accel_ticks},
-          {"v_max_deg_s", p.v_max_deg_per_tick / tick_s}};
-}
-
-Json ExtendedJson(const ServoModelParams& p, double tick_s, bool v_max_given) {
-  return {{"tick_s", tick_s},
-          {"gain_per_deg_kp", p.gain_per_deg_kp},
-          {"v_max_deg_s", p.v_max_deg_s},
-          {"v_max_given", v_max_given},
-          {"stall_torque_nm", p.stall_torque_nm},
-          {"friction_duty", p.friction_duty},
-          {"friction_load_ratio", p.friction_load_ratio},
-          {"velocity_lag_s", p.velocity_lag_s},
-          {"lag_ticks", p.lag_ticks}};
-}
-
-// How a row's log was kept from the models that scored it: the cross-validation, the
-// validation list, or not at all ("none", a training log scored in sample).
-std::string HeldOutBy(const Row& row, const LogFitConfig& config) {
-  if (row.held_out)
-    return std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
-  return row.train_role ? "none" : "validate";
-}
-
-Json ScoresJson(const Row& row, bool rms) {
-  Json j;
-  for (size_t k = 0; k < kRungs.size(); ++k) {
-    j[std::string(kRungs[k])] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
-  }
-  return j;
-}
-
-// Everything identify reports of a log fit.
-struct Report {
-  std::vector<Log> logs;
-  std::vector<MotorGroup> groups;
-  std::vector<FitJob> jobs;
-  std::vector<Row> rows;
-  std::vector<Predictions> figures;  // per log: held out where cross-validated
-};
-
-// The median absolute deviation of the sample intervals from their median (s): how unevenly
-// the log was sampled.
-double IntervalJitter(const std::vector<ServoLogSample>& samples) {
-  const double median = MedianSampleInterval(samples);
-  std::vector<double> spread;
-  for (size_t i = 1; i < samples.size(); ++i) {
-    spread.push_back(std::abs(samples[i].time_s - samples[i - 1].time_s - median));
-  }
-  std::sort(spread.begin(), spread.end());
-  const size_t mid = spread.size() / 2;
-  return spread.size() % 2 == 1 ? spread[mid] : 0.5 * (spread[mid - 1] + spread[mid]);
-}
-
-// What the log holds: its samples, their spacing, its segments and glitches, and how often it
-// drives its servo to the final model's top speed or full duty.
-Json DataJson(const Log& l) {
-  const std::vector<ServoLogSample>& samples = l.log.samples;
-  return {{"samples", samples.size()},
-          {"duration_s", samples.back().time_s - samples.front().time_s},
-          {"median_interval_s", MedianSampleInterval(samples)},
-          {"interval_jitter_s", IntervalJitter(samples)},
-          {"segments", l.segments},
-          {"samples_dropped", l.samples_dropped},
-          {"glitches", l.glitches},
-          {"ticks_at_top_speed", l.ticks_at_top_speed},
-          {"ticks_at_full_duty", l.ticks_at_full_duty}};
-}
-
-Json ReportJson(const Report& report, const LogFitConfig& config) {
-  Json json;
-  for (const FitJob& job : report.jobs) {
-    if (job.held_out) continue;
-    const MotorGroup& g = report.groups[job.group];
-    json["models"]["paper"][g.motor] = PaperJson(job.models.paper, g.tick_s);
-    json["fit_sample"][g.motor] = {{"training_ticks", job.training_ticks},
-                                   {"fitted_ticks", job.fitted_ticks}};
-    json["models"]["extended"][g.motor] =
-        ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0);
-  }
-  json["cross_validate"] =
-      std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
-  json["folds"] = Json::array();
-  for (const FitJob& job : report.jobs) {
-    if (!job.held_out) continue;
-    const MotorGroup& g = report.groups[job.group];
-    json["folds"].push_back({{"motor", g.motor},
-                             {"held_out", *job.held_out},
-                             {"training_ticks", job.training_ticks},
-                             {"fitted_ticks", job.fitted_ticks},
-                             {"paper", PaperJson(job.models.paper, g.tick_s)},
-                             {"extended", ExtendedJson(job.models.extended, g.tick_s,
-                                                       config.v_max_deg_s.count(g.motor) > 0)}});
-  }
-  json["logs"] = Json::array();
-  for (const Row& row : report.rows) {
-    const ServoLog& log = report.logs[row.log].log;
-    json["logs"].push_back({{"file", log.file},
-                            {"role", row.train_role ? "train" : "validate"},
-                            {"held_out_by", HeldOutBy(row, config)},
-                            {"motor", log.motor},
-                            {"trajectory", log.trajectory},
-                            {"kp", log.kp},
-                            {"ticks_scored", row.scores[0].ticks_scored},
-                            {"best_shift_s", row.shift_ticks * row.tick_s},
-                            {"mae_deg", ScoresJson(row, false)},
-                            {"rms_deg", ScoresJson(row, true)}});
-    json["logs"].back()["data"] = DataJson(report.logs[row.log]);
-    if (row.plan) {
-      json["logs"].back()["plan"] = {{"direct_mae_deg", row.plan->direct_mae_deg},
-                                     {"model_based_mae_deg", row.plan->model_based_mae_deg},
-                                     {"optimal_mae_deg", row.plan->optimal_mae_deg},
-                                     {"beyond_servo_ticks", row.plan->beyond_servo_ticks}};
-    }
-  }
-  return json;
-}
-
-// Two decimals, as long as the number needs.
-std::string Fixed2(double value) {
-  const int size = std::snprintf(nullptr, 0, "%.2f", value);
-  std::string text(static_cast<size_t>(size) + 1, '\0');
-  std::snprintf(text.data(), text.size(), "%.2f", value);
-  text.resize(static_cast<size_t>(size));
-  return text;
-}
-
-// Each log's data: samples, spacing, segments (split at pauses over logs.gap_s).
-void DataMarkdown(const Report& report, const MotorGroup& g, std::ostringstream& md) {
-  md << "\nThe logs (jitter: the median absolute deviation of the sample intervals; segments: "
-        "split at pauses over logs.gap_s, each fitted and scored on its own; dropped: samples "
-        "alone between two pauses; glitches: samples whose measurement was left out, over "
-        "logs.glitch_deg from the line through their neighbours; top speed and full duty: "
-        "driven ticks measured at 90 % of the final extended model's v_max or more, and whose "
-        "request error saturates its duty):\n\n"
-     << "| log | samples | duration (s) | median interval (ms) | jitter (ms) | segments | dropped "
-        "| glitches | top speed | full duty |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
-    for (const size_t i : *list) {
-      const Log& l = report.logs[i];
-      const std::vector<ServoLogSample>& samples = l.log.samples;
-      md << "| " << l.name << " | " << samples.size() << " | "
-         << Fixed2(samples.back().time_s - samples.front().time_s) << " | "
-         << Fixed2(1000.0 * MedianSampleInterval(samples)) << " | "
-         << Fixed2(1000.0 * IntervalJitter(samples)) << " | " << l.segments << " | "
-         << l.samples_dropped << " | " << l.glitches << " | " << l.ticks_at_top_speed << " | "
-         << l.ticks_at_full_duty << " |\n";
-    }
-  }
-}
-
-// Each log's request column as a desired motion through the motor's final extended model.
-void PlanMarkdown(const Report& report, const MotorGroup& g, std::ostringstream& md) {
-  md << "\nPlanned requests, predicted by the extended model (mean absolute error from the "
-        "desired motion, deg, driven ticks; beyond servo: ticks the model-based plan cannot "
-        "reach):\n\n"
-     << "| log | direct | model_based | optimal | beyond servo |\n|---|---|---|---|---|\n";
-  for (const Row& row : report.rows) {
-    if (!row.plan || report.logs[row.log].log.motor != g.motor) continue;
-    md << "| " << report.logs[row.log].name << " | " << Fixed2(row.plan->direct_mae_deg) << " | "
-       << Fixed2(row.plan->model_based_mae_deg) << " | " << Fixed2(row.plan->optimal_mae_deg)
-       << " | " << row.plan->beyond_servo_ticks << " |\n";
-  }
-}
-
-std::string ReportMarkdown(const Report& report) {
-  std::ostringstream md;
-  md << "# Servo logs: open-loop prediction error (mean absolute, deg)\n\n"
-     << "direct: the angle predicted to equal the request. best shift: the request delayed by "
-        "the one fixed time shift that fits the scored log best, chosen on that log itself (an "
-        "oracle in hindsight, not a model). paper: the paper's four-parameter model. extended: "
-        "the paper's model with the load's torque, the servo's gain, a friction band and a "
-        "velocity lag. validate rows are held out: the models never saw the log.\n";
-  for (const MotorGroup& g : report.groups) {
-    char tick[32];
-    std::snprintf(tick, sizeof tick, "%.3f", g.tick_s * 1000.0);
-    md << "\n## " << g.motor << " (tick " << tick << " ms)\n\n"
-       << "| log | role | trajectory | kp | ticks | direct | best shift | paper | extended |\n"
-       << "|---|---|---|---|---|---|---|---|---|\n";
-    std::array<double, kRungs.size()> sums{};
-    int held = 0;
-    for (const Row& row : report.rows) {
-      const ServoLog& log = report.logs[row.log].log;
-      if (log.motor != g.motor) continue;
-      md << "| " << report.logs[row.log].name << " | "
-         << (row.train_role ? "train"
-             : row.held_out ? "held out"
-                            : "validate")
-         << " | " << log.trajectory << " | " << FormatNumber(log.kp) << " | "
-         << row.scores[0].ticks_scored;
-      for (size_t k = 0; k < kRungs.size(); ++k) md << " | " << Fixed2(row.scores[k].mae_deg);
-      md << " |\n";
-      if (row.train_role) continue;
-      ++held;
-      for (size_t k = 0; k < kRungs.size(); ++k) sums[k] += row.scores[k].mae_deg;
-    }
-    if (held > 0) {
-      md << "| **mean held out** | | | | ";
-      for (size_t k = 0; k < kRungs.size(); ++k) md << " | **" << Fixed2(sums[k] / held) << "**";
-      md << " |\n";
-    }
-    DataMarkdown(report, g, md);
-    for (const FitJob& job : report.jobs) {
-      if (job.held_out || report.groups[job.group].motor != g.motor) continue;
-      if (job.fitted_ticks < job.training_ticks) {
-        md << "\nThe final models were fitted on " << job.fitted_ticks << " of the "
-           << job.training_ticks
-           << " driven training ticks: evenly spaced chunks of every training log "
-              "(logs.fit_ticks); every score uses every tick.\n";
-      }
-    }
-    PlanMarkdown(report, g, md);
-  }
-  return md.str();
-}
-
-void WriteLogCsv(const LogFitCurves& c, const OutputDir& out) {
-  std::string text = "time_s,request_deg,measured_deg,torque_enabled";
-  for (const std::string_view rung : kRungs) {
-    text += ',';
-    text += rung;
-    text += "_deg";
-  }
-  text += '\n';
-  for (size_t t = 0; t < c.request_deg.size(); ++t) {
-    text += FormatNumber(c.time_s[t]) + ',' + FormatNumber(c.request_deg[t]) + ',' +
-            FormatNumber(c.measured_deg[t]) + ',' + (c.torque_enabled[t] != 0 ? "1" : "0");
-    for (const auto& angles : c.predicted_deg) text += ',' + FormatNumber(angles[t]);
-    text += '\n';
-  }
-  WriteTextFile(out.Path("log_" + c.name + ".csv"), text);
-}
-
 double DrivenMae(std::span<const double> angles, const ServoRecording& r) {
   double sum = 0.0;
   int count = 0;
@@ -829,7 +518,7 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
   ScoreAll(report, config);
   LogFitResult result;
   result.markdown = ReportMarkdown(report);
-  result.json = ReportJson(report, config).dump(2) + "\n";
+  result.json = ReportJson(report, config);
   for (const MotorGroup& g : report.groups) {
     for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
       for (size_t i : *list) {
