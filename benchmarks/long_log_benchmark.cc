@@ -5,7 +5,9 @@
 //                    score and both plans) of one synthetic XL330 log of N samples, without
 //                    cross-validation, at logs.iterations=100 (N = 10^3 .. 10^6);
 //   BM_OptimalPlan/N the batch optimal plan (PlanServoRequests, kOptimal) of N ticks of a
-//                    desired motion (N = 10^2 .. 10^5).
+//                    desired motion (N = 10^2 .. 10^5);
+//   BM_Floor/N       the floor (FloorTrajectory) of a desired cycle of N ticks for the paper's
+//                    Table 1 joint, a motion five times too fast for it (N = 10^2 .. 10^5).
 //
 // Then the sizes side by side in interleaved rounds (the machine is shared and noisy): each
 // one's time per tick and its ratio to the smallest size's. Usage: long_log_benchmark
@@ -25,6 +27,8 @@
 #include <vector>
 
 #include "leglab/experiments/log_fit.h"
+#include "leglab/model/floor.h"
+#include "leglab/model/paper.h"
 #include "leglab/model/servo_model.h"
 #include "leglab/model/servo_plan.h"
 #include "rounds_flag.h"
@@ -96,6 +100,18 @@ void PlanOnce(const std::vector<double>& desired) {
                                .request_deg.data());
 }
 
+// Five times Motion, at up to about 11 deg a tick against Table 1's 2.5: most rows of the
+// floor's program are active somewhere in the cycle.
+std::vector<double> FastCycle(size_t ticks) {
+  std::vector<double> desired(ticks);
+  for (size_t t = 0; t < ticks; ++t) desired[t] = 5.0 * Motion(t);
+  return desired;
+}
+
+void FloorOnce(const std::vector<double>& desired) {
+  benchmark::DoNotOptimize(FloorTrajectory(desired, paper::kTable1).data());
+}
+
 void BM_LogFit(benchmark::State& state) {
   const experiments::GivenServoLog log = SyntheticLog(static_cast<size_t>(state.range(0)));
   for (auto _ : state) FitOnce(log);
@@ -115,6 +131,13 @@ BENCHMARK(BM_OptimalPlan)
     ->Arg(10'000)
     ->Arg(100'000)
     ->Unit(benchmark::kMillisecond);
+
+void BM_Floor(benchmark::State& state) {
+  const std::vector<double> desired = FastCycle(static_cast<size_t>(state.range(0)));
+  for (auto _ : state) FloorOnce(desired);
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_Floor)->Arg(100)->Arg(1000)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 using leglab::benchmarks::Median;
 
@@ -154,6 +177,8 @@ void SideBySide(const char* what, const std::vector<size_t>& sizes, int rounds, 
 void ReportSideBySide(int rounds) {
   SideBySide<std::vector<double>>("optimal plan", {100, 1000, 10'000, 100'000}, rounds, Desired,
                                   PlanOnce);
+  SideBySide<std::vector<double>>("floor", {100, 1000, 10'000, 100'000}, rounds, FastCycle,
+                                  FloorOnce);
   SideBySide<experiments::GivenServoLog>("log fit (identify, no cross-validation)",
                                          {1000, 10'000, 100'000, 1'000'000}, rounds, SyntheticLog,
                                          FitOnce);

@@ -10,8 +10,8 @@ namespace leglab {
 /// Cholesky factor A = L L^T of such a matrix has no non-zero outside that envelope, so it is
 /// factored in place there. Made for cyclic banded matrices (a band of half-width w plus the
 /// corner entries that close the cycle), whose envelope is the band and the last w rows whole:
-/// O(size w^2) work instead of a dense factorisation's O(size^3), and no pivoting (none is
-/// needed for a positive definite A).
+/// O(size w^2) work and O(size w) storage instead of a dense factorisation's O(size^3) and
+/// O(size^2), and no pivoting (none is needed for a positive definite A).
 ///
 /// Use: Reset, Add every entry, Factor, then Solve any number of right-hand sides. The object
 /// keeps its storage between uses (Reset only clears the envelope of the last matrix).
@@ -21,7 +21,8 @@ class CyclicBandedCholesky {
   void Reset(int size);
 
   /// A(row, column) and A(column, row) += value (once, on the diagonal when row == column),
-  /// both in [0, size). Widens the envelope of max(row, column) to min(row, column).
+  /// both in [0, size). Widens the envelope of max(row, column) to min(row, column), at a cost
+  /// of the row's length when it widens (so add a row's leftmost entries first where it matters).
   void Add(int row, int column, double value);
 
   /// Factors A = L L^T in place (Cholesky-Banachiewicz, row by row). False when A is not
@@ -35,8 +36,8 @@ class CyclicBandedCholesky {
   int size() const { return static_cast<int>(first_.size()); }
 
  private:
-  // Row-major, so that each row's envelope is contiguous; only the lower triangle is used.
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m_;
+  // Row i's envelope, the lower triangle from column first_[i] to the diagonal, contiguous.
+  std::vector<std::vector<double>> rows_;
   // The first column of each row's envelope.
   std::vector<int> first_;
 };

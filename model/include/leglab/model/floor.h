@@ -24,11 +24,15 @@ namespace leglab {
 /// 2 v_max / a + (a - 1) v_max^2 / (a theta_0) per tick (1.58 deg/tick^2 for Table 1, against
 /// 0.83). So the floor bounds a joint with these two limits, not eq. 3 exactly.
 ///
-/// This is the Euclidean projection of D onto a polyhedron (T unknowns, 4T rows), solved
-/// exactly by SolveQuadraticProgram from the constant mean of D, which is strictly feasible. A D
-/// that already meets every bound is returned as is. Returns x, deg, size T.
-/// Throws std::invalid_argument on T < 3, a non-finite D, or invalid params
-/// (ValidateJointModelParams; only v_max and a are used).
+/// This is the Euclidean projection of D onto a polyhedron (T unknowns, 4T rows). It is solved
+/// in O(T) time and memory: a primal-dual interior point whose Newton systems are cyclic
+/// pentadiagonal finds the active rows, and the projection onto them is then solved exactly
+/// (iterative refinement on the banded normal equations), checked for feasibility and
+/// multipliers >= 0, and the set corrected where a degenerate row was misread. The result is
+/// the projection to rounding, not to a solver's tolerance (docs/design/floor.md). A D that
+/// already meets every bound is returned as is. Returns x, deg, size T.
+/// Throws std::invalid_argument on T < 3, a non-finite D (or one whose spread overflows), or
+/// invalid params (ValidateJointModelParams; only v_max and a are used).
 std::vector<double> FloorTrajectory(std::span<const double> desired_deg,
                                     const JointModelParams& params);
 

@@ -1,4 +1,4 @@
-#include "leglab/model/quadratic_program.h"
+#include "quadratic_program.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Jacobi>
