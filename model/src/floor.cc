@@ -225,8 +225,8 @@ bool FloorSolver::Solve(InteriorPoint& point, double gap, double residual) {
     }
     const double alpha_affine =
         std::min(StepToBoundary(point.slack, ds), StepToBoundary(point.multipliers, dlambda));
-    const double mu_affine = (point.slack + alpha_affine * ds)
-                                 .dot(point.multipliers + alpha_affine * dlambda) / m;
+    const double mu_affine =
+        (point.slack + alpha_affine * ds).dot(point.multipliers + alpha_affine * dlambda) / m;
     const double centring = std::pow(mu_affine / mu, 3);
     // Corrector: the centred step with the predictor's second-order term.
     complementarity.array() += ds.array() * dlambda.array() - centring * mu;
@@ -291,8 +291,8 @@ bool FloorSolver::SolveOnFace(const std::vector<int>& side, VectorXd& nu, Vector
   // sigma > 0, and the null space of A_S' does not change x.
   const int n = rows_.period();
   const int count = rows_.functionals();
-  std::vector<int> active;                   // the functionals with a row in S, in order
-  std::vector<int> position(count, -1);      // functional -> its place in S
+  std::vector<int> active;               // the functionals with a row in S, in order
+  std::vector<int> position(count, -1);  // functional -> its place in S
   for (int k = 0; k < count; ++k) {
     if (side[k] != 0) {
       position[k] = static_cast<int>(active.size());

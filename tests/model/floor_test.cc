@@ -345,12 +345,24 @@ TEST(Floor, EqualsTheDenseActiveSetSolverOnCyclesOfManyShapes) {
     for (int t = 0; t < period; ++t) {
       const double phase = 2.0 * M_PI * t / period;
       switch (shape) {
-        case 0: d[t] = amplitude * uniform(rng); break;
-        case 1: d[t] = t % 2 == 0 ? amplitude : -amplitude; break;
-        case 2: d[t] = t < period / 2 ? amplitude : -amplitude; break;
-        case 3: d[t] = 1000.0 + amplitude * (std::sin(phase) + 0.3 * std::sin(3 * phase + 1)); break;
-        case 4: d[t] = amplitude * std::round(3.0 * uniform(rng)); break;
-        default: d[t] = t % 7 == 0 ? amplitude : 0.0; break;
+        case 0:
+          d[t] = amplitude * uniform(rng);
+          break;
+        case 1:
+          d[t] = t % 2 == 0 ? amplitude : -amplitude;
+          break;
+        case 2:
+          d[t] = t < period / 2 ? amplitude : -amplitude;
+          break;
+        case 3:
+          d[t] = 1000.0 + amplitude * (std::sin(phase) + 0.3 * std::sin(3 * phase + 1));
+          break;
+        case 4:
+          d[t] = amplitude * std::round(3.0 * uniform(rng));
+          break;
+        default:
+          d[t] = t % 7 == 0 ? amplitude : 0.0;
+          break;
       }
     }
     const JointModelParams params{std::pow(10.0, 1.5 * uniform(rng)), 7.0, 4,
