@@ -36,6 +36,14 @@ YAML::Node ChildOf(const YAML::Node& map, std::string_view name) {
   return child.IsDefined() ? child : YAML::Node();
 }
 
+// Whether `map` is a map holding key `name` with an explicit null (`key: null`, `key:`,
+// `--set key=`), as opposed to not holding it.
+bool HoldsNull(const YAML::Node& map, std::string_view name) {
+  if (!map.IsDefined() || !map.IsMap()) return false;
+  const YAML::Node child = map[std::string(name)];
+  return child.IsDefined() && child.IsNull();
+}
+
 // `budget` and `depth` bound the walk: aliases may repeat a subtree exponentially often (an
 // alias bomb) or make it a cycle, and no config of ours has 100000 nodes or 64 levels.
 void CheckNoDuplicateKeys(const YAML::Node& node, const std::string& where,
@@ -194,6 +202,9 @@ void ApplyOverride(YAML::Node root,  // NOLINT(performance-unnecessary-value-par
 
 // ---- YamlKeyReader ----
 
+const char* const kNullIsNoSetting =
+    "a value, not null or empty (leave the key out for its default)";
+
 template <typename T>
 T YamlKeyReader::As(const YAML::Node& child, std::string_view name) const {
   try {
@@ -222,6 +233,8 @@ bool YamlKeyReader::Given(std::string_view name) const {
 }
 
 YAML::Node YamlKeyReader::Raw(std::string_view name) {
+  // `key: null`, `key:` or `--set key=` would otherwise run with the default and record `~`.
+  if (HoldsNull(levels_.back().node, name)) Fail(name, kNullIsNoSetting);
   read_.insert(FullName(name));
   return ChildOf(levels_.back().node, name);
 }

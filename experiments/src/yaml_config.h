@@ -26,6 +26,9 @@ namespace leglab::experiments {
 bool PathExists(const std::filesystem::path& path);
 bool IsRegularFile(const std::filesystem::path& path);
 
+/// What a key given as null or empty must be instead, for "<key> must be " messages.
+extern const char* const kNullIsNoSetting;
+
 /// `node` as one line of YAML flow text, as the user could write it.
 std::string FlowYaml(const YAML::Node& node);
 
@@ -75,7 +78,8 @@ class YamlKeyReader final : public KeyVisitor {
   std::string FullName(std::string_view name) const override;
 
   /// The node of key `name` in the current map (undefined when absent), marked as read: the
-  /// value of a Structured key.
+  /// value of a Structured key. An explicit null (`key: null`, `key:`, `--set key=`) fails
+  /// naming the key: it would otherwise run as the default and be recorded as `~`.
   YAML::Node Raw(std::string_view name);
 
   /// Throws UnknownKeyError "config: unknown key '<key>'" for the first key, in a map that was
@@ -89,7 +93,7 @@ class YamlKeyReader final : public KeyVisitor {
   void Leave() override;
 
  private:
-  // The value of `name` in the current map, marked as read; undefined when absent or null.
+  // The value of `name` in the current map, marked as read (Raw); undefined when absent.
   YAML::Node Value(std::string_view name);
   void CheckValue(std::string_view name, double value, const KeyDoc& doc);
   // `child`, the value of key `name`, as a T; fails naming the key and the type expected.

@@ -41,7 +41,17 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
     ThrowValueError(std::string(what) + ": expected real numbers, got dtype " +
                     std::string(py::str(array.dtype())));
   }
-  return DoubleArray::ensure(array);
+  // ensure() returns a null array (and clears Python's error) when the float64 copy cannot be
+  // made, which for real numbers means memory: MemoryError naming the item, never a null array.
+  DoubleArray copy = DoubleArray::ensure(array);
+  if (!copy) {
+    PyErr_SetString(PyExc_MemoryError,
+                    experiments::MessageLine(std::string(what) + ": no memory for a float64 copy of " +
+                                             std::to_string(array.size()) + " values")
+                        .c_str());
+    throw py::error_already_set();
+  }
+  return copy;
 }
 
 LegAngles ToLegAngles(py::handle value, std::string_view what, bool finite) {

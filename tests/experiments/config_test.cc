@@ -86,6 +86,18 @@ TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
   EXPECT_EQ(c.sim.seed, 7u);
 }
 
+TEST_F(ConfigTest, ANullOrEmptyValueIsRefusedNamingTheKeyNeverTakenAsTheDefault) {
+  const std::string expected = "config: servo.delay_ms must be a value, not null or empty";
+  for (const std::string& set : {"servo.delay_ms=null", "servo.delay_ms=", "servo.delay_ms=~"}) {
+    EXPECT_EQ(ErrorOf(kRobot, {set}).rfind(expected, 0), 0u) << set;
+  }
+  EXPECT_EQ(ErrorOf(kRobot + "servo:\n  delay_ms:\n").rfind(expected, 0), 0u);
+  EXPECT_EQ(ErrorOf(kRobot + "servo:\n  delay_ms: null\n").rfind(expected, 0), 0u);
+  // A structured key too; a key left out still takes its default.
+  EXPECT_EQ(ErrorOf(kRobot, {"logs.train="}).rfind("config: logs.train must be a value", 0), 0u);
+  EXPECT_EQ(ErrorOf(kRobot, {"servo.gain_per_s=30"}), "");
+}
+
 TEST_F(ConfigTest, EachModeKeepsItsOwnOptions) {
   const ExperimentConfig c = LoadExperimentConfig(
       Write(kRobot), {"controller.modes=[time_shift, model_based]", "controller.cm=closed",

@@ -146,6 +146,8 @@ def test_a_refused_run_ticks_nothing():
     ({"nope": 1}, "unknown key 'nope'"),
     ({"servo.delay_ms": 7}, "servo.delay_ms"),
     ({"servo.delay_ms": float("nan")}, "servo.delay_ms"),
+    ({"servo.delay_ms": None}, "servo.delay_ms must be a value, not null"),
+    ({"servo.delay_ms": ""}, "servo.delay_ms must be a value, not null"),
     ({"plant": "bogus"}, "plant"),
     ({"robot": "no_such_robot"}, "no_such_robot"),
     ({"urdf": "/no/such.urdf"}, "such.urdf"),
@@ -192,6 +194,32 @@ def test_hostile_calls_never_crash_the_interpreter():
                             check=False)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "alive"
+
+
+def test_a_copy_there_is_no_memory_for_is_a_memory_error_not_a_crash():
+    # A float32 array whose float64 copy does not fit under the address-space limit: numpy's
+    # conversion fails, and the call raises MemoryError naming the argument.
+    script = textwrap.dedent(f"""
+        import resource, numpy as np, leglab
+        resource.setrlimit(resource.RLIMIT_AS, (3_000_000_000, 3_000_000_000))
+        p = leglab.Plant({TRACK_YAML!r}, {{"plant": "model"}})
+        big = np.zeros((10**8, 3), np.float32)
+        for name, call in [("run", lambda: p.run(big)),
+                           ("floor", lambda: leglab.floor(big[:, 0], leglab.PAPER_MODEL)),
+                           ("simulate", lambda: leglab.PAPER_MODEL.simulate(big[:, 0], 0.0))]:
+            try:
+                call()
+                print(name, "returned")
+            except MemoryError as e:
+                print(name, "MemoryError", str(e).splitlines()[0])
+    """)
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            check=False)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    assert [line.split()[:2] for line in lines] == [
+        ["run", "MemoryError"], ["floor", "MemoryError"], ["simulate", "MemoryError"]], lines
+    assert "requests: no memory for a float64 copy of 300000000 values" in lines[0], lines
 
 
 def test_docstrings_read_well():
