@@ -45,10 +45,11 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
   // made, which for real numbers means memory: MemoryError naming the item, never a null array.
   DoubleArray copy = DoubleArray::ensure(array);
   if (!copy) {
-    PyErr_SetString(PyExc_MemoryError,
-                    experiments::MessageLine(std::string(what) + ": no memory for a float64 copy of " +
-                                             std::to_string(array.size()) + " values")
-                        .c_str());
+    PyErr_SetString(
+        PyExc_MemoryError,
+        experiments::MessageLine(std::string(what) + ": no memory for a float64 copy of " +
+                                 std::to_string(array.size()) + " values")
+            .c_str());
     throw py::error_already_set();
   }
   return copy;
