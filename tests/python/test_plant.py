@@ -84,6 +84,12 @@ def test_change_settings_changes_the_servo_and_refuses_bad_keys():
     for bad, message in [({"servo.nope": 1.0}, "servo.nope"),
                          ({"servo.max_speed_deg_s": -1.0}, "max_speed"),
                          ({"servo.delay_ms": "x"}, "servo.delay_ms"),
+                         # The config's ranges and rules, as track's plant_changes checks them.
+                         ({"servo.delay_ms": 80000}, r"servo.delay_ms must be in \[0, 400\] ms"),
+                         ({"sensor.noise_deg": 1e9}, r"sensor.noise_deg must be in \[0, 2\] deg"),
+                         ({"servo.smoothing_ms": 400000}, "servo.smoothing_ms must be in"),
+                         ({"servo.smoothing_ms": 12}, "multiple of 8 ms"),
+                         ({"servo.max_torque_nm": 1e6}, "servo.max_torque_nm must be in"),
                          ([1, 2], "dict")]:
         with pytest.raises(ValueError, match=message):
             plant.change_settings(bad)
