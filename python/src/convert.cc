@@ -12,7 +12,19 @@ void ThrowValueError(std::string_view message) {
   throw py::value_error(experiments::MessageLine(message));
 }
 
+void ThrowTypeError(std::string_view message) {
+  throw py::type_error(experiments::MessageLine(message));
+}
+
 namespace {
+
+std::string TypeName(py::handle value) {
+  return std::string(py::str(py::type::of(value).attr("__name__")));
+}
+
+bool IsNumpyScalar(py::handle value, const char* kind) {
+  return py::isinstance(value, py::module_::import("numpy").attr(kind));
+}
 
 std::string ShapeText(const py::array& array) {
   std::string text = "(";
@@ -53,6 +65,57 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
     throw py::error_already_set();
   }
   return copy;
+}
+
+double ToReal(py::handle value, std::string_view what, bool finite) {
+  const std::string name(what);
+  double number = 0.0;
+  if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {
+    ThrowTypeError(name + ": expected a number, got bool");
+  } else if (PyFloat_Check(value.ptr())) {
+    number = PyFloat_AsDouble(value.ptr());
+  } else if (PyLong_Check(value.ptr())) {
+    number = PyLong_AsDouble(value.ptr());
+    if (number == -1.0 && PyErr_Occurred() != nullptr) {
+      PyErr_Clear();
+      ThrowValueError(name + ": " + std::string(py::str(value)).substr(0, 30) +
+                      "... is too large for a number");
+    }
+  } else if (IsNumpyScalar(value, "integer") || IsNumpyScalar(value, "floating")) {
+    number = py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
+  } else {
+    ThrowTypeError(name + ": expected a number, got " + TypeName(value));
+  }
+  if (finite && !std::isfinite(number)) {
+    ThrowValueError(name + ": expected a finite number, got " +
+                    std::string(py::str(py::float_(number))));
+  }
+  return number;
+}
+
+long long ToInteger(py::handle value, std::string_view what, long long min, long long max) {
+  const std::string name(what);
+  if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {
+    ThrowTypeError(name + ": expected an integer, got bool");
+  }
+  py::object integer;
+  if (PyLong_Check(value.ptr())) {
+    integer = py::reinterpret_borrow<py::object>(value);
+  } else if (IsNumpyScalar(value, "integer")) {
+    integer = py::int_(py::reinterpret_borrow<py::object>(value));
+  } else {
+    ThrowTypeError(name + ": expected an integer, got " + TypeName(value) +
+                   (PyFloat_Check(value.ptr()) ? " " + std::string(py::repr(value)) : ""));
+  }
+  int overflow = 0;
+  const long long number = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
+  if (overflow != 0 || number < min || number > max) {
+    std::string text = std::string(py::str(integer));
+    if (text.size() > 30) text = text.substr(0, 30) + "...";
+    ThrowValueError(name + ": expected an integer from " + std::to_string(min) + " to " +
+                    std::to_string(max) + ", got " + text);
+  }
+  return number;
 }
 
 LegAngles ToLegAngles(py::handle value, std::string_view what, bool finite) {

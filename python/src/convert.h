@@ -26,6 +26,20 @@ using DoubleArray = py::array_t<double, py::array::c_style>;
 /// text cut), as the programs print bad input.
 [[noreturn]] void ThrowValueError(std::string_view message);
 
+/// Raises TypeError with `message` as one line, for a value of the wrong type (Python's own
+/// convention: a str where a number goes), where ValueError is for a wrong value.
+[[noreturn]] void ThrowTypeError(std::string_view message);
+
+/// `value` as a real number: a Python int or float, or a numpy integer or floating scalar.
+/// bool is not taken as a number. TypeError "<what>: expected a number, got <type>" for another
+/// type; ValueError for an int too large for a double and, with `finite`, for NaN or infinity.
+double ToReal(py::handle value, std::string_view what, bool finite = true);
+
+/// `value` as an integer in [min, max]: a Python int or a numpy integer (not a bool, not a
+/// float, even a whole one). TypeError for another type; ValueError "<what>: expected an
+/// integer from min to max, got N" outside the range, before anything is allocated for it.
+long long ToInteger(py::handle value, std::string_view what, long long min, long long max);
+
 /// `value` as a float64 array (numpy.asarray, then converted): integers and floats are taken,
 /// anything else (bool, complex, text, objects, ragged lists) raises ValueError "<what>: ...".
 DoubleArray RealArray(py::handle value, std::string_view what);

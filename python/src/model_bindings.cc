@@ -27,11 +27,38 @@ std::string ModelRepr(const JointModelParams& p) {
          ", accel_ticks=" + std::to_string(p.accel_ticks) + ")";
 }
 
-JointModelParams MakeModel(double v_max_deg_per_tick, double theta0_deg, int lag_ticks,
-                           int accel_ticks) {
-  const JointModelParams params{v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks};
-  ValidateJointModelParams(params);  // std::invalid_argument naming the field: ValueError
+// The most l and a a JointModel takes from Python: identify's search range, far beyond any
+// servo's (the config's model.* keys stop at 50), and small enough that a model's memory of
+// requests is never a large allocation.
+constexpr int kMaxModelTicks = 200;
+// The longest cycle identify averages (period_ticks): 8000 s of 8 ms ticks.
+constexpr int kMaxPeriodTicks = 1'000'000;
+
+// `params` if the model's key declarations (the config's, with v_max and theta_0 any positive
+// value up to their maxima and l, a up to kMaxModelTicks) allow it; std::invalid_argument
+// (ValueError) naming the field otherwise.
+JointModelParams CheckedModel(JointModelParams params) {
+  CheckKeys("", params, [](KeyVisitor& v, JointModelParams& p) {
+    VisitKeys(v, p, {.min_slope_deg = 0.0, .min_open = true, .max_ticks = kMaxModelTicks});
+  });
   return params;
+}
+
+JointModelParams MakeModel(py::handle v_max_deg_per_tick, py::handle theta0_deg,
+                           py::handle lag_ticks, py::handle accel_ticks) {
+  return CheckedModel({ToReal(v_max_deg_per_tick, "v_max_deg_per_tick"),
+                       ToReal(theta0_deg, "theta0_deg"),
+                       static_cast<int>(ToInteger(lag_ticks, "lag_ticks", 0, kMaxModelTicks)),
+                       static_cast<int>(ToInteger(accel_ticks, "accel_ticks", 1, kMaxModelTicks))});
+}
+
+// `model` as a JointModel; TypeError naming `what` for anything else.
+JointModelParams ToModel(py::handle model, const std::string& what) {
+  if (!py::isinstance<JointModelParams>(model)) {
+    ThrowTypeError(what + ": expected a JointModel, got " +
+                   std::string(py::str(py::type::of(model).attr("__name__"))));
+  }
+  return model.cast<JointModelParams>();
 }
 
 // The recordings `identify` is given: one (two 1-D arrays) or several (two lists of them).
@@ -66,17 +93,29 @@ std::vector<JointRecording> ToRecordings(py::handle requests, py::handle measure
   return recordings;
 }
 
-std::pair<int, int> ToRange(const std::pair<int, int>& range, const char* what) {
-  if (range.first < 0 || range.second < range.first || range.second > 200) {
-    ThrowValueError(std::string(what) + ": expected (min, max) with 0 <= min <= max <= 200, got (" +
-                    std::to_string(range.first) + ", " + std::to_string(range.second) + ")");
+// A (min, max) pair of ticks with 0 <= min <= max <= kMaxModelTicks.
+std::pair<int, int> ToRange(py::handle range, const std::string& what) {
+  if (!(py::isinstance<py::tuple>(range) || py::isinstance<py::list>(range)) ||
+      py::len(range) != 2) {
+    ThrowTypeError(what + ": expected (min, max), a tuple of two integers, got " +
+                   std::string(py::str(py::type::of(range).attr("__name__"))));
   }
-  return range;
+  const auto low = static_cast<int>(ToInteger(range[py::int_(0)], what + "[0]", 0, kMaxModelTicks));
+  const auto high =
+      static_cast<int>(ToInteger(range[py::int_(1)], what + "[1]", 0, kMaxModelTicks));
+  if (high < low) {
+    ThrowValueError(what + ": expected (min, max) with min <= max, got (" + std::to_string(low) +
+                    ", " + std::to_string(high) + ")");
+  }
+  return {low, high};
 }
 
-IdentificationResult Identify(py::handle requests, py::handle measured,
-                              std::pair<int, int> lag_range, std::pair<int, int> accel_range,
-                              std::optional<int> period_ticks) {
+IdentificationResult Identify(py::handle requests, py::handle measured, py::handle lag_range,
+                              py::handle accel_range, py::handle period) {
+  const std::optional<int> period_ticks = period.is_none()
+                                              ? std::nullopt
+                                              : std::optional<int>(static_cast<int>(ToInteger(
+                                                    period, "period_ticks", 1, kMaxPeriodTicks)));
   const std::vector<JointRecording> recordings = ToRecordings(requests, measured);
   experiments::IdentifyConfig identify;
   std::tie(identify.search.lag_min_ticks, identify.search.lag_max_ticks) =
@@ -86,11 +125,22 @@ IdentificationResult Identify(py::handle requests, py::handle measured,
   if (identify.search.accel_min_ticks < 1) ThrowValueError("accel_range_ticks: a is at least 1");
   identify.average_cycles = period_ticks.has_value();
   if (period_ticks) {
-    if (*period_ticks < 1) ThrowValueError("period_ticks: expected at least 1");
     identify.t_step_ticks = *period_ticks;
   }
-  py::gil_scoped_release release;
-  return experiments::FitStepTests(recordings, identify);
+  IdentificationResult result;
+  {
+    py::gil_scoped_release release;
+    result = experiments::FitStepTests(recordings, identify);
+  }
+  // A fit outside the model's ranges (recordings in units far from degrees) is an error, not
+  // a model the constructor would refuse.
+  try {
+    CheckedModel(result.params);
+  } catch (const std::invalid_argument& e) {
+    ThrowValueError(std::string("identify: the fitted model is outside the model's ranges (") +
+                    e.what() + "); are the recordings in degrees?");
+  }
+  return result;
 }
 
 // JointModel and PAPER_MODEL.
@@ -109,7 +159,9 @@ Args:
     lag_ticks: l, ticks before a request starts to act (>= 0).
     accel_ticks: a, ticks over which the speed is averaged (>= 1).
 
-Raises ValueError naming the field for a value outside those ranges.
+Raises TypeError for a value that is not a number (bool is not; l and a must be integers) and
+ValueError naming the field for one outside its range: v_max in (0, 45], theta_0 in (0, 180]
+(the config's model.* ranges), l in [0, 200], a in [1, 200].
 )doc")
       .def(py::init(&MakeModel), py::arg("v_max_deg_per_tick"), py::arg("theta0_deg"),
            py::arg("lag_ticks"), py::arg("accel_ticks"),
@@ -124,9 +176,9 @@ Raises ValueError naming the field for a value outside those ranges.
                     "a: ticks over which the speed is averaged.")
       .def(
           "simulate",
-          [](const JointModelParams& p, py::handle requests, double start_deg) {
+          [](const JointModelParams& p, py::handle requests, py::handle start) {
             const std::vector<double> r = ToFiniteVector(requests, "requests");
-            if (!std::isfinite(start_deg)) ThrowValueError("start_deg: not finite");
+            const double start_deg = ToReal(start, "start_deg");
             py::gil_scoped_release release;
             std::vector<double> angles = SimulateJointModel(p, r, RestState(p, start_deg));
             py::gil_scoped_acquire acquire;
@@ -159,9 +211,14 @@ start_deg (M(-1) and every remembered request equal to it).)doc")
 The cyclic steady state of eq. 3 under the request cycle R(0..T-1) (1-D, deg) repeated
 for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model never settles
 (v_max >= 2 theta_0 can swing about a request for ever).)doc")
-      .def("speed_response", &SpeedResponse, py::arg("x_deg"),
-           "speed_response(x_deg) -> float\n\n"
-           "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
+      .def(
+          "speed_response",
+          [](const JointModelParams& p, py::handle x) {
+            return SpeedResponse(p, ToReal(x, "x_deg"));
+          },
+          py::arg("x_deg"),
+          "speed_response(x_deg) -> float\n\n"
+          "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
       .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
                              "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
       .def(
@@ -187,8 +244,8 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
             return py::make_tuple(p.v_max_deg_per_tick, p.theta0_deg, p.lag_ticks, p.accel_ticks);
           },
           [](const py::tuple& t) {
-            return MakeModel(t[0].cast<double>(), t[1].cast<double>(), t[2].cast<int>(),
-                             t[3].cast<int>());
+            if (t.size() != 4) ThrowValueError("JointModel: a pickled model holds 4 values");
+            return MakeModel(t[0], t[1], t[2], t[3]);
           }));
 
   m.attr("PAPER_MODEL") = paper::kTable1;
@@ -210,9 +267,8 @@ void BindModel(py::module_& m) {
 
   m.def(
       "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
-      py::arg("lag_range_ticks") = std::pair<int, int>{0, 12},
-      py::arg("accel_range_ticks") = std::pair<int, int>{1, 12},
-      py::arg("period_ticks") = py::none(),
+      py::arg("lag_range_ticks") = py::make_tuple(0, 12),
+      py::arg("accel_range_ticks") = py::make_tuple(1, 12), py::arg("period_ticks") = py::none(),
       R"doc(identify(requests, measured, *, lag_range_ticks=(0, 12), accel_range_ticks=(1, 12), period_ticks=None) -> Identification
 
 Fits the paper's joint model to recordings, as `identify` does to its step tests.
@@ -220,9 +276,9 @@ Fits the paper's joint model to recordings, as `identify` does to its step tests
 Args:
     requests: the request sent each tick, deg: a 1-D array (one recording) or a list of them.
     measured: the angle measured right after each request, deg, shaped as `requests`.
-    lag_range_ticks: (min, max) of l, searched exhaustively.
-    accel_range_ticks: (min, max) of a, searched exhaustively.
-    period_ticks: when given, every recording is whole cycles of this many ticks with the
+    lag_range_ticks: (min, max) of l, searched exhaustively (integers, 0 to 200).
+    accel_range_ticks: (min, max) of a, searched exhaustively (integers, 1 to 200).
+    period_ticks: when given (1 to 1,000,000), every recording is whole cycles of this many ticks with the
         same requests every cycle (a step test's square wave), and each is averaged into one
         cycle before the fit, as `identify` does (identify.average_cycles: true); None fits
         every tick as it is.
@@ -240,17 +296,24 @@ whole cycles of one request pattern when period_ticks is given.)doc");
         const DoubleArray array = RealArray(desired, "desired_cycle");
         if (array.ndim() == 1) {
           const std::vector<double> d = ToFiniteVector(desired, "desired_cycle", 3);
-          const auto params = model.cast<JointModelParams>();
+          const JointModelParams params = ToModel(model, "model");
           py::gil_scoped_release release;
           std::vector<double> x = FloorTrajectory(d, params);
           py::gil_scoped_acquire acquire;
           return ToArray(x);
         }
         const std::vector<LegAngles> rows = ToAngleRows(desired, "desired_cycle");
-        const auto models = model.cast<std::vector<JointModelParams>>();
-        if (models.size() != kLegJoints) {
-          ThrowValueError("model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
-                          std::to_string(models.size()));
+        if (!(py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)) ||
+            py::len(model) != kLegJoints) {
+          ThrowValueError(
+              "model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
+              (py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)
+                   ? std::to_string(py::len(model))
+                   : "a " + std::string(py::str(py::type::of(model).attr("__name__")))));
+        }
+        std::vector<JointModelParams> models;
+        for (int j = 0; j < kLegJoints; ++j) {
+          models.push_back(ToModel(model[py::int_(j)], "model[" + std::to_string(j) + "]"));
         }
         std::vector<LegAngles> floor(rows.size());
         {

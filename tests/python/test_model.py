@@ -130,8 +130,47 @@ def test_models_compare_pickle_and_print():
     (lambda: leglab.identify([1.0] * 30, [1.0] * 30, period_ticks=16), "cycles|whole"),
     (lambda: leglab.floor([1.0, 2.0], leglab.PAPER_MODEL), "at least 3"),
     (lambda: leglab.floor(np.zeros((5, 3)), [leglab.PAPER_MODEL]), "one JointModel per joint"),
+    (lambda: leglab.floor(np.zeros((5, 3)), leglab.PAPER_MODEL), "got a JointModel"),
+    # Bounds from the model's key declarations, before anything is allocated.
+    (lambda: leglab.JointModel(2.5, 7.0, 2**40, 6), "lag_ticks: expected an integer from 0 to 200"),
+    (lambda: leglab.JointModel(2.5, 7.0, 10**9, 6), "lag_ticks: expected an integer from 0 to 200"),
+    (lambda: leglab.JointModel(1e308, 5e-324, 0, 1), r"v_max_deg_per_tick must be in \(0, 45\]"),
+    (lambda: leglab.JointModel(2.5, float("inf"), 0, 1), "theta0_deg: expected a finite number"),
+    (lambda: leglab.JointModel(2.5, 7.0, 2**70, 1), "lag_ticks: expected an integer from 0 to 200"),
+    (lambda: leglab.PAPER_MODEL.speed_response(float("nan")), "x_deg: expected a finite number"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, period_ticks=0), "period_ticks"),
+    # A fit outside the model's ranges is an error, not a model the constructor would refuse.
+    (lambda: leglab.identify(np.r_[np.zeros(50), np.ones(50)] * 1e300,
+                             np.r_[np.zeros(50), np.ones(50)] * 1e300), "outside the model's ranges"),
 ])
 def test_bad_input_is_a_one_line_value_error(call, message):
     with pytest.raises(ValueError, match=message) as error:
         call()
     assert "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: leglab.JointModel(2.5, 7.0, 4.5, 6), "lag_ticks: expected an integer, got float 4.5"),
+    (lambda: leglab.JointModel("2.5", 7.0, 4, 6), "v_max_deg_per_tick: expected a number, got str"),
+    (lambda: leglab.JointModel(2.5, 7.0, True, 6), "lag_ticks: expected an integer, got bool"),
+    (lambda: leglab.JointModel(2.5, 7.0, 4, np.bool_(True)), "accel_ticks: expected an integer"),
+    (lambda: leglab.JointModel(2.5, 7.0 + 1j, 4, 6), "theta0_deg: expected a number, got complex"),
+    (lambda: leglab.PAPER_MODEL.speed_response(np.zeros(3)), "x_deg: expected a number, got ndarray"),
+    (lambda: leglab.PAPER_MODEL.simulate([1.0], True), "start_deg: expected a number, got bool"),
+    (lambda: leglab.floor(np.zeros(10), "paper"), "model: expected a JointModel, got str"),
+    (lambda: leglab.floor(np.zeros((5, 3)), [leglab.PAPER_MODEL, 1, 2]), r"model\[1\]: expected"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, lag_range_ticks=5), "lag_range_ticks"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, accel_range_ticks=(1, 2.5)),
+     r"accel_range_ticks\[1\]: expected an integer"),
+])
+def test_a_value_of_the_wrong_type_is_a_one_line_type_error(call, message):
+    # Python's convention: TypeError for the wrong type (bool is not a number here), never
+    # pybind11's several-line list of signatures.
+    with pytest.raises(TypeError, match=message) as error:
+        call()
+    assert "\n" not in str(error.value)
+
+
+def test_numpy_scalars_are_numbers():
+    model = leglab.JointModel(np.float64(2.5), np.int64(7), np.int32(4), np.uint8(6))
+    assert model == leglab.PAPER_MODEL
