@@ -28,6 +28,11 @@ SEED_MAX = 9_200_000_000_000_000_000
 ACTIONS = ("request", "offset")
 """The action kinds of LegTrackingEnv: the requested angles, or offsets from the desired ones."""
 
+# The most walking steps an episode takes and the most ticks of history or preview: bounds
+# that keep an episode's arrays far below memory (10,000 steps of the 88-tick walk are 2 hours).
+MAX_STEPS = 10_000
+MAX_WINDOW = 10_000
+
 
 class Box:
     """A box of float64 vectors, low <= x <= high elementwise (gymnasium.spaces.Box's shape).
@@ -159,12 +164,13 @@ class LegTrackingEnv:
             sensor and walk keys apply; the tracking keys (steps, controller.*) do not.
         overrides: a dict of config keys, as the programs' --set ({"plant": "model"}). Not
             `seed`: the episode's seed is reset's.
-        steps: walking steps per episode (>= 1).
-        history: measured ticks in the observation (>= 0).
-        preview: desired ticks in the observation (>= 0); history + preview >= 1.
+        steps: walking steps per episode (1 to MAX_STEPS, 10,000).
+        history: measured ticks in the observation (0 to MAX_WINDOW, 10,000).
+        preview: desired ticks in the observation (0 to MAX_WINDOW); history + preview >= 1.
         action: "request" or "offset".
 
-    Raises ValueError for a bad config, key or argument.
+    Raises ValueError for a bad config, key or argument (steps, history and preview must be
+    integers; bool is not one).
 
     Attributes:
         walk: the leglab.Walk (desired angles and foot path, `period` T).
@@ -191,15 +197,18 @@ class LegTrackingEnv:
                 f"overrides: expected a dict of config keys, got {type(overrides).__name__}")
         if "seed" in overrides:
             raise ValueError("overrides: 'seed' is the episode's: give it to reset(seed=...)")
-        for name, value in (("steps", steps), ("history", history), ("preview", preview)):
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise ValueError(f"{name}: expected an int, got {value!r}")
+        for name, value, most in (("steps", steps, MAX_STEPS), ("history", history, MAX_WINDOW),
+                                  ("preview", preview, MAX_WINDOW)):
+            if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
+                raise ValueError(f"{name}: expected an integer, got {type(value).__name__}")
+            if not 0 <= value <= most:
+                raise ValueError(f"{name}: expected an integer from 0 to {most}, got {value}")
+        steps, history, preview = int(steps), int(history), int(preview)
         if steps < 1:
             raise ValueError(f"steps: expected at least 1, got {steps}")
-        if history < 0 or preview < 0 or history + preview < 1:
+        if history + preview < 1:
             raise ValueError(
-                f"history, preview: expected >= 0 each and >= 1 together, got {history}, "
-                f"{preview}")
+                f"history, preview: expected >= 1 together, got {history}, {preview}")
         if action not in ACTIONS:
             raise ValueError(f"action: expected one of {', '.join(ACTIONS)}, got {action!r}")
 
@@ -316,9 +325,12 @@ class LegTrackingEnv:
 
     def _check_action(self, action):
         """`action` as a float64 array of shape (3,); ValueError naming the action when it is
-        not numbers, of another shape, or not finite."""
+        not real numbers (bool and complex are not), of another shape, or not finite."""
         try:
-            a = _np.asarray(action, dtype=_np.float64)
+            given = _np.asarray(action)
+            if given.dtype.kind not in "iuf":
+                raise ValueError(f"expected real numbers, got dtype {given.dtype}")
+            a = given.astype(_np.float64)
         except (TypeError, ValueError) as e:
             raise ValueError(f"action: expected 3 numbers (rotator, abductor, knee), deg: {e}") \
                 from None

@@ -178,10 +178,10 @@ py::dict ModelsDict(const std::array<JointModelParams, kLegJoints>& models) {
 
 // What `track` computes and, with `out`, writes, exactly as the program does.
 py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle controllers,
-                  py::handle out, int threads) {
+                  py::handle out, py::handle threads_value) {
+  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", 0, 4096));
   ExperimentConfig config =
       experiments::LoadExperimentConfig(ToPath(config_path, "config"), ToOverrides(overrides));
-  if (threads < 0 || threads > 4096) ThrowValueError("threads: expected 0 (one per core) to 4096");
   config.threads = threads;
   const std::vector<ExternalMode> external = ToExternalModes(controllers);
   std::vector<std::string> external_names;

@@ -186,7 +186,8 @@ def test_the_observation_is_the_measured_history_then_the_desired_preview():
     "action, words",
     [(np.zeros(2), "shape (2,)"), (np.zeros((3, 1)), "shape (3, 1)"),
      ([0.0, float("nan"), 0.0], "abductor"), ([0.0, 0.0, float("inf")], "knee"),
-     ("abc", "action")])
+     ("abc", "action"), ([True, False, True], "dtype bool"),
+     (np.array([1 + 1j, 0, 0]), "dtype complex128")])
 def test_bad_actions_raise_value_error_naming_the_action(action, words):
     """Wrong shapes, NaN, inf and text raise ValueError naming the action (and the joint), and
     run no tick."""
@@ -227,6 +228,13 @@ def test_bad_arguments_raise_value_error():
         LegTrackingEnv(overrides={"seed": 3})
     with pytest.raises(ValueError, match="servo.delay_ms"):
         LegTrackingEnv(overrides={"servo.delay_ms": -5})
+    # Bounds before any allocation (history=10**9 would ask for 22 GiB).
+    with pytest.raises(ValueError, match="history: expected an integer from 0 to 10000"):
+        LegTrackingEnv(history=10**9)
+    with pytest.raises(ValueError, match="steps: expected an integer from 0 to 10000"):
+        LegTrackingEnv(steps=10**6)
+    with pytest.raises(ValueError, match="preview: expected an integer, got bool"):
+        LegTrackingEnv(preview=True)
 
 
 def test_the_env_has_gymnasiums_attributes():
