@@ -188,9 +188,24 @@ fs::path CheckOutFolder(const fs::path& out, const std::vector<std::string>& own
   if (out.empty()) throw InputError("--out must name a folder, got an empty path");
   std::error_code ec;
   fs::path folder = out;
-  // A link to a folder: the folder is what gets replaced, the link stays.
-  if (fs::is_symlink(folder, ec)) folder = fs::weakly_canonical(folder, ec);
-  folder = fs::absolute(folder).lexically_normal();
+  // A link to a folder: the folder is what gets replaced, the link stays. A link that leads
+  // nowhere (dangling, or a loop) is refused now, not at the commit after the whole run.
+  if (fs::is_symlink(folder, ec)) {
+    const fs::path target = fs::read_symlink(folder, ec);
+    folder = fs::canonical(folder, ec);
+    if (ec == std::errc::too_many_symbolic_link_levels) BadOut(out, "is a loop of symbolic links");
+    if (ec) {
+      BadOut(out, "is a symbolic link to '" + target.string() + "', which cannot be followed (" +
+                      ec.message() + ")");
+    }
+  }
+  folder = fs::absolute(folder, ec).lexically_normal();
+  if (ec) BadOut(out, "cannot be resolved: " + ec.message());
+  // A path the file system cannot look up (a loop of links on the way) is refused likewise.
+  (void)fs::status(folder, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    BadOut(out, "cannot be looked up: " + ec.message());
+  }
   if (!folder.has_filename()) folder = folder.parent_path();
   if (folder == folder.root_path()) BadOut(out, "is the root folder");
   if (fs::exists(folder, ec)) {

@@ -133,6 +133,30 @@ std::string Refusal(const fs::path& out) {
   return "";
 }
 
+// A link that leads nowhere is refused before the run: dangling, a loop, or a loop on the way.
+TEST(OutputDir, ADanglingOrLoopingLinkIsRefusedAtOnce) {
+  const fs::path root = fs::temp_directory_path() / "leglab_output_links";
+  fs::remove_all(root);
+  fs::create_directories(root / "real");
+  fs::create_symlink(root / "nowhere" / "out", root / "dangling");
+  fs::create_symlink(root / "loop_b", root / "loop_a");
+  fs::create_symlink(root / "loop_a", root / "loop_b");
+  fs::create_symlink(root / "real", root / "to_real");
+  EXPECT_EQ(Refusal(root / "dangling")
+                .rfind("--out '" + (root / "dangling").string() + "' is a symbolic link to '" +
+                           (root / "nowhere" / "out").string() + "', which cannot be followed",
+                       0),
+            0u)
+      << Refusal(root / "dangling");
+  EXPECT_NE(Refusal(root / "loop_a").find("is a loop of symbolic links"), std::string::npos)
+      << Refusal(root / "loop_a");
+  EXPECT_NE(Refusal(root / "loop_a" / "out").find("cannot be looked up"), std::string::npos)
+      << Refusal(root / "loop_a" / "out");
+  EXPECT_EQ(Refusal(root / "to_real"), "");  // a link to a folder is fine
+  EXPECT_FALSE(fs::exists(root / "nowhere"));
+  fs::remove_all(root);
+}
+
 // The names in `folder`.
 std::vector<std::string> Names(const fs::path& folder) {
   std::vector<std::string> names;
