@@ -155,7 +155,7 @@ void DataMarkdown(const Report& report, const MotorGroup& g, std::ostringstream&
     for (const size_t i : *list) {
       const Log& l = report.logs[i];
       const std::vector<ServoLogSample>& samples = l.log.samples;
-      md << "| " << l.name << " | " << samples.size() << " | "
+      md << "| " << MarkdownText(l.name) << " | " << samples.size() << " | "
          << Fixed2(samples.back().time_s - samples.front().time_s) << " | "
          << Fixed2(1000.0 * MedianSampleInterval(samples)) << " | "
          << Fixed2(1000.0 * IntervalJitter(samples)) << " | " << l.segments << " | "
@@ -173,9 +173,10 @@ void PlanMarkdown(const Report& report, const MotorGroup& g, std::ostringstream&
      << "| log | direct | model_based | optimal | beyond servo |\n|---|---|---|---|---|\n";
   for (const Row& row : report.rows) {
     if (!row.plan || report.logs[row.log].log.motor != g.motor) continue;
-    md << "| " << report.logs[row.log].name << " | " << Fixed2(row.plan->direct_mae_deg) << " | "
-       << Fixed2(row.plan->model_based_mae_deg) << " | " << Fixed2(row.plan->optimal_mae_deg)
-       << " | " << row.plan->beyond_servo_ticks << " |\n";
+    md << "| " << MarkdownText(report.logs[row.log].name) << " | "
+       << Fixed2(row.plan->direct_mae_deg) << " | " << Fixed2(row.plan->model_based_mae_deg)
+       << " | " << Fixed2(row.plan->optimal_mae_deg) << " | " << row.plan->beyond_servo_ticks
+       << " |\n";
   }
 }
 
@@ -192,7 +193,7 @@ std::string ReportMarkdown(const Report& report) {
   for (const MotorGroup& g : report.groups) {
     char tick[32];
     std::snprintf(tick, sizeof tick, "%.3f", g.tick_s * 1000.0);
-    md << "\n## " << g.motor << " (tick " << tick << " ms)\n\n"
+    md << "\n## " << MarkdownText(g.motor) << " (tick " << tick << " ms)\n\n"
        << "| log | role | trajectory | kp | ticks | direct | best shift | paper | extended |\n"
        << "|---|---|---|---|---|---|---|---|---|\n";
     std::array<double, kRungs.size()> sums{};
@@ -200,11 +201,11 @@ std::string ReportMarkdown(const Report& report) {
     for (const Row& row : report.rows) {
       const ServoLog& log = report.logs[row.log].log;
       if (log.motor != g.motor) continue;
-      md << "| " << report.logs[row.log].name << " | "
+      md << "| " << MarkdownText(report.logs[row.log].name) << " | "
          << (row.train_role ? "train"
              : row.held_out ? "held out"
                             : "validate")
-         << " | " << log.trajectory << " | " << FormatNumber(log.kp) << " | "
+         << " | " << MarkdownText(log.trajectory) << " | " << FormatNumber(log.kp) << " | "
          << row.scores[0].ticks_scored;
       for (size_t k = 0; k < kRungs.size(); ++k) md << " | " << Fixed2(row.scores[k].mae_deg);
       md << " |\n";

@@ -92,6 +92,20 @@ std::string ShownPath(std::string_view path) {
   throw InputError("servo log '" + ShownPath(path) + "': " + what);
 }
 
+// A motor or trajectory name: at most kMaxServoNameBytes, no control character.
+void CheckName(const std::string& path, const char* field, const std::string& name) {
+  if (name.size() > kMaxServoNameBytes) {
+    Fail(path, std::string(field) + " is " + std::to_string(name.size()) +
+                   " bytes long, over the limit of " + std::to_string(kMaxServoNameBytes));
+  }
+  for (const char c : name) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      Fail(path, std::string(field) + " '" + Shown(name, kShownCellChars) +
+                     "' holds a control character");
+    }
+  }
+}
+
 // A number as it is shown: the shortest form that reads back the same.
 std::string Number(double value) {
   std::array<char, 32> buffer{};
@@ -393,6 +407,8 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
   const std::string text = ReadWholeFile(path);
   ServoLog log = FormatOf(path, format) == ServoLogFormat::kCsv ? ReadCsv(path, text, csv_defaults)
                                                                 : ReadBamJson(path, text);
+  CheckName(path, "motor", log.motor);
+  CheckName(path, "trajectory", log.trajectory);
   CheckSamples(path, log.samples);
   return log;
 }
@@ -400,6 +416,8 @@ ServoLog ReadServoLog(const std::string& path, ServoLogFormat format,
 void CheckServoLog(const ServoLog& log) {
   const std::string& path = log.file;
   if (log.motor.empty()) Fail(path, "motor is empty (a model is fitted per motor)");
+  CheckName(path, "motor", log.motor);
+  CheckName(path, "trajectory", log.trajectory);
   CheckSetting(path, "kp", log.kp, kMaxServoKp);
   CheckSetting(path, "mass", log.mass_kg, kMaxServoMassKg);
   CheckSetting(path, "length", log.length_m, kMaxServoLengthM);

@@ -1,7 +1,9 @@
 #include "leglab/experiments/servo_log_io.h"
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include "leglab/core/format.h"
 
 #include <filesystem>
 #include <fstream>
@@ -283,6 +285,31 @@ TEST_F(ServoLogIoTest, BadBamLogs) {
 // A number a servo cannot have is refused as the file is read, naming where it is: an angle
 // beyond +-100000 deg (1e300 rad, a request of 1e308 deg), a gain, mass or arm beyond its
 // bound. Just inside each bound the log reads.
+// Names go into log_fit.md and file names: a newline or a name too long is refused when the
+// log is read, naming the file and the field; 100 bytes are taken.
+TEST_F(ServoLogIoTest, MotorAndTrajectoryNamesAreShortAndOnOneLine) {
+  const std::string both = kEntry0 + "," + kEntry1;
+  const auto fields = [](const std::string& motor, const std::string& trajectory) {
+    return R"("mass": 0.49, "length": 0.1, "kp": 100, "motor": ")" + motor +
+           R"(", "trajectory": ")" + trajectory + "\"";
+  };
+  EXPECT_MESSAGE(JsonError(Bam(both, fields("xl\\n330", "t"))),
+                 "motor 'xl\\n330' holds a control character");
+  EXPECT_MESSAGE(JsonError(Bam(both, fields("xl330", "a\\rb"))), "trajectory", "control character");
+  EXPECT_MESSAGE(JsonError(Bam(both, fields(std::string(101, 'm'), "t"))),
+                 "motor is 101 bytes long, over the limit of 100");
+  EXPECT_EQ(JsonError(Bam(both, fields(std::string(100, 'm'), "t"))), "");
+  ServoLog given = ReadServoLog(Write("ok.json", Bam(both, fields("xl330", "t"))),
+                                ServoLogFormat::kAuto, kDefaults);
+  given.motor = "two\nlines";
+  EXPECT_THROW(CheckServoLog(given), InputError);
+}
+
+TEST(MarkdownText, EscapesWhatWouldEndACellStartMarkupOrBreakALine) {
+  EXPECT_EQ(MarkdownText("sin_sin"), "sin_sin");
+  EXPECT_EQ(MarkdownText("a|b<c>\nd\x7f"), "a\\|b&lt;c>\\x0ad\\x7f");
+}
+
 TEST_F(ServoLogIoTest, PhysicallyImpossibleValuesAreRefusedWhereTheyAre) {
   const std::string h = "time_s,request_deg,measured_deg\n";
   EXPECT_MESSAGE(CsvError(h + "0,0,0\n1,1e308,0\n"),

@@ -19,6 +19,8 @@ enum class ServoLogFormat {
 inline constexpr double kMaxServoKp = 1e6;       ///< the gain register (its own units)
 inline constexpr double kMaxServoMassKg = 1000;  ///< the load's mass (kg)
 inline constexpr double kMaxServoLengthM = 10;   ///< the load's arm (m)
+/// The longest motor or trajectory name (bytes): names go into file names and table cells.
+inline constexpr size_t kMaxServoNameBytes = 100;
 
 /// What a CSV log does not say itself: given by config keys.
 struct ServoLogDefaults {
@@ -50,7 +52,9 @@ inline constexpr std::size_t kMaxServoLogSamples = 2'000'000;
 /// `position` (measured, rad) and `torque_enable` (bool); angles are converted to degrees,
 /// other fields are ignored. `csv_defaults` is not used.
 ///
-/// Both: time stamps strictly increasing, at least 2 samples, at least one with torque on,
+/// Both: a motor and trajectory name of at most kMaxServoNameBytes without control characters
+/// (a newline would start a new line of log_fit.md), time stamps strictly increasing, at least
+/// 2 samples, at least one with torque on,
 /// every request and measurement within +-kMaxPlanAngleDeg (servo_plan.h), kp, mass and length
 /// from 0 to kMaxServoKp, kMaxServoMassKg and kMaxServoLengthM, at most kMaxServoLogBytes and
 /// kMaxServoLogSamples. Throws InputError (config.h), one line of at most about 300
