@@ -215,13 +215,9 @@ int Run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return Run(argc, argv);
-  } catch (const InputError& e) {
-    std::cerr << "sweep: error: " << e.what() << '\n';
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "sweep: failed: " << e.what() << '\n';
-    return 1;
-  }
+  // ReportErrors: one line with control characters and invisible ones escaped (a shard's CRLF
+  // or byte-order mark echoed in a message), status 2 for bad input and 1 for a failure.
+  int status = 0;
+  const int reported = ReportErrors("sweep", [&] { status = Run(argc, argv); });
+  return reported != 0 ? reported : status;
 }

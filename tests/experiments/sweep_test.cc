@@ -463,6 +463,18 @@ TEST_F(SweepMergeTest, AShardOfAnotherSweepIsRefused) {
   ExpectRefused({"sweep.shard-0-of-3.csv", "line 1", "a shard of sweep"});
 }
 
+// A shard saved with Windows line ends and a byte-order mark: the message echoes its first line
+// with both escaped, on one line, never the raw bytes.
+TEST_F(SweepMergeTest, ACrlfShardWithAByteOrderMarkIsEchoedEscaped) {
+  std::vector<std::string> lines = Lines("sweep.shard-2-of-3.csv");
+  lines[0] = "\xEF\xBB\xBF" + lines[0] + "\r";
+  WriteLines(parts_ / "sweep.shard-2-of-3.csv", lines);
+  ExpectRefused({"sweep.shard-2-of-3.csv", "line 1", "got '\\ufeff# sweep", "\\r'"}, false);
+  const auto [status, err] = Sweep("merge " + parts_.string() + " --out " + (dir_ / "m").string());
+  EXPECT_EQ(err.find('\r'), std::string::npos);
+  EXPECT_EQ(err.find("\xEF\xBB\xBF"), std::string::npos);
+}
+
 TEST_F(SweepMergeTest, AGarbageRowIsRefused) {
   std::vector<std::string> lines = Lines("sweep.shard-2-of-3.csv");
   ASSERT_EQ(lines.size(), 3u);
