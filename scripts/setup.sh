@@ -10,6 +10,8 @@ LEGLAB_PACKAGES=(
   python3 python3-matplotlib python3-numpy python3-pil clang-format clang-tidy parallel pmccabe
   # The Python package (python/, docs/python.md) and its tests.
   pybind11-dev python3-dev python3-pytest
+  # The property-based test of the Python API (tests/python/test_properties.py).
+  python3-hypothesis
   # The results page's browser check (tests/experiments/scripts/report_test.py) and the
   # animation's encoder.
   chromium python3-websocket ffmpeg
