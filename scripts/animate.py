@@ -40,11 +40,29 @@ DEFAULT_MAX_FRAMES = 45
 FORCE_CM_PER_N = 0.5
 FOOT_LINK = "foot"
 SUFFIXES = (".gif", ".mp4")
+# --fps's range: 0.01 (a frame every 100 s) to 1000 (8 times real time at one frame a tick);
+# outside it a frame's duration overflows or rounds to nothing.
+MIN_FPS = 0.01
+MAX_FPS = 1000.0
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 class InputError(Exception):
     """Bad input from the user: one line naming the item; the program exits 2."""
+
+
+def one_line(text):
+    """`text` with control and undecodable characters escaped: a message stays one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse, with a bad flag reported as every other bad input: one line, status 2 (not
+    argparse's usage block)."""
+
+    def error(self, message):
+        print(f"animate.py: {one_line(message)} (see --help)", file=sys.stderr)
+        sys.exit(2)
 
 
 # --- The robot: its URDF chain and forward kinematics -------------------------------------
@@ -203,10 +221,16 @@ def load_run(folder):
     table = os.path.join(folder, "table2.json")
     try:
         with open(table) as f:
-            plant = json.load(f).get("plant", {})
-    except (OSError, ValueError) as e:
+            data = json.load(f)
+    except (OSError, ValueError, RecursionError) as e:
         raise InputError(f"'{table}': {e}") from None
+    plant = data.get("plant", {}) if isinstance(data, dict) else None
+    if not isinstance(plant, dict):
+        raise InputError(f"'{table}': expected a JSON object with a 'plant' object, as track "
+                         "writes it")
     robot_yaml = plant.get("robot")
+    if robot_yaml is not None and not isinstance(robot_yaml, str):
+        raise InputError(f"'{table}': plant.robot is not a file name")
     if not robot_yaml:
         raise InputError(f"'{table}': no plant.robot (a run of an older track?)")
     # A relative robot file is relative to where track ran: most often the repository root.
@@ -226,7 +250,10 @@ def load_run(folder):
             if row["mode"] in traced and row["mode"] not in order:
                 order.append(row["mode"])
     modes = order + [m for m in traced if m not in order]
-    return Run(folder, robot_yaml, urdf, chain, plant.get("stand"), modes)
+    stand = plant.get("stand")
+    if stand is not None and not isinstance(stand, dict):
+        raise InputError(f"'{table}': plant.stand is not an object")
+    return Run(folder, robot_yaml, urdf, chain, stand, modes)
 
 
 @dataclass
@@ -254,8 +281,12 @@ def read_trace(run, mode):
         for row in read_csv(path):
             key = (int(row["step"]), int(row["tick"]))
             actual, desired = angles.setdefault(key, ({}, {}))
-            actual[row["joint"]] = math.radians(float(row["actual_deg"]))
-            desired[row["joint"]] = math.radians(float(row["desired_deg"]))
+            for target, column in ((actual, "actual_deg"), (desired, "desired_deg")):
+                value = float(row[column])
+                if not math.isfinite(value):
+                    raise ValueError(f"step {key[0]} tick {key[1]} {row['joint']}: {column} is "
+                                     f"{value}")
+                target[row["joint"]] = math.radians(value)
             period = max(period, key[1] + 1)
     except (OSError, KeyError, ValueError) as e:
         raise InputError(f"'{path}': unreadable ({e})") from None
@@ -476,7 +507,7 @@ def render(anim, out_path, fps):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("run_dir", help="a folder track wrote")
     parser.add_argument("--modes", nargs="+", help="modes to draw (default: every mode run)")
     parser.add_argument("--steps", type=int, default=1,
@@ -484,7 +515,8 @@ def main(argv=None):
     parser.add_argument("--every", type=int, default=None,
                         help=f"draw every K-th tick (default: at most {DEFAULT_MAX_FRAMES} "
                              "frames)")
-    parser.add_argument("--fps", type=float, default=10.0, help="frames per second (default 10)")
+    parser.add_argument("--fps", type=float, default=10.0,
+                        help=f"frames per second, {MIN_FPS:g} to {MAX_FPS:g} (default 10)")
     parser.add_argument("--out", required=True, help="the animation, FILE.gif or FILE.mp4")
     args = parser.parse_args(argv)
     try:
@@ -494,15 +526,25 @@ def main(argv=None):
         out_dir = os.path.dirname(os.path.abspath(args.out))
         if not os.path.isdir(out_dir):
             raise InputError(f"--out '{args.out}': no folder '{out_dir}'")
-        if not args.fps > 0 or not math.isfinite(args.fps):
-            raise InputError(f"--fps {args.fps}: expected a number above 0")
+        if os.path.isdir(args.out):
+            raise InputError(f"--out '{args.out}': is a folder, not a file")
+        if not os.access(out_dir, os.W_OK | os.X_OK):
+            raise InputError(f"--out '{args.out}': the folder '{out_dir}' cannot be written")
+        if not MIN_FPS <= args.fps <= MAX_FPS:
+            raise InputError(f"--fps {args.fps}: expected a number from {MIN_FPS:g} to "
+                             f"{MAX_FPS:g}")
         if suffix == ".mp4" and shutil.which("ffmpeg") is None:
             raise InputError(f"--out '{args.out}': an .mp4 needs ffmpeg on PATH")
         anim = build_animation(args.run_dir, args.modes, args.steps, args.every)
     except InputError as e:
-        print(f"animate.py: {e}", file=sys.stderr)
+        print(f"animate.py: {one_line(e)}", file=sys.stderr)
         return 2
-    handle, partial = tempfile.mkstemp(suffix=suffix, prefix=".animate-", dir=out_dir)
+    try:
+        handle, partial = tempfile.mkstemp(suffix=suffix, prefix=".animate-", dir=out_dir)
+    except OSError as e:
+        print(f"animate.py: --out '{one_line(args.out)}': cannot be written ({one_line(e)})",
+              file=sys.stderr)
+        return 2
     os.close(handle)
     try:
         umask = os.umask(0)

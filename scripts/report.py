@@ -153,13 +153,16 @@ section.md { margin-bottom: 1.5em; }
 
 
 def fail(message):
-    print(f"report.py: {message}", file=sys.stderr)
+    """Bad input: one line on stderr (control and undecodable characters escaped), status 2."""
+    line = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(f"report.py: {line}", file=sys.stderr)
     sys.exit(2)
 
 
 def href(path):
-    """A relative link to path (a path below the page's folder, '/'-separated)."""
-    return urllib.parse.quote(path)
+    """A relative link to path (a path below the page's folder, '/'-separated), percent-encoded
+    from its bytes: a name that is not UTF-8 still links to its file."""
+    return urllib.parse.quote(os.fsencode(path))
 
 
 def natural_key(name):
@@ -176,12 +179,18 @@ def find_runs(top):
     """Every folder at or below top (relative paths, '' for top) that is a run or holds one,
     mapped to its sub-folders of the same kind."""
     tree = {}
+    # A folder is visited once, however links lead to it: a link to an ancestor (a loop) or a
+    # second link to one folder adds nothing.
+    seen = set()
 
     def visit(rel):
         folder = os.path.join(top, rel)
+        seen.add(os.path.realpath(folder))
         children = []
         for name in sorted(os.listdir(folder), key=natural_key):
-            if name.startswith(".") or not os.path.isdir(os.path.join(folder, name)):
+            path = os.path.join(folder, name)
+            if (name.startswith(".") or not os.path.isdir(path)
+                    or os.path.realpath(path) in seen):
                 continue
             child = f"{rel}/{name}" if rel else name
             if visit(child):
@@ -351,7 +360,8 @@ def config_parts(name, data):
     if name == "log_fit.json":
         parts = [("identify on servo logs: its settings",
                   flatten({k: v for k, v in data.items() if k not in ("logs", "folds", "models")}))]
-        for rung, motors in data.get("models", {}).items():
+        models = data.get("models")
+        for rung, motors in (models.items() if isinstance(models, dict) else ()):
             if isinstance(motors, dict) and all(isinstance(m, dict) for m in motors.values()):
                 parts.append((f"identify on servo logs: the {rung} model fitted per servo type "
                               "(on all its training logs; the held-out scores come from models "
@@ -423,11 +433,13 @@ def config_section(folder, names):
         try:
             with open(os.path.join(folder, name)) as f:
                 data = json.load(f)
-        except (OSError, ValueError) as error:
+            parts = config_parts(name, data)
+        except (OSError, ValueError, RecursionError) as error:
+            # Not JSON, or JSON nested too deeply to walk: shown as not read, never a traceback.
             out.append(f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not '
-                       f"read ({html.escape(str(error))}).</p>")
+                       f"read ({html.escape(str(error) or type(error).__name__)}).</p>")
             continue
-        for title, pairs in config_parts(name, data):
+        for title, pairs in parts:
             if pairs:
                 out.append(f'<h4>{html.escape(title)} (<a href="{href(name)}">'
                            f"{html.escape(name)}</a>)</h4>")
@@ -607,15 +619,36 @@ def main(argv):
     top = argv[1]
     if not os.path.isdir(top):
         fail(f"{top}: no such folder")
-    tree = find_runs(top)
+    try:
+        tree = find_runs(top)
+    except OSError as error:
+        fail(f"cannot read {error.filename}: {error.strerror}")
     if not tree:
         fail(f"{top}: nothing a leglab program wrote (no table1.json, table2.json, "
              "walk_fit.json, log_fit.json, plan.json or sweep.csv here or below)")
-    # Every page is made before any is written: a failure leaves no page behind.
-    pages = {rel: page(tree, top, rel) for rel in tree}
-    for rel, text in pages.items():
-        with open(os.path.join(top, rel, "index.html"), "w", encoding="utf-8") as f:
-            f.write(text)
+    # Every page is made, then staged beside its place, before any is put in place: a folder
+    # that cannot take its page leaves no page written anywhere.
+    try:
+        pages = {rel: page(tree, top, rel) for rel in tree}
+    except OSError as error:
+        fail(f"cannot read {error.filename}: {error.strerror}")
+    staged = []
+    try:
+        for rel, text in pages.items():
+            target = os.path.join(top, rel, "index.html")
+            if os.path.isdir(target) and not os.path.islink(target):
+                raise OSError(f"{target} is a folder")
+            temporary = os.path.join(top, rel, f".index.html.report-{os.getpid()}")
+            staged.append((temporary, target))
+            with open(temporary, "w", encoding="utf-8", errors="surrogateescape") as f:
+                f.write(text)
+    except OSError as error:
+        for temporary, _ in staged:
+            if os.path.exists(temporary):
+                os.remove(temporary)
+        fail(f"cannot write the pages, none written: {error}")
+    for temporary, target in staged:
+        os.replace(temporary, target)
     print(f"report.py: {len(pages)} page(s), {os.path.join(top, 'index.html')}")
 
 
