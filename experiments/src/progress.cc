@@ -54,7 +54,20 @@ void ClearBar() {
 
 }  // namespace
 
-void CountProgressTicks(long ticks) { State().ticks.fetch_add(ticks, std::memory_order_relaxed); }
+namespace {
+// RequestStop's flag: a plain static atomic, so that a signal handler only stores to it.
+std::atomic<int> stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+}  // namespace
+
+void RequestStop(int signal) { stop_signal.store(signal, std::memory_order_relaxed); }
+
+int StopRequested() { return stop_signal.load(std::memory_order_relaxed); }
+
+void CountProgressTicks(long ticks) {
+  State().ticks.fetch_add(ticks, std::memory_order_relaxed);
+  if (const int signal = StopRequested(); signal != 0) throw RunStopped(signal);
+}
 
 long long CountedProgressTicks() { return State().ticks.load(std::memory_order_relaxed); }
 

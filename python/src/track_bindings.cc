@@ -3,6 +3,8 @@
 // the same plant, seed and scoring (ExternalMode).
 #include <pybind11/stl.h>
 
+#include <array>
+#include <csignal>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,6 +17,7 @@
 #include "leglab/controller/controller.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/output.h"
+#include "leglab/experiments/progress.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/experiments/writers.h"
@@ -176,6 +179,47 @@ py::dict ModelsDict(const std::array<JointModelParams, kLegJoints>& models) {
   return d;
 }
 
+// While it lives, SIGINT, SIGTERM and SIGHUP only ask the run to stop (RequestStop): the run
+// unwinds at its next step, and its OutputDir removes the staging folder and the lock, where
+// SIGTERM's default action would have left both behind. Restore() brings back the previous
+// actions; DeliverPending() then hands the signal that came to the process as it would have
+// been: SIGTERM's default ends it (cleaned up), Python's SIGINT handler raises
+// KeyboardInterrupt. A signal during or after the commit waits for it: the results are whole.
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    experiments::RequestStop(0);
+    struct sigaction action {};
+    action.sa_handler = [](int signal) { experiments::RequestStop(signal); };
+    sigemptyset(&action.sa_mask);
+    for (size_t i = 0; i < kSignals.size(); ++i) sigaction(kSignals[i], &action, &previous_[i]);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+  ~StopOnSignals() { Restore(); }
+
+  void Restore() {
+    if (restored_) return;
+    for (size_t i = 0; i < kSignals.size(); ++i) sigaction(kSignals[i], &previous_[i], nullptr);
+    restored_ = true;
+  }
+
+  // After Restore, with the GIL: delivers the pending signal, if any. Returns if none came, or
+  // if a handler took it without raising; throws the exception a Python handler raised.
+  static void DeliverPending() {
+    const int signal = experiments::StopRequested();
+    experiments::RequestStop(0);
+    if (signal == 0) return;
+    std::raise(signal);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+
+ private:
+  static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
+  std::array<struct sigaction, 3> previous_{};
+  bool restored_ = false;
+};
+
 // What `track` computes and, with `out`, writes, exactly as the program does.
 py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle controllers,
                   py::handle out, py::handle threads_value) {
@@ -242,6 +286,27 @@ py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle contr
   return d;
 }
 
+// RunTrack; with `out`, a signal stops the run and leaves nothing behind (StopOnSignals).
+py::dict RunTrackStoppable(py::handle config_path, py::handle overrides, py::handle controllers,
+                           py::handle out, py::handle threads) {
+  if (out.is_none()) return RunTrack(config_path, overrides, controllers, out, threads);
+  StopOnSignals stop;
+  py::dict result;
+  try {
+    result = RunTrack(config_path, overrides, controllers, out, threads);
+  } catch (const experiments::RunStopped& stopped) {
+    // The OutputDir is gone: nothing of this run is on disk.
+    stop.Restore();
+    const int signal = stopped.signal();
+    StopOnSignals::DeliverPending();
+    throw std::runtime_error("run_track: stopped by signal " + std::to_string(signal) +
+                             "; nothing written");
+  }
+  stop.Restore();
+  StopOnSignals::DeliverPending();
+  return result;
+}
+
 }  // namespace
 
 void BindTrack(py::module_& m) {
@@ -305,8 +370,8 @@ degrees; a tick's row is rotator, abductor, knee.
           "foot_mm(q_deg) -> numpy.ndarray\n\n"
           "Forward kinematics: the foot in the body frame, mm, for 3 joint angles, deg.");
 
-  m.def("_run_track", &RunTrack, py::arg("config"), py::arg("overrides"), py::arg("controllers"),
-        py::arg("out"), py::arg("threads"),
+  m.def("_run_track", &RunTrackStoppable, py::arg("config"), py::arg("overrides"),
+        py::arg("controllers"), py::arg("out"), py::arg("threads"),
         "_run_track(config, overrides, controllers, out, threads) -> dict\n\n"
         "run_track's C++ half: a dict of the result's parts (see leglab.run_track).");
 }

@@ -2,6 +2,11 @@
 controllers written in Python run beside the built-in modes."""
 
 import json
+import signal
+import subprocess
+import sys
+import textwrap
+import time
 
 import numpy as np
 import pytest
@@ -172,3 +177,33 @@ def test_a_bad_thread_count_is_one_line_and_runs_nothing(tmp_path, threads, erro
         leglab.run_track(TRACK_YAML, SHORT, threads=threads, out=tmp_path / "out")
     assert "\n" not in str(raised.value)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("signal_number", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_during_run_track_leaves_nothing_behind(tmp_path, signal_number):
+    # A child runs a long track into out=; the signal comes mid-run. SIGTERM still ends the
+    # process as a SIGTERM, SIGINT is a KeyboardInterrupt, and neither leaves the staging
+    # folder, the lock or the folder itself.
+    out = tmp_path / "out"
+    script = textwrap.dedent(f"""
+        import sys, leglab
+        print("running", flush=True)
+        try:
+            leglab.run_track({TRACK_YAML!r}, {{"steps": 5000, "controller.modes": "[direct]"}},
+                             out={str(out)!r}, threads=1)
+        except KeyboardInterrupt:
+            print("KeyboardInterrupt", flush=True)
+            sys.exit(0)
+        print("finished", flush=True)
+    """)
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "running"
+    time.sleep(1.5)  # well into the run (identification, then steps: about 10 ms each)
+    child.send_signal(signal_number)
+    output, errors = child.communicate(timeout=120)
+    if signal_number == signal.SIGTERM:
+        assert child.returncode == -signal.SIGTERM, (output, errors)
+    else:
+        assert child.returncode == 0 and output.strip() == "KeyboardInterrupt", (output, errors)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [], list(tmp_path.iterdir())

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -16,9 +17,31 @@ enum class ProgressStyle {
 };
 
 /// Adds `ticks` simulated ticks to this process's progress count. Thread-safe and cheap; the
-/// run loops call it once per step or cycle. The count is a side channel for the display
-/// only: no result depends on it (which is why it may be process-wide).
+/// run loops call it once per step or cycle. Throws RunStopped when a stop was requested. The count
+/// is a side channel for the display only: no result depends on it (which is why it may be
+/// process-wide).
 void CountProgressTicks(long ticks);
+
+/// Thrown by CountProgressTicks once RequestStop has asked for a stop: the run unwinds (an
+/// OutputDir on the way removes its staging folder and lock) instead of running to its end.
+class RunStopped : public std::exception {
+ public:
+  explicit RunStopped(int signal) : signal_(signal) {}
+  int signal() const { return signal_; }  ///< what RequestStop was given
+  const char* what() const noexcept override { return "the run was stopped by a signal"; }
+
+ private:
+  int signal_;
+};
+
+/// Asks every run of this process to stop at its next CountProgressTicks, which throws
+/// RunStopped(signal); 0 withdraws the request. Async-signal-safe (one atomic store): for an
+/// embedding that catches signals itself (the Python package's run_track), where the programs
+/// use InstallInterruptCleanup.
+void RequestStop(int signal);
+
+/// The signal of the pending stop request, 0 when none.
+int StopRequested();
 
 /// The ticks CountProgressTicks has added up in this process so far.
 long long CountedProgressTicks();
