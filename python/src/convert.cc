@@ -68,29 +68,35 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
 }
 
 double ToReal(py::handle value, std::string_view what, bool finite) {
-  const std::string name(what);
   double number = 0.0;
-  if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {
-    ThrowTypeError(name + ": expected a number, got bool");
+  if (PyFloat_CheckExact(value.ptr())) {  // the common case first: a per-tick call's cost
+    number = PyFloat_AS_DOUBLE(value.ptr());
+  } else if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {
+    ThrowTypeError(std::string(what) + ": expected a number, got bool");
   } else if (PyFloat_Check(value.ptr())) {
     number = PyFloat_AsDouble(value.ptr());
   } else if (PyLong_Check(value.ptr())) {
     number = PyLong_AsDouble(value.ptr());
     if (number == -1.0 && PyErr_Occurred() != nullptr) {
       PyErr_Clear();
-      ThrowValueError(name + ": " + std::string(py::str(value)).substr(0, 30) +
+      ThrowValueError(std::string(what) + ": " + std::string(py::str(value)).substr(0, 30) +
                       "... is too large for a number");
     }
   } else if (IsNumpyScalar(value, "integer") || IsNumpyScalar(value, "floating")) {
     number = py::float_(py::reinterpret_borrow<py::object>(value)).cast<double>();
   } else {
-    ThrowTypeError(name + ": expected a number, got " + TypeName(value));
+    ThrowTypeError(std::string(what) + ": expected a number, got " + TypeName(value));
   }
   if (finite && !std::isfinite(number)) {
-    ThrowValueError(name + ": expected a finite number, got " +
+    ThrowValueError(std::string(what) + ": expected a finite number, got " +
                     std::string(py::str(py::float_(number))));
   }
   return number;
+}
+
+std::optional<double> ToOptionalReal(py::handle value, std::string_view what) {
+  if (value.is_none()) return std::nullopt;
+  return ToReal(value, what);
 }
 
 long long ToInteger(py::handle value, std::string_view what, long long min, long long max) {

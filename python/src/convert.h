@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,9 @@ using DoubleArray = py::array_t<double, py::array::c_style>;
 /// bool is not taken as a number. TypeError "<what>: expected a number, got <type>" for another
 /// type; ValueError for an int too large for a double and, with `finite`, for NaN or infinity.
 double ToReal(py::handle value, std::string_view what, bool finite = true);
+
+/// None as nullopt, anything else as ToReal (finite).
+std::optional<double> ToOptionalReal(py::handle value, std::string_view what);
 
 /// `value` as an integer in [min, max]: a Python int or a numpy integer (not a bool, not a
 /// float, even a whole one). TypeError for another type; ValueError "<what>: expected an

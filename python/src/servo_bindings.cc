@@ -99,7 +99,9 @@ py::dict CurvesToDict(const experiments::LogFitCurves& c) {
   return d;
 }
 
-py::dict Fit(py::handle config, py::handle overrides, const py::list& given, int threads) {
+py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
+             py::handle threads_value) {
+  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", 0, 4096));
   experiments::LogFitConfig logs;
   if (config.is_none()) {
     logs = experiments::LogFitConfigFromOverrides(ToOverrides(overrides));
@@ -161,8 +163,11 @@ py::dict ModelToDict(const FittedModel& m) {
 }
 
 // kp, mass and length for a model: the extended rung needs kp; the paper's ignores them.
-ServoDrive ToDrive(const FittedModel& m, std::optional<double> kp, double mass_kg,
-                   double length_m) {
+ServoDrive ToDrive(const FittedModel& m, py::handle kp_value, py::handle mass_value,
+                   py::handle length_value) {
+  const std::optional<double> kp = ToOptionalReal(kp_value, "kp");
+  const double mass_kg = ToReal(mass_value, "mass_kg");
+  const double length_m = ToReal(length_value, "length_m");
   if (m.rung == "extended" && !kp) {
     ThrowValueError("kp is required for the extended rung (the servo's gain register)");
   }
@@ -183,12 +188,11 @@ PlanMethod ToMethod(const std::string& method) {
   ThrowValueError("method: expected 'model_based' or 'optimal', got '" + method + "'");
 }
 
-DoubleArray Simulate(const FittedModel& m, py::handle requests, std::optional<double> start_deg,
-                     std::optional<double> kp, double mass_kg, double length_m) {
+DoubleArray Simulate(const FittedModel& m, py::handle requests, py::handle start_value,
+                     py::handle kp, py::handle mass_kg, py::handle length_m) {
   const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
   const std::vector<double> r = ToFiniteVector(requests, "requests_deg");
-  if (start_deg && !std::isfinite(*start_deg))
-    ThrowValueError("start_deg: expected a finite angle");
+  const std::optional<double> start_deg = ToOptionalReal(start_value, "start_deg");
   std::vector<double> angles(r.size());
   if (r.empty()) return ToArray(angles);
   const double start = start_deg.value_or(r[0]);
@@ -207,10 +211,11 @@ DoubleArray Simulate(const FittedModel& m, py::handle requests, std::optional<do
   return ToArray(angles);
 }
 
-py::dict Plan(const FittedModel& m, py::handle desired, const std::string& method,
-              std::optional<double> kp, double mass_kg, double length_m, double min_deg,
-              double max_deg) {
+py::dict Plan(const FittedModel& m, py::handle desired, const std::string& method, py::handle kp,
+              py::handle mass_kg, py::handle length_m, py::handle min_value, py::handle max_value) {
   const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
+  const double min_deg = ToReal(min_value, "min_deg");
+  const double max_deg = ToReal(max_value, "max_deg");
   std::vector<double> d = ToFiniteVector(desired, "desired_deg", 1);
   if (!(std::isfinite(min_deg) && std::isfinite(max_deg) && min_deg < max_deg)) {
     ThrowValueError("min_deg and max_deg: expected finite min_deg < max_deg");
@@ -241,25 +246,27 @@ py::dict Plan(const FittedModel& m, py::handle desired, const std::string& metho
   return out;
 }
 
-ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, std::optional<double> kp,
-                         double mass_kg, double length_m, std::optional<int> preview_ticks,
-                         double min_deg, double max_deg, double reanchor_deg,
-                         int optimal_iterations_per_tick) {
+ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::handle kp,
+                         py::handle mass_kg, py::handle length_m, py::handle preview,
+                         py::handle min_value, py::handle max_value, py::handle reanchor,
+                         py::handle iterations) {
   const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
   ServoPlannerOptions options;
   options.method = ToMethod(method);
-  if (preview_ticks && *preview_ticks < 0) {
-    ThrowValueError("preview_ticks: expected 0 or more (None: the method's own)");
-  }
-  options.preview_ticks = preview_ticks.value_or(-1);
-  options.reanchor_deg = reanchor_deg;
-  options.optimal_iterations_per_tick = optimal_iterations_per_tick;
-  const ServoLimits limits{min_deg, max_deg, m.top_speed_deg_s};
+  // The planner's own checks (ServoPlannerOptions) bound these further, naming them.
+  options.preview_ticks =
+      preview.is_none() ? -1 : static_cast<int>(ToInteger(preview, "preview_ticks", 0, 1'000'000));
+  options.reanchor_deg = ToReal(reanchor, "reanchor_deg");
+  options.optimal_iterations_per_tick =
+      static_cast<int>(ToInteger(iterations, "optimal_iterations_per_tick", 1, 1000));
+  const ServoLimits limits{ToReal(min_value, "min_deg"), ToReal(max_value, "max_deg"),
+                           m.top_speed_deg_s};
   if (m.rung == "paper") return {m.paper, m.tick_s, limits, options};
   return {m.extended, drive, m.tick_s, limits, options};
 }
 
-double Request(ServoPlanner& planner, py::handle window, double measured) {
+double Request(ServoPlanner& planner, py::handle window, py::handle measured_value) {
+  const double measured = ToReal(measured_value, "measured_deg", false);
   // Fast path: a float64 array as it is (no copy); anything else through numpy's checks.
   if (DoubleArray::check_(window)) {
     const auto array = py::reinterpret_borrow<DoubleArray>(window);

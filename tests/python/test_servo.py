@@ -246,3 +246,26 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
     bad.write_text('{"models": {"extended": {"m": {"tick_s": 0.01}}}}')
     with pytest.raises(ValueError, match="gain_per_deg_kp is missing"):
         servo.LogFit.load(bad).model("m")
+
+
+def test_a_value_of_the_wrong_type_is_a_one_line_type_error(identified):
+    _, fit = identified
+    model = fit.model("xl330")
+    cases = [
+        (lambda: servo.plan(model, [1.0], kp="400"), "kp: expected a number, got str"),
+        (lambda: servo.plan(model, [1.0], kp=True), "kp: expected a number, got bool"),
+        (lambda: servo.plan(model, [1.0], kp=400, mass_kg=[1]), "mass_kg: expected a number"),
+        (lambda: servo.plan(model, [1.0], kp=400, min_deg="a"), "min_deg: expected a number"),
+        (lambda: model.simulate([1.0], kp=400, start_deg="a"), "start_deg: expected a number"),
+        (lambda: servo.ServoPlanner(model, kp=400, preview_ticks=2.5),
+         "preview_ticks: expected an integer, got float 2.5"),
+        (lambda: servo.ServoPlanner(model, kp=400, optimal_iterations_per_tick=True),
+         "optimal_iterations_per_tick: expected an integer, got bool"),
+        (lambda: servo.ServoPlanner(model, kp=400).request([1.0] * 80, "0"),
+         "measured_deg: expected a number, got str"),
+        (lambda: servo.fit([], threads=1.5), "threads: expected an integer, got float 1.5"),
+    ]
+    for call, words in cases:
+        with pytest.raises(TypeError, match=words) as error:
+            call()
+        assert "\n" not in str(error.value)
