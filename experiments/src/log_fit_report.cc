@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "leglab/experiments/program.h"
 #include "leglab/model/servo_log.h"
 #include "log_fit_report.h"
 

@@ -203,7 +203,8 @@ fs::path CheckOutFolder(const fs::path& out, const std::vector<std::string>& own
   if (ec) BadOut(out, "cannot be resolved: " + ec.message());
   // A path the file system cannot look up (a loop of links on the way) is refused likewise.
   (void)fs::status(folder, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory) {
+  // (A file on the way is found below and named.)
+  if (ec && ec != std::errc::no_such_file_or_directory && ec != std::errc::not_a_directory) {
     BadOut(out, "cannot be looked up: " + ec.message());
   }
   if (!folder.has_filename()) folder = folder.parent_path();

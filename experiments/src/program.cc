@@ -64,6 +64,26 @@ std::string MessageLine(std::string_view text, size_t max_bytes) {
   return out + " ... (" + std::to_string(text.size() - i) + " more bytes)";
 }
 
+std::string MarkdownText(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '|') {
+      out += "\\|";
+    } else if (c == '<') {
+      out += "&lt;";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      std::array<char, 8> hex{};
+      std::snprintf(hex.data(), hex.size(), "\\x%02x", static_cast<unsigned>(byte));
+      out += hex.data();
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 int ReportErrors(const std::string& program, const std::function<void()>& body) {
   const auto report = [&program](const char* kind, const char* what) {
     std::cerr << program << ": " << kind << ": " << MessageLine(what) << '\n';

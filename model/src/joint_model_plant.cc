@@ -46,7 +46,17 @@ void JointModelPlant::Reset(const LegAngles& pose_deg) {
 
 void SetPlantModelSetting(JointModelParams& params, std::string_view key, double value) {
   constexpr std::string_view kSection = "plant_model.";
-  KeyAssigner assigner(std::string(key.substr(std::min(key.size(), kSection.size()))), value);
+  const std::string name(key.substr(std::min(key.size(), kSection.size())));
+  // The key's declared range, as the config loader checks it (KeyAssigner does not check).
+  for (const KeyRow& row :
+       ListKeys(JointModelParams{}, [](KeyVisitor&v, JointModelParams&p) { VisitKeys(v, p); })) {
+    if (row.key != name || !key.starts_with(kSection)) continue;
+    if (const std::string problem = KeyValueProblem(value, row.doc); !problem.empty()) {
+      throw std::invalid_argument(std::string(key) + " must be " + problem + ", got " +
+                                  FormatNumber(value, NumberStyle::kReadable));
+    }
+  }
+  KeyAssigner assigner(name, value);
   if (key.starts_with(kSection)) {
     try {
       VisitKeys(assigner, params);

@@ -279,6 +279,16 @@ std::vector<std::string> ChangeableSimSettings() {
 }
 
 void SetSimSetting(SimConfig& config, std::string_view key, double value) {
+  // The key's declared range and rule, as the config loader checks them: a running plant's
+  // setting is held to what its config may say (KeyAssigner sets without checking).
+  for (const KeyRow& row :
+       ListKeys(SimConfig{}, [](KeyVisitor&v, SimConfig&c) { VisitKeys(v, c); })) {
+    if (row.key != key || !IsChangeable(key)) continue;
+    if (const std::string problem = KeyValueProblem(value, row.doc); !problem.empty()) {
+      throw std::invalid_argument(std::string(key) + " must be " + problem + ", got " +
+                                  FormatNumber(value, NumberStyle::kReadable));
+    }
+  }
   KeyAssigner assigner(std::string(key), value);
   if (IsChangeable(key)) VisitKeys(assigner, config);
   if (assigner.assigned()) return;

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
-#include "leglab/core/format.h"
+#include "leglab/experiments/program.h"
 
 #include <filesystem>
 #include <fstream>

@@ -268,24 +268,22 @@ class KeyChecker final : public SectionedKeyVisitor {
 };
 
 /// Sets one numeric key of a struct, found through its declaration: a running plant's
-/// settings named as the config names them ("servo.delay_ms"), checked against the key's
-/// declared range and rule as the config loader checks it (throws std::invalid_argument "<key>
-/// must be ..."). Checks between keys are the owner's. assigned() tells whether the
-/// declaration has such a key.
+/// settings named as the config names them ("servo.delay_ms"), unchecked beyond the type (the
+/// owner validates the result). assigned() tells whether the declaration has such a key.
 class KeyAssigner final : public SectionedKeyVisitor {
  public:
   /// `name` is dotted from the visited struct's own keys, `value` in the key's unit.
   KeyAssigner(std::string name, double value) : target_(std::move(name)), value_(value) {}
   bool assigned() const { return assigned_; }
 
-  void Key(std::string_view name, int& value, const KeyDoc& doc) override {
-    if (Matches(name)) value = static_cast<int>(Checked(name, Whole(name), doc));
+  void Key(std::string_view name, int& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = static_cast<int>(Whole(name));
   }
-  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) override {
-    if (Matches(name)) value = static_cast<std::uint64_t>(Checked(name, Whole(name), doc));
+  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = static_cast<std::uint64_t>(Whole(name));
   }
-  void Key(std::string_view name, double& value, const KeyDoc& doc) override {
-    if (Matches(name)) value = Checked(name, value_, doc);
+  void Key(std::string_view name, double& value, const KeyDoc& /*doc*/) override {
+    if (Matches(name)) value = value_;
   }
   void Key(std::string_view, bool&, const KeyDoc&) override {}
   void Key(std::string_view, std::string&, const KeyDoc&) override {}
@@ -305,13 +303,6 @@ class KeyAssigner final : public SectionedKeyVisitor {
     if (FullName(name) != target_) return false;
     assigned_ = true;
     return true;
-  }
-  // `value` if the declaration allows it.
-  double Checked(std::string_view name, double value, const KeyDoc& doc) {
-    if (const std::string problem = KeyValueProblem(value, doc); !problem.empty()) {
-      Fail(name, problem + ", got " + FormatNumber(value, NumberStyle::kReadable));
-    }
-    return value;
   }
   // The value of an integer key: a whole number within an int's range.
   double Whole(std::string_view name) {

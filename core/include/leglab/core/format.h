@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <string_view>
 
 namespace leglab {
 
@@ -54,30 +53,6 @@ inline std::string FormatFixed(double value, int decimals) {
   std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
   text.resize(static_cast<size_t>(size));
   return text;
-}
-
-/// User text (a file, motor or trajectory name) as one Markdown table cell or heading that
-/// shows it as written: a `|` would end the cell, `<` start HTML markup on the results page,
-/// and a control character (a newline) break the line, so they are escaped as `\|`, `&lt;`
-/// and `\xNN`.
-inline std::string MarkdownText(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '|') {
-      out += "\\|";
-    } else if (c == '<') {
-      out += "&lt;";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace leglab

@@ -34,6 +34,12 @@ struct ProgramArgs {
 /// many more there were: a message that echoes a whole file or list stays one short line.
 std::string MessageLine(std::string_view text, size_t max_bytes = 300);
 
+/// User text (a file, motor or trajectory name) as one Markdown table cell or heading that
+/// shows it as written: a `|` would end the cell, `<` start HTML markup on the results page,
+/// and a control character (a newline) break the line, so they are escaped as `\|`, `&lt;`
+/// and `\xNN`.
+std::string MarkdownText(std::string_view text);
+
 /// Runs `body` and reports what escapes it as RunProgram does (bad input: "<program>: error:
 /// <message>", status 2; a failure to write: "<program>: failed: ...", 1; anything else:
 /// "<program>: internal error: ...", 1). Returns 0 when `body` returns.
