@@ -40,13 +40,21 @@ std::string ShapeText(const py::array& array) {
 
 DoubleArray RealArray(py::handle value, std::string_view what) {
   // Fast path: already what we need (Plant.tick's per-call cost).
-  if (DoubleArray::check_(value)) return py::reinterpret_borrow<DoubleArray>(value);
+  if (DoubleArray::check_(value) &&
+      py::reinterpret_borrow<py::array>(value).size() <= kMaxArrayValues) {
+    return py::reinterpret_borrow<DoubleArray>(value);
+  }
   py::array array;
   try {
     array = py::module_::import("numpy").attr("asarray")(value);
   } catch (const py::error_already_set& e) {
     // A ragged list and the like: numpy's own message says what is wrong.
     ThrowValueError(std::string(what) + ": not an array of numbers (" + e.what() + ")");
+  }
+  // Before any copy: a broadcast view of 10^9 rows costs nothing to make.
+  if (array.size() > kMaxArrayValues) {
+    ThrowValueError(std::string(what) + ": " + std::to_string(array.size()) +
+                    " values, over the limit of " + std::to_string(kMaxArrayValues));
   }
   const char kind = array.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u') {

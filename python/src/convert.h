@@ -44,8 +44,15 @@ std::optional<double> ToOptionalReal(py::handle value, std::string_view what);
 /// integer from min to max, got N" outside the range, before anything is allocated for it.
 long long ToInteger(py::handle value, std::string_view what, long long min, long long max);
 
+/// The most values an array argument may hold (800 MB as float64, 3 days of a leg's 8 ms
+/// ticks): a larger one (a broadcast view of 10^9 rows costs nothing to make) is refused before
+/// its copy is made.
+inline constexpr py::ssize_t kMaxArrayValues = 100'000'000;
+
 /// `value` as a float64 array (numpy.asarray, then converted): integers and floats are taken,
-/// anything else (bool, complex, text, objects, ragged lists) raises ValueError "<what>: ...".
+/// anything else (bool, complex, text, objects, ragged lists) raises ValueError "<what>: ...";
+/// so does one of more than kMaxArrayValues values. MemoryError naming it when its copy cannot
+/// be made.
 DoubleArray RealArray(py::handle value, std::string_view what);
 
 /// `value` as one angle per joint (shape (3,), rotator, abductor, knee). With `finite`, a NaN or

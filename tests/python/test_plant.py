@@ -203,13 +203,16 @@ def test_hostile_calls_never_crash_the_interpreter():
 
 
 def test_a_copy_there_is_no_memory_for_is_a_memory_error_not_a_crash():
-    # A float32 array whose float64 copy does not fit under the address-space limit: numpy's
-    # conversion fails, and the call raises MemoryError naming the argument.
+    # A float32 array under the size bound whose float64 copy does not fit under the
+    # address-space limit (set 200 MB above what the process holds): numpy's conversion fails,
+    # and the call raises MemoryError naming the argument.
     script = textwrap.dedent(f"""
         import resource, numpy as np, leglab
-        resource.setrlimit(resource.RLIMIT_AS, (3_000_000_000, 3_000_000_000))
         p = leglab.Plant({TRACK_YAML!r}, {{"plant": "model"}})
-        big = np.zeros((10**8, 3), np.float32)
+        big = np.ones((3 * 10**7, 3), np.float32)
+        size = next(int(line.split()[1]) * 1024 for line in open("/proc/self/status")
+                    if line.startswith("VmSize:"))
+        resource.setrlimit(resource.RLIMIT_AS, (size + 200_000_000, size + 200_000_000))
         for name, call in [("run", lambda: p.run(big)),
                            ("floor", lambda: leglab.floor(big[:, 0], leglab.PAPER_MODEL)),
                            ("simulate", lambda: leglab.PAPER_MODEL.simulate(big[:, 0], 0.0))]:
@@ -225,7 +228,17 @@ def test_a_copy_there_is_no_memory_for_is_a_memory_error_not_a_crash():
     lines = result.stdout.strip().splitlines()
     assert [line.split()[:2] for line in lines] == [
         ["run", "MemoryError"], ["floor", "MemoryError"], ["simulate", "MemoryError"]], lines
-    assert "requests: no memory for a float64 copy of 300000000 values" in lines[0], lines
+    assert "requests: no memory for a float64 copy of 90000000 values" in lines[0], lines
+
+
+def test_an_array_over_the_size_bound_is_refused_before_its_copy():
+    # A broadcast view of 10^9 rows costs nothing to make; its copy would be 24 GB.
+    plant = leglab.Plant(TRACK_YAML, {"plant": "model"})
+    huge = np.broadcast_to(np.zeros(3), (10**9, 3))
+    with pytest.raises(ValueError, match="requests: 3000000000 values, over the limit of 100000000"):
+        plant.run(huge)
+    with pytest.raises(ValueError, match="desired_cycle: 1000000000 values, over the limit"):
+        leglab.floor(huge[:, 0], leglab.PAPER_MODEL)
 
 
 def test_docstrings_read_well():
