@@ -122,9 +122,9 @@ class FloorSolver {
 
  private:
   // dx, ds, dlambda of the Newton step at `point` with the given residuals, where
-  // `complementarity` is the target's s o lambda - (the wanted s o lambda): s o lambda for the
-  // predictor, plus the predictor's ds o dlambda minus sigma mu for the corrector. False when
-  // W's spread has made the system numerically singular (the end of an interior point).
+  // `complementarity` is what the step removes from s o lambda: s o lambda itself for the
+  // predictor; for the corrector, that plus the predictor's ds o dlambda minus sigma mu.
+  // False when W's spread has made the system numerically singular (an interior point's end).
   bool Step(const InteriorPoint& point, const VectorXd& dual_residual,
             const VectorXd& primal_residual, const VectorXd& complementarity, VectorXd& dx,
             VectorXd& ds, VectorXd& dlambda);
