@@ -56,7 +56,7 @@ class FloorRows {
   // g = the functionals' values at x.
   template <typename Vector>
   void Apply(const Vector& x, VectorXd& g) const {
-    for (int t = 0; t < period_; ++t) {
+    for (Eigen::Index t = 0; t < period_; ++t) {
       const double here = x[t];
       const double next = x[(t + 1) % period_];
       const double previous = x[(t + period_ - 1) % period_];
@@ -68,9 +68,9 @@ class FloorRows {
   // out = sum over functionals k of y_k a_k (A' applied to per-functional net multipliers).
   void ApplyTransposed(const VectorXd& y, VectorXd& out) const {
     out.setZero(period_);
-    for (int t = 0; t < period_; ++t) {
-      const int next = (t + 1) % period_;
-      const int previous = (t + period_ - 1) % period_;
+    for (Eigen::Index t = 0; t < period_; ++t) {
+      const Eigen::Index next = (t + 1) % period_;
+      const Eigen::Index previous = (t + period_ - 1) % period_;
       out[next] += y[2 * t] + y[2 * t + 1];
       out[t] -= y[2 * t] + 2.0 * y[2 * t + 1];
       out[previous] += y[2 * t + 1];
@@ -204,7 +204,7 @@ bool FloorSolver::Solve(InteriorPoint& point, double gap, double residual) {
   VectorXd dual_residual(n), primal_residual(m), complementarity(m);
   VectorXd dx, ds, dlambda, dx_c, ds_c, dlambda_c, net(rows_.functionals());
   for (int iteration = 0; iteration < kMaxInteriorIterations; ++iteration) {
-    for (int k = 0; k < rows_.functionals(); ++k) {
+    for (Eigen::Index k = 0; k < rows_.functionals(); ++k) {
       net[k] = point.multipliers[2 * k] - point.multipliers[2 * k + 1];
     }
     rows_.ApplyTransposed(net, dual_residual);

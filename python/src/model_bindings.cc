@@ -312,6 +312,7 @@ whole cycles of one request pattern when period_ticks is given.)doc");
                    : "a " + std::string(py::str(py::type::of(model).attr("__name__")))));
         }
         std::vector<JointModelParams> models;
+        models.reserve(kLegJoints);
         for (int j = 0; j < kLegJoints; ++j) {
           models.push_back(ToModel(model[py::int_(j)], "model[" + std::to_string(j) + "]"));
         }
