@@ -65,23 +65,19 @@ std::string MessageLine(std::string_view text, size_t max_bytes) {
 }
 
 std::string MarkdownText(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
+  std::string marked;
+  marked.reserve(text.size());
   for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
     if (c == '|') {
-      out += "\\|";
+      marked += "\\|";
     } else if (c == '<') {
-      out += "&lt;";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      std::array<char, 8> hex{};
-      std::snprintf(hex.data(), hex.size(), "\\x%02x", static_cast<unsigned>(byte));
-      out += hex.data();
+      marked += "&lt;";
     } else {
-      out += c;
+      marked += c;
     }
   }
-  return out;
+  // Control and invisible characters as MessageLine shows them, with nothing cut.
+  return MessageLine(marked, std::string::npos);
 }
 
 int ReportErrors(const std::string& program, const std::function<void()>& body) {

@@ -307,7 +307,7 @@ TEST_F(ServoLogIoTest, MotorAndTrajectoryNamesAreShortAndOnOneLine) {
 
 TEST(MarkdownText, EscapesWhatWouldEndACellStartMarkupOrBreakALine) {
   EXPECT_EQ(MarkdownText("sin_sin"), "sin_sin");
-  EXPECT_EQ(MarkdownText("a|b<c>\nd\x7f"), "a\\|b&lt;c>\\x0ad\\x7f");
+  EXPECT_EQ(MarkdownText("a|b<c>\nd\x7f\xEF\xBB\xBF"), "a\\|b&lt;c>\\nd\\x7f\\ufeff");
 }
 
 TEST_F(ServoLogIoTest, PhysicallyImpossibleValuesAreRefusedWhereTheyAre) {

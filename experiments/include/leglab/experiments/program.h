@@ -37,7 +37,7 @@ std::string MessageLine(std::string_view text, size_t max_bytes = 300);
 /// User text (a file, motor or trajectory name) as one Markdown table cell or heading that
 /// shows it as written: a `|` would end the cell, `<` start HTML markup on the results page,
 /// and a control character (a newline) break the line, so they are escaped as `\|`, `&lt;`
-/// and `\xNN`.
+/// and as MessageLine escapes them (`\n`, `\xNN`, `\ufeff`).
 std::string MarkdownText(std::string_view text);
 
 /// Runs `body` and reports what escapes it as RunProgram does (bad input: "<program>: error:
