@@ -12,6 +12,7 @@
 
 #include "leglab/model/joint_model.h"
 #include "leglab/model/servo_model.h"
+#include "sine_of_degrees.h"
 
 namespace leglab::servo_plan {
 
@@ -204,8 +205,8 @@ inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const
   const double duty_raw = p.gain_per_deg_kp * drive.kp * (request_deg - angle_deg);
   const double duty_slope = std::abs(duty_raw) < 1.0 ? p.gain_per_deg_kp * drive.kp : 0.0;
   const double load_scale = drive.mass_kg * kGravityMS2 * drive.length_m / p.stall_torque_nm;
-  const double load = load_scale * std::sin(angle_deg * kRadPerDeg);
-  const double load_slope = load_scale * std::cos(angle_deg * kRadPerDeg) * kRadPerDeg;
+  const double load = load_scale * servo_tick::SinDegrees(angle_deg);
+  const double load_slope = load_scale * servo_tick::CosDegrees(angle_deg) * kRadPerDeg;
   const double net = std::clamp(duty_raw, -1.0, 1.0) - load;
   const double band = p.friction_duty + p.friction_load_ratio * std::abs(load);
   // Inside the band w* is 0. With no band (band == 0) w* = v_max net is smooth through
