@@ -71,6 +71,10 @@ if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
   build/bin/plan --model "$out/servo_logs/log_fit.json" --method optimal \
     --desired data/servo_logs/dynamixel-xl330/sin_time_square_kp400_2026-01-15_10h29m37.json \
     --out "$out/servo_logs/plan"
+  # The learned rungs (an MLP and an LSTM, PyTorch) trained on each fold's training logs and
+  # scored beside the others (learned_fit.json and .md in both folders).
+  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs"
+  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs/by_kp"
   # The online planner against the batch plan, by preview length (servo_logs/online/).
   /usr/bin/python3 scripts/online_preview_table.py --model "$out/servo_logs/log_fit.json" \
     --out "$out/servo_logs/online" > /dev/null

@@ -12,6 +12,8 @@ LEGLAB_PACKAGES=(
   pybind11-dev python3-dev python3-pytest
   # The property-based test of the Python API (tests/python/test_properties.py).
   python3-hypothesis
+  # The learned actuator models (scripts/learned_fit.py) and their tests.
+  python3-torch
   # The results page's browser check (tests/experiments/scripts/report_test.py) and the
   # animation's encoder.
   chromium python3-websocket ffmpeg

@@ -1,0 +1,427 @@
+#!/usr/bin/env python3
+"""The learned rungs of the servo model ladder, held out as identify holds out the others.
+
+    /usr/bin/python3 scripts/learned_fit.py RUN [--out DIR] [--size full|small] [--jobs N]
+                                                [--build build]
+
+RUN is a folder `identify` wrote with a `logs` section: its log_fit.json (the folds and every
+scored log) and log_<motor>_<log>.csv (each log resampled to its servo's tick, torque_enabled
+marking the driven ticks). For each of identify's models (the final one per motor and one per
+fold) two networks are trained with PyTorch on exactly that model's training logs and scored on
+the same logs as the other rungs, with the same mean absolute error over the driven ticks:
+
+- mlp: Hwangbo et al. (2019)'s actuator network: the last N request-minus-angle errors and
+  angle velocities, the gain kp and the load's torque (m g L sin M, m g L cos M) in, the next
+  tick's angle change out (two hidden layers, tanh).
+- lstm: Rudin et al. (2022)'s form: at each tick the request-minus-angle error, the angle
+  velocity, kp and the load in, the angle change out, an LSTM's state carrying the history.
+
+Both are rolled out open loop from each run of driven ticks (the first tick's measured angle
+at rest, then the network's own angles fed back), as the other rungs are scored; they are
+trained that way too (the loss is the angle error over short rollouts from measured starts).
+N and the width are chosen per model on its own training logs: each is trained on the first
+75 % of every training log and scored open loop on the rest, the best kept and trained again on
+all of them. The seed is fixed and each training runs on one thread: the same numbers every
+run, whatever --jobs.
+
+Writes learned_fit.json (the folds and each log's MAEs beside identify's rungs) and
+learned_fit.md into --out (default: RUN). Needs PyTorch (Debian: python3-torch) and the leglab
+package (from --build's python/) to read each log's load.
+"""
+
+import argparse
+import json
+import math
+import multiprocessing
+import os
+import pathlib
+import sys
+
+import numpy as np
+
+SOURCE_DIR = pathlib.Path(__file__).resolve().parents[1]
+GRAVITY = 9.81  # m/s^2, as the extended model's
+
+# Training sizes: "full" for the results, "small" for the tests (seconds a model).
+SIZES = {
+    "full": {"steps": 300, "batch": 64, "window": 32, "grid_mlp": [(4, 32), (8, 32)],
+             "grid_lstm": [(1, 32)]},
+    "small": {"steps": 30, "batch": 16, "window": 16, "grid_mlp": [(2, 8)],
+              "grid_lstm": [(1, 8)]},
+}
+SEED = 20261128
+LOAD_SCALE_NM = 0.5  # the loads' torques divided by this before they go in
+
+
+class UserError(Exception):
+    """Bad input: one line, exit status 2."""
+
+
+# --- the logs, as identify resampled them ---------------------------------------------------
+
+def _load_torque_nm(row):
+    """m g L of the log `row` names (its file, read by leglab as identify read it)."""
+    try:
+        import leglab.servo
+    except ImportError:
+        raise UserError("the leglab package is not built in --build's python/ (run "
+                        "scripts/test.sh, or give --build)") from None
+    path = pathlib.Path(row["file"])
+    if not path.exists() and (SOURCE_DIR / path).exists():
+        path = SOURCE_DIR / path
+    try:
+        log = leglab.servo.read_log(str(path))
+    except ValueError as e:
+        raise UserError(f"{row['file']}: {e}") from None
+    return log.mass_kg * GRAVITY * log.length_m
+
+
+def read_run(run):
+    """identify's run in folder `run`: (log_fit.json as a dict, {file: log}) where a log holds
+    its resampled request, measured and driven columns, kp, load and tick."""
+    run = pathlib.Path(run)
+    try:
+        fit = json.loads((run / "log_fit.json").read_text(encoding="utf-8"))
+        rows, models = fit["logs"], fit["models"]["extended"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise UserError(f"{run / 'log_fit.json'}: not identify's log fit ({e})") from None
+    logs = {}
+    for row in rows:
+        if row["file"] in logs:
+            continue
+        name = f"log_{row['motor']}_{pathlib.Path(row['file']).stem}.csv"
+        try:
+            table = np.genfromtxt(run / name, delimiter=",", names=True)
+            columns = [table[c] for c in ("request_deg", "measured_deg", "torque_enabled")]
+        except (OSError, ValueError) as e:
+            raise UserError(f"{run / name}: cannot read its columns ({e})") from None
+        logs[row["file"]] = {
+            "request": columns[0], "measured": columns[1], "driven": columns[2] == 1,
+            "kp": float(row["kp"]), "load_nm": _load_torque_nm(row),
+            "tick_s": float(models[row["motor"]]["tick_s"]), "row": row,
+        }
+    return fit, logs
+
+
+def fold_key(row, cross_validate):
+    """What identify's fold of `row` is called (its `held_out`)."""
+    if cross_validate == "leave_one_trajectory_out":
+        return row["trajectory"]
+    return f"kp {row['kp']:g}"
+
+
+def model_jobs(fit):
+    """Every model identify fitted, as (motor, held_out or None, training files, scored files)
+    with held_out None for the final model (scored on its training logs: in sample)."""
+    cv = fit["cross_validate"]
+    train = [r for r in fit["logs"] if r["role"] == "train"]
+    motors = sorted({r["motor"] for r in train})
+    jobs = [(m, None, [r["file"] for r in train if r["motor"] == m],
+             [r["file"] for r in train if r["motor"] == m]) for m in motors]
+    for fold in fit["folds"]:
+        held = str(fold["held_out"])
+        mine = [r for r in train if r["motor"] == fold["motor"]]
+        jobs.append((fold["motor"], held, [r["file"] for r in mine if fold_key(r, cv) != held],
+                     [r["file"] for r in mine if fold_key(r, cv) == held]))
+    return jobs
+
+
+# --- the networks and their open-loop rollout ------------------------------------------------
+
+def make_net(form, history, width):
+    import torch
+    inputs = 2 * history + 3
+    if form == "mlp":
+        return torch.nn.Sequential(torch.nn.Linear(inputs, width), torch.nn.Tanh(),
+                                   torch.nn.Linear(width, width), torch.nn.Tanh(),
+                                   torch.nn.Linear(width, 1))
+    return torch.nn.ModuleDict({"cell": torch.nn.LSTMCell(inputs, width),
+                                "out": torch.nn.Linear(width, 1)})
+
+
+def rollout(net, form, history, scale, requests, angles, drive, steps):
+    """Open-loop angles for `steps` ticks after the start, a batch at once.
+
+    requests: (B, history + steps) tensor, R(s - history + 1 .. s + steps); angles: (B,
+    history + 1), the angles M(s - history .. s) the rollout starts from; drive: (B, 2), kp and
+    m g L. Returns (B, steps): M(s + 1 .. s + steps), each tick's input built from the
+    network's own angles. scale: (error deg, velocity deg/tick, output deg/tick).
+    """
+    import torch
+    error_scale, velocity_scale, output_scale = scale
+    kp = drive[:, :1] / 1000.0
+    load = drive[:, 1:2] / LOAD_SCALE_NM
+    state = None
+    predicted = []
+    for k in range(steps):
+        last = angles[:, -1:]
+        errors = (requests[:, k:k + history] - angles[:, 1:]) / error_scale
+        velocities = (angles[:, 1:] - angles[:, :-1]) / velocity_scale
+        radians = last * (math.pi / 180.0)
+        features = torch.cat([errors, velocities, kp, load * torch.sin(radians),
+                              load * torch.cos(radians)], dim=1)
+        if form == "mlp":
+            change = net(features)
+        else:
+            state = net["cell"](features, state)
+            change = net["out"](state[0])
+        angle = last + output_scale * change
+        predicted.append(angle)
+        angles = torch.cat([angles[:, 1:], angle], dim=1)
+    return torch.cat(predicted, dim=1)
+
+
+def runs_of(driven):
+    """[(start, end)) of each run of driven ticks."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], driven.astype(int), [0]])))
+    return list(zip(edges[0::2], edges[1::2]))
+
+
+def start_window(log, start, history, steps, at_rest):
+    """Requests and start angles of a rollout from tick `start` (see rollout): the requests
+    before tick 0 are R(0); the angles before the start are the measured ones, or the start's
+    own (at rest) when the rollout begins a run, as the other rungs begin it."""
+    index = np.clip(np.arange(start - history + 1, start + steps + 1), 0, len(log["request"]) - 1)
+    requests = log["request"][index][:history + steps]
+    if at_rest:
+        angles = np.full(history + 1, log["measured"][start])
+    else:
+        angles = log["measured"][np.clip(np.arange(start - history, start + 1), 0, None)]
+    return requests, angles
+
+
+def predict_runs(net, form, history, scale, log, runs):
+    """The network's open-loop prediction over each of `runs`, every run at once (padded)."""
+    import torch
+    longest = max(end - start for start, end in runs)
+    requests, angles = [], []
+    for start, end in runs:
+        r, a = start_window(log, start, history, longest - 1, at_rest=True)
+        requests.append(r)
+        angles.append(a)
+    drive = torch.tensor([[log["kp"], log["load_nm"]]] * len(runs), dtype=torch.float64)
+    with torch.no_grad():
+        out = rollout(net, form, history, scale, torch.tensor(np.array(requests)),
+                      torch.tensor(np.array(angles)), drive, longest - 1).numpy()
+    predicted = np.array(log["measured"], dtype=float)
+    for i, (start, end) in enumerate(runs):
+        predicted[start + 1:end] = out[i, :end - start - 1]
+    return predicted
+
+
+def score(net, form, history, scale, log, begin=0):
+    """MAE (deg) of the open-loop prediction over the driven ticks from tick `begin` on, and the
+    predicted angles: as identify scores a log (runs start at rest on their first tick)."""
+    driven = log["driven"].copy()
+    driven[:begin] = False
+    runs = runs_of(driven)
+    predicted = predict_runs(net, form, history, scale, log, runs)
+    return float(np.mean(np.abs(predicted[driven] - log["measured"][driven]))), predicted
+
+
+# --- training --------------------------------------------------------------------------------
+
+def windows(logs, history, steps, end_share):
+    """Every training rollout start: (log, tick) with `steps` driven ticks after it inside one
+    run and inside the first `end_share` of the log."""
+    starts = []
+    for log in logs:
+        limit = int(len(log["measured"]) * end_share)
+        for start, end in runs_of(log["driven"][:limit]):
+            starts += [(log, s) for s in range(start, max(start + 1, end - steps))]
+    return starts
+
+
+def scales(logs):
+    """Input and output scales from the training logs' measured motion (deg, deg/tick)."""
+    errors = np.concatenate([(l["request"] - l["measured"])[l["driven"]] for l in logs])
+    steps = np.concatenate([np.diff(l["measured"])[l["driven"][1:]] for l in logs])
+    return (float(np.std(errors)) or 1.0, float(np.std(steps)) or 1.0,
+            float(np.std(steps)) or 1.0)
+
+
+def batch_of(starts, picks, history, steps):
+    import torch
+    requests, angles, targets, masks, drive = [], [], [], [], []
+    for i in picks:
+        log, start = starts[i]
+        r, a = start_window(log, start, history, steps, at_rest=False)
+        end = min(start + steps + 1, len(log["measured"]))
+        target = np.full(steps, np.nan)
+        target[:end - start - 1] = log["measured"][start + 1:end]
+        mask = np.zeros(steps)
+        mask[:end - start - 1] = log["driven"][start + 1:end]
+        requests.append(r)
+        angles.append(a)
+        targets.append(np.nan_to_num(target))
+        masks.append(mask)
+        drive.append([log["kp"], log["load_nm"]])
+    return [torch.tensor(np.array(x), dtype=torch.float64)
+            for x in (requests, angles, targets, masks, drive)]
+
+
+def train(form, history, width, logs, size, seed, end_share=1.0):
+    """A network of `form` trained on `logs` (the first `end_share` of each): Adam on the mean
+    squared angle error of open-loop rollouts of `size['window']` ticks from measured starts."""
+    import torch
+    torch.manual_seed(seed)
+    rng = np.random.default_rng(seed)
+    net = make_net(form, history, width).double()
+    scale = scales(logs)
+    steps = size["window"]
+    starts = windows(logs, history, steps, end_share)
+    optimiser = torch.optim.Adam(net.parameters(), lr=3e-3)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, size["steps"])
+    for _ in range(size["steps"]):
+        picks = rng.integers(0, len(starts), size["batch"])
+        requests, angles, targets, masks, drive = batch_of(starts, picks, history, steps)
+        predicted = rollout(net, form, history, scale, requests, angles, drive, steps)
+        loss = (masks * (predicted - targets) ** 2).sum() / masks.sum().clamp(min=1.0)
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+        schedule.step()
+    return net, scale
+
+
+def parameter_count(net):
+    return int(sum(p.numel() for p in net.parameters()))
+
+
+def fit_form(form, logs, size, seed):
+    """The form's network for `logs`: each (history, width) of the grid trained on the first
+    75 % of every log and scored open loop on the rest; the best trained again on all (a grid of
+    one is trained on all at once)."""
+    grid = size["grid_mlp"] if form == "mlp" else size["grid_lstm"]
+    tried = []
+    for history, width in grid if len(grid) > 1 else []:
+        net, scale = train(form, history, width, logs, size, seed, end_share=0.75)
+        errors = [score(net, form, history, scale, log, int(len(log["measured"]) * 0.75))[0]
+                  for log in logs if log["driven"][int(len(log["measured"]) * 0.75):].any()]
+        tried.append((float(np.mean(errors)), history, width))
+    validation, history, width = min(tried) if tried else (None, *grid[0])
+    net, scale = train(form, history, width, logs, size, seed)
+    chosen = {"history_ticks": history, "width": width, "parameters": parameter_count(net),
+              "validation_mae_deg": validation,
+              "grid": [{"history_ticks": h, "width": w, "validation_mae_deg": e}
+                       for e, h, w in tried]}
+    return net, scale, history, chosen
+
+
+def run_job(arguments):
+    """One of identify's models: both forms trained on its training logs, scored on its logs."""
+    job, logs, size = arguments
+    import torch
+    torch.set_num_threads(1)
+    torch.use_deterministic_algorithms(True)
+    motor, held_out, train_files, scored_files = job
+    result = {"motor": motor, "held_out": held_out, "forms": {}, "mae_deg": {}, "curves": {}}
+    training = [logs[f] for f in train_files]
+    for form in ("mlp", "lstm"):
+        net, scale, history, chosen = fit_form(form, training, size, SEED)
+        result["forms"][form] = chosen
+        for f in scored_files:
+            mae, predicted = score(net, form, history, scale, logs[f])
+            result["mae_deg"].setdefault(f, {})[form] = mae
+            result["curves"].setdefault(f, {})[form] = predicted
+    result["training_ticks"] = int(sum(l["driven"].sum() for l in training))
+    return result
+
+
+# --- output ----------------------------------------------------------------------------------
+
+def rows_of(fit, results):
+    """identify's scored rows with the learned rungs' MAEs beside its own."""
+    learned = {}
+    for r in results:
+        role = "train" if r["held_out"] is None else "validate"
+        for f, maes in r["mae_deg"].items():
+            learned[(f, role)] = maes
+    rows = []
+    for row in fit["logs"]:
+        maes = dict(row["mae_deg"])
+        maes.update(learned.get((row["file"], row["role"]), {}))
+        rows.append({k: row[k] for k in ("file", "role", "held_out_by", "motor", "trajectory",
+                                         "kp", "ticks_scored")} | {"mae_deg": maes})
+    return rows
+
+
+def markdown(fit, rows, folds):
+    rungs = ["direct", "best_shift", "paper", "extended", "mlp", "lstm"]
+    lines = ["# Servo logs: the learned rungs beside identify's (mean absolute error, deg)", "",
+             f"Cross-validation: {fit['cross_validate']}. mlp: Hwangbo et al.'s actuator "
+             "network; lstm: Rudin et al.'s; both rolled out open loop as the other rungs. "
+             "validate rows are held out.", ""]
+    for role, title in (("validate", "Held out"), ("train", "In sample (the final models)")):
+        lines += [f"## {title}", "", "| log | motor | kp | " + " | ".join(rungs) + " |",
+                  "|---|---|---|" + "---|" * len(rungs)]
+        chosen = [r for r in rows if r["role"] == role]
+        for r in chosen:
+            name = pathlib.Path(r["file"]).stem
+            lines.append(f"| {name} | {r['motor']} | {r['kp']:g} | " +
+                         " | ".join(f"{r['mae_deg'][k]:.2f}" for k in rungs) + " |")
+        for motor in sorted({r["motor"] for r in chosen}):
+            mine = [r for r in chosen if r["motor"] == motor]
+            lines.append(f"| **mean** | **{motor}** | | " + " | ".join(
+                f"**{np.mean([r['mae_deg'][k] for r in mine]):.2f}**" for k in rungs) + " |")
+        lines.append("")
+    lines += ["## Models", "", "| motor | held out | training ticks | mlp (N, width, parameters) "
+              "| lstm (width, parameters) |", "|---|---|---|---|---|"]
+    for f in folds:
+        m, l = f["mlp"], f["lstm"]
+        lines.append(f"| {f['motor']} | {f['held_out'] or 'none (final)'} | "
+                     f"{f['training_ticks']} | {m['history_ticks']}, {m['width']}, "
+                     f"{m['parameters']} | {l['width']}, {l['parameters']} |")
+    return "\n".join(lines) + "\n"
+
+
+def write_outputs(out, fit, results, logs):
+    folds = [{"motor": r["motor"], "held_out": r["held_out"],
+              "training_ticks": r["training_ticks"]} | r["forms"] for r in results]
+    rows = rows_of(fit, results)
+    document = {"cross_validate": fit["cross_validate"], "seed": SEED, "folds": folds,
+                "logs": rows}
+    out.mkdir(parents=True, exist_ok=True)
+    staged = {out / "learned_fit.json": json.dumps(document, indent=2) + "\n",
+              out / "learned_fit.md": markdown(fit, rows, folds)}
+    for path, text in staged.items():
+        temporary = path.with_name(path.name + ".partial")
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run", help="a folder identify wrote with a logs section")
+    parser.add_argument("--out", help="where learned_fit.json and .md go (default: run)")
+    parser.add_argument("--size", choices=sorted(SIZES), default="full")
+    parser.add_argument("--build", default=str(SOURCE_DIR / "build"),
+                        help="the build folder whose python/ holds the leglab package")
+    parser.add_argument("--jobs", type=int, default=0,
+                        help="processes training models at once (0: one per core)")
+    args = parser.parse_args(argv)
+    try:
+        import torch  # noqa: F401
+    except ImportError:
+        raise UserError("learned_fit: PyTorch is not installed (Debian: python3-torch)") from None
+    sys.path.insert(0, str(pathlib.Path(args.build) / "python"))
+    if args.jobs < 0:
+        raise UserError(f"--jobs must be >= 0, got {args.jobs}")
+    fit, logs = read_run(args.run)
+    jobs = [(job, logs, SIZES[args.size]) for job in model_jobs(fit)]
+    processes = args.jobs or os.cpu_count() or 1
+    if processes == 1:
+        results = [run_job(j) for j in jobs]
+    else:
+        with multiprocessing.get_context("fork").Pool(processes) as pool:
+            results = pool.map(run_job, jobs, chunksize=1)
+    write_outputs(pathlib.Path(args.out or args.run), fit, results, logs)
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except UserError as e:
+        print(f"learned_fit: {e}" if not str(e).startswith("learned_fit") else str(e),
+              file=sys.stderr)
+        sys.exit(2)
