@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The learned rungs of the servo model ladder, held out as identify holds out the others.
 
-    /usr/bin/python3 scripts/learned_fit.py RUN [--out DIR] [--size full|small] [--jobs N]
-                                                [--build build]
+    /usr/bin/python3 scripts/learned_fit.py RUN [RUN ...] [--out DIR] [--size full|small]
+                                    [--jobs N] [--learning-curve MOTOR] [--build build]
 
 RUN is a folder `identify` wrote with a `logs` section: its log_fit.json (the folds and every
 scored log) and log_<motor>_<log>.csv (each log resampled to its servo's tick, torque_enabled
@@ -25,11 +25,12 @@ all of them. The seed is fixed and each training runs on one thread: the same nu
 run, whatever --jobs.
 
 Writes learned_fit.json (the folds and each log's MAEs beside identify's rungs) and
-learned_fit.md into --out (default: RUN). Needs PyTorch (Debian: python3-torch) and the leglab
+learned_fit.md into each RUN (or --out, with one RUN). Needs PyTorch (Debian: python3-torch) and the leglab
 package (from --build's python/) to read each log's load.
 """
 
 import argparse
+import itertools
 import json
 import math
 import multiprocessing
@@ -44,10 +45,10 @@ GRAVITY = 9.81  # m/s^2, as the extended model's
 
 # Training sizes: "full" for the results, "small" for the tests (seconds a model).
 SIZES = {
-    "full": {"steps": 300, "batch": 64, "window": 32, "grid_mlp": [(4, 32), (8, 32)],
-             "grid_lstm": [(1, 32)]},
-    "small": {"steps": 30, "batch": 16, "window": 16, "grid_mlp": [(2, 8)],
-              "grid_lstm": [(1, 8)]},
+    "full": {"teacher_steps": 600, "teacher_batch": 32, "piece": 64, "steps": 150, "batch": 64,
+             "window": 32, "grid_mlp": [(4, 32), (8, 32)], "grid_lstm": [(1, 32)]},
+    "small": {"teacher_steps": 50, "teacher_batch": 16, "piece": 16, "steps": 30, "batch": 16,
+              "window": 16, "grid_mlp": [(2, 8)], "grid_lstm": [(1, 8)]},
 }
 SEED = 20261128
 LOAD_SCALE_NM = 0.5  # the loads' torques divided by this before they go in
@@ -99,6 +100,7 @@ def read_run(run):
             "request": columns[0], "measured": columns[1], "driven": columns[2] == 1,
             "kp": float(row["kp"]), "load_nm": _load_torque_nm(row),
             "tick_s": float(models[row["motor"]]["tick_s"]), "row": row,
+            "cross_validate": fit.get("cross_validate", "none"),
         }
     return fit, logs
 
@@ -135,8 +137,26 @@ def make_net(form, history, width):
         return torch.nn.Sequential(torch.nn.Linear(inputs, width), torch.nn.Tanh(),
                                    torch.nn.Linear(width, width), torch.nn.Tanh(),
                                    torch.nn.Linear(width, 1))
-    return torch.nn.ModuleDict({"cell": torch.nn.LSTMCell(inputs, width),
+    return torch.nn.ModuleDict({"lstm": torch.nn.LSTM(inputs, width),
                                 "out": torch.nn.Linear(width, 1)})
+
+
+def features_of(errors, velocities, drive, angle):
+    """A tick's inputs (scaled): the errors and velocities, kp and the load's torque at `angle`
+    (deg); drive holds kp and m g L."""
+    import torch
+    radians = angle * (math.pi / 180.0)
+    load = drive[..., 1:2] / LOAD_SCALE_NM
+    return torch.cat([errors, velocities, drive[..., :1] / 1000.0, load * torch.sin(radians),
+                      load * torch.cos(radians)], dim=-1)
+
+
+def step(net, form, features, state):
+    """The network's scaled angle change for `features` (and the LSTM's state after it)."""
+    if form == "mlp":
+        return net(features), None
+    output, state = net["lstm"](features.unsqueeze(0), state)
+    return net["out"](output[0]), state
 
 
 def rollout(net, form, history, scale, requests, angles, drive, steps):
@@ -149,22 +169,13 @@ def rollout(net, form, history, scale, requests, angles, drive, steps):
     """
     import torch
     error_scale, velocity_scale, output_scale = scale
-    kp = drive[:, :1] / 1000.0
-    load = drive[:, 1:2] / LOAD_SCALE_NM
     state = None
     predicted = []
     for k in range(steps):
         last = angles[:, -1:]
         errors = (requests[:, k:k + history] - angles[:, 1:]) / error_scale
         velocities = (angles[:, 1:] - angles[:, :-1]) / velocity_scale
-        radians = last * (math.pi / 180.0)
-        features = torch.cat([errors, velocities, kp, load * torch.sin(radians),
-                              load * torch.cos(radians)], dim=1)
-        if form == "mlp":
-            change = net(features)
-        else:
-            state = net["cell"](features, state)
-            change = net["out"](state[0])
+        change, state = step(net, form, features_of(errors, velocities, drive, last), state)
         angle = last + output_scale * change
         predicted.append(angle)
         angles = torch.cat([angles[:, 1:], angle], dim=1)
@@ -260,17 +271,68 @@ def batch_of(starts, picks, history, steps):
             for x in (requests, angles, targets, masks, drive)]
 
 
+def teacher_pieces(logs, history, scale, length, end_share):
+    """Teacher-forced training data: every run of driven ticks (in the first `end_share` of its
+    log) cut into pieces of `length` ticks; each tick's inputs built from the measured angles as
+    a rollout builds them from its own, and its target the measured next change (scaled).
+    Returns inputs (P, length, F), targets and masks (P, length)."""
+    import torch
+    error_scale, velocity_scale, output_scale = scale
+    inputs, targets, masks = [], [], []
+    for log in logs:
+        m, r = log["measured"], log["request"]
+        limit = int(len(m) * end_share)
+        for start, end in runs_of(log["driven"][:limit]):
+            for piece in range(start, end - 1, length):
+                ticks = np.arange(piece, piece + length)
+                valid = ticks < end - 1
+                ticks = np.minimum(ticks, end - 2)
+                back = np.clip(ticks[:, None] + np.arange(-history + 1, 1)[None, :], 0, None)
+                errors = (r[back] - m[back]) / error_scale
+                velocities = (m[back] - m[np.maximum(back - 1, 0)]) / velocity_scale
+                drive = np.tile([log["kp"], log["load_nm"]], (length, 1))
+                inputs.append(features_of(torch.tensor(errors), torch.tensor(velocities),
+                                          torch.tensor(drive), torch.tensor(m[ticks])[:, None]))
+                targets.append((m[ticks + 1] - m[ticks]) / output_scale)
+                masks.append(valid.astype(float))
+    return (torch.stack(inputs), torch.tensor(np.array(targets)),
+            torch.tensor(np.array(masks)))
+
+
+def pretrain(net, form, pieces, size, rng):
+    """Teacher forcing: the next change from measured history, the quick first fit (Hwangbo et
+    al. train so), before the rollouts teach the network its own errors."""
+    import torch
+    inputs, targets, masks = pieces
+    optimiser = torch.optim.Adam(net.parameters(), lr=3e-3)
+    for _ in range(size["teacher_steps"]):
+        picks = torch.as_tensor(rng.integers(0, len(inputs), size["teacher_batch"]))
+        x = inputs[picks]
+        if form == "mlp":
+            change = net(x)[..., 0]
+        else:
+            output, _ = net["lstm"](x.transpose(0, 1))
+            change = net["out"](output)[..., 0].transpose(0, 1)
+        mask = masks[picks]
+        loss = (mask * (change - targets[picks]) ** 2).sum() / mask.sum().clamp(min=1.0)
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+
+
 def train(form, history, width, logs, size, seed, end_share=1.0):
-    """A network of `form` trained on `logs` (the first `end_share` of each): Adam on the mean
-    squared angle error of open-loop rollouts of `size['window']` ticks from measured starts."""
+    """A network of `form` trained on `logs` (the first `end_share` of each): teacher forcing
+    (pretrain), then Adam on the mean squared angle error of open-loop rollouts of
+    `size['window']` ticks from measured starts."""
     import torch
     torch.manual_seed(seed)
     rng = np.random.default_rng(seed)
     net = make_net(form, history, width).double()
     scale = scales(logs)
     steps = size["window"]
+    pretrain(net, form, teacher_pieces(logs, history, scale, size["piece"], end_share), size, rng)
     starts = windows(logs, history, steps, end_share)
-    optimiser = torch.optim.Adam(net.parameters(), lr=3e-3)
+    optimiser = torch.optim.Adam(net.parameters(), lr=1e-3)
     schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimiser, size["steps"])
     for _ in range(size["steps"]):
         picks = rng.integers(0, len(starts), size["batch"])
@@ -308,16 +370,35 @@ def fit_form(form, logs, size, seed):
     return net, scale, history, chosen
 
 
+def curve_jobs(fit, motor):
+    """The learning curve's models: for each of `motor`'s folds, one trained on every subset of
+    k of the other groups (k = 1 .. all), scored on the fold's held-out logs."""
+    cv = fit["cross_validate"]
+    train = [r for r in fit["logs"] if r["role"] == "train" and r["motor"] == motor]
+    groups = sorted({fold_key(r, cv) for r in train})
+    if len(groups) < 3:
+        raise UserError(f"--learning-curve {motor}: needs a motor with at least 3 cross-"
+                        f"validation groups in the run, got {len(groups)}")
+    jobs = []
+    for held in groups:
+        others = [g for g in groups if g != held]
+        for k in range(1, len(others) + 1):
+            for subset in itertools.combinations(others, k):
+                jobs.append((motor, held, [r["file"] for r in train if fold_key(r, cv) in subset],
+                             [r["file"] for r in train if fold_key(r, cv) == held]))
+    return jobs
+
+
 def run_job(arguments):
-    """One of identify's models: both forms trained on its training logs, scored on its logs."""
-    job, logs, size = arguments
+    """One of identify's models: `forms` trained on its training logs, scored on its logs."""
+    job, logs, size, forms = arguments
     import torch
     torch.set_num_threads(1)
     torch.use_deterministic_algorithms(True)
     motor, held_out, train_files, scored_files = job
     result = {"motor": motor, "held_out": held_out, "forms": {}, "mae_deg": {}, "curves": {}}
     training = [logs[f] for f in train_files]
-    for form in ("mlp", "lstm"):
+    for form in forms:
         net, scale, history, chosen = fit_form(form, training, size, SEED)
         result["forms"][form] = chosen
         for f in scored_files:
@@ -325,6 +406,7 @@ def run_job(arguments):
             result["mae_deg"].setdefault(f, {})[form] = mae
             result["curves"].setdefault(f, {})[form] = predicted
     result["training_ticks"] = int(sum(l["driven"].sum() for l in training))
+    result["trained_on"] = sorted({fold_key(l["row"], l["cross_validate"]) for l in training})
     return result
 
 
@@ -375,30 +457,74 @@ def markdown(fit, rows, folds):
     return "\n".join(lines) + "\n"
 
 
-def write_outputs(out, fit, results, logs):
+def curve_points(curve):
+    """The learning curve's models as JSON, and its table: the mean held-out MAE by the number
+    of groups trained on."""
+    points = [{"motor": r["motor"], "held_out": r["held_out"], "trained_on": r["trained_on"],
+               "groups": len(r["trained_on"]), "training_ticks": r["training_ticks"],
+               "mae_deg": {pathlib.Path(f).stem: m["mlp"] for f, m in r["mae_deg"].items()}}
+              for r in curve]
+    lines = ["## Learning curve (mlp, N and width fixed at the grid's first)", "",
+             "| groups trained on | models | mean training ticks | mean held-out MAE (deg) |",
+             "|---|---|---|---|"]
+    for k in sorted({p["groups"] for p in points}):
+        mine = [p for p in points if p["groups"] == k]
+        lines.append(f"| {k} | {len(mine)} | "
+                     f"{np.mean([p['training_ticks'] for p in mine]):.0f} | " +
+                     f"{np.mean([np.mean(list(p['mae_deg'].values())) for p in mine]):.2f} |")
+    return points, "\n".join(lines) + "\n"
+
+
+def write_outputs(out, fit, results, curve):
     folds = [{"motor": r["motor"], "held_out": r["held_out"],
               "training_ticks": r["training_ticks"]} | r["forms"] for r in results]
     rows = rows_of(fit, results)
     document = {"cross_validate": fit["cross_validate"], "seed": SEED, "folds": folds,
                 "logs": rows}
-    out.mkdir(parents=True, exist_ok=True)
+    text = markdown(fit, rows, folds)
+    if curve:
+        document["learning_curve"], table = curve_points(curve)
+        text += "\n" + table
     staged = {out / "learned_fit.json": json.dumps(document, indent=2) + "\n",
-              out / "learned_fit.md": markdown(fit, rows, folds)}
-    for path, text in staged.items():
-        temporary = path.with_name(path.name + ".partial")
-        temporary.write_text(text, encoding="utf-8")
-        os.replace(temporary, path)
+              out / "learned_fit.md": text}
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        for path, content in staged.items():
+            path.with_name(path.name + ".partial").write_text(content, encoding="utf-8")
+    except OSError as e:
+        for path in staged:
+            try:
+                path.with_name(path.name + ".partial").unlink(missing_ok=True)
+            except OSError:
+                pass
+        raise UserError(f"--out '{out}': cannot write ({e.strerror})") from None
+    for path in staged:
+        os.replace(path.with_name(path.name + ".partial"), path)
+
+
+def check_out(out):
+    """Refuses, before any training, an --out that could not be written: its nearest existing
+    folder must be a writable folder."""
+    existing = out
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+        raise UserError(f"--out '{out}': '{existing}' is not a folder it can write in")
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("run", help="a folder identify wrote with a logs section")
-    parser.add_argument("--out", help="where learned_fit.json and .md go (default: run)")
+    parser.add_argument("runs", nargs="+", metavar="RUN",
+                        help="folders identify wrote with a logs section")
+    parser.add_argument("--out", help="where learned_fit.json and .md go (default: the RUN; "
+                        "with one RUN only)")
     parser.add_argument("--size", choices=sorted(SIZES), default="full")
     parser.add_argument("--build", default=str(SOURCE_DIR / "build"),
                         help="the build folder whose python/ holds the leglab package")
     parser.add_argument("--jobs", type=int, default=0,
                         help="processes training models at once (0: one per core)")
+    parser.add_argument("--learning-curve", metavar="MOTOR",
+                        help="also the mlp's held-out error by the number of groups trained on")
     args = parser.parse_args(argv)
     try:
         import torch  # noqa: F401
@@ -407,15 +533,30 @@ def main(argv=None):
     sys.path.insert(0, str(pathlib.Path(args.build) / "python"))
     if args.jobs < 0:
         raise UserError(f"--jobs must be >= 0, got {args.jobs}")
-    fit, logs = read_run(args.run)
-    jobs = [(job, logs, SIZES[args.size]) for job in model_jobs(fit)]
+    if args.out and len(args.runs) > 1:
+        raise UserError("--out goes with one RUN; with several, each run's folder gets its own")
+    size = SIZES[args.size]
+    fixed = size | {"grid_mlp": size["grid_mlp"][:1]}
+    runs = []  # (out, fit, models, curve): every run read and checked before any training
+    for run in args.runs:
+        out = pathlib.Path(args.out or run)
+        check_out(out)
+        fit, logs = read_run(run)
+        models = [(job, logs, size, ("mlp", "lstm")) for job in model_jobs(fit)]
+        curve = [] if args.learning_curve is None else [
+            (job, logs, fixed, ("mlp",)) for job in curve_jobs(fit, args.learning_curve)]
+        runs.append((out, fit, models, curve))
+    jobs = [job for _, _, models, curve in runs for job in models + curve]
     processes = args.jobs or os.cpu_count() or 1
     if processes == 1:
         results = [run_job(j) for j in jobs]
     else:
         with multiprocessing.get_context("fork").Pool(processes) as pool:
             results = pool.map(run_job, jobs, chunksize=1)
-    write_outputs(pathlib.Path(args.out or args.run), fit, results, logs)
+    for out, fit, models, curve in runs:
+        write_outputs(out, fit, results[:len(models)],
+                      results[len(models):len(models) + len(curve)])
+        results = results[len(models) + len(curve):]
 
 
 if __name__ == "__main__":

@@ -73,8 +73,8 @@ if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
     --out "$out/servo_logs/plan"
   # The learned rungs (an MLP and an LSTM, PyTorch) trained on each fold's training logs and
   # scored beside the others (learned_fit.json and .md in both folders).
-  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs"
-  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs/by_kp"
+  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs" "$out/servo_logs/by_kp" \
+    --learning-curve xl330
   # The online planner against the batch plan, by preview length (servo_logs/online/).
   /usr/bin/python3 scripts/online_preview_table.py --model "$out/servo_logs/log_fit.json" \
     --out "$out/servo_logs/online" > /dev/null

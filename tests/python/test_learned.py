@@ -18,7 +18,8 @@ spec = importlib.util.spec_from_file_location("learned_fit", SCRIPT)
 learned_fit = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(learned_fit)
 
-SMALL = {"steps": 120, "batch": 16, "window": 16, "grid_mlp": [(3, 8)], "grid_lstm": [(1, 8)]}
+SMALL = {"teacher_steps": 100, "teacher_batch": 16, "piece": 16, "steps": 60, "batch": 16,
+         "window": 16, "grid_mlp": [(3, 8)], "grid_lstm": [(1, 8)]}
 
 
 def lag_servo(requests, gain=0.3, start=0.0):
@@ -96,6 +97,22 @@ def test_each_fold_trains_on_every_log_but_the_ones_it_holds_out():
     fit = {"cross_validate": "leave_one_kp_out", "logs": rows,
            "folds": [{"motor": "m", "held_out": "kp 100"}]}
     assert learned_fit.model_jobs(fit)[1] == ("m", "kp 100", ["a2", "c1"], ["a1", "b1"])
+
+
+def test_the_learning_curve_trains_on_every_subset_of_the_other_groups():
+    def row(f, trajectory):
+        return {"file": f, "role": "train", "motor": "m", "trajectory": trajectory, "kp": 1.0}
+    rows = [row(t + "1", t) for t in "abcd"] + [row("a2", "a")]
+    fit = {"cross_validate": "leave_one_trajectory_out", "logs": rows, "folds": []}
+    jobs = learned_fit.curve_jobs(fit, "m")
+    # 4 held-out groups, each with C(3,1) + C(3,2) + C(3,3) = 7 training sets.
+    assert len(jobs) == 28
+    held_a = [j for j in jobs if j[1] == "a"]
+    assert [sorted(j[2]) for j in held_a] == [["b1"], ["c1"], ["d1"], ["b1", "c1"],
+                                              ["b1", "d1"], ["c1", "d1"], ["b1", "c1", "d1"]]
+    assert all(j[3] == ["a1", "a2"] for j in held_a)
+    with pytest.raises(learned_fit.UserError, match="at least 3"):
+        learned_fit.curve_jobs(fit | {"logs": rows[:2]}, "m")
 
 
 def test_a_folder_identify_did_not_write_is_one_line_exit_2_and_nothing_written(tmp_path):
