@@ -10,7 +10,7 @@
 
 namespace leglab::experiments {
 
-/// What `plan` is asked (its flags; see docs/real-servos-plan.md).
+/// What `plan` is asked (its flags; see docs/real-servos.md, "Requests for a real servo").
 struct PlanOptions {
   std::string model_path;              ///< --model: identify's log_fit.json
   std::string rung = "extended";       ///< --rung: paper or extended
