@@ -55,6 +55,20 @@ inline double ReduceDegrees(double deg, int& quadrant) {
   return (deg - 90.0 * k) * (std::numbers::pi / 180.0);
 }
 
+// sin(90 quadrant deg + x rad) for quadrant in 0..3 (any integer: taken mod 4).
+inline double SineOfQuadrant(int quadrant, double x) {
+  switch (quadrant & 3) {
+    case 0:
+      return SineKernel(x);
+    case 1:
+      return CosineKernel(x);
+    case 2:
+      return -SineKernel(x);
+    default:
+      return -CosineKernel(x);
+  }
+}
+
 }  // namespace detail
 
 /// sin(deg pi / 180), within two units in the last place; exactly 0 at multiples of 180 deg.
@@ -62,16 +76,7 @@ inline double SinDegrees(double deg) {
   if (!(std::abs(deg) < detail::kReducedLimitDeg)) return std::sin(deg * std::numbers::pi / 180.0);
   int quadrant = 0;
   const double x = detail::ReduceDegrees(deg, quadrant);
-  switch (quadrant) {
-    case 0:
-      return detail::SineKernel(x);
-    case 1:
-      return detail::CosineKernel(x);
-    case 2:
-      return -detail::SineKernel(x);
-    default:
-      return -detail::CosineKernel(x);
-  }
+  return detail::SineOfQuadrant(quadrant, x);
 }
 
 /// cos(deg pi / 180), within two units in the last place; exactly 0 at odd multiples of 90 deg.
@@ -79,16 +84,7 @@ inline double CosDegrees(double deg) {
   if (!(std::abs(deg) < detail::kReducedLimitDeg)) return std::cos(deg * std::numbers::pi / 180.0);
   int quadrant = 0;
   const double x = detail::ReduceDegrees(deg, quadrant);
-  switch (quadrant) {
-    case 0:
-      return detail::CosineKernel(x);
-    case 1:
-      return -detail::SineKernel(x);
-    case 2:
-      return -detail::CosineKernel(x);
-    default:
-      return detail::SineKernel(x);
-  }
+  return detail::SineOfQuadrant(quadrant + 1, x);  // cos a = sin(a + 90 deg)
 }
 
 }  // namespace leglab::servo_tick
