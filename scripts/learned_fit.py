@@ -204,7 +204,10 @@ def start_window(log, start, history, steps, at_rest):
 def predict_runs(net, form, history, scale, log, runs):
     """The network's open-loop prediction over each of `runs`, every run at once (padded)."""
     import torch
-    longest = max(end - start for start, end in runs)
+    predicted = np.array(log["measured"], dtype=float)
+    longest = max((end - start for start, end in runs), default=0)
+    if longest <= 1:  # no run has a tick after its first: nothing to predict
+        return predicted
     requests, angles = [], []
     for start, end in runs:
         r, a = start_window(log, start, history, longest - 1, at_rest=True)
@@ -214,7 +217,6 @@ def predict_runs(net, form, history, scale, log, runs):
     with torch.no_grad():
         out = rollout(net, form, history, scale, torch.tensor(np.array(requests)),
                       torch.tensor(np.array(angles)), drive, longest - 1).numpy()
-    predicted = np.array(log["measured"], dtype=float)
     for i, (start, end) in enumerate(runs):
         predicted[start + 1:end] = out[i, :end - start - 1]
     return predicted
@@ -233,13 +235,14 @@ def score(net, form, history, scale, log, begin=0):
 # --- training --------------------------------------------------------------------------------
 
 def windows(logs, history, steps, end_share):
-    """Every training rollout start: (log, tick) with `steps` driven ticks after it inside one
-    run and inside the first `end_share` of the log."""
+    """Every training rollout start: (log, tick, end of its run) with `steps` ticks after it
+    inside one run of driven ticks (fewer where the run is shorter) and inside the first
+    `end_share` of the log."""
     starts = []
     for log in logs:
         limit = int(len(log["measured"]) * end_share)
         for start, end in runs_of(log["driven"][:limit]):
-            starts += [(log, s) for s in range(start, max(start + 1, end - steps))]
+            starts += [(log, s, end) for s in range(start, max(start + 1, end - steps))]
     return starts
 
 
@@ -255,16 +258,16 @@ def batch_of(starts, picks, history, steps):
     import torch
     requests, angles, targets, masks, drive = [], [], [], [], []
     for i in picks:
-        log, start = starts[i]
+        log, start, run_end = starts[i]
         r, a = start_window(log, start, history, steps, at_rest=False)
-        end = min(start + steps + 1, len(log["measured"]))
-        target = np.full(steps, np.nan)
+        end = min(start + steps + 1, run_end)  # the loss never reaches past the run
+        target = np.zeros(steps)
         target[:end - start - 1] = log["measured"][start + 1:end]
         mask = np.zeros(steps)
-        mask[:end - start - 1] = log["driven"][start + 1:end]
+        mask[:end - start - 1] = 1.0
         requests.append(r)
         angles.append(a)
-        targets.append(np.nan_to_num(target))
+        targets.append(target)
         masks.append(mask)
         drive.append([log["kp"], log["load_nm"]])
     return [torch.tensor(np.array(x), dtype=torch.float64)

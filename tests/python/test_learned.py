@@ -73,6 +73,18 @@ def test_a_network_that_outputs_nothing_scores_the_start_angle_held_by_hand(form
     np.testing.assert_array_equal(predicted[100:140], m[100:140])  # not driven: left as measured
 
 
+def test_a_run_of_one_driven_tick_is_scored_at_its_measured_angle():
+    # Driven ticks 0 and 5 alone, and 10..: the one-tick runs are their own start (error 0).
+    log = synthetic_log(6, ticks=40, off=[(1, 5), (6, 10)])
+    net = learned_fit.make_net("mlp", 2, 4).double()
+    mae, predicted = learned_fit.score(net, "mlp", 2, (1.0, 1.0, 1.0), log)
+    assert predicted[0] == log["measured"][0] and predicted[5] == log["measured"][5]
+    driven = log["driven"]
+    assert mae == pytest.approx(np.abs(predicted[driven] - log["measured"][driven]).mean())
+    only_starts = synthetic_log(7, ticks=6, off=[(1, 3), (4, 6)])
+    assert learned_fit.score(net, "mlp", 2, (1.0, 1.0, 1.0), only_starts)[0] == 0.0
+
+
 def test_trained_on_a_lagging_servo_it_predicts_a_log_it_never_saw():
     logs = [synthetic_log(s) for s in (10, 11, 12)]
     held_out = synthetic_log(13)
