@@ -17,16 +17,18 @@ the same logs as the other rungs, with the same mean absolute error over the dri
   velocity, kp and the load in, the angle change out, an LSTM's state carrying the history.
 
 Both are rolled out open loop from each run of driven ticks (the first tick's measured angle
-at rest, then the network's own angles fed back), as the other rungs are scored; they are
-trained that way too (the loss is the angle error over short rollouts from measured starts).
+at rest, then the network's own angles fed back), as the other rungs are scored. Training is
+teacher forcing first (the next change from the measured history), then the angle error of
+short open-loop rollouts from measured starts, so that a network learns what its own errors do.
 N and the width are chosen per model on its own training logs: each is trained on the first
 75 % of every training log and scored open loop on the rest, the best kept and trained again on
 all of them. The seed is fixed and each training runs on one thread: the same numbers every
 run, whatever --jobs.
 
 Writes learned_fit.json (the folds and each log's MAEs beside identify's rungs) and
-learned_fit.md into each RUN (or --out, with one RUN). Needs PyTorch (Debian: python3-torch) and the leglab
-package (from --build's python/) to read each log's load.
+learned_fit.md into each RUN (or --out, with one RUN); --learning-curve MOTOR adds the mlp
+trained on every subset of the motor's other groups, for each held-out group. Needs PyTorch
+(Debian: python3-torch) and the leglab package (from --build's python/) for each log's load.
 """
 
 import argparse
