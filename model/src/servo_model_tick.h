@@ -19,12 +19,12 @@ void CheckRecording(const ServoRecording& recording);
 /// What a tick of model `p` driving `drive` at `tick_s` multiplies by, computed once for the
 /// many ticks of a rollout.
 struct Coefficients {
-  double duty_per_deg = 0.0;       ///< the duty per degree of error: gain kp
-  double load_duty_at_90 = 0.0;    ///< the load's duty at 90 deg: m g L / stall torque
-  double friction_duty = 0.0;      ///< the friction band at no load
+  double duty_per_deg = 0.0;     ///< the duty per degree of error: gain kp
+  double load_duty_at_90 = 0.0;  ///< the load's duty at 90 deg: m g L / stall torque
+  double friction_duty = 0.0;    ///< the friction band at no load
   double friction_load_ratio = 0.0;
   double v_max_deg_s = 0.0;
-  double blend = 0.0;              ///< 1 - exp(-tick_s / velocity_lag_s)
+  double blend = 0.0;  ///< 1 - exp(-tick_s / velocity_lag_s)
   double tick_s = 0.0;
 };
 

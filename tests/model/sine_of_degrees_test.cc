@@ -35,9 +35,8 @@ long double ReferenceSin(double deg, bool cosine) {
 // smallest normal's, so that results near 0 are held to an absolute 1e-308-scale bound).
 double UlpError(double value, long double exact) {
   const double rounded = static_cast<double>(exact);
-  const double ulp =
-      std::nextafter(std::abs(rounded), std::numeric_limits<double>::infinity()) -
-      std::abs(rounded);
+  const double ulp = std::nextafter(std::abs(rounded), std::numeric_limits<double>::infinity()) -
+                     std::abs(rounded);
   return static_cast<double>(std::abs(static_cast<long double>(value) - exact) / ulp);
 }
 
