@@ -78,10 +78,11 @@ class PredictionError {
     // keep the processor busy. Each lane's arithmetic is that of a rollout on its own and the
     // sums are added in recording order, so the grouping does not change a bit.
     const size_t n = recordings_.size();
+    const double blend = servo_tick::VelocityBlend(p, tick_s_);
     std::vector<double> sums(n);
     size_t g = 0;
-    for (; g + kLanes <= n; g += kLanes) RollOut<kLanes>(p, &by_length_[g], sums);
-    for (; g < n; ++g) RollOut<1>(p, &by_length_[g], sums);
+    for (; g + kLanes <= n; g += kLanes) RollOut<kLanes>(p, blend, &by_length_[g], sums);
+    for (; g < n; ++g) RollOut<1>(p, blend, &by_length_[g], sums);
     double sum = 0.0;
     for (size_t k = 0; k < n; ++k) sum += sums[k] / driven_ticks_[k];
     return sum;
@@ -101,7 +102,7 @@ class PredictionError {
     bool running = false;
   };
 
-  void Step(size_t t, Lane& lane) const {
+  void Step(size_t t, double blend, Lane& lane) const {
     const ServoRecording& r = *lane.recording;
     if (r.scored[t] == 0) {
       lane.running = false;
@@ -111,7 +112,8 @@ class PredictionError {
       lane.running = true;
     } else {
       const size_t acting = t > lag_ ? t - 1 - lag_ : 0;
-      servo_tick::Advance(lane.coefficients, r.request_deg[acting], lane.angle, lane.velocity);
+      servo_tick::Advance(lane.coefficients, tick_s_, blend, r.request_deg[acting], lane.angle,
+                          lane.velocity);
       const double e = lane.angle - r.measured_deg[t];
       lane.sum += e * e;
     }
@@ -120,19 +122,22 @@ class PredictionError {
   // The sums of squared errors of recordings index[0..K) into `sums`: their common ticks with
   // the K lanes side by side, then each one's remaining ticks.
   template <size_t K>
-  void RollOut(const ServoModelParams& p, const size_t* index, std::vector<double>& sums) const {
+  void RollOut(const ServoModelParams& p, double blend, const size_t* index,
+               std::vector<double>& sums) const {
     std::array<Lane, K> lanes;
     size_t common = recordings_[index[0]].scored.size();
     for (size_t k = 0; k < K; ++k) {
       lanes[k].recording = &recordings_[index[k]];
-      lanes[k].coefficients = servo_tick::CoefficientsOf(p, lanes[k].recording->drive, tick_s_);
+      lanes[k].coefficients = servo_tick::CoefficientsOf(p, lanes[k].recording->drive);
       common = std::min(common, lanes[k].recording->scored.size());
     }
     for (size_t t = 0; t < common; ++t) {
-      for (size_t k = 0; k < K; ++k) Step(t, lanes[k]);
+      for (size_t k = 0; k < K; ++k) Step(t, blend, lanes[k]);
     }
     for (size_t k = 0; k < K; ++k) {
-      for (size_t t = common; t < lanes[k].recording->scored.size(); ++t) Step(t, lanes[k]);
+      for (size_t t = common; t < lanes[k].recording->scored.size(); ++t) {
+        Step(t, blend, lanes[k]);
+      }
       sums[index[k]] = lanes[k].sum;
     }
   }

@@ -70,19 +70,19 @@ ServoModelState ServoRestState(const ServoModelParams& params, double angle_deg)
 }
 
 double ServoLoadDuty(const ServoModelParams& params, const ServoDrive& drive, double angle_deg) {
-  return servo_tick::LoadDuty(servo_tick::CoefficientsOf(params, drive, 0.0), angle_deg);
+  return servo_tick::LoadDuty(servo_tick::CoefficientsOf(params, drive), angle_deg);
 }
 
 double ServoTargetSpeed(const ServoModelParams& params, const ServoDrive& drive, double angle_deg,
                         double error_deg) {
-  return servo_tick::TargetSpeed(servo_tick::CoefficientsOf(params, drive, 0.0), angle_deg,
-                                 error_deg);
+  return servo_tick::TargetSpeed(servo_tick::CoefficientsOf(params, drive), angle_deg, error_deg);
 }
 
 double AdvanceServoModel(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
                          ServoModelState& state) {
-  servo_tick::Advance(servo_tick::CoefficientsOf(params, drive, tick_s),
-                      state.past_requests_deg.back(), state.angle_deg, state.velocity_deg_s);
+  servo_tick::Advance(servo_tick::CoefficientsOf(params, drive), tick_s,
+                      servo_tick::VelocityBlend(params, tick_s), state.past_requests_deg.back(),
+                      state.angle_deg, state.velocity_deg_s);
   return state.angle_deg;
 }
 

@@ -12,7 +12,7 @@
 
 #include "leglab/model/joint_model.h"
 #include "leglab/model/servo_model.h"
-#include "sine_of_degrees.h"
+#include "servo_model_tick.h"
 
 namespace leglab::servo_plan {
 
@@ -144,7 +144,7 @@ struct PathStep {
 inline PathStep InvertExtendedTick(const ExtendedStepper& stepper, double angle_deg,
                                    double velocity_deg_s, double target_deg) {
   const ServoModelParams& params = stepper.params;
-  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
+  const double blend = servo_tick::VelocityBlend(params, stepper.tick_s);
   const double speed = (target_deg - angle_deg) / stepper.tick_s;
   const double target_speed = velocity_deg_s + (speed - velocity_deg_s) / blend;
   const double load = ServoLoadDuty(params, stepper.drive, angle_deg);
@@ -202,11 +202,12 @@ struct TargetSpeedSlopes {
 inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const ServoDrive& drive,
                                                 double angle_deg, double request_deg) {
   constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-  const double duty_raw = p.gain_per_deg_kp * drive.kp * (request_deg - angle_deg);
-  const double duty_slope = std::abs(duty_raw) < 1.0 ? p.gain_per_deg_kp * drive.kp : 0.0;
-  const double load_scale = drive.mass_kg * kGravityMS2 * drive.length_m / p.stall_torque_nm;
-  const double load = load_scale * servo_tick::SinDegrees(angle_deg);
-  const double load_slope = load_scale * servo_tick::CosDegrees(angle_deg) * kRadPerDeg;
+  // The model's own coefficients and load (servo_tick), so that the band is judged on w*'s bits.
+  const servo_tick::Coefficients c = servo_tick::CoefficientsOf(p, drive);
+  const double duty_raw = c.duty_per_deg * (request_deg - angle_deg);
+  const double duty_slope = std::abs(duty_raw) < 1.0 ? c.duty_per_deg : 0.0;
+  const double load = servo_tick::LoadDuty(c, angle_deg);
+  const double load_slope = c.load_duty_at_90 * servo_tick::CosDegrees(angle_deg) * kRadPerDeg;
   const double net = std::clamp(duty_raw, -1.0, 1.0) - load;
   const double band = p.friction_duty + p.friction_load_ratio * std::abs(load);
   // Inside the band w* is 0. With no band (band == 0) w* = v_max net is smooth through
@@ -226,7 +227,7 @@ inline void HorizonGradient(const ExtendedStepper& stepper, const ServoModelStat
                             std::span<const double> angles, std::span<double> gradient) {
   std::fill(gradient.begin(), gradient.end(), 0.0);
   const ServoModelParams& params = stepper.params;
-  const double blend = -std::expm1(-stepper.tick_s / params.velocity_lag_s);
+  const double blend = servo_tick::VelocityBlend(params, stepper.tick_s);
   const auto decisions = static_cast<int>(gradient.size());
   double angle_adjoint = 0.0;     // dE/dM(t+j+1) through the ticks after it
   double velocity_adjoint = 0.0;  // dE/dw(t+j+1) through the ticks after it
