@@ -16,6 +16,7 @@ Checked:
 Prints one line per broken link or path (file:line: what) and exits 1 if there is any.
 """
 
+import functools
 import pathlib
 import re
 import subprocess
@@ -40,21 +41,22 @@ def slug(heading):
     return text.replace(" ", "-")
 
 
-def anchors(path, cache={}):
-    if path not in cache:
-        found, seen = set(), {}
-        fenced = False
-        for line in path.read_text(encoding="utf-8").splitlines():
-            if line.startswith("```"):
-                fenced = not fenced
-            match = None if fenced else HEADING.match(line)
-            if match:
-                base = slug(match.group(1))
-                count = seen.get(base, 0)
-                found.add(base if count == 0 else f"{base}-{count}")
-                seen[base] = count + 1
-        cache[path] = found
-    return cache[path]
+@functools.lru_cache(maxsize=None)
+def anchors(path):
+    """The #anchors of a .md file's headings (outside code blocks), repeats numbered as GitHub
+    numbers them."""
+    found, seen = set(), {}
+    fenced = False
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("```"):
+            fenced = not fenced
+        match = None if fenced else HEADING.match(line)
+        if match:
+            base = slug(match.group(1))
+            count = seen.get(base, 0)
+            found.add(base if count == 0 else f"{base}-{count}")
+            seen[base] = count + 1
+    return found
 
 
 def tracked_files(root):
@@ -83,7 +85,7 @@ def check_link(root, file, target):
 def check_path(root, word):
     if placeholder(word) or word in NOT_PATHS:
         return None
-    if (root / word).exists() or (root / word.rstrip(".")).exists():
+    if (root / word).exists():
         return None
     return f"names '{word}', which does not exist"
 
