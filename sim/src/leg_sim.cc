@@ -32,7 +32,7 @@ SimError::SimError(long tick, std::string problem)
 
 LegSim::LegSim(const SimConfig& config)
     : config_(Validated(config)),
-      world_(config_.urdf_path, config_.stand),
+      world_(config_.urdf_path, config_.stand, config_.engine),
       servos_{MakeServo(config_, world_, 0), MakeServo(config_, world_, 1),
               MakeServo(config_, world_, 2)},
       sensor_(config_.sensor.noise_deg, config_.seed),

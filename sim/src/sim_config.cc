@@ -54,9 +54,9 @@ void VisitServoKeys(KeyVisitor& v, ServoConfig& s) {
         {.min = 30,
          .max = 3600,
          .unit = "deg/s",
-         .description = "top joint speed, from 0.24 deg a tick to 10 turns a second; at "
-                        "most 2000 / sim.physics_dt_ms (a joint turns at most 2 deg a physics "
-                        "step, or the simulated leg comes apart)"});
+         .description = "top joint speed, from 0.24 deg a tick to 10 turns a second; on ODE "
+                        "at most 2000 / sim.physics_dt_ms (a joint turns at most 2 deg a "
+                        "physics step, or the simulated leg comes apart)"});
   v.Key("gain_per_s", s.gain_per_s,
         {.min = 1,
          .max = 1000,
@@ -145,14 +145,18 @@ void VisitKeys(KeyVisitor& v, SimConfig& config) {
   v.Key("urdf", config.urdf_path,
         {.description = "the leg's URDF, relative to the robot file (required in a robot file)"});
   v.Section("sim", [&] {
+    v.Key("engine", config.engine, kPhysicsEngineNames,
+          {.description = "the physics engine: ode (maximal coordinates; the stand) or dart "
+                          "(joint coordinates, where a joint cannot come apart; the leg in the "
+                          "air only)"});
     v.Key("physics_dt_ms", config.physics_dt_ms,
           {.min = 0.1,
            .max = kMaxPhysicsDtMs,
            .unit = "ms",
-           .description = "ODE's physics step; divides the 8 ms tick (below 0.1 ms a run takes "
+           .description = "the physics step; divides the 8 ms tick (below 0.1 ms a run takes "
                           "minutes for nothing ODE needs; above 2 ms the leg on the stand "
-                          "comes apart); servo.max_speed_deg_s x physics_dt_ms <= 2000 (a "
-                          "joint turns at most 2 deg a step)",
+                          "comes apart); on ODE servo.max_speed_deg_s x physics_dt_ms <= 2000 "
+                          "(a joint turns at most 2 deg a step)",
            .rule = DividesTick});
   });
   v.Section("servo", [&] { VisitServoKeys(v, config.servo); });
@@ -241,21 +245,27 @@ void ValidateSimConfig(const SimConfig& config) {
     Reject("sensor.noise_deg", "a finite number >= 0", config.sensor.noise_deg);
   }
   if (config.stand.enabled) ValidateStand(config.stand);
+  if (config.stand.enabled && config.engine == PhysicsEngine::kDart) {
+    throw std::invalid_argument(
+        "stand: sim.engine dart has no stand (its contact is hard, with one process-wide "
+        "softness, where the stand's is a spring-damper per world); use sim.engine: ode");
+  }
 }
 
 void CheckTurnPerPhysicsStep(const SimConfig& config) {
   const ServoConfig& servo = config.servo;
   const double dt = config.physics_dt_ms;
   // The product, not the quotient: the boundary pairs (2000 deg/s at 1 ms) compare exactly.
-  if (servo.max_speed_deg_s * dt > 1000.0 * kMaxTurnPerPhysicsStepDeg) {
+  if (config.engine == PhysicsEngine::kOde &&
+      servo.max_speed_deg_s * dt > 1000.0 * kMaxTurnPerPhysicsStepDeg) {
     throw std::invalid_argument(
         "servo.max_speed_deg_s " + FormatNumber(servo.max_speed_deg_s) +
         " with sim.physics_dt_ms " + FormatNumber(dt) + " turns a joint " +
         FormatNumber(servo.max_speed_deg_s * dt / 1000.0) + " deg in one physics step; at most " +
         FormatNumber(kMaxTurnPerPhysicsStepDeg) +
-        " deg holds the simulated leg together: servo.max_speed_deg_s x sim.physics_dt_ms must "
-        "be at most " +
-        FormatNumber(1000.0 * kMaxTurnPerPhysicsStepDeg));
+        " deg holds ODE's leg together: servo.max_speed_deg_s x sim.physics_dt_ms must be at "
+        "most " +
+        FormatNumber(1000.0 * kMaxTurnPerPhysicsStepDeg) + " (sim.engine: dart takes it)");
   }
 }
 

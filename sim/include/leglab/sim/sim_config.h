@@ -113,12 +113,21 @@ inline constexpr double kMaxPhysicsDtMs = 2.0;
 /// reach. Set for the ERS-210A's leg; the derivation and the grid: docs/design/sim-breakdown.md.
 inline constexpr double kMaxTurnPerPhysicsStepDeg = 2.0;
 
+/// The rigid-body engine a LegWorld runs on (`sim.engine`).
+enum class PhysicsEngine {
+  kOde,   ///< ODE: maximal coordinates, hinge constraints; the stand; the default
+  kDart,  ///< DART: reduced coordinates (joints cannot open); the leg in the air only
+};
+inline constexpr std::array<std::string_view, 2> kPhysicsEngineNames{"ode", "dart"};
+
 /// Everything the simulated plant needs (robot.yaml, with `urdf` resolved to a path).
 struct SimConfig {
   /// URDF of the leg, absolute or relative to the working directory.
   std::string urdf_path;
-  /// ODE physics step, ms (> 0); must divide kTickMs into a whole number of steps. The
-  /// config's range: at most kMaxPhysicsDtMs, with CheckTurnPerPhysicsStep.
+  /// The physics engine.
+  PhysicsEngine engine = PhysicsEngine::kOde;
+  /// Physics step, ms (> 0); must divide kTickMs into a whole number of steps. The config's
+  /// range: at most kMaxPhysicsDtMs, with CheckTurnPerPhysicsStep.
   double physics_dt_ms = 1.0;
   /// Servo firmware parameters, shared by the three joints.
   ServoConfig servo{};
@@ -140,10 +149,11 @@ void VisitKeys(KeyVisitor& visitor, SimConfig& config);
 /// "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
 void ValidateSimConfig(const SimConfig& config);
 
-/// Checks the servo's top speed against the physics step: throws std::invalid_argument naming
-/// both keys ("servo.max_speed_deg_s 3600 with sim.physics_dt_ms 1 turns a joint 3.6 deg in
-/// one physics step; ...") when servo.max_speed_deg_s x physics_dt_ms / 1000 exceeds
-/// kMaxTurnPerPhysicsStepDeg. The config loader applies it, as it applies the keys' ranges;
+/// Checks the servo's top speed against the physics step on ODE: throws std::invalid_argument
+/// naming both keys ("servo.max_speed_deg_s 3600 with sim.physics_dt_ms 1 turns a joint 3.6 deg
+/// in one physics step; ... sim.engine: dart takes it") when servo.max_speed_deg_s x
+/// physics_dt_ms / 1000 exceeds kMaxTurnPerPhysicsStepDeg and the engine is ODE (DART's joints
+/// cannot open). The config loader applies it, as it applies the keys' ranges;
 /// ValidateSimConfig does not, so that a LegSim built directly may still be driven apart.
 void CheckTurnPerPhysicsStep(const SimConfig& config);
 
