@@ -133,8 +133,13 @@ std::array<double, 3> DartLegWorld::LinkOriginMm(int index) const {
 double DartLegWorld::KineticEnergyJ() const { return skeleton_->computeKineticEnergy(); }
 
 double DartLegWorld::MechanicalEnergyJ() const {
-  // DART's potential energy is -m g . c, zero at world z = 0 for gravity along -z.
-  return skeleton_->computeKineticEnergy() + skeleton_->computePotentialEnergy();
+  // Summed here from each body's centre of mass: DART 6.12's BodyNode::computePotentialEnergy
+  // uses the body frame's origin instead.
+  double potential = 0.0;
+  for (const dart::dynamics::BodyNode* body : bodies_) {
+    potential += body->getMass() * LegWorld::kGravityMPerS2 * body->getCOM().z();
+  }
+  return skeleton_->computeKineticEnergy() + potential;
 }
 
 std::string DartLegWorld::StateProblem() const {

@@ -15,6 +15,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "temp_urdf.h"
 
@@ -80,6 +81,10 @@ Eigen::Vector3d HandFootMm(const HandLeg& leg, const LegAngles& q_rad) {
              (turn(kAbductor, q_rad[1]) * (leg.upper_leg + turn(kKnee, q_rad[2]) * leg.lower_leg));
 }
 
+Eigen::Vector3d ToEigenVector(const std::array<double, 3>& v) {
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 Eigen::Vector3d FootMm(const LegWorld& world) {
   const auto foot = world.LinkOriginMm("foot");
   return Eigen::Vector3d(foot[0], foot[1], foot[2]);
@@ -114,10 +119,21 @@ std::string ErrorOf(const TempUrdf& urdf) {
 
 // ---- Front and hind: the URDF against the hand kinematics ----------------------------------
 
-class LegKinematicsTest : public ::testing::TestWithParam<HandLeg> {};
+// Each leg on each engine: both place the bodies from the same description, DART through its
+// own joint chain.
+struct KinematicsCase {
+  HandLeg leg;
+  PhysicsEngine engine = PhysicsEngine::kOde;
+};
+
+void PrintTo(const KinematicsCase& c, std::ostream* out) {
+  *out << c.leg.name << " leg on " << kPhysicsEngineNames[static_cast<size_t>(c.engine)];
+}
+
+class LegKinematicsTest : public ::testing::TestWithParam<KinematicsCase> {};
 
 TEST_P(LegKinematicsTest, ReadsJointsAndLimitsFromTheUrdf) {
-  const LegWorld world(GetParam().urdf);
+  const LegWorld world(GetParam().leg.urdf, {}, GetParam().engine);
   const double limits_deg[3][2] = {{-117, 117}, {-11, 89}, {-27, 147}};
   for (int j = 0; j < kLegJoints; ++j) {
     EXPECT_EQ(world.joint(j).name, kLegJointNames[j]);
@@ -129,15 +145,15 @@ TEST_P(LegKinematicsTest, ReadsJointsAndLimitsFromTheUrdf) {
 }
 
 TEST_P(LegKinematicsTest, FootAtZeroIsTheSumOfTheLinkVectors) {
-  const HandLeg& leg = GetParam();
-  const LegWorld world(leg.urdf);
+  const auto& [leg, physics] = GetParam();
+  const LegWorld world(leg.urdf, {}, physics);
   EXPECT_LT((FootMm(world) - leg.foot_at_zero).norm(), 1e-9);
   EXPECT_LT((HandFootMm(leg, LegAngles{}) - leg.foot_at_zero).norm(), 1e-12);
 }
 
 TEST_P(LegKinematicsTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) {
-  const HandLeg& leg = GetParam();
-  LegWorld world(leg.urdf);
+  const auto& [leg, physics] = GetParam();
+  LegWorld world(leg.urdf, {}, physics);
   std::mt19937_64 engine(2024);
   for (int trial = 0; trial < 200; ++trial) {
     const LegAngles q = RandomAnglesRad(world, engine);
@@ -149,7 +165,7 @@ TEST_P(LegKinematicsTest, FootFromBodyPosesMatchesHandKinematicsAtRandomAngles) 
 }
 
 TEST_P(LegKinematicsTest, HingeAngleEqualsUrdfJointAngle) {
-  LegWorld world(GetParam().urdf);
+  LegWorld world(GetParam().leg.urdf, {}, GetParam().engine);
   std::mt19937_64 engine(7);
   for (int trial = 0; trial < 50; ++trial) {
     const LegAngles q = RandomAnglesRad(world, engine);
@@ -161,13 +177,13 @@ TEST_P(LegKinematicsTest, HingeAngleEqualsUrdfJointAngle) {
   }
 }
 
-// ODE's hinge sign depends on attach order and axis direction: drive each joint alone with
-// its motor and check that the angle ODE reports grows, and that the foot lands where the
+// ODE's hinge sign depends on attach order and axis direction, DART's on its joint's frames:
+// drive each joint alone with its motor and check that the angle the engine reports grows, and that the foot lands where the
 // hand kinematics puts it for that angle (so positive means what the URDF says).
 TEST_P(LegKinematicsTest, MotorTurnsEachJointTheUrdfWay) {
-  const HandLeg& leg = GetParam();
+  const auto& [leg, physics] = GetParam();
   for (int j = 0; j < kLegJoints; ++j) {
-    LegWorld world(leg.urdf);
+    LegWorld world(leg.urdf, {}, physics);
     LegAngles start{0.0, 20.0 * kDeg, 30.0 * kDeg};
     world.SetConfigurationRad(start);
     for (int step = 0; step < 200; ++step) {  // 0.2 s at 1 rad/s
@@ -187,8 +203,8 @@ TEST_P(LegKinematicsTest, MotorTurnsEachJointTheUrdfWay) {
 // the hind paw backward, abductor + moves the paw outward (+y, left legs), knee + swings the
 // front paw backward and the hind paw forward.
 TEST_P(LegKinematicsTest, PositiveAnglesMoveThePawTheDocumentedWay) {
-  const HandLeg& leg = GetParam();
-  LegWorld world(leg.urdf);
+  const auto& [leg, physics] = GetParam();
+  LegWorld world(leg.urdf, {}, physics);
   const Eigen::Vector3d at_zero = FootMm(world);
   const auto moved = [&world, &at_zero](const LegAngles& q) -> Eigen::Vector3d {
     world.SetConfigurationRad(q);
@@ -199,19 +215,27 @@ TEST_P(LegKinematicsTest, PositiveAnglesMoveThePawTheDocumentedWay) {
   EXPECT_GT(leg.knee_paw_dx_sign * moved({0.0, 0.0, 0.3}).x(), 10.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Legs, LegKinematicsTest, ::testing::Values(kFrontLeg, kHindLeg),
-                         [](const ::testing::TestParamInfo<HandLeg>& param_info) {
-                           return param_info.param.name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Legs, LegKinematicsTest,
+    ::testing::Values(KinematicsCase{kFrontLeg, PhysicsEngine::kOde},
+                      KinematicsCase{kHindLeg, PhysicsEngine::kOde},
+                      KinematicsCase{kFrontLeg, PhysicsEngine::kDart},
+                      KinematicsCase{kHindLeg, PhysicsEngine::kDart}),
+    [](const ::testing::TestParamInfo<KinematicsCase>& param_info) {
+      return param_info.param.leg.name +
+             (param_info.param.engine == PhysicsEngine::kDart ? "Dart" : "");
+    });
 
 // ---- The front leg's physics -------------------------------------------------------------
 
+class EngineTest : public ::testing::TestWithParam<PhysicsEngine> {};
+
 // The unpowered leg comes to rest with its knee on the -30 deg stop, so for a free swing the
 // test moves the knee and abductor stops out of the way.
-TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
+TEST_P(EngineTest, PassiveSwingNeverGainsEnergy) {
   const TempUrdf wide_stops(kUrdf, Edits{{R"(lower="-0.4712388980")", R"(lower="-2.0943951024")"},
                                          {R"(lower="-0.1919862177")", R"(lower="-0.6981317008")"}});
-  LegWorld world(wide_stops.path());
+  LegWorld world(wide_stops.path(), {}, GetParam());
   world.SetConfigurationRad({40.0 * kDeg, 10.0 * kDeg, 30.0 * kDeg});
   const double initial = world.MechanicalEnergyJ();
   double highest = initial;
@@ -231,8 +255,8 @@ TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
   // Clear of the (moved) stops, so only integration is at work.
   EXPECT_GT(lowest[1], -40.0 * kDeg);
   EXPECT_GT(lowest[2], -120.0 * kDeg);
-  // dWorldStep is semi-implicit Euler: its energy wobbles by O(dt) around a slowly falling
-  // mean (about 0.35 % of the peak kinetic energy at 1 ms, measured). Allow 1 %.
+  // Both engines integrate semi-implicitly (symplectic Euler): the energy wobbles by O(dt)
+  // around a slowly falling mean. Allow 1 % of the peak kinetic energy.
   EXPECT_LE(highest - initial, 0.01 * peak_kinetic)
       << "initial " << initial << " J, peak kinetic " << peak_kinetic << " J";
   RecordProperty("energy_gain_over_peak_kinetic",
@@ -240,8 +264,8 @@ TEST(LegWorldTest, PassiveSwingNeverGainsEnergy) {
 }
 
 // A hard swing against the real stops stays sound and loses energy in the inelastic hits.
-TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
-  LegWorld world(kUrdf);
+TEST_P(EngineTest, PassiveSwingIntoTheStopsStaysSound) {
+  LegWorld world(kUrdf, {}, GetParam());
   world.SetConfigurationRad({90.0 * kDeg, 60.0 * kDeg, 120.0 * kDeg});
   const double initial = world.MechanicalEnergyJ();
   double highest = initial;
@@ -253,7 +277,7 @@ TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
     ASSERT_TRUE(world.StateProblem().empty()) << world.StateProblem();
     const LegAngles angles = world.AnglesRad();
     for (int j = 0; j < kLegJoints; ++j) {
-      // Stops 3 deg beyond the limits, with ODE's soft-stop penetration of a fraction of one.
+      // Stops 3 deg beyond the limits, with a soft stop's penetration of a fraction of one.
       ASSERT_GE(angles[j], world.joint(j).lower_rad - 4.0 * kDeg) << kLegJointNames[j];
       ASSERT_LE(angles[j], world.joint(j).upper_rad + 4.0 * kDeg) << kLegJointNames[j];
     }
@@ -261,6 +285,78 @@ TEST(LegWorldTest, PassiveSwingIntoTheStopsStaysSound) {
   EXPECT_LE(highest - initial, 0.01 * peak_kinetic);
   EXPECT_LT(world.MechanicalEnergyJ(), initial - 0.5 * peak_kinetic);
 }
+
+// The leg as a compound pendulum: abductor and knee held at 0 by their motors, the rotator
+// free. About its hanging rest angle, a swing of amplitude A has the period
+// 4 sqrt(I / (M g d)) K(sin(A / 2)) (K the complete elliptic integral of the first kind), with
+// the moment of inertia I about the rotator's axis, the mass M and the centre of mass's
+// distance d from the axis summed here from the description's bodies, not from either engine.
+TEST_P(EngineTest, RotatorSwingHasTheCompoundPendulumsPeriod) {
+  LegWorld world(kUrdf, {}, GetParam());
+  const LegDescription& leg = world.description();
+  const Eigen::Vector3d axis = ToEigenVector(leg.joints[kRotator].axis);
+  const Eigen::Vector3d pivot = ToEigenVector(leg.joints[kRotator].position_m);
+  double mass = 0.0;
+  double inertia = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // sum of m (c - pivot)
+  for (const BodyDescription& body : leg.bodies) {
+    // At q = 0 every link frame is parallel to the root's (the URDF's joints have rpy 0), so
+    // a link's origin is the sum of the joint origins above it.
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    for (int link = body.link; link > 0; link = leg.links[link].parent) {
+      ASSERT_EQ(leg.links[link].origin.rotation, RigidTransform{}.rotation);
+      origin += ToEigenVector(leg.links[link].origin.translation_m);
+    }
+    const Eigen::Vector3d r = origin + ToEigenVector(body.com_m) - pivot;
+    Eigen::Matrix3d about_com;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) about_com(i, j) = body.inertia_kg_m2[i][j];
+    }
+    mass += body.mass_kg;
+    moment += body.mass_kg * r;
+    inertia += axis.dot(about_com * axis) + body.mass_kg * r.cross(axis).squaredNorm();
+  }
+  const Eigen::Vector3d off_axis = moment / mass - axis.dot(moment / mass) * axis;
+  const double d = off_axis.norm();
+  // The rest angle: the turn about the axis that puts the centre of mass straight below it.
+  const Eigen::Vector3d down(0.0, 0.0, -1.0);
+  const Eigen::Vector3d u = off_axis / d;
+  const double rest = std::atan2(u.cross(down).dot(axis), u.dot(down));
+  const double amplitude = 20.0 * kDeg;
+  const double expected_s = 4.0 * std::sqrt(inertia / (mass * LegWorld::kGravityMPerS2 * d)) *
+                            std::comp_ellint_1(std::sin(amplitude / 2.0));
+
+  world.SetConfigurationRad({rest + amplitude, 0.0, 0.0});
+  std::vector<double> upward_crossings_s;
+  double previous = amplitude;
+  for (int step = 1; step <= 4000; ++step) {  // 4 s at 1 ms
+    world.SetMotor(kRotator, 0.0, 0.0);
+    world.SetMotor(kAbductor, 0.0, 5.45);
+    world.SetMotor(kKnee, 0.0, 5.45);
+    world.Step(0.001);
+    const double angle = world.AnglesRad()[kRotator] - rest;
+    if (previous < 0.0 && angle >= 0.0) {
+      upward_crossings_s.push_back(0.001 * (step - angle / (angle - previous)));
+    }
+    previous = angle;
+    ASSERT_LT(std::abs(world.AnglesRad()[kKnee]), 1e-3);
+  }
+  ASSERT_GE(upward_crossings_s.size(), 4u);
+  const double period_s = (upward_crossings_s.back() - upward_crossings_s.front()) /
+                          static_cast<double>(upward_crossings_s.size() - 1);
+  // Symplectic Euler at 1 ms on a period of about 0.6 s: a relative phase error of order
+  // (w dt)^2 / 24, about 4e-6; the held joints' motors are constraints, not springs.
+  EXPECT_NEAR(period_s, expected_s, 1e-4 * expected_s) << "rest angle " << rest / kDeg << " deg";
+  RecordProperty("period_s", std::to_string(period_s));
+  RecordProperty("expected_period_s", std::to_string(expected_s));
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, EngineTest,
+                         ::testing::Values(PhysicsEngine::kOde, PhysicsEngine::kDart),
+                         [](const ::testing::TestParamInfo<PhysicsEngine>& param_info) {
+                           return std::string(
+                               kPhysicsEngineNames[static_cast<size_t>(param_info.param)]);
+                         });
 
 // ---- Errors name the item --------------------------------------------------------------
 
