@@ -103,8 +103,9 @@ TEST(SimConfigTest, TopSpeedTimesPhysicsStepIsBounded) {
               c.servo.max_speed_deg_s = 2200;
             }),
             "servo.max_speed_deg_s 2200 with sim.physics_dt_ms 1 turns a joint 2.2 deg in one "
-            "physics step; at most 2 deg holds the simulated leg together: "
-            "servo.max_speed_deg_s x sim.physics_dt_ms must be at most 2000");
+            "physics step; at most 2 deg holds ODE's leg together: "
+            "servo.max_speed_deg_s x sim.physics_dt_ms must be at most 2000 (sim.engine: dart "
+            "takes it)");
   // ValidateSimConfig leaves it to the loader: a LegSim built directly may be driven apart.
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.max_speed_deg_s = 3600; }), "accepted");
 }
