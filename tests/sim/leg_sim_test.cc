@@ -1,6 +1,7 @@
 #include "leglab/sim/leg_sim.h"
 #include "leglab/core/plant.h"
 #include "leglab/core/units.h"
+#include "temp_urdf.h"
 
 #include <gtest/gtest.h>
 
@@ -369,6 +370,84 @@ TEST(LegSimTest, ExplodingStateThrowsSimErrorNamingTheTick) {
   } catch (const SimError& error) {
     EXPECT_NE(std::string(error.what()).find("control tick 0"), std::string::npos) << error.what();
   }
+}
+
+// ---- What only DART can ------------------------------------------------------------
+
+// Full-range square waves on every joint from rest at one end, `ticks` long: the joints at the
+// servo's top speed most of the time. Returns the first breakdown's message, or "" with every
+// reading finite and each true angle inside its stops (the URDF limits, kStopMarginRad, and a
+// degree for the stops' give).
+std::string RunSquareWaves(LegSim& sim, int ticks) {
+  try {
+    sim.SetJointAnglesDeg({-110.0, -10.0, -25.0});
+    for (int t = 0; t < ticks; ++t) {
+      const bool up = (t / 25) % 2 == 0;
+      sim.Tick(up ? LegAngles{110.0, 85.0, 140.0} : LegAngles{-110.0, -10.0, -25.0});
+      for (int j = 0; j < kLegJoints; ++j) {
+        const JointInfo& joint = sim.world().joint(j);
+        const double margin_deg = RadToDeg(LegWorld::kStopMarginRad) + 1.0;
+        const double angle = sim.TrueDeg()[j];
+        if (!std::isfinite(sim.MeasuredDeg()[j]) || !(angle >= RadToDeg(joint.lower_rad) - margin_deg &&
+                                                      angle <= RadToDeg(joint.upper_rad) + margin_deg)) {
+          return "tick " + std::to_string(t) + ": joint '" + joint.name + "' at " +
+                 std::to_string(angle) + " deg";
+        }
+      }
+    }
+  } catch (const SimError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+// 3600 deg/s at a 1 ms physics step (3.6 deg a step, gain 1000): past the bound the config
+// loader holds ODE to, and ODE's knee comes apart; DART's joints cannot open.
+TEST(LegSimDartTest, RunsTheTopSpeedOdeMustRefuse) {
+  SimConfig config = Config(0.0);
+  config.servo.max_speed_deg_s = 3600.0;
+  config.servo.gain_per_s = 1000.0;
+  config.servo.smoothing_ms = 0.0;
+  try {
+    CheckTurnPerPhysicsStep(config);
+    ADD_FAILURE() << "ODE accepted 3.6 deg a step";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("(sim.engine: dart takes it)"), std::string::npos)
+        << error.what();
+  }
+  LegSim ode(config);
+  EXPECT_NE(RunSquareWaves(ode, 400).find("came apart"), std::string::npos);
+
+  config.engine = PhysicsEngine::kDart;
+  EXPECT_NO_THROW(CheckTurnPerPhysicsStep(config));
+  LegSim dart(config);
+  EXPECT_EQ(RunSquareWaves(dart, 400), "");
+  // The rotator alone, the others held: it turns at the top speed, 3600 deg/s = 28.8 deg a tick
+  // (with every joint whipping at once, the others' reactions exceed its torque limit).
+  dart.SetJointAnglesDeg({-110.0, 0.0, 0.0});
+  double fastest_deg_per_tick = 0.0;
+  double last = dart.TrueDeg()[kRotator];
+  for (int t = 0; t < 8; ++t) {
+    dart.Tick(LegAngles{110.0, 0.0, 0.0});
+    fastest_deg_per_tick = std::max(fastest_deg_per_tick, dart.TrueDeg()[kRotator] - last);
+    last = dart.TrueDeg()[kRotator];
+  }
+  EXPECT_NEAR(fastest_deg_per_tick, 3600.0 * kTickMs / 1000.0, 0.1);
+}
+
+// A shin twice as long (its centre of mass and the foot twice as far from the knee) at 2000
+// deg/s, inside ODE's bound: on DART it runs sound.
+TEST(LegSimDartTest, RunsALegWithTwiceTheShin) {
+  const testing::TempUrdf long_shin(
+      kUrdf, testing::Edits{{R"(xyz="-0.011001 0 -0.038457")", R"(xyz="-0.022002 0 -0.076914")"},
+                            {R"(xyz="-0.01888 0 -0.066")", R"(xyz="-0.03776 0 -0.132")"}});
+  SimConfig config = Config(0.0);
+  config.urdf_path = long_shin.path();
+  config.servo.max_speed_deg_s = 2000.0;
+  config.servo.gain_per_s = 1000.0;
+  config.engine = PhysicsEngine::kDart;
+  LegSim dart(config);
+  EXPECT_EQ(RunSquareWaves(dart, 400), "");
 }
 
 TEST(LegSimTest, MovedSimKeepsRunning) {
