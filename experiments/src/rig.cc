@@ -28,7 +28,8 @@ std::string BreakdownSettings(const sim::SimConfig& sim) {
   std::string settings = "servo.max_speed_deg_s " + text(servo.max_speed_deg_s) +
                          ", servo.gain_per_s " + text(servo.gain_per_s) + ", servo.damping " +
                          text(servo.damping) + ", servo.smoothing_ms " + text(servo.smoothing_ms) +
-                         ", servo.max_torque_nm " + text(servo.max_torque_nm) +
+                         ", servo.max_torque_nm " + text(servo.max_torque_nm) + ", sim.engine " +
+                         std::string(sim::kPhysicsEngineNames[static_cast<size_t>(sim.engine)]) +
                          ", sim.physics_dt_ms " + text(sim.physics_dt_ms);
   return settings + (sim.stand.enabled ? ", stand on, stand.load_kg " + text(sim.stand.load_kg)
                                        : ", stand off");

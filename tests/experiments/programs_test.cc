@@ -199,7 +199,7 @@ TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
   const std::string settings =
       "the simulation broke down under these settings (servo.max_speed_deg_s 1000, "
       "servo.gain_per_s 1000, servo.damping 1.3, servo.smoothing_ms 48, servo.max_torque_nm 5.45, "
-      "sim.physics_dt_ms 1, stand off): joint '";
+      "sim.engine ode, sim.physics_dt_ms 1, stand off): joint '";
   for (const std::string threads : {"1", "3"}) {
     ExpectBadInput(kIdentify,
                    "--config experiments/configs/identify.yaml --threads " + threads + robot,
