@@ -229,6 +229,25 @@ TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
                  "servo.gain_per_s 1000, ");
 }
 
+// What breaks ODE's long-shinned leg down runs on DART, whose joints cannot come apart: the
+// walk of ProgramsTest.ASimulationThatBreaksDownIsBadInput, the leg 0.5 m long, its plant
+// changed to 2000 deg/s at gain 1000 (and 3600 deg/s, which ODE's bound refuses).
+TEST_F(ProgramsTest, DartRunsTheLegThatComesApartOnOde) {
+  const std::string walk =
+      "--config experiments/configs/track.yaml --set desired.csv=" +
+      Write("wave.csv", DesiredCsv(88)) + " --set urdf=" + Write("long_shin.urdf", LongShinUrdf()) +
+      " --set servo.max_speed_deg_s=1000 --set servo.gain_per_s=1000"
+      " --set 'model={v_max_deg_per_tick: 2.5, theta0_deg: 7, lag_ticks: 4, accel_ticks: 6}'"
+      " --set 'controller.modes=[direct]' --set warmup_steps=1 --set steps=3"
+      " --set sim.engine=dart --set 'plant_changes=[{at_step: 1, set: {servo.max_speed_deg_s: ";
+  for (const std::string top : {"2000", "3600"}) {
+    const Result r = RunCommand(kTrack + " --out '" + out_.string() + "' " + walk + top + "}}]'");
+    EXPECT_EQ(r.status, 0) << r.stderr_text;
+    EXPECT_TRUE(fs::exists(out_ / "table2.json")) << top;
+    fs::remove_all(out_);
+  }
+}
+
 // Files over their size limits (4 MiB for configs, sweep files and URDFs, 1 MiB for a
 // desired.csv) are refused before they are read: sparse files, so the test writes nothing.
 TEST_F(ProgramsTest, FilesOverTheirSizeLimitsAreRefusedUnread) {

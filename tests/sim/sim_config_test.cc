@@ -110,6 +110,17 @@ TEST(SimConfigTest, TopSpeedTimesPhysicsStepIsBounded) {
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.max_speed_deg_s = 3600; }), "accepted");
 }
 
+// The stand is ODE's: on DART it is refused, naming the section and the key to change.
+TEST(SimConfigTest, TheStandOnDartIsRefusedNamingTheEngine) {
+  EXPECT_EQ(RejectionOf([](SimConfig& c) {
+              c.engine = PhysicsEngine::kDart;
+              c.stand.enabled = true;
+            }).rfind("stand: sim.engine dart has no stand", 0),
+            0u);
+  EXPECT_EQ(RejectionOf([](SimConfig& c) { c.stand.enabled = true; }), "accepted");
+  EXPECT_EQ(RejectionOf([](SimConfig& c) { c.engine = PhysicsEngine::kDart; }), "accepted");
+}
+
 TEST(SimConfigTest, AcceptsEdgeValues) {
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.delay_ms = 0; }), "accepted");
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.servo.smoothing_ms = 0; }), "accepted");
