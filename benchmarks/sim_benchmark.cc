@@ -17,8 +17,12 @@
 //
 // and, side by side in the same way, the stand's cost per physics step over the air leg's
 //   stand/air step cost ratio = (time per physics step of LegSim on the stand) / (in the air),
-// which must stay at or below kMaxStandRatio (2). Usage: sim_benchmark [--benchmark_* flags]
-// [--rounds=N]
+// which must stay at or below kMaxStandRatio (2);
+//
+//   BM_DartStep, BM_DartSimTick  the same on DART (sim.engine: dart), and side by side
+//   dart/ode step cost ratio = (time per physics step of LegSim on DART) / (on ODE).
+//
+// Usage: sim_benchmark [--benchmark_* flags] [--rounds=N]
 
 #include <benchmark/benchmark.h>
 
@@ -42,6 +46,7 @@ using leglab::kLegJoints;
 using leglab::LegAngles;
 using leglab::sim::LegSim;
 using leglab::sim::LegWorld;
+using leglab::sim::PhysicsEngine;
 using leglab::sim::SimConfig;
 
 constexpr double kMaxRatio = 1.2;
@@ -64,10 +69,16 @@ SimConfig StandConfig() {
   return config;
 }
 
+SimConfig DartConfig() {
+  SimConfig config = Config();
+  config.engine = PhysicsEngine::kDart;
+  return config;
+}
+
 // The bare world in the state the sim keeps it in: every motor powered (one constraint row
 // each, as in LegSim), holding still.
-LegWorld BareWorld() {
-  LegWorld world(kUrdf);
+LegWorld BareWorld(PhysicsEngine engine = PhysicsEngine::kOde) {
+  LegWorld world(kUrdf, {}, engine);
   world.SetConfigurationRad({0.3, 0.3, 1.0});
   for (int j = 0; j < kLegJoints; ++j) {
     world.SetMotor(j, 0.0, Config().servo.max_torque_nm);
@@ -116,6 +127,28 @@ void BM_StandTick(benchmark::State& state) {
                           leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
 }
 BENCHMARK(BM_StandTick);
+
+void BM_DartStep(benchmark::State& state) {
+  LegWorld world = BareWorld(PhysicsEngine::kDart);
+  const double dt_s = Config().physics_dt_ms / 1000.0;
+  for (auto _ : state) {
+    world.Step(dt_s);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DartStep);
+
+void BM_DartSimTick(benchmark::State& state) {
+  LegSim sim(DartConfig());
+  for (auto _ : state) {
+    sim.SetRequestsDeg(Request(sim.tick()));
+    sim.Tick();
+    benchmark::DoNotOptimize(sim.MeasuredDeg());
+  }
+  state.SetItemsProcessed(state.iterations() *
+                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
+}
+BENCHMARK(BM_DartSimTick);
 
 // Seconds per physics step over `steps` bare ODE steps.
 double TimeBare(LegWorld& world, int steps, double dt_s) {
@@ -212,11 +245,30 @@ void ReportStandRatio(int rounds) {
               ratio <= kMaxStandRatio ? "ok" : "EXCEEDED");
 }
 
+// The leg in the air on DART against ODE, both as LegSims walking the same requests.
+void ReportEngineRatio(int rounds) {
+  LegSim ode(Config());
+  LegSim dart(DartConfig());
+  const int steps_per_tick = leglab::sim::PhysicsStepsPerTick(ode.config().physics_dt_ms);
+  constexpr int kTicksPerRound = 250;
+  TimeSim(ode, kTicksPerRound, steps_per_tick);  // warm up
+  TimeSim(dart, kTicksPerRound, steps_per_tick);
+  const Interleaved t = TimeInterleaved(
+      rounds, [&] { return TimeSim(ode, kTicksPerRound, steps_per_tick); },
+      [&] { return TimeSim(dart, kTicksPerRound, steps_per_tick); });
+  std::printf(
+      "ODE sim per physics step: %.0f ns (median), DART sim per physics step: %.0f ns "
+      "(median), %d interleaved rounds of %d ticks\n",
+      Median(t.first_ns), Median(t.second_ns), rounds, kTicksPerRound);
+  std::printf("dart/ode step cost ratio: %.3f\n", Median(t.ratios));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return leglab::benchmarks::RunThenReport(argc, argv, 41, [](int rounds) {
     ReportSideBySideRatio(rounds);
     ReportStandRatio(rounds);
+    ReportEngineRatio(rounds);
   });
 }

@@ -9,7 +9,8 @@
 //   - track's wall time over the wall time of the plant ticks it runs, ticked alone on fresh
 //     plants (the overhead of identification fits, QPs, controllers and bookkeeping);
 //   - the plant ticks of a default track with track.search_shift true and exhaustive;
-//   - a sweep's points per second on 1 and on 2 threads.
+//   - a sweep's points per second on 1 and on 2 threads;
+//   - the shipped track on DART over the same on ODE (sim.engine).
 // Usage: track_benchmark [--benchmark_* flags] [--rounds=N]
 
 #include <benchmark/benchmark.h>
@@ -59,6 +60,12 @@ void BM_SweepPoint(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(RunTrackExperiment(config).plant_ticks);
 }
 BENCHMARK(BM_SweepPoint)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_TrackDart(benchmark::State& state) {
+  const ExperimentConfig config = Config({"sim.engine=dart"});
+  for (auto _ : state) benchmark::DoNotOptimize(RunTrackExperiment(config).plant_ticks);
+}
+BENCHMARK(BM_TrackDart)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // Wall time of `ticks` plant ticks on `plants` fresh plants of `config` (as many as a track run
 // builds), direct requests of the desired cycle: the physics alone.
@@ -143,6 +150,26 @@ void ReportSideBySide(int rounds) {
       "sweep points per second (identification + 3 paper modes): %.2f on 1 thread, %.2f on 2: "
       "%.2fx (target >= 1.8)\n",
       Median(one), Median(two), Median(two) / Median(one));
+
+  // The same track on the two engines, interleaved.
+  const ExperimentConfig dart = Config({"sim.engine=dart"});
+  std::vector<double> ode_s, dart_s, engine_ratios;
+  for (int round = 0; round < rounds; ++round) {
+    double on_ode = 0.0, on_dart = 0.0;
+    for (const bool dart_first : {round % 2 == 1}) {
+      const auto time = [](const ExperimentConfig& c) {
+        const auto t0 = std::chrono::steady_clock::now();
+        benchmark::DoNotOptimize(RunTrackExperiment(c).plant_ticks);
+        return Seconds(t0);
+      };
+      if (dart_first) on_dart = time(dart), on_ode = time(config);
+      else on_ode = time(config), on_dart = time(dart);
+    }
+    ode_s.push_back(on_ode), dart_s.push_back(on_dart), engine_ratios.push_back(on_dart / on_ode);
+  }
+  std::printf("track (track.yaml, 1 thread) on ODE %.3f s, on DART %.3f s: dart/ode %.2f (median "
+              "of %d interleaved rounds)\n",
+              Median(ode_s), Median(dart_s), Median(engine_ratios), rounds);
 }
 
 }  // namespace
