@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -120,6 +121,55 @@ TEST(Regression, IdentifyFindsAnotherPlantsLag) {
     EXPECT_NEAR(p.accel_ticks, 6, 1) << kLegJointNames[j];
     EXPECT_NEAR(p.v_max_deg_per_tick, 2.5, 0.25) << kLegJointNames[j];
   }
+}
+
+// ---- The second engine -------------------------------------------------------------------
+
+// Table 1 on DART (sim.engine: dart) is ODE's: l and a the same, and v_max and theta_0 no
+// further from ODE's seed-1 values than ODE's own values spread over seeds 1-3 (the sensor
+// noise's doing), which is what an engine that does not matter must give.
+TEST(EngineRegression, Table1OnDartIsOdesWithinTheSeedSpread) {
+  const Table1 dart = Identify("identify.yaml", {"sim.engine=dart"});
+  std::array<Table1, 3> ode{Identify("identify.yaml"), Identify("identify.yaml", {"seed=2"}),
+                            Identify("identify.yaml", {"seed=3"})};
+  for (int j = 0; j < kLegJoints; ++j) {
+    const auto spread = [&](auto field) {
+      double low = field(ode[0].joints[j].params), high = low;
+      for (const Table1& t : ode) {
+        low = std::min(low, field(t.joints[j].params));
+        high = std::max(high, field(t.joints[j].params));
+      }
+      return high - low;
+    };
+    const auto v_max = [](const JointModelParams& p) { return p.v_max_deg_per_tick; };
+    const auto theta0 = [](const JointModelParams& p) { return p.theta0_deg; };
+    const JointModelParams& on_dart = dart.joints[j].params;
+    const JointModelParams& on_ode = ode[0].joints[j].params;
+    EXPECT_EQ(on_dart.lag_ticks, on_ode.lag_ticks) << kLegJointNames[j];
+    EXPECT_EQ(on_dart.accel_ticks, on_ode.accel_ticks) << kLegJointNames[j];
+    EXPECT_LE(std::abs(v_max(on_dart) - v_max(on_ode)), spread(v_max)) << kLegJointNames[j];
+    EXPECT_LE(std::abs(theta0(on_dart) - theta0(on_ode)), spread(theta0)) << kLegJointNames[j];
+  }
+}
+
+// Table 2's finding holds on both engines: model-based at least halves the direct foot error,
+// and its ratio to direct on DART is within 20 % of ODE's.
+TEST(EngineRegression, Table2sOrderingHoldsOnBothEngines) {
+  std::array<double, 2> ratio{};
+  for (const bool on_dart : {false, true}) {
+    std::vector<std::string> overrides = {"steps=4", "warmup_steps=2",
+                                          "controller.modes=[direct, model_based]"};
+    if (on_dart) overrides.push_back("sim.engine=dart");
+    const Table2 table =
+        ComputeTable2(RunTrackExperiment(LoadExperimentConfig(kConfigs + "track.yaml", overrides)));
+    const FootRow* direct = table.FindFoot("direct");
+    const FootRow* model_based = table.FindFoot("model_based");
+    ASSERT_NE(direct, nullptr);
+    ASSERT_NE(model_based, nullptr);
+    ratio[on_dart ? 1 : 0] = model_based->l2_cm.mean / direct->l2_cm.mean;
+    EXPECT_LE(ratio[on_dart ? 1 : 0], 0.5) << (on_dart ? "dart" : "ode");
+  }
+  EXPECT_NEAR(ratio[1], ratio[0], 0.2 * ratio[0]);
 }
 
 // Shorter than the reproduction (2 warm-up and 4 measured steps): the norms are per step, so
