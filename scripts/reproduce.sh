@@ -23,6 +23,19 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
     --out "$out/hind"
   build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
 fi
+# Both legs again on the second physics engine (sim.engine: dart) into dart/ and hind/dart/,
+# with engines.md: each table and step test beside ODE's (the stand is ODE's alone).
+if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
+  build/bin/identify --config experiments/configs/identify.yaml --set sim.engine=dart \
+    --out "$out/dart"
+  build/bin/track --config experiments/configs/track.yaml --set sim.engine=dart --out "$out/dart"
+  build/bin/identify --config experiments/configs/identify.yaml --set robot=ers210a_hind \
+    --set sim.engine=dart --out "$out/hind/dart"
+  build/bin/track --config experiments/configs/track_hind.yaml --set sim.engine=dart \
+    --out "$out/hind/dart"
+  /usr/bin/python3 scripts/compare_engines.py "$out" "$out/dart"
+  /usr/bin/python3 scripts/compare_engines.py "$out/hind" "$out/hind/dart"
+fi
 # Table 2 in the paper's regime: the walk fitted to the paper's direct-method row
 # (walk_fit.json, walk_fit.md), then every mode on it (track_paper_regime.yaml: that walk).
 if [ -x build/bin/fit_walk ]; then

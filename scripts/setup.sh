@@ -6,6 +6,8 @@ set -euo pipefail
 LEGLAB_PACKAGES=(
   g++ cmake ninja-build pkg-config ccache
   libeigen3-dev libode-dev liburdfdom-dev liburdfdom-tools libyaml-cpp-dev libcli11-dev
+  # The second physics engine (sim.engine: dart).
+  libdart-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   python3 python3-matplotlib python3-numpy python3-pil clang-format clang-tidy parallel pmccabe
   # The Python package (python/, docs/python.md) and its tests.
