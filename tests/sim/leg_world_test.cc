@@ -68,9 +68,6 @@ const HandLeg kHindLeg{
     -1.0,
     +1.0};
 
-// gtest prints a failing test's parameter with this.
-void PrintTo(const HandLeg& leg, std::ostream* out) { *out << leg.name << " leg"; }
-
 //   foot = shoulder + R(a1, q1) R(a2, q2) (upper_leg + R(a3, q3) lower_leg), mm.
 Eigen::Vector3d HandFootMm(const HandLeg& leg, const LegAngles& q_rad) {
   const auto turn = [&leg](int joint, double angle) {
@@ -126,6 +123,7 @@ struct KinematicsCase {
   PhysicsEngine engine = PhysicsEngine::kOde;
 };
 
+// gtest prints a failing test's parameter with this.
 void PrintTo(const KinematicsCase& c, std::ostream* out) {
   *out << c.leg.name << " leg on " << kPhysicsEngineNames[static_cast<size_t>(c.engine)];
 }
