@@ -162,14 +162,17 @@ void ReportSideBySide(int rounds) {
         benchmark::DoNotOptimize(RunTrackExperiment(c).plant_ticks);
         return Seconds(t0);
       };
-      if (dart_first) on_dart = time(dart), on_ode = time(config);
-      else on_ode = time(config), on_dart = time(dart);
+      if (dart_first)
+        on_dart = time(dart), on_ode = time(config);
+      else
+        on_ode = time(config), on_dart = time(dart);
     }
     ode_s.push_back(on_ode), dart_s.push_back(on_dart), engine_ratios.push_back(on_dart / on_ode);
   }
-  std::printf("track (track.yaml, 1 thread) on ODE %.3f s, on DART %.3f s: dart/ode %.2f (median "
-              "of %d interleaved rounds)\n",
-              Median(ode_s), Median(dart_s), Median(engine_ratios), rounds);
+  std::printf(
+      "track (track.yaml, 1 thread) on ODE %.3f s, on DART %.3f s: dart/ode %.2f (median "
+      "of %d interleaved rounds)\n",
+      Median(ode_s), Median(dart_s), Median(engine_ratios), rounds);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ class DartLegWorld final : public PhysicsWorld {
   const LegDescription& leg_;
   dart::simulation::WorldPtr world_;
   dart::dynamics::SkeletonPtr skeleton_;
-  std::vector<dart::dynamics::BodyNode*> bodies_;          // LegDescription::bodies' order
+  std::vector<dart::dynamics::BodyNode*> bodies_;  // LegDescription::bodies' order
   std::array<dart::dynamics::RevoluteJoint*, kLegJoints> joints_{};  // LegJoint order
 };
 
@@ -73,8 +73,8 @@ DartLegWorld::DartLegWorld(const LegDescription& leg)
     dart::dynamics::BodyNode::Properties body;
     body.mName = link.name;
     const BodyDescription& mass = leg.bodies[link.body];
-    body.mInertia = dart::dynamics::Inertia(mass.mass_kg, ToEigen(mass.com_m),
-                                            ToEigen(mass.inertia_kg_m2));
+    body.mInertia =
+        dart::dynamics::Inertia(mass.mass_kg, ToEigen(mass.com_m), ToEigen(mass.inertia_kg_m2));
     auto [created_joint, created_body] =
         skeleton_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(parent_node, joint,
                                                                              body);
@@ -125,8 +125,7 @@ std::array<double, 3> DartLegWorld::LinkOriginMm(int index) const {
   const LinkDescription& link = leg_.links[index];
   const Eigen::Isometry3d body_link_pose =
       link.body >= 0 ? bodies_[link.body]->getWorldTransform() : Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d origin_mm =
-      1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
+  const Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
   return {origin_mm.x(), origin_mm.y(), origin_mm.z()};
 }
 

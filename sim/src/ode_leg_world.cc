@@ -146,11 +146,10 @@ void OdeLegWorld::BuildStand(const StandConfig& config) {
   const Eigen::Vector3d foot_offset_m =
       ToEigen(leg_.links[foot_link].in_body.translation_m) - foot_body.com_in_link;
   stand_ = std::make_unique<Stand>(world_->get(), config, leg_.joints[kRotator].position_m[2],
-                                  foot_body.id, foot_offset_m);
+                                   foot_body.id, foot_offset_m);
 }
 
-OdeLegWorld::OdeLegWorld(const LegDescription& leg, const StandConfig& stand)
-    : leg_(leg) {
+OdeLegWorld::OdeLegWorld(const LegDescription& leg, const StandConfig& stand) : leg_(leg) {
   EnsureOdeReady();
   world_.emplace();
   dWorldSetGravity(world_->get(), 0.0, 0.0, -LegWorld::kGravityMPerS2);
@@ -222,9 +221,8 @@ void OdeLegWorld::SetConfigurationRad(const LegAngles& q_rad) {
 
 std::array<double, 3> OdeLegWorld::LinkOriginMm(int index) const {
   const LinkDescription& link = leg_.links[index];
-  const Eigen::Isometry3d body_link_pose = link.body >= 0
-                                               ? BodyLinkPose(bodies_[link.body])
-                                               : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d body_link_pose =
+      link.body >= 0 ? BodyLinkPose(bodies_[link.body]) : Eigen::Isometry3d::Identity();
   Eigen::Vector3d origin_mm = 1000.0 * (body_link_pose * ToEigen(link.in_body)).translation();
   // On the stand the body frame is the carriage's: the world frame raised by its height (and
   // moved along x and y with the sled, when there is one).
@@ -282,7 +280,8 @@ std::string OdeLegWorld::StateProblem() const {
   for (int j = 0; j < kLegJoints; ++j) {
     const dJointID hinge = hinges_[j];
     const double rate = dJointGetHingeAngleRate(hinge);
-    if (!std::isfinite(dJointGetHingeAngle(hinge)) || !(std::abs(rate) <= LegWorld::kExplodedRateRadPerS)) {
+    if (!std::isfinite(dJointGetHingeAngle(hinge)) ||
+        !(std::abs(rate) <= LegWorld::kExplodedRateRadPerS)) {
       return "joint '" + leg_.joints[j].name + "' turns at " + std::to_string(rate) +
              " rad/s (limit " + std::to_string(LegWorld::kExplodedRateRadPerS) + ")";
     }

@@ -388,8 +388,9 @@ std::string RunSquareWaves(LegSim& sim, int ticks) {
         const JointInfo& joint = sim.world().joint(j);
         const double margin_deg = RadToDeg(LegWorld::kStopMarginRad) + 1.0;
         const double angle = sim.TrueDeg()[j];
-        if (!std::isfinite(sim.MeasuredDeg()[j]) || !(angle >= RadToDeg(joint.lower_rad) - margin_deg &&
-                                                      angle <= RadToDeg(joint.upper_rad) + margin_deg)) {
+        if (!std::isfinite(sim.MeasuredDeg()[j]) ||
+            !(angle >= RadToDeg(joint.lower_rad) - margin_deg &&
+              angle <= RadToDeg(joint.upper_rad) + margin_deg)) {
           return "tick " + std::to_string(t) + ": joint '" + joint.name + "' at " +
                  std::to_string(angle) + " deg";
         }

@@ -176,8 +176,9 @@ TEST_P(LegKinematicsTest, HingeAngleEqualsUrdfJointAngle) {
 }
 
 // ODE's hinge sign depends on attach order and axis direction, DART's on its joint's frames:
-// drive each joint alone with its motor and check that the angle the engine reports grows, and that the foot lands where the
-// hand kinematics puts it for that angle (so positive means what the URDF says).
+// drive each joint alone with its motor and check that the angle the engine reports grows, and that
+// the foot lands where the hand kinematics puts it for that angle (so positive means what the URDF
+// says).
 TEST_P(LegKinematicsTest, MotorTurnsEachJointTheUrdfWay) {
   const auto& [leg, physics] = GetParam();
   for (int j = 0; j < kLegJoints; ++j) {
@@ -213,16 +214,15 @@ TEST_P(LegKinematicsTest, PositiveAnglesMoveThePawTheDocumentedWay) {
   EXPECT_GT(leg.knee_paw_dx_sign * moved({0.0, 0.0, 0.3}).x(), 10.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Legs, LegKinematicsTest,
-    ::testing::Values(KinematicsCase{kFrontLeg, PhysicsEngine::kOde},
-                      KinematicsCase{kHindLeg, PhysicsEngine::kOde},
-                      KinematicsCase{kFrontLeg, PhysicsEngine::kDart},
-                      KinematicsCase{kHindLeg, PhysicsEngine::kDart}),
-    [](const ::testing::TestParamInfo<KinematicsCase>& param_info) {
-      return param_info.param.leg.name +
-             (param_info.param.engine == PhysicsEngine::kDart ? "Dart" : "");
-    });
+INSTANTIATE_TEST_SUITE_P(Legs, LegKinematicsTest,
+                         ::testing::Values(KinematicsCase{kFrontLeg, PhysicsEngine::kOde},
+                                           KinematicsCase{kHindLeg, PhysicsEngine::kOde},
+                                           KinematicsCase{kFrontLeg, PhysicsEngine::kDart},
+                                           KinematicsCase{kHindLeg, PhysicsEngine::kDart}),
+                         [](const ::testing::TestParamInfo<KinematicsCase>& param_info) {
+                           return param_info.param.leg.name +
+                                  (param_info.param.engine == PhysicsEngine::kDart ? "Dart" : "");
+                         });
 
 // ---- The front leg's physics -------------------------------------------------------------
 

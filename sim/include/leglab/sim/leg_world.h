@@ -45,8 +45,8 @@ class LegWorld {
   static constexpr double kLoadedContactN = 0.1;
 
   /// Builds `engine`'s world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
-  /// off). With `stand.enabled` (ODE only) the root link rides on a carriage of mass stand.load_kg on a
-  /// vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
+  /// off). With `stand.enabled` (ODE only) the root link rides on a carriage of mass stand.load_kg
+  /// on a vertical ODE slider (lower stop at -stand.stop_below_shoulder_mm) instead of being fixed
   /// to the world, and a floor plane and a sphere at the foot (stand.foot_radius_mm) collide
   /// through an ODE space; with stand.sled_stiffness_n_per_m > 0 the rail rides on a sled: the
   /// carriage also moves along x and y (never turning), held at 0 by the sled's spring-damper
@@ -76,7 +76,8 @@ class LegWorld {
   /// The leg this world was built from.
   const LegDescription& description() const;
 
-  /// Hinge angles as the engine reports them, rad (zero at the URDF's q = 0, sign of the URDF axis).
+  /// Hinge angles as the engine reports them, rad (zero at the URDF's q = 0, sign of the URDF
+  /// axis).
   LegAngles AnglesRad() const;
 
   /// Hinge angular rates, rad/s.
