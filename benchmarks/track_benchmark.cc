@@ -153,20 +153,17 @@ void ReportSideBySide(int rounds) {
 
   // The same track on the two engines, interleaved.
   const ExperimentConfig dart = Config({"sim.engine=dart"});
+  const auto time = [](const ExperimentConfig& c) {
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(RunTrackExperiment(c).plant_ticks);
+    return Seconds(t0);
+  };
   std::vector<double> ode_s, dart_s, engine_ratios;
   for (int round = 0; round < rounds; ++round) {
-    double on_ode = 0.0, on_dart = 0.0;
-    for (const bool dart_first : {round % 2 == 1}) {
-      const auto time = [](const ExperimentConfig& c) {
-        const auto t0 = std::chrono::steady_clock::now();
-        benchmark::DoNotOptimize(RunTrackExperiment(c).plant_ticks);
-        return Seconds(t0);
-      };
-      if (dart_first)
-        on_dart = time(dart), on_ode = time(config);
-      else
-        on_ode = time(config), on_dart = time(dart);
-    }
+    // Alternate which engine goes first.
+    double on_ode = round % 2 == 0 ? time(config) : 0.0;
+    const double on_dart = time(dart);
+    if (round % 2 == 1) on_ode = time(config);
     ode_s.push_back(on_ode), dart_s.push_back(on_dart), engine_ratios.push_back(on_dart / on_ode);
   }
   std::printf(
