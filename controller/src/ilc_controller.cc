@@ -68,7 +68,7 @@ IlcController::IlcController(const Spec& spec, const ControllerContext& context)
   if (context_.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  CheckKeys(std::string(kConfigSection) + ".", spec_, &VisitKeys);
+  CheckKeys(std::string(kTraits.config_section) + ".", spec_, &VisitKeys);
   RequireSettlingModels(context_, kName);
   if (spec_.objective == Objective::kFoot) {
     if (!context_.geometry) {

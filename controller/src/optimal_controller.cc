@@ -173,7 +173,7 @@ OptimalController::OptimalController(const Spec& spec, const ControllerContext& 
   if (context.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  CheckKeys(std::string(kConfigSection) + ".", spec, &VisitKeys);
+  CheckKeys(std::string(kTraits.config_section) + ".", spec, &VisitKeys);
   RequireSettlingModels(context, kName);
   requests_ = spec.objective == Objective::kFoot
                   ? FootOptimalRequestCycle(context, spec.joint_weight, spec.request_smoothing)

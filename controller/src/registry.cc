@@ -1,7 +1,6 @@
 #include "leglab/controller/registry.h"
 
 #include <array>
-#include <concepts>
 #include <stdexcept>
 
 namespace leglab {
@@ -9,21 +8,17 @@ namespace {
 
 template <typename Mode>
 constexpr ControllerModeInfo InfoOf() {
-  ControllerModeInfo info{Mode::kName, Mode::kLabel, false, false, false, false, {}, "controller"};
-  if constexpr (requires { Mode::kConfigSection; }) info.config_section = Mode::kConfigSection;
-  if constexpr (requires { Mode::kSearchFile; }) info.search_file = Mode::kSearchFile;
-  if constexpr (requires { Mode::kFeedForward; }) info.feed_forward = Mode::kFeedForward;
-  if constexpr (requires { Mode::kEstimatesModel; }) info.estimates_model = Mode::kEstimatesModel;
-  if constexpr (requires { Mode::kFollowsApproximation; }) {
-    info.follows_approximation = Mode::kFollowsApproximation;
-  }
-  info.searchable = requires(const typename Mode::Spec& s, const ControllerContext& c) {
-    Mode::SearchCandidates(s, c);
-  };
-  info.searchable_by_lead = requires(const typename Mode::Spec& s) {
-    { Mode::RequestLeadTicks(s) } -> std::same_as<int>;
-  };
-  return info;
+  CheckControllerMode<Mode>();
+  constexpr ControllerModeTraits traits = Mode::kTraits;
+  return {.name = Mode::kName,
+          .label = Mode::kLabel,
+          .feed_forward = traits.feed_forward,
+          .follows_approximation = traits.follows_approximation,
+          .searchable = traits.has_search_candidates,
+          .searchable_by_lead = traits.has_request_lead,
+          .search_file = traits.search_file,
+          .config_section = traits.config_section,
+          .estimates_model = traits.estimates_model};
 }
 
 template <typename List>
@@ -94,7 +89,7 @@ std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
   return Modes::Dispatch<std::vector<ControllerSpec>>(spec.index(), [&]<typename Mode>() {
     std::vector<ControllerSpec> out;
     const auto& own = std::get<typename Mode::Spec>(spec);
-    if constexpr (requires { Mode::SearchCandidates(own, context); }) {
+    if constexpr (Mode::kTraits.has_search_candidates) {
       for (auto& candidate : Mode::SearchCandidates(own, context)) {
         out.emplace_back(std::in_place_type<typename Mode::Spec>, std::move(candidate));
       }
@@ -108,7 +103,7 @@ std::vector<ControllerSpec> SearchCandidates(const ControllerSpec& spec,
 std::optional<int> RequestLeadTicks(const ControllerSpec& spec) {
   return Modes::Dispatch<std::optional<int>>(spec.index(), [&]<typename Mode>() {
     std::optional<int> lead;
-    if constexpr (requires { Mode::RequestLeadTicks(std::get<typename Mode::Spec>(spec)); }) {
+    if constexpr (Mode::kTraits.has_request_lead) {
       lead = Mode::RequestLeadTicks(std::get<typename Mode::Spec>(spec));
     }
     return lead;
@@ -117,7 +112,7 @@ std::optional<int> RequestLeadTicks(const ControllerSpec& spec) {
 
 bool UsesWalkModels(const ControllerSpec& spec) {
   return Modes::Dispatch<bool>(spec.index(), [&]<typename Mode>() {
-    if constexpr (requires { Mode::ModelFittedToWalk(std::get<typename Mode::Spec>(spec)); }) {
+    if constexpr (Mode::kTraits.has_walk_models) {
       return Mode::ModelFittedToWalk(std::get<typename Mode::Spec>(spec));
     } else {
       return false;
@@ -129,7 +124,7 @@ std::vector<std::pair<std::string_view, long>> ModeParameters(const ControllerSp
   return Modes::Dispatch<std::vector<std::pair<std::string_view, long>>>(
       spec.index(), [&]<typename Mode>() {
         std::vector<std::pair<std::string_view, long>> out;
-        if constexpr (requires { Mode::Parameters(std::get<typename Mode::Spec>(spec)); }) {
+        if constexpr (Mode::kTraits.has_parameters) {
           out = Mode::Parameters(std::get<typename Mode::Spec>(spec));
         }
         return out;

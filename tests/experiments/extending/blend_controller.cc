@@ -17,7 +17,7 @@ void BlendController::VisitKeys(KeyVisitor& v, Spec& spec) {
 BlendController::BlendController(const Spec& spec, const ControllerContext& context)
     : spec_(spec), desired_(context.desired) {
   if (desired_.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
-  CheckKeys(std::string(kConfigSection) + ".", spec_, &VisitKeys);
+  CheckKeys(std::string(kTraits.config_section) + ".", spec_, &VisitKeys);
 }
 
 LegAngles BlendController::Update(long tick, const LegAngles& /*measured_deg*/) {

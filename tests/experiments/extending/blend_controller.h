@@ -24,8 +24,7 @@ class BlendController final : public JointController {
   };
   static constexpr std::string_view kName = "blend";
   static constexpr std::string_view kLabel = "Bl";
-  static constexpr std::string_view kConfigSection = "blend";
-  static constexpr bool kFeedForward = true;
+  static constexpr ControllerModeTraits kTraits{.feed_forward = true, .config_section = "blend"};
   /// Its keys, declared once (see KeyVisitor).
   static void VisitKeys(KeyVisitor& visitor, Spec& spec);
 

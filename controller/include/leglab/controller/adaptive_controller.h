@@ -70,8 +70,8 @@ class AdaptiveController final : public JointController {
   };
   static constexpr std::string_view kName = "adaptive";
   static constexpr std::string_view kLabel = "Ad";
-  static constexpr std::string_view kConfigSection = "adaptive";
-  static constexpr bool kEstimatesModel = true;
+  static constexpr ControllerModeTraits kTraits{.estimates_model = true,
+                                                .config_section = "adaptive"};
   /// A v_max change smaller than this is not re-planned for, deg/tick.
   static constexpr double kVmaxResolution = 0.03;
   /// A theta_0 change smaller than this is not re-planned for, deg.

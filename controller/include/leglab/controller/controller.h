@@ -118,6 +118,31 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
                                         const std::array<JointModelParams, kLegJoints>& models,
                                         const LegGeometry& geometry, int pwl_segments);
 
+/// A controller mode's optional traits, declared in one block of its class:
+///   static constexpr ControllerModeTraits kTraits{.feed_forward = true, .config_section = "x"};
+/// A misspelt field does not compile. Each `has_` flag declares a static function of the mode,
+/// and the registry checks at compile time that the function exists exactly when its flag is
+/// set (registry.h), so a misspelt function is an error too, not a silently missing trait.
+struct ControllerModeTraits {
+  bool feed_forward = false;           ///< requests periodic, independent of measurements
+  bool follows_approximation = false;  ///< Table 2 also compares it with the approximation P
+  bool estimates_model = false;        ///< ModelEstimates() reports its joint models every step
+  std::string_view config_section = "controller";  ///< the config map of its keys
+  /// Where a search's scores go (no .csv); set exactly when has_search_candidates.
+  std::string_view search_file{};
+  /// static std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&)
+  bool has_search_candidates = false;
+  /// static int RequestLeadTicks(const Spec&): a search candidate requests what the candidate
+  /// with lead 0 requests, this many ticks earlier (R(t) = R_0(t + lead))
+  bool has_request_lead = false;
+  /// static bool ModelFittedToWalk(const Spec&): the experiments build it with models fitted to
+  /// the walk, not the step tests'
+  bool has_walk_models = false;
+  /// static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&): its
+  /// integer parameters, for the outputs
+  bool has_parameters = false;
+};
+
 /// Each joint's model as a controller currently estimates it, with the RMS residual of its fit
 /// to the data it was estimated from (deg).
 using JointModelEstimates = std::array<IdentificationResult, kLegJoints>;

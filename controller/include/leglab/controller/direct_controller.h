@@ -13,7 +13,7 @@ class DirectController final : public JointController {
   };
   static constexpr std::string_view kName = "direct";
   static constexpr std::string_view kLabel = "Dir";  ///< in Table 2's keys, e.g. L2(Des,Dir)
-  static constexpr bool kFeedForward = true;
+  static constexpr ControllerModeTraits kTraits{.feed_forward = true};
   static void VisitKeys(KeyVisitor& /*visitor*/, Spec& /*spec*/) {}
 
   DirectController(const Spec& spec, const ControllerContext& context);

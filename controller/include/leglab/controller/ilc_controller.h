@@ -76,7 +76,7 @@ class IlcController final : public JointController {
   };
   static constexpr std::string_view kName = "ilc";
   static constexpr std::string_view kLabel = "ILC";
-  static constexpr std::string_view kConfigSection = "ilc";
+  static constexpr ControllerModeTraits kTraits{.config_section = "ilc"};
   /// Its keys, declared once (see KeyVisitor).
   static void VisitKeys(KeyVisitor& visitor, Spec& spec);
 

@@ -23,9 +23,9 @@ class ModelBasedController final : public JointController {
   };
   static constexpr std::string_view kName = "model_based";
   static constexpr std::string_view kLabel = "MB";
-  static constexpr bool kFeedForward = true;
   /// It follows the approximation P, so Table 2 also compares it with P (L2(Pwl,MB)).
-  static constexpr bool kFollowsApproximation = true;
+  static constexpr ControllerModeTraits kTraits{
+      .feed_forward = true, .follows_approximation = true, .has_walk_models = true};
   /// The names of CmMethod's values in the config.
   static constexpr std::array<std::string_view, 2> kCmNames = {"closed", "exact"};
   /// Its keys, declared once (see KeyVisitor).

@@ -55,8 +55,8 @@ class OptimalController final : public JointController {
   };
   static constexpr std::string_view kName = "optimal";
   static constexpr std::string_view kLabel = "Opt";
-  static constexpr std::string_view kConfigSection = "optimal";
-  static constexpr bool kFeedForward = true;
+  static constexpr ControllerModeTraits kTraits{
+      .feed_forward = true, .config_section = "optimal", .has_walk_models = true};
   /// The foot objective's stopping rules: a sweep that lowers the objective's root (the
   /// model's predicted foot RMS error with the move suppression, mm) by less than this is the
   /// last, and there are at most kMaxFootSweeps.

@@ -1,10 +1,12 @@
 #pragma once
 
+#include <concepts>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -32,23 +34,97 @@ namespace leglab {
 ///   struct Spec;                                  its options (a value type with ==)
 ///   static constexpr std::string_view kName;      its name in configs and file names
 ///   static constexpr std::string_view kLabel;     its short label in Table 2's keys
+///   static constexpr ControllerModeTraits kTraits{...};  its optional traits, in one block
 ///   static void VisitKeys(KeyVisitor&, Spec&);    its config keys, declared once
 ///   Mode(const Spec&, const ControllerContext&);  its factory
-/// and optionally
-///   static constexpr bool kFeedForward = true;    requests periodic, independent of measurements
-///   static constexpr bool kFollowsApproximation = true;  Table 2 also compares it with P
-///   static constexpr bool kEstimatesModel = true;  ModelEstimates() reports its joint models
-///   static std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&);
-///   static constexpr std::string_view kSearchFile;  where a search's scores go (no .csv)
-///   static constexpr std::string_view kConfigSection;  the config map of its keys (default
-///                                                      "controller")
-///   static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&);
-///   static bool ModelFittedToWalk(const Spec&);  the experiments build it with models fitted to
-///                                                the walk, not the step tests' (see
-///                                                UsesWalkModels)
-///   static int RequestLeadTicks(const Spec&);    a search candidate requests what the
-///                                                candidate with lead 0 requests, this many
-///                                                ticks earlier: R(t) = R_0(t + lead)
+/// and the static functions its kTraits' `has_` flags declare (ControllerModeTraits). The
+/// registry checks all of it at compile time (CheckControllerMode), each failure a message
+/// naming the member.
+template <typename Mode>
+constexpr void CheckControllerModeFunctions();
+
+/// Checks a controller mode class at compile time (the registry does, for every registered
+/// mode): each failure is a static_assert whose message names the member that is missing,
+/// declared loose instead of in kTraits, or flagged in kTraits but absent (a misspelt function).
+template <typename Mode>
+constexpr void CheckControllerMode() {
+  static_assert(std::is_base_of_v<JointController, Mode>,
+                "a controller mode must derive from JointController");
+  static_assert(
+      requires { typename Mode::Spec; }, "a controller mode needs struct Spec");
+  static_assert(
+      requires { std::string_view(Mode::kName); },
+      "a controller mode needs static constexpr std::string_view kName");
+  static_assert(
+      requires { std::string_view(Mode::kLabel); },
+      "a controller mode needs static constexpr std::string_view kLabel");
+  static_assert(
+      requires(KeyVisitor & v, typename Mode::Spec & s) { Mode::VisitKeys(v, s); },
+      "a controller mode needs static void VisitKeys(KeyVisitor&, Spec&)");
+  static_assert(
+      std::is_constructible_v<Mode, const typename Mode::Spec&, const ControllerContext&>,
+      "a controller mode needs a constructor Mode(const Spec&, const ControllerContext&)");
+  static_assert(
+      requires {
+        requires std::same_as<std::remove_cvref_t<decltype(Mode::kTraits)>, ControllerModeTraits>;
+      },
+      "a controller mode needs static constexpr ControllerModeTraits kTraits{...}");
+  // The traits of before the block, declared loose, would be ignored: refused with the field
+  // that replaces each.
+  static_assert(
+      !requires { Mode::kFeedForward; }, "kFeedForward is kTraits.feed_forward");
+  static_assert(
+      !requires { Mode::kFollowsApproximation; },
+      "kFollowsApproximation is kTraits.follows_approximation");
+  static_assert(
+      !requires { Mode::kEstimatesModel; }, "kEstimatesModel is kTraits.estimates_model");
+  static_assert(
+      !requires { Mode::kConfigSection; }, "kConfigSection is kTraits.config_section");
+  static_assert(
+      !requires { Mode::kSearchFile; }, "kSearchFile is kTraits.search_file");
+  if constexpr (requires { Mode::kTraits; }) CheckControllerModeFunctions<Mode>();
+}
+
+/// CheckControllerMode's half for the static functions kTraits' `has_` flags declare.
+template <typename Mode>
+constexpr void CheckControllerModeFunctions() {
+  constexpr ControllerModeTraits traits = Mode::kTraits;
+  using Spec = typename Mode::Spec;
+  static_assert(
+      traits.has_search_candidates ==
+          requires(const Spec& s, const ControllerContext& c) {
+            { Mode::SearchCandidates(s, c) } -> std::same_as<std::vector<Spec>>;
+          },
+      "kTraits.has_search_candidates must say whether the mode has static "
+      "std::vector<Spec> SearchCandidates(const Spec&, const ControllerContext&)");
+  static_assert(traits.has_search_candidates == !traits.search_file.empty(),
+                "kTraits.search_file names where a search's scores go: set exactly when "
+                "has_search_candidates");
+  static_assert(
+      traits.has_request_lead ==
+          requires(const Spec& s) {
+            { Mode::RequestLeadTicks(s) } -> std::same_as<int>;
+          },
+      "kTraits.has_request_lead must say whether the mode has static int "
+      "RequestLeadTicks(const Spec&)");
+  static_assert(!traits.has_request_lead || traits.has_search_candidates,
+                "kTraits.has_request_lead needs has_search_candidates");
+  static_assert(
+      traits.has_walk_models ==
+          requires(const Spec& s) {
+            { Mode::ModelFittedToWalk(s) } -> std::same_as<bool>;
+          },
+      "kTraits.has_walk_models must say whether the mode has static bool "
+      "ModelFittedToWalk(const Spec&)");
+  static_assert(
+      traits.has_parameters ==
+          requires(const Spec& s) {
+            { Mode::Parameters(s) } -> std::same_as<std::vector<std::pair<std::string_view, long>>>;
+          },
+      "kTraits.has_parameters must say whether the mode has static "
+      "std::vector<std::pair<std::string_view, long>> Parameters(const Spec&)");
+}
+
 template <typename... Modes>
 struct ControllerModeList {
   using Spec = std::variant<typename Modes::Spec...>;

@@ -18,8 +18,11 @@ class TimeShiftController final : public JointController {
   };
   static constexpr std::string_view kName = "time_shift";
   static constexpr std::string_view kLabel = "TS";
-  static constexpr bool kFeedForward = true;
-  static constexpr std::string_view kSearchFile = "shift_search";
+  static constexpr ControllerModeTraits kTraits{.feed_forward = true,
+                                                .search_file = "shift_search",
+                                                .has_search_candidates = true,
+                                                .has_request_lead = true,
+                                                .has_parameters = true};
   /// Its keys, declared once (see KeyVisitor).
   static void VisitKeys(KeyVisitor& visitor, Spec& spec);
   /// The shifts an experiment may search (`track.search_shift`): k = 0..T-1, every distinct
