@@ -21,7 +21,7 @@ struct Mode : leglab::JointController {
   static bool ModelFitedToWalk(const Spec&) { return true; }
 #elif CASE == 4  // a function without its flag
   static constexpr leglab::ControllerModeTraits kTraits{};
-  static std::vector<std::pair<std::string_view, long>> Parameters(const Spec&) { return {}; }
+  static std::vector<std::pair<std::string_view, long> > Parameters(const Spec&) { return {}; }
 #elif CASE == 5  // no traits block
 #else
   static constexpr leglab::ControllerModeTraits kTraits{.has_walk_models = true};
