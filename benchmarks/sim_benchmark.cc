@@ -93,61 +93,42 @@ LegAngles Request(long tick) {
           60.0 + 40.0 * std::sin(2.0 * phase)};
 }
 
-void BM_OdeStep(benchmark::State& state) {
-  LegWorld world = BareWorld();
+// Bare physics steps of `engine`'s world.
+void StepBareWorld(benchmark::State& state, PhysicsEngine engine) {
+  LegWorld world = BareWorld(engine);
   const double dt_s = Config().physics_dt_ms / 1000.0;
   for (auto _ : state) {
     world.Step(dt_s);
   }
   state.SetItemsProcessed(state.iterations());  // physics steps
 }
+
+// LegSim ticks of `config` walking Request's pattern.
+void TickSim(benchmark::State& state, const SimConfig& config) {
+  LegSim sim(config);
+  for (auto _ : state) {
+    sim.SetRequestsDeg(Request(sim.tick()));
+    sim.Tick();
+    benchmark::DoNotOptimize(sim.MeasuredDeg());
+  }
+  // Physics steps, so items/s compares with the bare steps'.
+  state.SetItemsProcessed(state.iterations() *
+                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
+}
+
+void BM_OdeStep(benchmark::State& state) { StepBareWorld(state, PhysicsEngine::kOde); }
 BENCHMARK(BM_OdeStep);
 
-void BM_SimTick(benchmark::State& state) {
-  LegSim sim(Config());
-  for (auto _ : state) {
-    sim.SetRequestsDeg(Request(sim.tick()));
-    sim.Tick();
-    benchmark::DoNotOptimize(sim.MeasuredDeg());
-  }
-  // Physics steps, so items/s compares with BM_OdeStep's.
-  state.SetItemsProcessed(state.iterations() *
-                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
-}
+void BM_SimTick(benchmark::State& state) { TickSim(state, Config()); }
 BENCHMARK(BM_SimTick);
 
-void BM_StandTick(benchmark::State& state) {
-  LegSim sim(StandConfig());
-  for (auto _ : state) {
-    sim.SetRequestsDeg(Request(sim.tick()));
-    sim.Tick();
-    benchmark::DoNotOptimize(sim.MeasuredDeg());
-  }
-  state.SetItemsProcessed(state.iterations() *
-                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
-}
+void BM_StandTick(benchmark::State& state) { TickSim(state, StandConfig()); }
 BENCHMARK(BM_StandTick);
 
-void BM_DartStep(benchmark::State& state) {
-  LegWorld world = BareWorld(PhysicsEngine::kDart);
-  const double dt_s = Config().physics_dt_ms / 1000.0;
-  for (auto _ : state) {
-    world.Step(dt_s);
-  }
-  state.SetItemsProcessed(state.iterations());
-}
+void BM_DartStep(benchmark::State& state) { StepBareWorld(state, PhysicsEngine::kDart); }
 BENCHMARK(BM_DartStep);
 
-void BM_DartSimTick(benchmark::State& state) {
-  LegSim sim(DartConfig());
-  for (auto _ : state) {
-    sim.SetRequestsDeg(Request(sim.tick()));
-    sim.Tick();
-    benchmark::DoNotOptimize(sim.MeasuredDeg());
-  }
-  state.SetItemsProcessed(state.iterations() *
-                          leglab::sim::PhysicsStepsPerTick(sim.config().physics_dt_ms));
-}
+void BM_DartSimTick(benchmark::State& state) { TickSim(state, DartConfig()); }
 BENCHMARK(BM_DartSimTick);
 
 // Seconds per physics step over `steps` bare ODE steps.
