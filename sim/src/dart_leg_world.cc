@@ -158,9 +158,7 @@ std::string DartLegWorld::StateProblem() const {
 
 std::unique_ptr<PhysicsWorld> MakeDartWorld(const LegDescription& leg, const StandConfig& stand) {
   if (stand.enabled) {
-    throw std::invalid_argument(
-        "stand: sim.engine dart has no stand (its contact is hard, with one process-wide "
-        "softness, where the stand's is a spring-damper per world); use sim.engine: ode");
+    throw std::invalid_argument(std::string(kDartHasNoStand));
   }
   return std::make_unique<DartLegWorld>(leg);
 }

@@ -39,8 +39,6 @@ void SetRotation(dBodyID body, const Eigen::Matrix3d& rotation) {
   dBodySetRotation(body, r);
 }
 
-}  // namespace
-
 class OdeLegWorld final : public PhysicsWorld {
  public:
   OdeLegWorld(const LegDescription& leg, const StandConfig& stand);
@@ -297,6 +295,8 @@ std::string OdeLegWorld::StateProblem() const {
   }
   return {};
 }
+
+}  // namespace
 
 std::unique_ptr<PhysicsWorld> MakeOdeWorld(const LegDescription& leg, const StandConfig& stand) {
   return std::make_unique<OdeLegWorld>(leg, stand);

@@ -6,6 +6,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "leglab/core/leg.h"
 #include "leglab/sim/leg_description.h"
@@ -42,6 +43,11 @@ class PhysicsWorld {
 /// ODE's world of `leg` (maximal coordinates: a body per moving link, hinges between them), with
 /// the stand when `stand.enabled`. `leg` is checked (LegWorld) and outlives the world.
 std::unique_ptr<PhysicsWorld> MakeOdeWorld(const LegDescription& leg, const StandConfig& stand);
+
+/// Why the stand is refused on DART (MakeDartWorld, ValidateSimConfig), one line.
+inline constexpr std::string_view kDartHasNoStand =
+    "stand: sim.engine dart has no stand (its contact is hard, with one process-wide softness, "
+    "where the stand's is a spring-damper per world); use sim.engine: ode";
 
 /// DART's world of `leg` (reduced coordinates: one skeleton whose revolute joints cannot open).
 /// Throws std::invalid_argument when `stand.enabled` (the stand is ODE's alone; see

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "physics_world.h"
+
 namespace leglab::sim {
 namespace {
 
@@ -246,9 +248,7 @@ void ValidateSimConfig(const SimConfig& config) {
   }
   if (config.stand.enabled) ValidateStand(config.stand);
   if (config.stand.enabled && config.engine == PhysicsEngine::kDart) {
-    throw std::invalid_argument(
-        "stand: sim.engine dart has no stand (its contact is hard, with one process-wide "
-        "softness, where the stand's is a spring-damper per world); use sim.engine: ode");
+    throw std::invalid_argument(std::string(kDartHasNoStand));
   }
 }
 
