@@ -1,7 +1,6 @@
 // FitServoModel: Nelder-Mead on the open-loop prediction error, lag by lag.
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -10,6 +9,7 @@
 #include "leglab/model/nelder_mead.h"
 #include "leglab/model/servo_model.h"
 #include "servo_model_tick.h"
+#include "servo_rollouts.h"
 
 namespace leglab {
 namespace {
@@ -60,93 +60,25 @@ std::vector<double> StartPoint(std::span<const ServoRecording> recordings, bool 
 class PredictionError {
  public:
   PredictionError(std::span<const ServoRecording> recordings, double tick_s, int lag)
-      : recordings_(recordings), tick_s_(tick_s), lag_(static_cast<size_t>(lag)) {
+      : rollouts_(recordings, tick_s, lag), instructions_(BestLaneInstructions()) {
     for (const ServoRecording& r : recordings) {
       driven_ticks_.push_back(
           static_cast<double>(std::count(r.scored.begin(), r.scored.end(), uint8_t{1})));
     }
-    by_length_.resize(recordings.size());
-    std::iota(by_length_.begin(), by_length_.end(), size_t{0});
-    std::stable_sort(by_length_.begin(), by_length_.end(), [&](size_t a, size_t b) {
-      return recordings[a].scored.size() > recordings[b].scored.size();
-    });
   }
 
   double operator()(const ServoModelParams& p) const {
-    // Each rollout is one long chain of dependent operations (angle, sine, duty, velocity,
-    // angle); kLanes rollouts of recordings of about the same length, interleaved tick by tick,
-    // keep the processor busy. Each lane's arithmetic is that of a rollout on its own and the
-    // sums are added in recording order, so the grouping does not change a bit.
-    const size_t n = recordings_.size();
-    const double blend = servo_tick::VelocityBlend(p, tick_s_);
-    std::vector<double> sums(n);
-    size_t g = 0;
-    for (; g + kLanes <= n; g += kLanes) RollOut<kLanes>(p, blend, &by_length_[g], sums);
-    for (; g < n; ++g) RollOut<1>(p, blend, &by_length_[g], sums);
+    rollouts_.SquaredErrors(p, sums_, instructions_);
     double sum = 0.0;
-    for (size_t k = 0; k < n; ++k) sum += sums[k] / driven_ticks_[k];
+    for (size_t k = 0; k < sums_.size(); ++k) sum += sums_[k] / driven_ticks_[k];
     return sum;
   }
 
  private:
-  static constexpr size_t kLanes = 4;
-
-  // One rollout's state: PredictDrivenRuns' prediction, each run of driven ticks started from
-  // its first tick's measured angle at rest, R(t-1-l) acting at tick t (R(0) before it).
-  struct Lane {
-    const ServoRecording* recording = nullptr;
-    servo_tick::Coefficients coefficients;
-    double sum = 0.0;  // squared errors so far
-    double angle = 0.0;
-    double velocity = 0.0;
-    bool running = false;
-  };
-
-  void Step(size_t t, double blend, Lane& lane) const {
-    const ServoRecording& r = *lane.recording;
-    if (r.scored[t] == 0) {
-      lane.running = false;
-    } else if (!lane.running) {
-      lane.angle = r.measured_deg[t];
-      lane.velocity = 0.0;
-      lane.running = true;
-    } else {
-      const size_t acting = t > lag_ ? t - 1 - lag_ : 0;
-      servo_tick::Advance(lane.coefficients, tick_s_, blend, r.request_deg[acting], lane.angle,
-                          lane.velocity);
-      const double e = lane.angle - r.measured_deg[t];
-      lane.sum += e * e;
-    }
-  }
-
-  // The sums of squared errors of recordings index[0..K) into `sums`: their common ticks with
-  // the K lanes side by side, then each one's remaining ticks.
-  template <size_t K>
-  void RollOut(const ServoModelParams& p, double blend, const size_t* index,
-               std::vector<double>& sums) const {
-    std::array<Lane, K> lanes;
-    size_t common = recordings_[index[0]].scored.size();
-    for (size_t k = 0; k < K; ++k) {
-      lanes[k].recording = &recordings_[index[k]];
-      lanes[k].coefficients = servo_tick::CoefficientsOf(p, lanes[k].recording->drive);
-      common = std::min(common, lanes[k].recording->scored.size());
-    }
-    for (size_t t = 0; t < common; ++t) {
-      for (size_t k = 0; k < K; ++k) Step(t, blend, lanes[k]);
-    }
-    for (size_t k = 0; k < K; ++k) {
-      for (size_t t = common; t < lanes[k].recording->scored.size(); ++t) {
-        Step(t, blend, lanes[k]);
-      }
-      sums[index[k]] = lanes[k].sum;
-    }
-  }
-
-  std::span<const ServoRecording> recordings_;
-  double tick_s_;
-  size_t lag_;
+  ServoRollouts rollouts_;
+  LaneInstructions instructions_;
   std::vector<double> driven_ticks_;  // per recording
-  std::vector<size_t> by_length_;     // recordings' indices, longest first
+  mutable std::vector<double> sums_;  // work space
 };
 
 }  // namespace

@@ -13,34 +13,45 @@
 #include <cstdint>
 #include <numbers>
 
+#include "lanes.h"
+
+// The kernels and SinDegrees take and return Lanes too (see lanes.h for the note).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace leglab::servo_tick {
+
 namespace detail {
 
-// sin x for |x| <= pi/4 (fdlibm's __kernel_sin with no tail).
-inline double SineKernel(double x) {
+// sin x for |x| <= pi/4 (fdlibm's __kernel_sin with no tail), for a double or Lanes (lane by
+// lane the same operations, so the same bits).
+template <typename T>
+inline T SineKernel(T x) {
   constexpr double kS1 = -1.66666666666666324348e-01;
   constexpr double kS2 = 8.33333333332248946124e-03;
   constexpr double kS3 = -1.98412698298579493134e-04;
   constexpr double kS4 = 2.75573137070700676789e-06;
   constexpr double kS5 = -2.50507602534068634195e-08;
   constexpr double kS6 = 1.58969099521155010221e-10;
-  const double z = x * x;
-  const double r = kS2 + z * (kS3 + z * (kS4 + z * (kS5 + z * kS6)));
+  const T z = x * x;
+  const T r = kS2 + z * (kS3 + z * (kS4 + z * (kS5 + z * kS6)));
   return x + z * x * (kS1 + z * r);
 }
 
-// cos x for |x| <= pi/4 (fdlibm's __kernel_cos with no tail, in musl's form).
-inline double CosineKernel(double x) {
+// cos x for |x| <= pi/4 (fdlibm's __kernel_cos with no tail, in musl's form), for a double or
+// Lanes.
+template <typename T>
+inline T CosineKernel(T x) {
   constexpr double kC1 = 4.16666666666666019037e-02;
   constexpr double kC2 = -1.38888888888741095749e-03;
   constexpr double kC3 = 2.48015872894767294178e-05;
   constexpr double kC4 = -2.75573143513906633035e-07;
   constexpr double kC5 = 2.08757232129817482790e-09;
   constexpr double kC6 = -1.13596475577881948265e-11;
-  const double z = x * x;
-  const double r = z * (kC1 + z * (kC2 + z * (kC3 + z * (kC4 + z * (kC5 + z * kC6)))));
-  const double half_z = 0.5 * z;
-  const double w = 1.0 - half_z;
+  const T z = x * x;
+  const T r = z * (kC1 + z * (kC2 + z * (kC3 + z * (kC4 + z * (kC5 + z * kC6)))));
+  const T half_z = 0.5 * z;
+  const T w = 1.0 - half_z;
   return w + (((1.0 - w) - half_z) + z * r);
 }
 
@@ -79,6 +90,27 @@ inline double SinDegrees(double deg) {
   return detail::SineOfQuadrant(quadrant, x);
 }
 
+/// SinDegrees of each lane, the same bits.
+inline Lanes SinDegrees(Lanes deg) {
+  // In range, both kernels are computed in every lane and the quadrant's taken without a
+  // branch; out of range (rare: an angle beyond 1e15 deg, or NaN) the lanes go the scalar way.
+  if (!AllLanes(Abs(deg) < detail::kReducedLimitDeg)) {
+    Lanes sine{};
+    for (size_t i = 0; i < kLaneCount; ++i) sine[i] = SinDegrees(double{deg[i]});
+    return sine;
+  }
+  constexpr double kRound = 0x1.8p52;  // as in ReduceDegrees
+  const Lanes shifted = deg * (1.0 / 90.0) + kRound;
+  const Lanes k = shifted - kRound;
+  // k mod 4 is in the low bits of `shifted`, whose significand holds 2^51 + k (|k| < 2^50).
+  const LaneMask quadrant = Bits(shifted);
+  const Lanes x = (deg - 90.0 * k) * (std::numbers::pi / 180.0);
+  const LaneMask odd = -(quadrant & 1);  // all ones in quadrants 1 and 3
+  const Lanes sine = Select(odd, detail::CosineKernel(x), detail::SineKernel(x));
+  const LaneMask negated = -((quadrant >> 1) & 1);  // all ones in quadrants 2 and 3
+  return FromBits(Bits(sine) ^ (negated & kSignBit));
+}
+
 /// cos(deg pi / 180), within two units in the last place; exactly 0 at odd multiples of 90 deg.
 inline double CosDegrees(double deg) {
   if (!(std::abs(deg) < detail::kReducedLimitDeg)) return std::cos(deg * std::numbers::pi / 180.0);
@@ -88,3 +120,5 @@ inline double CosDegrees(double deg) {
 }
 
 }  // namespace leglab::servo_tick
+
+#pragma GCC diagnostic pop

@@ -1,0 +1,58 @@
+#pragma once
+
+// Lanes: a few doubles side by side, for rollouts computed together (the extended model's fit
+// rolls out many recordings at once). Internal to leglab_model.
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+namespace leglab {
+
+/// kLaneCount doubles in one vector of GCC's and Clang's vector extension: +, -, * and / act
+/// lane by lane with the scalar operations' IEEE rounding, so a lane computes exactly what the
+/// same expression on a double does (there is no contraction into fused multiply-adds without
+/// -mfma or -ffp-contract=fast, neither of which the build sets). Four lanes: one AVX register,
+/// or two SSE2 registers on the x86-64 baseline. Aligned to their size whatever the target (GCC
+/// would align them to 16 bytes without AVX, where code compiled for AVX assumes 32).
+inline constexpr size_t kLaneCount = 4;
+inline constexpr size_t kLaneBytes = kLaneCount * sizeof(double);
+using Lanes = double __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
+/// A lane's bits; as a mask, each lane all ones (true) or all zeros (false), as comparisons of
+/// Lanes give.
+using LaneMask = int64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
+
+// GCC notes that a vector of 32 bytes is passed differently with AVX than without: these are
+// inline, so nothing passes one across a call.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+inline LaneMask Bits(Lanes x) { return std::bit_cast<LaneMask>(x); }
+inline Lanes FromBits(LaneMask bits) { return std::bit_cast<Lanes>(bits); }
+inline constexpr int64_t kSignBit = std::numeric_limits<int64_t>::min();
+
+/// Every lane `x`.
+inline Lanes Splat(double x) { return Lanes{} + x; }
+
+/// Each lane's `yes` where `mask` is true, else its `no`: bit operations, no branch.
+inline Lanes Select(LaneMask mask, Lanes yes, Lanes no) {
+  return FromBits((mask & Bits(yes)) | (~mask & Bits(no)));
+}
+
+/// std::abs and std::copysign, lane by lane.
+inline Lanes Abs(Lanes x) { return FromBits(Bits(x) & ~kSignBit); }
+inline Lanes CopySign(Lanes magnitude, Lanes sign) {
+  return FromBits((Bits(magnitude) & ~kSignBit) | (Bits(sign) & kSignBit));
+}
+
+/// Whether every lane of `mask` is true.
+inline bool AllLanes(LaneMask mask) {
+  bool all = true;
+  for (size_t i = 0; i < kLaneCount; ++i) all = all && mask[i] != 0;
+  return all;
+}
+
+#pragma GCC diagnostic pop
+
+}  // namespace leglab
