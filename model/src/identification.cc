@@ -6,11 +6,13 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "leglab/model/levenberg_marquardt.h"
 #include "leglab/model/nelder_mead.h"
+#include "paper_sweeps.h"
 
 namespace leglab {
 namespace {
@@ -70,16 +72,14 @@ void SweepWithSensitivities(const JointModelParams& p, std::span<const double> r
       const long end = std::min<long>(run_end[j], last);
       const auto count = static_cast<double>(end - j + 1);
       const double x = request_deg[j] - angle;
-      if (x >= theta0) {
-        speed_sum += count * v_max;
-      } else if (x <= -theta0) {
-        speed_sum -= count * v_max;
-      } else {
-        const double f = count * (x * gain);
-        speed_sum += f;
-        linear_sum += f;
-        unsaturated += count;
-      }
+      // Without a branch (which the data cannot predict), the same bits: a saturated run adds
+      // +-count v_max (a - b is a + (-b)), and +0 to the linear sums, which are never -0.
+      const bool linear = !(x >= theta0) && !(x <= -theta0);
+      const double saturated = x >= theta0 ? count * v_max : -(count * v_max);
+      const double f = linear ? count * (x * gain) : saturated;
+      speed_sum += f;
+      linear_sum += linear ? f : 0.0;
+      unsaturated += linear ? count : 0.0;
       j = end + 1;
     }
     const double decay = 1.0 - unsaturated * gain * inv_a;
@@ -117,7 +117,17 @@ class ContinuousFit {
         warmup_(warmup),
         fit_starts_(fit_starts),
         n_(2 + (fit_starts ? static_cast<int>(recordings.size()) : 0)),
-        solver_(n_) {}
+        solver_(n_) {
+    // Where requests change about every tick (a servo's log), the sweeps in lanes; where they
+    // are held (a step test), the scalar sweep's one visit per run is cheaper. Same bits.
+    size_t ticks = 0, runs = 0;
+    for (const Prepared& r : recordings) {
+      swept_.push_back({r.recording, r.run_end});
+      ticks += r.run_end.size();
+      for (size_t t = 0; t < r.run_end.size(); ++t) runs += r.run_end[t] == static_cast<int>(t);
+    }
+    if (ticks < 2 * runs) lanes_.emplace(swept_, warmup);
+  }
 
   // Sum of squared errors of the prediction at x, and into `jtj` and `jte` the Gauss-Newton
   // normal equations J^T J and J^T e (J = dM/dx, e = measured - M).
@@ -129,11 +139,18 @@ class ContinuousFit {
     jtj.setZero();
     jte.setZero();
     if (!Admissible(p)) return std::numeric_limits<double>::infinity();
+    if (lanes_) {
+      lanes_->Accumulate(p,
+                         fit_starts_ ? std::span<const double>(x.data() + 2, recordings_.size())
+                                     : std::span<const double>(),
+                         fit_starts_, equations_, instructions_);
+    }
     double sum = 0.0;
     for (size_t k = 0; k < recordings_.size(); ++k) {
       const long s = 2 + static_cast<long>(k);
-      const NormalEquations q =
-          fit_starts_ ? Accumulate<true>(p, k, x[s]) : Accumulate<false>(p, k, 0.0);
+      const PaperNormalEquations q = lanes_        ? equations_[k]
+                                     : fit_starts_ ? Accumulate<true>(p, k, x[s])
+                                                   : Accumulate<false>(p, k, 0.0);
       // The recording's weight (exactly 1 by default: w * v == v, the same bits).
       const double w = recordings_[k].recording->weight;
       sum += w * q.squared_error;
@@ -184,17 +201,10 @@ class ContinuousFit {
   }
 
  private:
-  // One recording's squared error and its share of the normal equations: the symmetric 3 x 3
-  // J^T J of (ln v_max, ln theta_0, start offset) and J^T e.
-  struct NormalEquations {
-    double squared_error = 0, vv = 0, vt = 0, tt = 0, vs = 0, ts = 0, ss = 0;
-    double ve = 0, te = 0, se = 0;
-  };
-
   // Sweeps recording k. The start-offset terms only when `kStarts`: fewer accumulators keep
   // the tick loop in registers.
   template <bool kStarts>
-  NormalEquations Accumulate(const JointModelParams& p, size_t k, double offset) const {
+  PaperNormalEquations Accumulate(const JointModelParams& p, size_t k, double offset) const {
     const JointRecording& r = *recordings_[k].recording;
     double sum = 0, vv = 0, vt = 0, tt = 0, vs = 0, ts = 0, ss = 0, ve = 0, te = 0, se = 0;
     SweepWithSensitivities(p, r.request_deg, recordings_[k].run_end, warmup_,
@@ -223,6 +233,10 @@ class ContinuousFit {
   bool fit_starts_;
   int n_;
   LevenbergMarquardt solver_;
+  std::vector<SweptRecording> swept_;
+  std::optional<PaperSweeps> lanes_;
+  LaneInstructions instructions_ = BestLaneInstructions();
+  mutable std::vector<PaperNormalEquations> equations_;  // Evaluate's work space
 };
 
 // One candidate of the fit: the parameters and their squared error.

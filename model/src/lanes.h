@@ -22,6 +22,8 @@ using Lanes = double __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)
 /// A lane's bits; as a mask, each lane all ones (true) or all zeros (false), as comparisons of
 /// Lanes give.
 using LaneMask = int64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
+/// A lane's bits, unsigned (for shifts).
+using LaneBits = uint64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
 
 // GCC notes that a vector of 32 bytes is passed differently with AVX than without: these are
 // inline, so nothing passes one across a call.
@@ -46,7 +48,7 @@ inline Lanes CopySign(Lanes magnitude, Lanes sign) {
   return FromBits((Bits(magnitude) & ~kSignBit) | (Bits(sign) & kSignBit));
 }
 
-/// Whether every lane of `mask` is true.
+/// Whether every lane of `mask` is true (a branch per lane: not for a tick's inner loop).
 inline bool AllLanes(LaneMask mask) {
   bool all = true;
   for (size_t i = 0; i < kLaneCount; ++i) all = all && mask[i] != 0;
@@ -54,5 +56,16 @@ inline bool AllLanes(LaneMask mask) {
 }
 
 #pragma GCC diagnostic pop
+
+/// The instructions code on Lanes runs on: the x86-64 baseline (SSE2) or AVX2 (the same
+/// arithmetic on wider registers, so the same bits). Code built for both picks one per call.
+enum class LaneInstructions { kBaseline, kAvx2 };
+
+/// The widest this processor runs.
+inline LaneInstructions BestLaneInstructions() {
+  static const LaneInstructions best =
+      __builtin_cpu_supports("avx2") ? LaneInstructions::kAvx2 : LaneInstructions::kBaseline;
+  return best;
+}
 
 }  // namespace leglab

@@ -12,14 +12,24 @@ namespace {
 
 // One tick of a vector's lanes: servo_tick::TargetSpeed and Advance, written for lanes. A lane
 // not driven stops; one driven but not running starts at the measured angle at rest; one running
-// takes the tick's angle and velocity and adds its squared error.
-template <class LaneState, class StepInput>
+// takes the tick's angle and velocity and adds its squared error. Unless kChecked, the sine
+// assumes every angle is in SinDegrees' reduced range and marks those that were not in
+// `out_of_range`, for the caller to roll out again, checked.
+template <bool kChecked, class LaneState, class StepInput>
 [[gnu::always_inline]] inline void Step(const servo_tick::Coefficients& common, double tick_s,
-                                        double blend, const StepInput& in, LaneState& lanes) {
+                                        double blend, const StepInput& in, LaneState& lanes,
+                                        LaneMask& out_of_range) {
+  Lanes sine;
+  if constexpr (kChecked) {
+    sine = servo_tick::SinDegrees(lanes.angle);
+  } else {
+    out_of_range |= ~servo_tick::InReducedRange(lanes.angle);
+    sine = servo_tick::SinDegreesInRange(lanes.angle);
+  }
   const Lanes raw_duty = lanes.duty_per_deg * (in.acting - lanes.angle);
   const Lanes duty = Select(raw_duty < -1.0, Splat(-1.0),  // std::clamp(raw_duty, -1, 1)
                             Select(1.0 < raw_duty, Splat(1.0), raw_duty));
-  const Lanes load_duty = lanes.load_duty_at_90 * servo_tick::SinDegrees(lanes.angle);
+  const Lanes load_duty = lanes.load_duty_at_90 * sine;
   const Lanes net = duty - load_duty;
   const Lanes band = common.friction_duty + common.friction_load_ratio * Abs(load_duty);
   const Lanes target =
@@ -53,12 +63,6 @@ std::vector<size_t> GreedySchedule(std::span<const size_t> by_length,
 }
 
 }  // namespace
-
-LaneInstructions BestLaneInstructions() {
-  static const LaneInstructions best =
-      __builtin_cpu_supports("avx2") ? LaneInstructions::kAvx2 : LaneInstructions::kBaseline;
-  return best;
-}
 
 ServoRollouts::ServoRollouts(std::span<const ServoRecording> recordings, double tick_s, int lag)
     : recordings_(recordings), tick_s_(tick_s) {
@@ -131,12 +135,15 @@ void ServoRollouts::HandOver(const ServoModelParams& p, const Handover& h, State
   v.running[i] = 0;
 }
 
-// Every step of every vector, handing lanes over between recordings.
+// Every step of every vector, handing lanes over between recordings; then again, checked, if
+// an angle left the sine's reduced range (a rollout diverging).
+template <bool kChecked>
 [[gnu::always_inline]] inline void ServoRollouts::RollOutSteps(const ServoModelParams& p,
                                                                std::vector<double>& sums) const {
   const servo_tick::Coefficients common = servo_tick::CoefficientsOf(p, recordings_.front().drive);
   const double blend = servo_tick::VelocityBlend(p, tick_s_);
   State state;
+  LaneMask out_of_range{};
   const size_t steps = inputs_.size() / vectors_;
   size_t h = 0;
   for (size_t step = 0; step < steps;) {
@@ -146,22 +153,29 @@ void ServoRollouts::HandOver(const ServoModelParams& p, const Handover& h, State
     const size_t until = h < handovers_.size() ? handovers_[h].step : steps;
     for (; step < until; ++step) {
       const StepInput* in = &inputs_[step * vectors_];
-      for (size_t v = 0; v < vectors_; ++v) Step(common, tick_s_, blend, in[v], state[v]);
+      for (size_t v = 0; v < vectors_; ++v) {
+        Step<kChecked>(common, tick_s_, blend, in[v], state[v], out_of_range);
+      }
     }
   }
   for (; h < handovers_.size(); ++h) HandOver(p, handovers_[h], state, sums);
+  if constexpr (!kChecked) {
+    bool in_range = true;
+    for (size_t i = 0; i < kLaneCount; ++i) in_range = in_range && out_of_range[i] == 0;
+    if (!in_range) RollOutSteps<true>(p, sums);
+  }
 }
 
 // RollOutSteps compiled twice, for the baseline and for AVX2; `flatten` inlines every call in
 // it, so that nothing compiled for one is called from the other.
 [[gnu::flatten]] void ServoRollouts::RollOut(const ServoModelParams& p,
                                              std::vector<double>& sums) const {
-  RollOutSteps(p, sums);
+  RollOutSteps<false>(p, sums);
 }
 
 [[gnu::flatten, gnu::target("avx2")]] void ServoRollouts::RollOutAvx2(
     const ServoModelParams& p, std::vector<double>& sums) const {
-  RollOutSteps(p, sums);
+  RollOutSteps<false>(p, sums);
 }
 
 }  // namespace leglab

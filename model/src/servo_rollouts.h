@@ -13,13 +13,6 @@
 
 namespace leglab {
 
-/// The instructions the rollouts run on: the x86-64 baseline (SSE2) or AVX2 (the same
-/// arithmetic on wider registers, so the same bits).
-enum class LaneInstructions { kBaseline, kAvx2 };
-
-/// The widest this processor runs.
-LaneInstructions BestLaneInstructions();
-
 /// Each recording's sum of squared open-loop prediction errors over its driven ticks, as
 /// PredictServoRecording predicts them, bit for bit: each run of driven ticks started from its
 /// first tick's measured angle at rest, R(t-1-lag) acting at tick t (R(0) before it).
@@ -71,6 +64,7 @@ class ServoRollouts {
   using State = std::array<LaneState, kMaxVectors>;
 
   void Schedule(size_t lag);
+  template <bool kChecked>
   void RollOutSteps(const ServoModelParams& p, std::vector<double>& sums) const;
   void RollOut(const ServoModelParams& p, std::vector<double>& sums) const;
   void RollOutAvx2(const ServoModelParams& p, std::vector<double>& sums) const;

@@ -90,25 +90,29 @@ inline double SinDegrees(double deg) {
   return detail::SineOfQuadrant(quadrant, x);
 }
 
-/// SinDegrees of each lane, the same bits.
-inline Lanes SinDegrees(Lanes deg) {
-  // In range, both kernels are computed in every lane and the quadrant's taken without a
-  // branch; out of range (rare: an angle beyond 1e15 deg, or NaN) the lanes go the scalar way.
-  if (!AllLanes(Abs(deg) < detail::kReducedLimitDeg)) {
-    Lanes sine{};
-    for (size_t i = 0; i < kLaneCount; ++i) sine[i] = SinDegrees(double{deg[i]});
-    return sine;
-  }
+/// The lanes whose angle SinDegrees reduces in degrees (the others go to std::sin).
+inline LaneMask InReducedRange(Lanes deg) { return Abs(deg) < detail::kReducedLimitDeg; }
+
+/// SinDegrees of each lane, the same bits, for lanes all InReducedRange: both kernels are
+/// computed in every lane and the quadrant's taken without a branch.
+inline Lanes SinDegreesInRange(Lanes deg) {
   constexpr double kRound = 0x1.8p52;  // as in ReduceDegrees
   const Lanes shifted = deg * (1.0 / 90.0) + kRound;
   const Lanes k = shifted - kRound;
   // k mod 4 is in the low bits of `shifted`, whose significand holds 2^51 + k (|k| < 2^50).
-  const LaneMask quadrant = Bits(shifted);
+  const auto quadrant = std::bit_cast<LaneBits>(shifted);
   const Lanes x = (deg - 90.0 * k) * (std::numbers::pi / 180.0);
-  const LaneMask odd = -(quadrant & 1);  // all ones in quadrants 1 and 3
+  const LaneMask odd = -std::bit_cast<LaneMask>(quadrant & 1);  // all ones in quadrants 1, 3
   const Lanes sine = Select(odd, detail::CosineKernel(x), detail::SineKernel(x));
-  const LaneMask negated = -((quadrant >> 1) & 1);  // all ones in quadrants 2 and 3
-  return FromBits(Bits(sine) ^ (negated & kSignBit));
+  return FromBits(Bits(sine) ^ std::bit_cast<LaneMask>((quadrant & 2) << 62));  // quadrants 2, 3
+}
+
+/// SinDegrees of each lane, the same bits.
+inline Lanes SinDegrees(Lanes deg) {
+  if (AllLanes(InReducedRange(deg))) return SinDegreesInRange(deg);
+  Lanes sine{};
+  for (size_t i = 0; i < kLaneCount; ++i) sine[i] = SinDegrees(double{deg[i]});
+  return sine;
 }
 
 /// cos(deg pi / 180), within two units in the last place; exactly 0 at odd multiples of 90 deg.
