@@ -3,9 +3,11 @@
 fit_walk, sweep, plan, identify on servo logs), and one index.html in every sub-run folder
 beneath it (hind/, stand/, sweeps/<name>/, servo_logs/ ...), each linked from the pages above.
 
-A page shows what the run's JSON files record of its configuration, every Markdown table the
-programs wrote (and a sweep's sweep.csv) as HTML tables, every figure with a caption saying
-what to look at, the animation leg.gif when there is one, and links to the CSV and JSON files.
+A page leads with the findings: every Markdown table the programs wrote (and a sweep's
+sweep.csv) as HTML tables, on a page with sub-runs the real servos' held-out errors from the
+shallowest log fit below, every figure (Fig. 8 first) with a caption saying what to look at,
+the animation leg.gif when there is one; then the sub-runs, what the run's JSON files record of
+its configuration, and links to the CSV and JSON files.
 The pages are self-contained: inline CSS, no script, no font or anything else from a network;
 figures and data files are linked by relative paths, so the folder can be moved or served.
 
@@ -29,6 +31,14 @@ RUN_MARKER_PATTERNS = (re.compile(r"^log_.+\.csv$"), re.compile(r"^sweep\.shard-
 
 # Tables in the order a reader meets them; other .md files follow by name.
 TABLE_ORDER = ("table1.md", "table2.md", "walk_fit.md", "log_fit.md")
+
+# Figures shown first, in this order (the paper's Fig. 8 leads); the others follow: those with a
+# caption, then by name.
+FIGURE_ORDER = ("fig8_foot_old_new.png",)
+
+# The methods of a log fit's summary on a page with sub-runs, as log_fit.json names them.
+LOG_FIT_METHODS = (("direct", "direct"), ("best_shift", "best shift"), ("paper", "paper"),
+                   ("extended", "extended"))
 
 # What to look at in each figure plot_figures.py, plot_logs.py and plot_sweep.py draw.
 FIGURE_CAPTIONS = {
@@ -550,6 +560,40 @@ def tables_section(folder, tables, sweep):
     return "\n".join(out)
 
 
+def servo_summary(tree, top, rel):
+    """The real servos' headline for a page with sub-runs: the shallowest sub-run below rel
+    whose log_fit.json holds held-out logs, each motor's mean held-out error by method, linked
+    to that run's page; "" if none (or its JSON is not a log fit's)."""
+    below = sorted((r for r in tree if r != rel and (not rel or r.startswith(rel + "/"))),
+                   key=lambda r: (r.count("/"), natural_key(r)))
+    for run in below:
+        path = os.path.join(top, run, "log_fit.json")
+        if not os.path.isfile(path):
+            continue
+        try:
+            with open(path, encoding="utf-8") as f:
+                logs = json.load(f).get("logs", [])
+            means = {}
+            for log in logs:
+                if log.get("role") == "validate":
+                    means.setdefault(log["motor"], []).append(
+                        [float(log["mae_deg"][key]) for key, _ in LOG_FIT_METHODS])
+        except (ValueError, KeyError, TypeError, AttributeError):
+            continue
+        if not means:
+            continue
+        rows = [[str(motor), str(len(maes))] +
+                [f"{sum(m[i] for m in maes) / len(maes):.2f}" for i in range(len(LOG_FIT_METHODS))]
+                for motor, maes in sorted(means.items())]
+        link = os.path.relpath(run, rel) if rel else run
+        header = ["servo", "held-out logs"] + [f"{name} (deg)" for _, name in LOG_FIT_METHODS]
+        return (f'<section class="md"><h3>Real servos</h3><p class="note">Mean open-loop '
+                f"prediction error on logs each model never saw, from "
+                f'<a href="{href(link + "/index.html")}">{html.escape(run)}/</a>.</p>'
+                f"{table_html(header, rows)}</section>")
+    return ""
+
+
 def page(tree, top, rel):
     folder = os.path.join(top, rel)
     names = sorted((n for n in os.listdir(folder) if os.path.isfile(os.path.join(folder, n))),
@@ -564,31 +608,29 @@ def page(tree, top, rel):
                     key=lambda n: (TABLE_ORDER.index(n) if n in TABLE_ORDER else
                                    len(TABLE_ORDER), natural_key(n)))
     figures = [n for n in names if n.endswith(".png")]
-    figures.sort(key=lambda n: (n not in FIGURE_CAPTIONS and not n.startswith("log_"),
+    figures.sort(key=lambda n: (FIGURE_ORDER.index(n) if n in FIGURE_ORDER else len(FIGURE_ORDER),
+                                n not in FIGURE_CAPTIONS and not n.startswith("log_"),
                                 natural_key(n)))
     data = [n for n in names if n.endswith((".csv", ".json"))]
+    servos = servo_summary(tree, top, rel) if tree.get(rel) and "log_fit.json" not in names else ""
+    # The findings first (tables, figures, the animation, the real servos), then where they
+    # come from (sub-runs, configuration, data files).
     sections = []
-    if tree.get(rel):
-        sections.append(("runs", "Sub-runs"))
-    sections.append(("config", "Configuration"))
-    if tables or "sweep.csv" in names:
+    if tables or "sweep.csv" in names or servos:
         sections.append(("tables", "Tables"))
     if figures:
         sections.append(("figures", "Figures"))
     if "leg.gif" in names:
         sections.append(("animation", "Animation"))
+    if tree.get(rel):
+        sections.append(("runs", "Sub-runs"))
+    sections.append(("config", "Configuration"))
     if data:
         sections.append(("data", "Data files"))
     body.append("<p>" + " · ".join(f'<a href="#{i}">{t}</a>' for i, t in sections) + "</p>")
 
-    if tree.get(rel):
-        body.append('<h2 id="runs">Sub-runs</h2>')
-        body.append(runs_list(tree, top, rel, rel))
-    body.append(config_section(folder, names))
-
-    if tables or "sweep.csv" in names:
-        body.append(tables_section(folder, tables, "sweep.csv" in names))
-
+    if tables or "sweep.csv" in names or servos:
+        body.append(tables_section(folder, tables, "sweep.csv" in names) + servos)
     if figures:
         body.append('<h2 id="figures">Figures</h2><div class="figures">')
         for name in figures:
@@ -600,6 +642,10 @@ def page(tree, top, rel):
         body.append('<h2 id="animation">Animation</h2><figure><img src="leg.gif" alt="leg.gif">'
                     "<figcaption><code>leg.gif</code>: the leg's animation, as "
                     "scripts/animate.py drew it from this run.</figcaption></figure>")
+    if tree.get(rel):
+        body.append('<h2 id="runs">Sub-runs</h2>')
+        body.append(runs_list(tree, top, rel, rel))
+    body.append(config_section(folder, names))
     if data:
         body.append('<h2 id="data">Data files</h2><ul class="files">')
         for name in data:
