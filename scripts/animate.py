@@ -18,8 +18,6 @@ item and exits 2, having written nothing; the output is written to a temporary f
 --out and renamed when complete.
 """
 import argparse
-import csv
-import json
 import math
 import os
 import re
@@ -31,6 +29,8 @@ import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from results_reader import read_json, read_rows
 
 TICK_S = 0.008  # one control tick, 8 ms
 # At most this many frames by default: a default run (every mode of a run, one step) then
@@ -165,11 +165,6 @@ def chain_points_cm(chain, angles_rad):
 # --- The run --------------------------------------------------------------------------------
 
 
-def read_csv(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
 def top_level_keys(path):
     """A robot file's top-level `key: value` scalars (its `urdf` and `extends`), as text. The
     robot files are YAML; only these two keys are needed here, so no YAML library is."""
@@ -220,8 +215,7 @@ def load_run(folder):
         raise InputError(f"run folder '{folder}': no trace_<mode>.csv")
     table = os.path.join(folder, "table2.json")
     try:
-        with open(table) as f:
-            data = json.load(f)
+        data = read_json(table)
     except (OSError, ValueError, RecursionError) as e:
         raise InputError(f"'{table}': {e}") from None
     plant = data.get("plant", {}) if isinstance(data, dict) else None
@@ -246,7 +240,7 @@ def load_run(folder):
     order = []
     per_step = os.path.join(folder, "per_step.csv")
     if os.path.exists(per_step):
-        for row in read_csv(per_step):
+        for row in read_rows(per_step):
             if row["mode"] in traced and row["mode"] not in order:
                 order.append(row["mode"])
     modes = order + [m for m in traced if m not in order]
@@ -278,7 +272,7 @@ def read_trace(run, mode):
     angles = {}
     period = 0
     try:
-        for row in read_csv(path):
+        for row in read_rows(path):
             key = (int(row["step"]), int(row["tick"]))
             actual, desired = angles.setdefault(key, ({}, {}))
             for target, column in ((actual, "actual_deg"), (desired, "desired_deg")):
@@ -336,7 +330,7 @@ def build_animation(folder, modes=None, steps=1, every=None):
         if run.stand is not None:
             path = os.path.join(run.folder, f"foot_{mode}.csv")
             try:
-                rows = {(int(r["step"]), int(r["tick"])): r for r in read_csv(path)}
+                rows = {(int(r["step"]), int(r["tick"])): r for r in read_rows(path)}
                 for i, f in enumerate(frames):
                     carriage[i] = float(rows[f]["carriage_z_mm"]) / 10.0
                     force[i] = [float(rows[f][k]) for k in

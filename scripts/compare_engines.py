@@ -13,9 +13,10 @@ line on stderr, exit status 2, nothing written. Plain python3 (no numpy needed).
 """
 import argparse
 import csv
-import json
 import os
 import sys
+
+import results_reader
 
 JOINTS = ("rotator", "abductor", "knee")
 
@@ -26,8 +27,7 @@ class BadInput(Exception):
 
 def read_json(path):
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
+        data = results_reader.read_json(path)
     except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
         raise BadInput(f"'{path}' cannot be read as JSON: {e}") from None
     if not isinstance(data, dict):
@@ -44,8 +44,7 @@ def number(value, path, field):
 def read_steps(path):
     """A step test's actual angle per tick (the step_<joint>_<height>.csv identify writes)."""
     try:
-        with open(path, encoding="utf-8", newline="") as f:
-            rows = list(csv.DictReader(f))
+        rows = results_reader.read_rows(path)
         return [float(row["actual_deg"]) for row in rows]
     except (OSError, UnicodeDecodeError, KeyError, TypeError, ValueError, csv.Error) as e:
         raise BadInput(f"'{path}' is not a step test's CSV (tick,...,actual_deg): {e}") from None

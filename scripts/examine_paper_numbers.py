@@ -12,12 +12,13 @@ column norms) and the smallest singular value; and the foot error per unit of jo
 (3.23 cm for 31.0 / 29.0 / 20.1 deg); and on every tick how many IK solutions lie inside the
 joint limits (Newton from a grid of starts: whether the IK's branch is a choice at all).
 """
-import csv
 import itertools
 import math
 import sys
 
 import numpy as np
+
+from results_reader import read_rows
 
 SHOULDER = np.array([59.5, 59.2, 0.0])
 UPPER = np.array([12.8, 0.5, -64.0])
@@ -77,8 +78,8 @@ def ik_solutions(target, inside_limits):
 
 
 def examine(run):
-    trace = list(csv.DictReader(open(f"{run}/trace_direct.csv")))
-    foot = list(csv.DictReader(open(f"{run}/foot_direct.csv")))
+    trace = read_rows(f"{run}/trace_direct.csv")
+    foot = read_rows(f"{run}/foot_direct.csv")
     period = 1 + max(int(r["tick"]) for r in foot if r["step"] == "0")
     desired = np.zeros((period, 3))
     for r in trace:

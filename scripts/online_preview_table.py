@@ -17,6 +17,8 @@ import subprocess
 import sys
 import tempfile
 
+from results_reader import read_json
+
 MODEL_BASED_PREVIEWS = (0, 1, 2)
 OPTIMAL_PREVIEWS = (2, 5, 10, 20, 40, 62, 120, 250)
 
@@ -30,7 +32,7 @@ def planned_mae(plan, args, log, method, out, preview=None):
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     if done.returncode != 0:
         sys.exit(f"online_preview_table: {' '.join(command)} failed: {done.stderr.strip()}")
-    return json.loads((out / "plan.json").read_text())["predicted_mae_deg"]["planned"]
+    return read_json(out / "plan.json")["predicted_mae_deg"]["planned"]
 
 
 def main():

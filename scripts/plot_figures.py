@@ -6,8 +6,6 @@ CSVs in a results folder.
 Usage: /usr/bin/python3 scripts/plot_figures.py RESULTS_DIR
 Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
 """
-import csv
-import json
 import os
 import sys
 
@@ -17,10 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    return rows
+from results_reader import read_json, read_rows  # noqa: E402
 
 
 def column(rows, name, **where):
@@ -36,7 +31,7 @@ def save(fig, out, name):
 
 
 def foot_paths(out, mode):
-    rows = read_csv(os.path.join(out, f"foot_{mode}.csv"))
+    rows = read_rows(os.path.join(out, f"foot_{mode}.csv"))
     first = [r for r in rows if r["step"] == "0"]
     get = lambda key: [float(r[key]) for r in first]  # noqa: E731
     return get("desired_x_cm"), get("desired_z_cm"), get("actual_x_cm"), get("actual_z_cm")
@@ -82,8 +77,7 @@ def modes_present(out):
     present = sorted(f[len("foot_"):-len(".csv")] for f in os.listdir(out)
                      if f.startswith("foot_") and f.endswith(".csv"))
     try:
-        with open(os.path.join(out, "table2.json")) as f:
-            order = [m for m in json.load(f)["foot_cm"] if m in present]
+        order = [m for m in read_json(os.path.join(out, "table2.json"))["foot_cm"] if m in present]
     except (OSError, KeyError, ValueError):
         order = []
     return order + [m for m in present if m not in order]
@@ -98,7 +92,7 @@ def main(out):
 
     # Figure 2: requests (= desired) and actual angles of the rotator under the direct method.
     if have("trace_direct.csv"):
-        rows = read_csv(os.path.join(out, "trace_direct.csv"))
+        rows = read_rows(os.path.join(out, "trace_direct.csv"))
         req = column(rows, "request_deg", step=0, joint="rotator")
         act = column(rows, "actual_deg", step=0, joint="rotator")
         fig, ax = plt.subplots(figsize=(6, 4))
@@ -114,7 +108,7 @@ def main(out):
         name = f"step_rotator_{theta}.csv"
         if not have(name):
             continue
-        rows = read_csv(os.path.join(out, name))
+        rows = read_rows(os.path.join(out, name))
         period = 88
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(column(rows, "request_deg")[:period], "k-", label="requested")
@@ -127,8 +121,7 @@ def main(out):
 
     # Figure 5: the function f of eq. 2 with the rotator's identified parameters.
     if have("table1.json"):
-        with open(os.path.join(out, "table1.json")) as f:
-            p = json.load(f)["joints"]["rotator"]
+        p = read_json(os.path.join(out, "table1.json"))["joints"]["rotator"]
         v, t0 = p["v_max_deg_per_tick"], p["theta0_deg"]
         xs = [-3 * t0, -t0, t0, 3 * t0]
         ys = [-v, -v, v, v]
@@ -141,7 +134,7 @@ def main(out):
         save(fig, out, "fig5_f.png")
 
     if have("trace_model_based.csv"):
-        rows = read_csv(os.path.join(out, "trace_model_based.csv"))
+        rows = read_rows(os.path.join(out, "trace_model_based.csv"))
         get = lambda key: column(rows, key, step=0, joint="rotator")  # noqa: E731
         # Figure 6: the piecewise-linear approximation of the rotator's desired angles.
         fig, ax = plt.subplots(figsize=(6, 4))
@@ -169,7 +162,7 @@ def main(out):
 
     # The time-shift search behind the best k.
     if have("shift_search.csv"):
-        rows = read_csv(os.path.join(out, "shift_search.csv"))
+        rows = read_rows(os.path.join(out, "shift_search.csv"))
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(column(rows, "k"), column(rows, "foot_l2_cm"), "k.-")
         ax.set(xlabel="time shift k (ticks)", ylabel="foot L2 (cm)",
@@ -178,9 +171,8 @@ def main(out):
 
     # Figure 10: the ILC learning curve (every step, warm-up negative) against the floor.
     if have("ilc_learning.csv") and have("table2.json"):
-        rows = read_csv(os.path.join(out, "ilc_learning.csv"))
-        with open(os.path.join(out, "table2.json")) as f:
-            table = json.load(f)
+        rows = read_rows(os.path.join(out, "ilc_learning.csv"))
+        table = read_json(os.path.join(out, "table2.json"))
         fig, (joints_ax, foot_ax) = plt.subplots(1, 2, figsize=(10, 4))
         for joint, colour in (("rotator", "C0"), ("abductor", "C1"), ("knee", "C2")):
             steps = column(rows, "step", joint=joint)
@@ -217,8 +209,8 @@ def main(out):
     # the plant before and after each change; every mode's foot error per step.
     changes = []
     if have("model_estimates.csv") and have("plant_models.csv"):
-        rows = read_csv(os.path.join(out, "model_estimates.csv"))
-        plant = read_csv(os.path.join(out, "plant_models.csv"))
+        rows = read_rows(os.path.join(out, "model_estimates.csv"))
+        plant = read_rows(os.path.join(out, "plant_models.csv"))
         starts = sorted({int(r["from_step"]) for r in plant})
         changes = starts[1:]
         last = max(int(r["step"]) for r in rows)
@@ -242,7 +234,7 @@ def main(out):
         fig.suptitle("adaptive: estimates per step (dashed: identify on the plant as it is)")
         save(fig, out, "fig12_model_estimates.png")
     if have("per_step.csv") and have("model_estimates.csv"):
-        rows = read_csv(os.path.join(out, "per_step.csv"))
+        rows = read_rows(os.path.join(out, "per_step.csv"))
         fig, ax = plt.subplots(figsize=(8, 4))
         for mode in dict.fromkeys(r["mode"] for r in rows):
             ax.plot(column(rows, "step", mode=mode), column(rows, "foot_l2_cm", mode=mode), "o-",
@@ -250,7 +242,7 @@ def main(out):
         # model_based with a model identified on the changed plant, when reproduce.sh ran it.
         worn = os.path.join(out, "worn_model", "per_step.csv")
         if os.path.exists(worn):
-            rows = read_csv(worn)
+            rows = read_rows(worn)
             ax.plot(column(rows, "step", mode="model_based"),
                     column(rows, "foot_l2_cm", mode="model_based"), "--", color="b", lw=1,
                     label="model_based, model of the changed plant")
@@ -269,17 +261,17 @@ def main(out):
                    if have(f"foot_{m}.csv")]
     on_stand = False
     for mode, _, _ in stand_modes:
-        rows = read_csv(os.path.join(out, f"foot_{mode}.csv"))
+        rows = read_rows(os.path.join(out, f"foot_{mode}.csv"))
         on_stand = on_stand or any(float(r.get("contact_fz_n", 0) or 0) != 0 for r in rows)
     if on_stand:
         weight = None
         if have("table2.json"):
-            with open(os.path.join(out, "table2.json")) as f:
-                weight = json.load(f).get("stand", {}).get("carried_weight_n")
+            weight = read_json(os.path.join(out, "table2.json")).get("stand", {}).get(
+                "carried_weight_n")
         # Figure 14: the floor's force on the foot over one step (step 0), each mode.
         fig, axes = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
         for mode, label, style in stand_modes:
-            rows = [r for r in read_csv(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
+            rows = [r for r in read_rows(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
             ticks = [int(r["tick"]) for r in rows]
             axes[0].plot(ticks, [float(r["contact_fz_n"]) for r in rows], style, label=label)
             axes[1].plot(ticks, [float(r["contact_fx_n"]) for r in rows], style,
@@ -297,7 +289,7 @@ def main(out):
         # Figure 15: the carriage height over the same step.
         fig, ax = plt.subplots(figsize=(7, 3.5))
         for mode, label, style in stand_modes:
-            rows = [r for r in read_csv(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
+            rows = [r for r in read_rows(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
             ax.plot([int(r["tick"]) for r in rows], [float(r["carriage_z_mm"]) for r in rows],
                     style, label=label)
         ax.set(xlabel="tick (8 ms)", ylabel="carriage height (mm)",

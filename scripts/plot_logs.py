@@ -7,7 +7,6 @@ cross-validated; ticks with the torque off greyed), and the plan figure of a fol
 Usage: /usr/bin/python3 scripts/plot_logs.py DIR [DIR ...]
 Writes log_<motor>_<name>.png and plan.png beside the CSV files.
 """
-import csv
 import os
 import sys
 
@@ -15,6 +14,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from results_reader import read_rows  # noqa: E402
 
 RUNGS = [
     ("direct_deg", "direct (angle = request)", "0.6", ":"),
@@ -25,8 +26,7 @@ RUNGS = [
 
 
 def read_columns(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = read_rows(path)
     return {key: [float(r[key]) for r in rows] for key in rows[0]} if rows else {}
 
 

@@ -13,7 +13,6 @@ Usage: /usr/bin/python3 scripts/plot_sweep.py results/sweeps/walk_speed/sweep.cs
 Points whose status is not `ok` are left out (and counted in the title).
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -24,12 +23,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
+from results_reader import read_csv  # noqa: E402
+
 
 def read_sweep(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-        f.seek(0)
-        header = next(csv.reader(f))
+    header, rows = read_csv(path)
     if "index" not in header or "status" not in header:
         sys.exit(f"plot_sweep: {path} is not a sweep.csv (no index or status column)")
     keys = header[header.index("index") + 1:header.index("status")]

@@ -15,13 +15,14 @@ Usage: /usr/bin/python3 scripts/report.py RUN_DIR
 Bad input (no such folder, or a folder holding nothing a program wrote): one line on stderr,
 exit status 2, nothing written. Plain python3 (no numpy or matplotlib needed).
 """
-import csv
 import html
 import json
 import os
 import re
 import sys
 import urllib.parse
+
+from results_reader import read_csv, read_json
 
 # Files only the programs write: a folder holding one of them (or a folder beneath it that
 # does) is a run. Everything else a page shows is found by extension.
@@ -398,13 +399,6 @@ def sweep_keys(rows, header):
     return pairs
 
 
-def read_csv(path):
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader, [])
-        return header, [dict(zip(header, r)) for r in reader]
-
-
 def merged_config_parts(folder, names):
     """The keys each program ran with, as it wrote them (<program>_config.yaml: the --config
     file, the files it extends, the robot file and every --set, merged)."""
@@ -441,8 +435,7 @@ def config_section(folder, names):
     shown = bool(merged)
     for name in sorted((n for n in names if n.endswith(".json")), key=natural_key):
         try:
-            with open(os.path.join(folder, name)) as f:
-                data = json.load(f)
+            data = read_json(os.path.join(folder, name))
             parts = config_parts(name, data)
         except (OSError, ValueError, RecursionError) as error:
             # Not JSON, or JSON nested too deeply to walk: shown as not read, never a traceback.
@@ -571,8 +564,7 @@ def servo_summary(tree, top, rel):
         if not os.path.isfile(path):
             continue
         try:
-            with open(path, encoding="utf-8") as f:
-                logs = json.load(f).get("logs", [])
+            logs = read_json(path).get("logs", [])
             means = {}
             for log in logs:
                 if log.get("role") == "validate":
