@@ -119,14 +119,18 @@ class ContinuousFit {
         n_(2 + (fit_starts ? static_cast<int>(recordings.size()) : 0)),
         solver_(n_) {
     // Where requests change about every tick (a servo's log), the sweeps in lanes; where they
-    // are held (a step test), the scalar sweep's one visit per run is cheaper. Same bits.
+    // are held (a step test), the scalar sweep's one visit per run is cheaper. Lanes on AVX2
+    // only: GCC's baseline code for them is slower than the scalar sweep (fit_lanes_benchmark).
+    // The same bits either way.
     size_t ticks = 0, runs = 0;
     for (const Prepared& r : recordings) {
       swept_.push_back({r.recording, r.run_end});
       ticks += r.run_end.size();
       for (size_t t = 0; t < r.run_end.size(); ++t) runs += r.run_end[t] == static_cast<int>(t);
     }
-    if (ticks < 2 * runs) lanes_.emplace(swept_, warmup);
+    if (ticks < 2 * runs && instructions_ == LaneInstructions::kAvx2) {
+      lanes_.emplace(swept_, warmup);
+    }
   }
 
   // Sum of squared errors of the prediction at x, and into `jtj` and `jte` the Gauss-Newton

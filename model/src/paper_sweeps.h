@@ -32,6 +32,8 @@ struct SweptRecording {
 /// side by side, each lane visiting every request of its window (the scalar sweep visits one per
 /// run of equal requests: cheaper where requests are held, as in a step test; the lanes where
 /// they change every tick, as in a servo's log; a visit the scalar sweep skips adds exactly 0).
+/// Worth it on AVX2 only: compiled for the x86-64 baseline, these lanes run slower than the
+/// scalar sweep (benchmarks/fit_lanes_benchmark.cc), so the fit uses them on AVX2 alone.
 class PaperSweeps {
  public:
   /// Preconditions (checked by the caller): each recording longer than `warmup` >= 1, its
