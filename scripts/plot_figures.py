@@ -15,6 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+import figures  # noqa: E402
 from results_reader import read_json, read_rows  # noqa: E402
 
 
@@ -23,6 +24,7 @@ def column(rows, name, **where):
 
 
 def save(fig, out, name):
+    figures.require(name)
     fig.tight_layout()
     path = os.path.join(out, name)
     fig.savefig(path, dpi=110)

@@ -15,6 +15,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import figures  # noqa: E402
 from results_reader import read_rows  # noqa: E402
 
 RUNGS = [
@@ -31,6 +32,7 @@ def read_columns(path):
 
 
 def save(fig, path):
+    figures.require(os.path.basename(path))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
