@@ -20,7 +20,6 @@ item and exits 2, having written nothing; the output is written to a temporary f
 import argparse
 import math
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -29,6 +28,7 @@ import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 
 import numpy as np
+import yaml
 
 from results_reader import read_json, read_rows
 
@@ -44,6 +44,8 @@ SUFFIXES = (".gif", ".mp4")
 # outside it a frame's duration overflows or rounds to nothing.
 MIN_FPS = 0.01
 MAX_FPS = 1000.0
+# The programs read a robot file of at most 4 MiB (docs/configuration.md); so does this.
+MAX_ROBOT_FILE_BYTES = 4 * 1024 * 1024
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -166,18 +168,22 @@ def chain_points_cm(chain, angles_rad):
 
 
 def top_level_keys(path):
-    """A robot file's top-level `key: value` scalars (its `urdf` and `extends`), as text. The
-    robot files are YAML; only these two keys are needed here, so no YAML library is."""
-    keys = {}
+    """A robot file's top-level scalars (its `urdf` and `extends` are what is needed here), as
+    text, read with a YAML parser (python3-yaml's safe loader)."""
     try:
-        with open(path) as f:
-            for line in f:
-                match = re.match(r"^([A-Za-z_][A-Za-z0-9_]*):[ \t]*(.*?)[ \t]*(#.*)?$", line)
-                if match and match.group(2):
-                    keys[match.group(1)] = match.group(2).strip("'\"")
-    except (OSError, UnicodeDecodeError) as e:
-        raise InputError(f"robot file '{path}': {e}") from None
-    return keys
+        if os.path.getsize(path) > MAX_ROBOT_FILE_BYTES:
+            raise InputError(f"robot file '{path}': over {MAX_ROBOT_FILE_BYTES} bytes")
+        with open(path, encoding="utf-8") as f:
+            data = yaml.safe_load(f)
+    except (OSError, UnicodeDecodeError, yaml.YAMLError, RecursionError) as e:
+        one_line = " ".join(str(e).split()) or type(e).__name__
+        raise InputError(f"robot file '{path}': {one_line}") from None
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise InputError(f"robot file '{path}': not a mapping of keys")
+    return {str(k): str(v) for k, v in data.items()
+            if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
 
 
 def robot_urdf(robot_yaml):
