@@ -112,6 +112,10 @@ struct Prepared {
 // offset_0, ...). Owns its work space, so that an evaluation allocates nothing.
 class ContinuousFit {
  public:
+  // Not copied: lanes_ refers to swept_.
+  ContinuousFit(const ContinuousFit&) = delete;
+  ContinuousFit& operator=(const ContinuousFit&) = delete;
+
   ContinuousFit(std::span<const Prepared> recordings, int warmup, bool fit_starts)
       : recordings_(recordings),
         warmup_(warmup),

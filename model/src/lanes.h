@@ -3,21 +3,23 @@
 // Lanes: a few doubles side by side, for rollouts computed together (the extended model's fit
 // rolls out many recordings at once). Internal to leglab_model.
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace leglab {
 
 /// kLaneCount doubles in one vector of GCC's and Clang's vector extension: +, -, * and / act
 /// lane by lane with the scalar operations' IEEE rounding, so a lane computes exactly what the
-/// same expression on a double does (there is no contraction into fused multiply-adds without
-/// -mfma or -ffp-contract=fast, neither of which the build sets). Four lanes: one AVX register,
-/// or two SSE2 registers on the x86-64 baseline. Aligned to their size whatever the target (GCC
-/// would align them to 16 bytes without AVX, where code compiled for AVX assumes 32).
+/// same expression on a double does, provided nothing is contracted into a fused multiply-add:
+/// leglab_model compiles with -ffp-contract=off (model/CMakeLists.txt), and neither the
+/// baseline nor the avx2 target has FMA anyway. Four lanes: one AVX register, or two SSE2 registers
+/// on the x86-64 baseline. Aligned to their size whatever the target (GCC would align them to 16
+/// bytes without AVX, where code compiled for AVX assumes 32).
 inline constexpr size_t kLaneCount = 4;
 inline constexpr size_t kLaneBytes = kLaneCount * sizeof(double);
+static_assert(kLaneCount == 4, "Splat lists the lanes one by one");
 using Lanes = double __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
 /// A lane's bits; as a mask, each lane all ones (true) or all zeros (false), as comparisons of
 /// Lanes give.
@@ -25,31 +27,36 @@ using LaneMask = int64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneBy
 /// A lane's bits, unsigned (for shifts).
 using LaneBits = uint64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneBytes)));
 
-// GCC notes that a vector of 32 bytes is passed differently with AVX than without: these are
-// inline, so nothing passes one across a call.
+// A vector of 32 bytes is passed to a call differently with AVX than without, so a function on
+// Lanes called from code built for AVX2 must be inlined into it, whatever the optimisation
+// (flatten does not inline at -O0): every one here, and every one taking or returning Lanes
+// elsewhere, is always_inline. GCC's -Wpsabi notes that difference; no call passes one.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-inline LaneMask Bits(Lanes x) { return std::bit_cast<LaneMask>(x); }
-inline Lanes FromBits(LaneMask bits) { return std::bit_cast<Lanes>(bits); }
+// __builtin_bit_cast, not std::bit_cast: the latter is a function call unless inlined.
+[[gnu::always_inline]] inline LaneMask Bits(Lanes x) { return __builtin_bit_cast(LaneMask, x); }
+[[gnu::always_inline]] inline Lanes FromBits(LaneMask bits) {
+  return __builtin_bit_cast(Lanes, bits);
+}
 inline constexpr int64_t kSignBit = std::numeric_limits<int64_t>::min();
 
-/// Every lane `x`.
-inline Lanes Splat(double x) { return Lanes{} + x; }
+/// Every lane `x` (-0 too).
+[[gnu::always_inline]] inline Lanes Splat(double x) { return Lanes{x, x, x, x}; }
 
 /// Each lane's `yes` where `mask` is true, else its `no`: bit operations, no branch.
-inline Lanes Select(LaneMask mask, Lanes yes, Lanes no) {
+[[gnu::always_inline]] inline Lanes Select(LaneMask mask, Lanes yes, Lanes no) {
   return FromBits((mask & Bits(yes)) | (~mask & Bits(no)));
 }
 
 /// std::abs and std::copysign, lane by lane.
-inline Lanes Abs(Lanes x) { return FromBits(Bits(x) & ~kSignBit); }
-inline Lanes CopySign(Lanes magnitude, Lanes sign) {
+[[gnu::always_inline]] inline Lanes Abs(Lanes x) { return FromBits(Bits(x) & ~kSignBit); }
+[[gnu::always_inline]] inline Lanes CopySign(Lanes magnitude, Lanes sign) {
   return FromBits((Bits(magnitude) & ~kSignBit) | (Bits(sign) & kSignBit));
 }
 
-/// Whether every lane of `mask` is true (a branch per lane: not for a tick's inner loop).
-inline bool AllLanes(LaneMask mask) {
+/// Whether every lane of `mask` is true (a branch per lane).
+[[gnu::always_inline]] inline bool AllLanes(LaneMask mask) {
   bool all = true;
   for (size_t i = 0; i < kLaneCount; ++i) all = all && mask[i] != 0;
   return all;
@@ -66,6 +73,14 @@ inline LaneInstructions BestLaneInstructions() {
   static const LaneInstructions best =
       __builtin_cpu_supports("avx2") ? LaneInstructions::kAvx2 : LaneInstructions::kBaseline;
   return best;
+}
+
+/// Every instruction set this processor runs (the baseline, then AVX2 if it has it).
+inline std::vector<LaneInstructions> AvailableLaneInstructions() {
+  if (BestLaneInstructions() == LaneInstructions::kAvx2) {
+    return {LaneInstructions::kBaseline, LaneInstructions::kAvx2};
+  }
+  return {LaneInstructions::kBaseline};
 }
 
 }  // namespace leglab

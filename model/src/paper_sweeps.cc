@@ -130,8 +130,8 @@ void PaperSweeps::Accumulate(const JointModelParams& p, std::span<const double> 
   }
 }
 
-// AccumulateGroups compiled twice, for the baseline and for AVX2; `flatten` inlines every call
-// in it, so that nothing compiled for one is called from the other.
+// AccumulateGroups compiled twice, for the baseline and for AVX2: every function it calls on
+// Lanes is always_inline (lanes.h), and `flatten` inlines the rest where the optimiser runs.
 [[gnu::flatten]] void PaperSweeps::AccumulateAll(
     const JointModelParams& p, std::span<const double> start_offsets, bool with_starts,
     std::vector<PaperNormalEquations>& equations) const {

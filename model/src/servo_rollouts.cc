@@ -15,9 +15,9 @@ namespace {
 // takes the tick's angle and velocity and adds its squared error. Unless kChecked, the sine
 // assumes every angle is in SinDegrees' reduced range and marks those that were not in
 // `out_of_range`, for the caller to roll out again, checked.
-template <bool kChecked, class LaneState, class StepInput>
+template <bool kChecked, class State, class Input>
 [[gnu::always_inline]] inline void Step(const servo_tick::Coefficients& common, double tick_s,
-                                        double blend, const StepInput& in, LaneState& lanes,
+                                        double blend, const Input& in, State& lanes,
                                         LaneMask& out_of_range) {
   Lanes sine;
   if constexpr (kChecked) {
@@ -82,7 +82,10 @@ void ServoRollouts::Schedule(size_t lag) {
     const std::vector<size_t> end =
         GreedySchedule(by_length, recordings_, v * kLaneCount, [](size_t, size_t, size_t) {});
     const size_t cost = std::max<size_t>(v, 2) * *std::max_element(end.begin(), end.end());
-    if (v == 1 || cost < best_cost) best_cost = cost, vectors_ = v;
+    if (v == 1 || cost < best_cost) {
+      best_cost = cost;
+      vectors_ = v;
+    }
   }
   const size_t lanes = vectors_ * kLaneCount;
   std::vector<size_t> current(lanes, kNone);
@@ -121,8 +124,9 @@ void ServoRollouts::SquaredErrors(const ServoModelParams& p, std::vector<double>
   }
 }
 
-void ServoRollouts::HandOver(const ServoModelParams& p, const Handover& h, State& state,
-                             std::vector<double>& sums) const {
+[[gnu::always_inline]] inline void ServoRollouts::HandOver(const ServoModelParams& p,
+                                                           const Handover& h, State& state,
+                                                           std::vector<double>& sums) const {
   LaneState& v = state[h.lane / kLaneCount];
   const size_t i = h.lane % kLaneCount;
   if (h.ended != kNone) sums[h.ended] = v.sum[i];
@@ -166,8 +170,8 @@ template <bool kChecked>
   }
 }
 
-// RollOutSteps compiled twice, for the baseline and for AVX2; `flatten` inlines every call in
-// it, so that nothing compiled for one is called from the other.
+// RollOutSteps compiled twice, for the baseline and for AVX2: every function it calls on Lanes
+// is always_inline (lanes.h), and `flatten` inlines the rest where the optimiser runs.
 [[gnu::flatten]] void ServoRollouts::RollOut(const ServoModelParams& p,
                                              std::vector<double>& sums) const {
   RollOutSteps<false>(p, sums);

@@ -15,7 +15,7 @@
 
 #include "lanes.h"
 
-// The kernels and SinDegrees take and return Lanes too (see lanes.h for the note).
+// The kernels and SinDegrees take and return Lanes too, always inlined (see lanes.h).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
@@ -26,7 +26,7 @@ namespace detail {
 // sin x for |x| <= pi/4 (fdlibm's __kernel_sin with no tail), for a double or Lanes (lane by
 // lane the same operations, so the same bits).
 template <typename T>
-inline T SineKernel(T x) {
+[[gnu::always_inline]] inline T SineKernel(T x) {
   constexpr double kS1 = -1.66666666666666324348e-01;
   constexpr double kS2 = 8.33333333332248946124e-03;
   constexpr double kS3 = -1.98412698298579493134e-04;
@@ -41,7 +41,7 @@ inline T SineKernel(T x) {
 // cos x for |x| <= pi/4 (fdlibm's __kernel_cos with no tail, in musl's form), for a double or
 // Lanes.
 template <typename T>
-inline T CosineKernel(T x) {
+[[gnu::always_inline]] inline T CosineKernel(T x) {
   constexpr double kC1 = 4.16666666666666019037e-02;
   constexpr double kC2 = -1.38888888888741095749e-03;
   constexpr double kC3 = 2.48015872894767294178e-05;
@@ -91,24 +91,27 @@ inline double SinDegrees(double deg) {
 }
 
 /// The lanes whose angle SinDegrees reduces in degrees (the others go to std::sin).
-inline LaneMask InReducedRange(Lanes deg) { return Abs(deg) < detail::kReducedLimitDeg; }
+[[gnu::always_inline]] inline LaneMask InReducedRange(Lanes deg) {
+  return Abs(deg) < detail::kReducedLimitDeg;
+}
 
 /// SinDegrees of each lane, the same bits, for lanes all InReducedRange: both kernels are
 /// computed in every lane and the quadrant's taken without a branch.
-inline Lanes SinDegreesInRange(Lanes deg) {
+[[gnu::always_inline]] inline Lanes SinDegreesInRange(Lanes deg) {
   constexpr double kRound = 0x1.8p52;  // as in ReduceDegrees
   const Lanes shifted = deg * (1.0 / 90.0) + kRound;
   const Lanes k = shifted - kRound;
   // k mod 4 is in the low bits of `shifted`, whose significand holds 2^51 + k (|k| < 2^50).
-  const auto quadrant = std::bit_cast<LaneBits>(shifted);
+  const auto quadrant = __builtin_bit_cast(LaneBits, shifted);
   const Lanes x = (deg - 90.0 * k) * (std::numbers::pi / 180.0);
-  const LaneMask odd = -std::bit_cast<LaneMask>(quadrant & 1);  // all ones in quadrants 1, 3
+  const LaneMask odd = -__builtin_bit_cast(LaneMask, quadrant & 1);  // all ones in quadrants 1, 3
   const Lanes sine = Select(odd, detail::CosineKernel(x), detail::SineKernel(x));
-  return FromBits(Bits(sine) ^ std::bit_cast<LaneMask>((quadrant & 2) << 62));  // quadrants 2, 3
+  return FromBits(Bits(sine) ^
+                  __builtin_bit_cast(LaneMask, (quadrant & 2) << 62));  // quadrants 2, 3
 }
 
 /// SinDegrees of each lane, the same bits.
-inline Lanes SinDegrees(Lanes deg) {
+[[gnu::always_inline]] inline Lanes SinDegrees(Lanes deg) {
   if (AllLanes(InReducedRange(deg))) return SinDegreesInRange(deg);
   Lanes sine{};
   for (size_t i = 0; i < kLaneCount; ++i) sine[i] = SinDegrees(double{deg[i]});
