@@ -30,7 +30,9 @@ using LaneBits = uint64_t __attribute__((vector_size(kLaneBytes), aligned(kLaneB
 // A vector of 32 bytes is passed to a call differently with AVX than without, so a function on
 // Lanes called from code built for AVX2 must be inlined into it, whatever the optimisation
 // (flatten does not inline at -O0): every one here, and every one taking or returning Lanes
-// elsewhere, is always_inline. GCC's -Wpsabi notes that difference; no call passes one.
+// elsewhere, is always_inline. GCC's -Wpsabi warns of that difference where such a function
+// is defined (turned off here and in sine_of_degrees.h for whoever includes them) and notes it
+// where one is instantiated (-Wno-psabi on the targets that use Lanes); no call passes one.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 

@@ -3,10 +3,6 @@
 #include <algorithm>
 #include <numeric>
 
-// Lanes cross no call here that is not inlined (see lanes.h for the note); GCC gives its note at
-// the end of the file.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 namespace leglab {
 namespace {
 
