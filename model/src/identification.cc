@@ -72,14 +72,16 @@ void SweepWithSensitivities(const JointModelParams& p, std::span<const double> r
       const long end = std::min<long>(run_end[j], last);
       const auto count = static_cast<double>(end - j + 1);
       const double x = request_deg[j] - angle;
-      // Without a branch (which the data cannot predict), the same bits: a saturated run adds
-      // +-count v_max (a - b is a + (-b)), and +0 to the linear sums, which are never -0.
-      const bool linear = !(x >= theta0) && !(x <= -theta0);
-      const double saturated = x >= theta0 ? count * v_max : -(count * v_max);
-      const double f = linear ? count * (x * gain) : saturated;
-      speed_sum += f;
-      linear_sum += linear ? f : 0.0;
-      unsaturated += linear ? count : 0.0;
+      if (x >= theta0) {
+        speed_sum += count * v_max;
+      } else if (x <= -theta0) {
+        speed_sum -= count * v_max;
+      } else {
+        const double f = count * (x * gain);
+        speed_sum += f;
+        linear_sum += f;
+        unsaturated += count;
+      }
       j = end + 1;
     }
     const double decay = 1.0 - unsaturated * gain * inv_a;

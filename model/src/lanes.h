@@ -14,9 +14,9 @@ namespace leglab {
 /// lane by lane with the scalar operations' IEEE rounding, so a lane computes exactly what the
 /// same expression on a double does, provided nothing is contracted into a fused multiply-add:
 /// leglab_model compiles with -ffp-contract=off (model/CMakeLists.txt), and neither the
-/// baseline nor the avx2 target has FMA anyway. Four lanes: one AVX register, or two SSE2 registers
-/// on the x86-64 baseline. Aligned to their size whatever the target (GCC would align them to 16
-/// bytes without AVX, where code compiled for AVX assumes 32).
+/// baseline nor the avx2 target has FMA anyway. Four lanes: one AVX register, or two SSE2
+/// registers on the x86-64 baseline. Aligned to their size whatever the target (GCC would align
+/// them to 16 bytes without AVX, where code compiled for AVX assumes 32).
 inline constexpr size_t kLaneCount = 4;
 inline constexpr size_t kLaneBytes = kLaneCount * sizeof(double);
 static_assert(kLaneCount == 4, "Splat lists the lanes one by one");

@@ -160,9 +160,7 @@ template <bool kChecked>
   }
   for (; h < handovers_.size(); ++h) HandOver(p, handovers_[h], state, sums);
   if constexpr (!kChecked) {
-    bool in_range = true;
-    for (size_t i = 0; i < kLaneCount; ++i) in_range = in_range && out_of_range[i] == 0;
-    if (!in_range) RollOutSteps<true>(p, sums);
+    if (!AllLanes(out_of_range == 0)) RollOutSteps<true>(p, sums);
   }
 }
 
