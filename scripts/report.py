@@ -23,6 +23,7 @@ import sys
 import urllib.parse
 
 import figures
+import log_fit_results
 from results_reader import read_csv, read_json
 
 # Files only the programs write: a folder holding one of them (or a folder beneath it that
@@ -37,10 +38,6 @@ TABLE_ORDER = ("table1.md", "table2.md", "walk_fit.md", "log_fit.md")
 # Figures shown first, in this order (the paper's Fig. 8 leads); the others follow: those with a
 # caption, then by name.
 FIGURE_ORDER = ("fig8_foot_old_new.png",)
-
-# The methods of a log fit's summary on a page with sub-runs, as log_fit.json names them.
-LOG_FIT_METHODS = (("direct", "direct"), ("best_shift", "best shift"), ("paper", "paper"),
-                   ("extended", "extended"))
 
 RUN_DESCRIPTIONS = {
     "hind": "The left hind leg: its own Table 1 and Table 2.",
@@ -498,22 +495,18 @@ def servo_summary(tree, top, rel):
         path = os.path.join(top, run, "log_fit.json")
         if not os.path.isfile(path):
             continue
+        methods = log_fit_results.METHODS
         try:
-            logs = read_json(path).get("logs", [])
-            means = {}
-            for log in logs:
-                if log.get("role") == "validate":
-                    means.setdefault(log["motor"], []).append(
-                        [float(log["mae_deg"][key]) for key, _ in LOG_FIT_METHODS])
+            means, counts = log_fit_results.mean_errors(
+                log_fit_results.logs_of(read_json(path), "validate"), [key for key, _ in methods])
         except (ValueError, KeyError, TypeError, AttributeError):
             continue
         if not means:
             continue
-        rows = [[str(motor), str(len(maes))] +
-                [f"{sum(m[i] for m in maes) / len(maes):.2f}" for i in range(len(LOG_FIT_METHODS))]
-                for motor, maes in sorted(means.items())]
+        rows = [[str(motor), str(counts[motor])] + [f"{row[key]:.2f}" for key, _ in methods]
+                for motor, row in sorted(means.items())]
         link = os.path.relpath(run, rel) if rel else run
-        header = ["servo", "held-out logs"] + [f"{name} (deg)" for _, name in LOG_FIT_METHODS]
+        header = ["servo", "held-out logs"] + [f"{name} (deg)" for _, name in methods]
         return (f'<section class="md"><h3>Real servos</h3><p class="note">Mean open-loop '
                 f"prediction error on logs each model never saw, from "
                 f'<a href="{href(link + "/index.html")}">{html.escape(run)}/</a>.</p>'

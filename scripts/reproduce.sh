@@ -110,6 +110,11 @@ if [ -f scripts/animate.py ] && [ $ran -eq 1 ]; then
 fi
 if [ $ran -eq 1 ]; then
   /usr/bin/python3 scripts/report.py "$out"
+  # The measured tables of README.md and docs/results.md against this run: a difference is
+  # named, not fatal (docs_numbers.py "$out" --write puts this run's numbers in the docs).
+  if ! /usr/bin/python3 scripts/docs_numbers.py "$out"; then
+    echo "reproduce: the docs' tables differ from this run (above)" >&2
+  fi
 fi
 if [ $ran -eq 0 ]; then
   echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2

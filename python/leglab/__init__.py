@@ -61,6 +61,12 @@ def config_path(name):
 
 PAPER_MODEL = _leglab.PAPER_MODEL
 """The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 6 ticks."""
+PAPER_TABLE2 = _leglab.PAPER_TABLE2
+"""The paper's Table 2, deg: {"L2(Des,Dir)": (rotator, abductor, knee), ...}, keyed as
+table2.json's joint norms."""
+PAPER_FOOT_CM = _leglab.PAPER_FOOT_CM
+"""The paper's foot table, cm: {"direct": {"L2": {"mean": 3.23, "std": 0.01}, "Linf": ...},
+...}, shaped as table2.json's foot_cm."""
 
 
 class Controller:
@@ -165,5 +171,5 @@ def run_track(config, overrides=None, controllers=(), out=None, threads=0):
 
 __all__ = [
     "Controller", "ControllerContext", "TrackRun", "run_track", "Identification", "JointModel", "Plant", "Reading", "Robot", "Walk", "floor", "identify",
-    "JOINT_NAMES", "TICK_S", "PAPER_MODEL", "data_dir", "config_path",
+    "JOINT_NAMES", "TICK_S", "PAPER_MODEL", "PAPER_TABLE2", "PAPER_FOOT_CM", "data_dir", "config_path",
 ]

@@ -31,6 +31,19 @@ def test_a_step_by_hand():
     assert m[5] == pytest.approx(2.5 / 6, abs=1e-15)
 
 
+def test_the_papers_tables_as_published():
+    # Stronger & Stone, Table 2 and the foot table, typed from the paper.
+    assert leglab.PAPER_TABLE2 == {
+        "L2(Des,Dir)": (31.0, 29.0, 20.1), "Linf(Des,Dir)": (57.2, 59.5, 42.6),
+        "L2(Des,MB)": (9.1, 10.4, 5.6), "Linf(Des,MB)": (29.4, 24.5, 11.1),
+        "L2(Pwl,MB)": (2.7, 2.7, 2.6), "Linf(Pwl,MB)": (6.4, 6.0, 6.2)}
+    assert leglab.PAPER_FOOT_CM["direct"] == {"L2": {"mean": 3.23, "std": 0.01},
+                                              "Linf": {"mean": 4.61, "std": 0.05}}
+    assert leglab.PAPER_FOOT_CM["time_shift"]["L2"]["mean"] == 1.55
+    assert leglab.PAPER_FOOT_CM["model_based"]["Linf"]["mean"] == 2.34
+    assert sorted(leglab.PAPER_FOOT_CM) == ["direct", "model_based", "time_shift"]
+
+
 def test_steady_state_is_the_repeated_cycle():
     cycle = 30.0 * np.sin(np.linspace(0.0, 2.0 * np.pi, 40, endpoint=False))
     model = leglab.PAPER_MODEL

@@ -1,0 +1,487 @@
+#!/usr/bin/python3
+"""The measured tables of README.md and docs/results.md, filled from a run's files or checked
+against them, so that no number in them is copied by hand.
+
+Usage: /usr/bin/python3 scripts/docs_numbers.py RESULTS [--write] [--only ID ...]
+                                                [--docs DIR] [--build DIR]
+
+RESULTS is a folder as scripts/reproduce.sh writes it (results/). In the docs a generated table
+sits between two markers naming its block:
+
+    <!-- numbers: table1 -->
+    | ... |
+    <!-- /numbers -->
+
+and BLOCKS below says what each block shows and which of RESULTS' files it reads. Check (the
+default): every block is rendered from RESULTS and compared with the docs cell by cell; a cell
+whose file RESULTS lacks (the learned models' columns after a run without learned_fit.py) is not
+compared, a block none of whose files RESULTS has is skipped (named on stderr). Any difference:
+each one named on stderr, exit status 1. --write: every block RESULTS has all the files of is
+replaced in the docs (the others are left as they are, and named). --only: just these blocks,
+each of which must be checked in full (its files all there). The paper's values come from the
+leglab package (--build's python/, as learned_fit.py finds it), which has them from
+model/include/leglab/model/paper.h.
+
+Bad input (no RESULTS folder, a file of it that is not what a program writes, a marker naming
+no block, an --only block whose files are missing): one line on stderr, exit status 2, nothing
+written.
+"""
+import argparse
+import os
+import pathlib
+import re
+import sys
+
+import log_fit_results
+from results_reader import read_json
+
+SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
+DOCS = ("README.md", "docs/results.md")
+BEGIN = re.compile(r"^<!-- numbers: ([a-z0-9-]+) -->$")
+END = "<!-- /numbers -->"
+JOINTS = ("rotator", "abductor", "knee")
+
+# BAM's own models on the XL330 logs (Rhoban/bam, its README's comparison of models m1, m4
+# and m6 over these 12 logs and four more, fitted on all of them): published, not a run's.
+BAM_PUBLISHED = {"xl330": "4.0-4.7 (not held out)"}
+
+
+class UserError(Exception):
+    """Bad input: one line, exit 2."""
+
+
+class Missing(Exception):
+    """A file of RESULTS that a cell needs is not there."""
+
+
+class Run:
+    """RESULTS' files, each read once; `missing` collects what was asked for and absent."""
+
+    def __init__(self, folder):
+        self.folder = folder
+        self.cache = {}
+        self.missing = set()
+
+    def json(self, rel):
+        if rel not in self.cache:
+            path = os.path.join(self.folder, rel)
+            if not os.path.isfile(path):
+                self.missing.add(rel)
+                raise Missing(rel)
+            try:
+                self.cache[rel] = read_json(path)
+            except (OSError, UnicodeDecodeError, ValueError) as e:
+                raise UserError(f"{path}: not readable as JSON: {e}") from None
+        return self.cache[rel]
+
+
+# A cell whose file RESULTS lacks: matches any text in a check, never written.
+UNKNOWN = None
+
+
+def cell(compute):
+    """compute(), or UNKNOWN if a file it reads is missing."""
+    try:
+        return compute()
+    except Missing:
+        return UNKNOWN
+
+
+def fixed(value, digits=2):
+    return f"{float(value):.{digits}f}"
+
+
+def paper_value(value):
+    """A published number as the paper prints it (31.0, 2.7, 4)."""
+    return str(value)
+
+
+# --- the blocks -------------------------------------------------------------------------------
+
+def table1_block(run, rms_row, lag_label):
+    def rows():
+        t = run.json("table1.json")
+        p = t["paper"]
+        j = [t["joints"][name] for name in JOINTS]
+        out = [["v_max (deg/tick)", paper_value(p["v_max_deg_per_tick"])] +
+               [fixed(x["v_max_deg_per_tick"]) for x in j],
+               ["theta_0 (deg)", paper_value(p["theta0_deg"])] + [fixed(x["theta0_deg"]) for x in j],
+               [lag_label, paper_value(p["lag_ticks"])] + [str(x["lag_ticks"]) for x in j],
+               ["a (ticks)", paper_value(p["accel_ticks"])] + [str(x["accel_ticks"]) for x in j]]
+        if rms_row:
+            out.append(["fit RMS residual (deg)", ""] + [fixed(x["fit_rms_deg"], 3) for x in j])
+        return out
+    return lambda: ["", "paper", *JOINTS], rows
+
+
+def joint_norm(table2, key, joint):
+    return fixed(table2["joints"][joint][key]["mean"])
+
+
+def table2_joints_block(run, leglab):
+    keys = ("L2(Des,Dir)", "Linf(Des,Dir)", "L2(Des,MB)", "Linf(Des,MB)", "L2(Pwl,MB)",
+            "Linf(Pwl,MB)")
+
+    def rows():
+        t = run.json("table2.json")
+        return [[key] + [f"{joint_norm(t, key, joint)} "
+                         f"[{paper_value(leglab.PAPER_TABLE2[key][i])}]"
+                         for i, joint in enumerate(JOINTS)] for key in keys]
+    return lambda: ["", *JOINTS], rows
+
+
+FOOT_NAMES = {"direct": "direct", "time_shift": "best time shift (k = {k})",
+              "model_based": "model-based"}
+
+
+def foot_block(run, leglab):
+    def rows():
+        foot = run.json("table2.json")["foot_cm"]
+        out = []
+        for mode, name in FOOT_NAMES.items():
+            ours, paper = foot[mode], leglab.PAPER_FOOT_CM[mode]
+            out.append([name.format(k=ours.get("k")), fixed(ours["L2"]["mean"]),
+                        fixed(ours["Linf"]["mean"]), paper_value(paper["L2"]["mean"]),
+                        paper_value(paper["Linf"]["mean"])])
+        return out
+    return lambda: ["method", "L2", "L-infinity", "paper L2", "paper L-infinity"], rows
+
+
+def table2_summary_block(run, leglab):
+    def with_paper(value, paper):
+        return f"{fixed(value)} [{paper_value(paper)}]"
+
+    def rows():
+        t = run.json("table2.json")
+        foot = t["foot_cm"]
+        out = []
+        for key, mode in (("L2(Des,Dir)", "direct"), ("L2(Des,MB)", "model_based")):
+            paper_foot = leglab.PAPER_FOOT_CM[mode]
+            out.append([f"{key} [paper]"] +
+                       [with_paper(t["joints"][j][key]["mean"], leglab.PAPER_TABLE2[key][i])
+                        for i, j in enumerate(JOINTS)] +
+                       [with_paper(foot[mode][n]["mean"], paper_foot[n]["mean"])
+                        for n in ("L2", "Linf")])
+        out.append(["L2(Pwl,MB) [paper]"] +
+                   [with_paper(t["joints"][j]["L2(Pwl,MB)"]["mean"],
+                               leglab.PAPER_TABLE2["L2(Pwl,MB)"][i])
+                    for i, j in enumerate(JOINTS)] + ["", ""])
+        shift, paper_shift = foot["time_shift"], leglab.PAPER_FOOT_CM["time_shift"]
+        out.append([f"best time shift, k = {shift['k']} [paper]"] +
+                   [joint_norm(t, "L2(Des,TS)", j) for j in JOINTS] +
+                   [with_paper(shift[n]["mean"], paper_shift[n]["mean"]) for n in ("L2", "Linf")])
+        return out
+    return lambda: ["", *JOINTS, "foot L2", "foot Linf"], rows
+
+
+def held_out(run, rel, keys, role="validate"):
+    """log_fit_results.mean_errors of RESULTS/rel's logs with `role`."""
+    return log_fit_results.mean_errors(log_fit_results.logs_of(run.json(rel), role), keys)
+
+
+def kp_text(kps):
+    return ", ".join(f"{kp:g}" for kp in kps)
+
+
+def real_servos_block(run):
+    """README's headline: each servo's held-out mean by method, the lowest in bold."""
+    methods = [key for key, _ in log_fit_results.METHODS]
+    learned = [key for key, _ in log_fit_results.LEARNED]
+
+    def rows():
+        means, counts = held_out(run, "servo_logs/log_fit.json", methods)
+        logs = log_fit_results.logs_of(run.json("servo_logs/log_fit.json"), "validate")
+        out = []
+        for motor in sorted(means):
+            numbers = [means[motor][key] for key in methods]
+            nets = cell(lambda m=motor: held_out(run, "servo_logs/learned_fit.json",
+                                                      learned)[0][m])
+            best = min(numbers + (list(nets.values()) if nets else []))
+
+            def shown(value):
+                text = fixed(value)
+                return f"**{text}**" if fixed(value) == fixed(best) else text
+            kps = sorted({float(log["kp"]) for log in logs if log["motor"] == motor})
+            label = f"{motor.upper()} ({counts[motor]} logs"
+            label += f", kp {kp_text([kps[0]])}-{kp_text([kps[-1]])})" if len(kps) > 1 else ")"
+            out.append([label] + [shown(x) for x in numbers] +
+                       [", ".join(shown(nets[key]) for key in learned) if nets else UNKNOWN] +
+                       [BAM_PUBLISHED.get(motor, "")])
+        return out
+    return lambda: ["servo", "direct", "best shift (hindsight)", "paper's model", "extended model",
+             "learned (MLP, LSTM)", "BAM's physics models"], rows
+
+
+def servo_ladder_block(run):
+    """Every held-out log by motor and trajectory (a cell per gain), and each motor's mean."""
+    methods = [key for key, _ in log_fit_results.METHODS]
+
+    def rows():
+        fit = run.json("servo_logs/log_fit.json")
+        logs = log_fit_results.logs_of(fit, "validate")
+        means, _ = log_fit_results.mean_errors(logs, methods)
+        out = []
+        for motor in sorted(means):
+            mine = sorted((log for log in logs if log["motor"] == motor),
+                          key=lambda log: (log["trajectory"], float(log["kp"])))
+            for trajectory in sorted({log["trajectory"] for log in mine}):
+                same = [log for log in mine if log["trajectory"] == trajectory]
+                out.append([motor.upper(),
+                            f"{trajectory} ({kp_text(float(log['kp']) for log in same)})"] +
+                           [", ".join(fixed(log["mae_deg"][key]) for log in same)
+                            for key in methods])
+            out.append([f"**{motor.upper()}**", "**mean**"] +
+                       [f"**{fixed(means[motor][key])}**" for key in methods])
+        return out
+    return lambda: ["servo", "trajectory (kp)", "direct", "best shift (hindsight)", "paper",
+             "extended"], rows
+
+
+def servo_by_kp_block(run):
+    """The extended model's error on each log of the gain-setting folds, by the gain held out."""
+    def rows():
+        logs = log_fit_results.logs_of(run.json("servo_logs/by_kp/log_fit.json"), "validate")
+        trajectories = sorted({log["trajectory"] for log in logs})
+        out = []
+        for kp in sorted({float(log["kp"]) for log in logs}):
+            by_trajectory = {log["trajectory"]: log for log in logs if float(log["kp"]) == kp}
+            out.append([kp_text([kp])] + [fixed(by_trajectory[t]["mae_deg"]["extended"])
+                                          if t in by_trajectory else "" for t in trajectories])
+        return out
+
+    def header():
+        logs = log_fit_results.logs_of(run.json("servo_logs/by_kp/log_fit.json"), "validate")
+        return ["kp held out", *sorted({log["trajectory"] for log in logs})]
+    return header, rows
+
+
+def servo_learned_block(run):
+    """identify's methods and the networks by servo and fold kind, held out and in sample."""
+    methods = [key for key, _ in log_fit_results.METHODS]
+    learned = [key for key, _ in log_fit_results.LEARNED]
+    folds = (("servo_logs", "trajectory", "validate"), ("servo_logs/by_kp", "kp", "validate"),
+             ("servo_logs", "in sample", "train"))
+
+    def rows():
+        out = []
+        motors = sorted(held_out(run, "servo_logs/log_fit.json", methods)[0])
+        for motor in motors:
+            for folder, kind, role in folds:
+                means = held_out(run, f"{folder}/log_fit.json", methods, role)[0]
+                if motor not in means:
+                    continue
+                nets = cell(lambda f=folder, r=role, m=motor: held_out(
+                    run, f"{f}/learned_fit.json", learned, r)[0][m])
+                out.append([f"{motor.upper()}, {kind}"] +
+                           [fixed(means[motor][key]) for key in methods] +
+                           [fixed(nets[key]) if nets else UNKNOWN for key in learned])
+        return out
+    return lambda: ["servo, held out by", "direct", "best shift", "paper", "extended", "mlp",
+             "lstm"], rows
+
+
+def blocks(run, leglab):
+    """Block id -> (header, rows): functions of RESULTS (header a list of cells, or a function
+    giving it), rows raising Missing for a file RESULTS lacks."""
+    return {
+        "table1": table1_block(run, rms_row=False, lag_label="l (ticks of 8 ms)"),
+        "table1-rms": table1_block(run, rms_row=True, lag_label="l (ticks)"),
+        "table2-joints": table2_joints_block(run, leglab),
+        "foot": foot_block(run, leglab),
+        "table2-summary": table2_summary_block(run, leglab),
+        "real-servos": real_servos_block(run),
+        "servo-ladder": servo_ladder_block(run),
+        "servo-by-kp": servo_by_kp_block(run),
+        "servo-learned": servo_learned_block(run),
+    }
+
+
+# --- rendering, checking and writing ----------------------------------------------------------
+
+def row_text(cells):
+    """A Markdown table row as the docs write it: `| a | b |`, an empty cell `| |`."""
+    return "|" + "|".join(f" {c} " if c else " " for c in cells) + "|"
+
+
+def render(block):
+    """The block's table as rows of cells, the separator row as None; or raises Missing."""
+    header_fn, rows_fn = block
+    header = header_fn()
+    rows = rows_fn()
+    return [header, None, *rows]
+
+
+def cells_of(line):
+    """The cells of a docs table row (stripped), or None for a line that is not one."""
+    if not (line.startswith("|") and line.endswith("|")):
+        return None
+    return [c.strip() for c in line[1:-1].split("|")]
+
+
+def differences(rendered, lines):
+    """How the docs' lines differ from the rendered rows: [(line offset, description)]."""
+    if len(rendered) != len(lines):
+        return [(0, f"{len(lines)} lines where the run gives {len(rendered)}")]
+    out = []
+    separator = "|" + "---|" * len(rendered[0])
+    for offset, (row, line) in enumerate(zip(rendered, lines)):
+        if row is None:
+            if line != separator:
+                out.append((offset, f"{line!r} where the run gives {separator!r}"))
+            continue
+        cells = cells_of(line)
+        if cells is None or len(cells) != len(row):
+            out.append((offset, f"{line!r} where the run gives {row_text(row)!r}"))
+            continue
+        for column, (want, have) in enumerate(zip(row, cells), 1):
+            if want is not UNKNOWN and want != have:
+                out.append((offset, f"column {column}: {have!r} where the run gives {want!r}"))
+    return out
+
+
+def text_of(rendered):
+    lines = []
+    for row in rendered:
+        lines.append("|" + "---|" * len(rendered[0]) if row is None else row_text(row))
+    return lines
+
+
+def find_blocks(text, path, known):
+    """[(id, first line index, end marker index)] of the blocks in `text`."""
+    found, lines, start = [], text.split("\n"), None
+    for i, line in enumerate(lines):
+        match = BEGIN.match(line)
+        if match:
+            if start is not None:
+                raise UserError(f"{path}:{i + 1}: a numbers block inside another")
+            if match.group(1) not in known:
+                raise UserError(f"{path}:{i + 1}: no block named '{match.group(1)}' "
+                                f"(scripts/docs_numbers.py's BLOCKS)")
+            start = (match.group(1), i + 1)
+        elif line == END:
+            if start is None:
+                raise UserError(f"{path}:{i + 1}: {END} without its opening marker")
+            found.append((start[0], start[1], i))
+            start = None
+    if start is not None:
+        raise UserError(f"{path}: block '{start[0]}' has no {END}")
+    return found
+
+
+def load_leglab(build):
+    sys.path.insert(0, str(pathlib.Path(build) / "python"))
+    try:
+        import leglab  # pylint: disable=import-outside-toplevel
+    except ImportError:
+        raise UserError("the leglab package is not built in --build's python/ (run "
+                        "scripts/test.sh, or give --build)") from None
+    return leglab
+
+
+def run_check(args):
+    """0: the docs hold the run's numbers (or were written); 1: they differ."""
+    if not os.path.isdir(args.results):
+        raise UserError(f"{args.results}: no such folder")
+    run = Run(args.results)
+    registry = blocks(run, load_leglab(args.build))
+    only = args.only or list(registry)
+    for name in only:
+        if name not in registry:
+            raise UserError(f"--only: no block named '{name}' (have: {', '.join(registry)})")
+    docs = {}
+    for rel in DOCS:
+        path = os.path.join(args.docs, rel)
+        try:
+            with open(path, encoding="utf-8") as f:
+                docs[rel] = f.read()
+        except (OSError, UnicodeDecodeError) as e:
+            raise UserError(f"{path}: not readable: {e}") from None
+    placed = {rel: find_blocks(text, rel, registry) for rel, text in docs.items()}
+    unplaced = set(registry) - {name for found in placed.values() for name, _, _ in found}
+    if unplaced:
+        raise UserError(f"block '{sorted(unplaced)[0]}' is in none of {', '.join(DOCS)}")
+
+    rendered, incomplete = {}, {}
+    for name in only:
+        run.missing.clear()
+        try:
+            rendered[name] = render(registry[name])
+        except Missing:
+            if args.only:
+                raise UserError(f"block '{name}' needs {args.results}/"
+                                f"{sorted(run.missing)[0]}") from None
+            print(f"docs_numbers: skipped '{name}' (no {sorted(run.missing)[0]})",
+                  file=sys.stderr)
+            continue
+        if run.missing:
+            if args.only:
+                raise UserError(f"block '{name}' needs {args.results}/{sorted(run.missing)[0]}")
+            incomplete[name] = sorted(run.missing)
+
+    for name, missing in incomplete.items():
+        print(f"docs_numbers: '{name}' {'left as it is' if args.write else 'checked'} "
+              f"without {', '.join(missing)}", file=sys.stderr)
+    if args.write:
+        write_blocks(args.docs, docs, placed,
+                     {name: rows for name, rows in rendered.items() if name not in incomplete})
+        return 0
+    drift = [f"{rel}:{first + offset + 1}: '{name}': {what}"
+             for rel in DOCS for name, first, end in placed[rel] if name in rendered
+             for offset, what in differences(rendered[name], docs[rel].split("\n")[first:end])]
+    for line in drift:
+        print(line, file=sys.stderr)
+    if drift:
+        print(f"docs_numbers: the docs differ from {args.results} ({len(drift)} differences); "
+              f"/usr/bin/python3 scripts/docs_numbers.py {args.results} --write updates them",
+              file=sys.stderr)
+        return 1
+    print(f"docs_numbers: {len(rendered)} blocks hold {args.results}'s numbers", file=sys.stderr)
+    return 0
+
+
+def write_blocks(root, docs, placed, rendered):
+    """Replaces the `rendered` blocks in the docs under `root`; each changed file is written
+    whole to a temporary file and renamed over the old one."""
+    for rel, text in docs.items():
+        lines = text.split("\n")
+        for name, first, end in reversed(placed[rel]):
+            if name in rendered:
+                lines[first:end] = text_of(rendered[name])
+        new_text = "\n".join(lines)
+        if new_text != text:
+            path = os.path.join(root, rel)
+            with open(path + ".tmp", "w", encoding="utf-8") as f:
+                f.write(new_text)
+            os.replace(path + ".tmp", path)
+            print(f"docs_numbers: wrote {rel}", file=sys.stderr)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(
+        prog="docs_numbers.py", description="Fill or check the docs' measured tables from a run.")
+    parser.add_argument("results", help="a folder as scripts/reproduce.sh writes it")
+    parser.add_argument("--write", action="store_true",
+                        help="replace the blocks in the docs instead of checking them")
+    parser.add_argument("--only", nargs="+", metavar="ID",
+                        help="just these blocks, each with all its files")
+    parser.add_argument("--docs", default=str(SOURCE_DIR),
+                        help="the folder holding README.md and docs/ (default: this repository)")
+    parser.add_argument("--build", default=str(SOURCE_DIR / "build"),
+                        help="the build folder whose python/ holds the leglab package")
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:
+        return 2 if e.code else 0
+    try:
+        return run_check(args)
+    except UserError as e:
+        print(f"docs_numbers: error: {e}", file=sys.stderr)
+        return 2
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError) as e:
+        print(f"docs_numbers: error: {args.results}: not what the programs write "
+              f"({type(e).__name__}: {e})", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,135 @@
+#!/usr/bin/python3
+"""The measured tables of README.md and docs/results.md are a fresh run's (scripts/docs_numbers.py),
+and the check finds a number changed by hand.
+
+A fresh run of the programs whose JSON the blocks read, with the commands and folders of
+scripts/reproduce.sh (learned_fit.py's networks, minutes of training, are left out: their cells
+are the ones docs_numbers.py names as not checked). Then, on a copy of the docs: a joint-model
+value, a servo error and a paper value changed by hand fail the check naming block and line,
+--write puts the run's numbers back byte for byte, and bad input is one line, exit 2.
+
+Usage: docs_numbers_test.py SOURCE_DIR BIN_DIR BUILD_DIR SCRATCH_DIR
+Exit 77 (skipped) when the leglab Python package, which holds the paper's values, is not built.
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+SOURCE, BIN, BUILD, SCRATCH = sys.argv[1:5]
+SCRIPT = os.path.join(SOURCE, "scripts", "docs_numbers.py")
+DOCS = ("README.md", os.path.join("docs", "results.md"))
+# The blocks whose learned_fit.json this run does not make, each checked without its networks.
+WITHOUT_NETWORKS = ("real-servos", "servo-learned")
+
+
+def program(name, *args):
+    subprocess.run([os.path.join(BIN, name), "--quiet", *args], check=True, cwd=SOURCE)
+
+
+def fresh_run(out):
+    """reproduce.sh's runs for table1.json, table2.json and the two log fits."""
+    configs = os.path.join(SOURCE, "experiments", "configs")
+    program("identify", "--config", os.path.join(configs, "identify.yaml"), "--out", out)
+    program("track", "--config", os.path.join(configs, "track.yaml"), "--out", out)
+    logs = os.path.join(out, "servo_logs")
+    program("identify", "--config", os.path.join(configs, "identify_logs.yaml"), "--out", logs)
+    program("identify", "--config", os.path.join(configs, "identify_logs.yaml"),
+            "--out", os.path.join(logs, "by_kp"),
+            "--set", "logs.train=[data/servo_logs/dynamixel-xl330]",
+            "--set", "logs.cross_validate=leave_one_kp_out")
+
+
+def check(results, *args, docs=SOURCE):
+    return subprocess.run(["/usr/bin/python3", SCRIPT, results, "--docs", docs, "--build", BUILD,
+                           *args], capture_output=True, text=True, check=False)
+
+
+def read(path):
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def edit(path, old, new):
+    """Replaces the first `old` in the file (which must hold it) by `new`; returns its line."""
+    text = read(path)
+    at = text.index(old)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text[:at] + new + text[at + len(old):])
+    return text.count("\n", 0, at) + 1
+
+
+def main():
+    failures = []
+
+    def expect(condition, what, result=None):
+        if not condition:
+            failures.append(what + (f"\n  exit {result.returncode}, stderr:\n{result.stderr}"
+                                    if result is not None else ""))
+
+    if not os.path.isdir(os.path.join(BUILD, "python", "leglab")):
+        print("skipped: the leglab Python package is not built")
+        return 77
+    shutil.rmtree(SCRATCH, ignore_errors=True)
+    results = os.path.join(SCRATCH, "results")
+    fresh_run(results)
+
+    # The committed docs hold the fresh run's numbers, every block checked.
+    result = check(results)
+    expect(result.returncode == 0, "the committed docs differ from a fresh run", result)
+    expect("skipped" not in result.stderr, "a block was skipped by the fresh run", result)
+    for name in WITHOUT_NETWORKS:
+        expect(f"'{name}' checked without" in result.stderr,
+               f"'{name}' not reported as checked without the networks", result)
+
+    # Numbers changed by hand in a copy of the docs: each found, then written back.
+    copy = os.path.join(SCRATCH, "docs_copy")
+    for rel in DOCS:
+        os.makedirs(os.path.dirname(os.path.join(copy, rel)), exist_ok=True)
+        shutil.copyfile(os.path.join(SOURCE, rel), os.path.join(copy, rel))
+    readme, page = (os.path.join(copy, rel) for rel in DOCS)
+    theta = edit(readme, "| theta_0 (deg) | 7.0 | 5.65 |", "| theta_0 (deg) | 7.0 | 5.66 |")
+    paper = edit(readme, "11.42 [31.0]", "11.42 [31.5]")
+    kp = edit(page, "| 100 | 2.61 |", "| 100 | 2.62 |")
+    result = check(results, docs=copy)
+    expect(result.returncode == 1, "three numbers changed by hand were not all found", result)
+    for where in (f"README.md:{theta}: 'table1': column 3: '5.66' where the run gives '5.65'",
+                  f"README.md:{paper}: 'table2-joints': column 2: '11.42 [31.5]' where the run "
+                  f"gives '11.42 [31.0]'",
+                  f"docs/results.md:{kp}: 'servo-by-kp': column 2: '2.62' where the run gives "
+                  f"'2.61'"):
+        expect(where in result.stderr, f"the check does not say {where!r}", result)
+    result = check(results, "--write", docs=copy)
+    expect(result.returncode == 0, "--write failed", result)
+    for rel in DOCS:
+        expect(read(os.path.join(copy, rel)) == read(os.path.join(SOURCE, rel)),
+               f"--write did not put the run's numbers back in {rel}")
+
+    # Bad input: one line, exit 2, the docs untouched.
+    edit(readme, "<!-- numbers: foot -->", "<!-- numbers: feet -->")
+    edited = read(readme)
+    result = check(results, "--write", docs=copy)
+    expect(result.returncode == 2 and "no block named 'feet'" in result.stderr
+           and result.stderr.count("\n") == 1, "an unknown block is not one line, exit 2", result)
+    expect(read(readme) == edited, "--write touched the docs after bad input")
+    bad = os.path.join(SCRATCH, "bad")
+    os.makedirs(bad)
+    with open(os.path.join(bad, "table1.json"), "w", encoding="utf-8") as f:
+        f.write("{not json")
+    result = check(bad, "--only", "table1")
+    expect(result.returncode == 2 and "table1.json: not readable as JSON" in result.stderr
+           and result.stderr.count("\n") == 1, "a malformed table1.json is not one line, exit 2",
+           result)
+    result = check(os.path.join(SCRATCH, "nowhere"))
+    expect(result.returncode == 2 and result.stderr.count("\n") == 1,
+           "a missing results folder is not one line, exit 2", result)
+
+    for failure in failures:
+        print("FAIL:", failure)
+    if not failures:
+        print("docs_numbers: the docs are a fresh run's; hand edits found and written back")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
