@@ -280,6 +280,55 @@ def servo_learned_block(run):
              "lstm"], rows
 
 
+def hind_block(run):
+    """The hind leg's walk: each mode's L2 per joint and at the foot."""
+    rows_of = (("floor", "L2(Des,Floor)", "floor"), ("L2(Des,Dir)", "L2(Des,Dir)", "direct"),
+               ("best time shift (k = {k})", "L2(Des,TS)", "time_shift"),
+               ("L2(Des,MB)", "L2(Des,MB)", "model_based"), ("L2(Pwl,MB)", "L2(Pwl,MB)", None),
+               ("optimal", "L2(Des,Opt)", "optimal"), ("ilc", "L2(Des,ILC)", "ilc"))
+
+    def rows():
+        t = run.json("hind/table2.json")
+        foot = t["foot_cm"]
+        return [[label.format(k=foot["time_shift"]["k"])] +
+                [joint_norm(t, key, j) for j in JOINTS] +
+                [fixed(foot[mode]["L2"]["mean"]) if mode else ""]
+                for label, key, mode in rows_of]
+    return lambda: ["", *JOINTS, "foot L2"], rows
+
+
+def engines_block(run):
+    """Each mode's foot L2 on ODE and DART, front and hind leg."""
+    runs = ("table2.json", "dart/table2.json", "hind/table2.json", "hind/dart/table2.json")
+    modes = (("floor", "floor"), ("direct", "direct"), ("time_shift", "time shift"),
+             ("model_based", "model-based"), ("optimal", "optimal"), ("ilc", "ilc"))
+
+    def rows():
+        feet = [run.json(rel)["foot_cm"] for rel in runs]
+        return [[name] + [fixed(foot[mode]["L2"]["mean"], 3) for foot in feet]
+                for mode, name in modes]
+    return lambda: ["foot L2, cm", "front ODE", "front DART", "hind ODE", "hind DART"], rows
+
+
+def stand_block(run):
+    """The walk on the test stand: the foot's error and what the stance does, by mode."""
+    def rows():
+        t = run.json("stand/table2.json")
+        stand, foot = t["stand"], t["foot_cm"]
+        out = [["floor", fixed(foot["floor"]["L2"]["mean"], 3), "", "", "", "", ""]]
+        for mode, s in stand["modes"].items():
+            label = f"{mode} (k = {foot[mode]['k']})" if "k" in foot[mode] else mode
+            out.append([label, fixed(foot[mode]["L2"]["mean"], 3),
+                        fixed(s["stance_fz_n"]["mean"] / stand["carried_weight_n"], 3),
+                        fixed(s["peak_fz_n"], 1), f"{s['loaded_ticks']:.0f}",
+                        f"{fixed(s['slip_mm']['mean'])} ({fixed(s['max_slip_mm'])})",
+                        f"{fixed(s['sled_travel_x_mm']['mean'], 1)}, "
+                        f"{fixed(s['sled_travel_y_mm']['mean'], 1)}"])
+        return out
+    return lambda: ["", "foot L2", "stance Fz / weight", "peak Fz (N)", "stance ticks",
+                    "slip per stance (max)", "sled travel x, y (mm)"], rows
+
+
 def blocks(run, leglab):
     """Block id -> (header, rows): functions of RESULTS (header a list of cells, or a function
     giving it), rows raising Missing for a file RESULTS lacks."""
@@ -289,6 +338,9 @@ def blocks(run, leglab):
         "table2-joints": table2_joints_block(run, leglab),
         "foot": foot_block(run, leglab),
         "table2-summary": table2_summary_block(run, leglab),
+        "hind": hind_block(run),
+        "engines": engines_block(run),
+        "stand-table2": stand_block(run),
         "real-servos": real_servos_block(run),
         "servo-ladder": servo_ladder_block(run),
         "servo-by-kp": servo_by_kp_block(run),

@@ -28,10 +28,19 @@ def program(name, *args):
 
 
 def fresh_run(out):
-    """reproduce.sh's runs for table1.json, table2.json and the two log fits."""
+    """reproduce.sh's runs of the front and hind leg on ODE and DART, of the stand's walk and
+    of the two log fits."""
     configs = os.path.join(SOURCE, "experiments", "configs")
-    program("identify", "--config", os.path.join(configs, "identify.yaml"), "--out", out)
-    program("track", "--config", os.path.join(configs, "track.yaml"), "--out", out)
+    for folder, robot_set, walk in (("", [], "track.yaml"),
+                                    ("hind", ["--set", "robot=ers210a_hind"], "track_hind.yaml")):
+        for engine in ("", "dart"):
+            where = os.path.join(out, folder, engine)
+            engine_set = ["--set", "sim.engine=dart"] if engine else []
+            program("identify", "--config", os.path.join(configs, "identify.yaml"), *robot_set,
+                    *engine_set, "--out", where)
+            program("track", "--config", os.path.join(configs, walk), *engine_set, "--out", where)
+    program("track", "--config", os.path.join(configs, "track_stand.yaml"),
+            "--out", os.path.join(out, "stand"))
     logs = os.path.join(out, "servo_logs")
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"), "--out", logs)
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"),
