@@ -17,32 +17,29 @@ namespace {
 
 constexpr double kNoFit = std::numeric_limits<double>::quiet_NaN();
 
-// The constructor's precondition, wider than the config's ranges (any positive model, e.g. an
-// estimate far off): empty, or the first key that breaks it.
-std::string SpecProblem(const AdaptiveController::Spec& spec) {
-  const JointModelParams& m = spec.initial_model;
-  if (!(std::isfinite(m.v_max_deg_per_tick) && m.v_max_deg_per_tick > 0.0)) {
-    return "initial_model.v_max_deg_per_tick";
-  }
-  if (!(std::isfinite(m.theta0_deg) && m.theta0_deg > 0.0)) return "initial_model.theta0_deg";
-  if (m.lag_ticks < 0 || m.lag_ticks > 12) return "initial_model.lag_ticks";
-  if (m.accel_ticks < 1 || m.accel_ticks > 12) return "initial_model.accel_ticks";
-  if (spec.window_steps < 1 || spec.window_steps > 50) return "window_steps";
-  if (!(std::isfinite(spec.probe_deg) && spec.probe_deg >= 0.0 && spec.probe_deg <= 45.0)) {
-    return "probe_deg";
-  }
-  if (spec.probe_ticks < 0 || spec.probe_ticks > 64) return "probe_ticks";
-  return {};
+// A joint model's declaration `docs` with l and a within the window fit's search ranges (the
+// identification's defaults), which the estimates never leave.
+JointModelDocs WithinTheSearch(JointModelDocs docs) {
+  const IdentificationOptions search;
+  docs.lag_ticks = WithRange(docs.lag_ticks, search.lag_min_ticks, search.lag_max_ticks);
+  docs.accel_ticks = WithRange(docs.accel_ticks, search.accel_min_ticks, search.accel_max_ticks);
+  return docs;
+}
+
+// The constructor's precondition, through the declarations: the keys as declared, but the
+// initial model any joint model (an estimate far off) within the search ranges.
+void CheckSpec(AdaptiveController::Spec spec, const std::string& prefix) {
+  KeyChecker model_checker(prefix + "initial_model.");
+  leglab::VisitKeys(model_checker, spec.initial_model, WithinTheSearch(kAnyJointModel));
+  spec.initial_model = AdaptiveController::Spec{}.initial_model;  // checked above
+  CheckKeys(prefix, spec, &AdaptiveController::VisitKeys);
 }
 
 }  // namespace
 
 void AdaptiveController::VisitKeys(KeyVisitor& v, Spec& spec) {
-  // Any positive speed and width; l and a within the window fit's search range, the
-  // identification's default.
   v.Section("initial_model", [&] {
-    leglab::VisitKeys(v, spec.initial_model,
-                      {.min_slope_deg = 0, .min_open = true, .max_ticks = 12});
+    leglab::VisitKeys(v, spec.initial_model, WithinTheSearch(kJointModelKeys));
   });
   v.Key("window_steps", spec.window_steps,
         {.min = 1, .max = 50, .description = "steps of data each estimate is fitted to"});
@@ -64,9 +61,7 @@ AdaptiveController::AdaptiveController(const Spec& spec, const ControllerContext
   if (context_.desired.empty()) {
     throw std::invalid_argument("controller: the desired cycle is empty");
   }
-  if (const std::string problem = SpecProblem(spec_); !problem.empty()) {
-    throw std::invalid_argument("adaptive: invalid " + problem);
-  }
+  CheckSpec(spec_, std::string(kTraits.config_section) + ".");
   pwl_segments_ = std::max(1, context_.ApproximationSegments());
   Reset();
 }

@@ -56,16 +56,11 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
   std::copy(hold.begin(), hold.end(), c.hold_deg.begin());
   std::vector<int> lag{c.search.lag_min_ticks, c.search.lag_max_ticks};
   std::vector<int> accel{c.search.accel_min_ticks, c.search.accel_max_ticks};
+  // Each end within the model's own range of l and a (joint_model.h).
   v.Key("lag_range_ticks", lag,
-        {.min = 0,
-         .max = 50,
-         .unit = "ticks",
-         .description = "[min, max] of the lag l the fit searches"});
+        WithDescription(kJointModelKeys.lag_ticks, "[min, max] of the lag l the fit searches"));
   v.Key("accel_range_ticks", accel,
-        {.min = 1,
-         .max = 50,
-         .unit = "ticks",
-         .description = "[min, max] of the acceleration time a the fit searches"});
+        WithDescription(kJointModelKeys.accel_ticks, "[min, max] of the acceleration time a the fit searches"));
   if (c.theta_test_deg.empty() || c.theta_test_deg.size() > 8) {
     v.Fail("theta_test_deg", "a list of 1 to 8 step heights");
   }
@@ -79,10 +74,11 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
     }
   }
   if (lag.size() != 2 || lag[1] < lag[0]) {
-    v.Fail("lag_range_ticks", "[min, max] with 0 <= min <= max <= 50");
+    v.Fail("lag_range_ticks", "[min, max] with min <= max, each in " + RangeText(kJointModelKeys.lag_ticks));
   }
   if (accel.size() != 2 || accel[1] < accel[0]) {
-    v.Fail("accel_range_ticks", "[min, max] with 1 <= min <= max <= 50");
+    v.Fail("accel_range_ticks",
+           "[min, max] with min <= max, each in " + RangeText(kJointModelKeys.accel_ticks));
   }
   c.search = {lag[0], lag[1], accel[0], accel[1]};
   if (c.record_cycles * c.t_step_ticks <= lag[1] + accel[1]) {

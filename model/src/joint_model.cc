@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/core/format.h"
+
 namespace leglab {
 namespace {
 
@@ -23,42 +25,24 @@ double ModelVelocity(const JointModelParams& p, double angle_deg, RequestAt requ
 
 }  // namespace
 
-std::string JointModelParamsProblem(const JointModelParams& p) {
-  if (!(std::isfinite(p.v_max_deg_per_tick) && p.v_max_deg_per_tick > 0.0)) {
-    return "v_max_deg_per_tick must be positive, got " + std::to_string(p.v_max_deg_per_tick);
+void VisitKeys(KeyVisitor& v, JointModelParams& params, const JointModelDocs& docs) {
+  v.Key("v_max_deg_per_tick", params.v_max_deg_per_tick, docs.v_max_deg_per_tick);
+  v.Key("theta0_deg", params.theta0_deg, docs.theta0_deg);
+  v.Key("lag_ticks", params.lag_ticks, docs.lag_ticks);
+  v.Key("accel_ticks", params.accel_ticks, docs.accel_ticks);
+  // f's slope inside (-theta_0, theta_0): an infinite or subnormal one makes f(0) NaN or the
+  // model's steps meaningless. (Unset values, 0, are the ranges' to report.)
+  const double slope = params.v_max_deg_per_tick / params.theta0_deg;
+  if (params.v_max_deg_per_tick > 0.0 && params.theta0_deg > 0.0 && !std::isnormal(slope)) {
+    v.Fail("theta0_deg", "such that v_max_deg_per_tick / theta0_deg is a normal number, got " +
+                             FormatNumber(params.v_max_deg_per_tick) + " / " +
+                             FormatNumber(params.theta0_deg));
   }
-  if (!(std::isfinite(p.theta0_deg) && p.theta0_deg > 0.0)) {
-    return "theta0_deg must be positive, got " + std::to_string(p.theta0_deg);
-  }
-  if (p.lag_ticks < 0) return "lag_ticks must be >= 0, got " + std::to_string(p.lag_ticks);
-  if (p.accel_ticks < 1) return "accel_ticks must be >= 1, got " + std::to_string(p.accel_ticks);
-  return {};
 }
 
-void VisitKeys(KeyVisitor& v, JointModelParams& params, const JointModelKeyRanges& ranges) {
-  const auto ticks = static_cast<double>(ranges.max_ticks);
-  v.Key("v_max_deg_per_tick", params.v_max_deg_per_tick,
-        {.min = ranges.min_slope_deg,
-         .max = 45,
-         .min_open = ranges.min_open,
-         .unit = "deg/tick",
-         .description = "v_max: the joint's top speed (45 deg/tick is 5600 deg/s)"});
-  v.Key("theta0_deg", params.theta0_deg,
-        {.min = ranges.min_slope_deg,
-         .max = 180,
-         .min_open = ranges.min_open,
-         .unit = "deg",
-         .description = "theta_0: the request-actual difference that gives the top speed"});
-  v.Key("lag_ticks", params.lag_ticks,
-        {.min = 0,
-         .max = ticks,
-         .unit = "ticks",
-         .description = "l: ticks before a request starts to act (eq. 3)"});
-  v.Key("accel_ticks", params.accel_ticks,
-        {.min = 1,
-         .max = ticks,
-         .unit = "ticks",
-         .description = "a: ticks over which the speed response is averaged (eq. 3)"});
+std::string JointModelParamsProblem(const JointModelParams& params) {
+  return KeysProblem(params,
+                     [](KeyVisitor& v, JointModelParams& p) { VisitKeys(v, p, kAnyJointModel); });
 }
 
 bool SettlesOnEveryCycle(const JointModelParams& p) {

@@ -2,6 +2,7 @@
 // identification and the floor of a desired cycle, on numpy arrays.
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -27,29 +28,28 @@ std::string ModelRepr(const JointModelParams& p) {
          ", accel_ticks=" + std::to_string(p.accel_ticks) + ")";
 }
 
-// The most l and a a JointModel takes from Python: identify's search range, far beyond any
-// servo's (the config's model.* keys stop at 50), and small enough that a model's memory of
-// requests is never a large allocation.
-constexpr int kMaxModelTicks = 200;
 // The longest cycle identify averages (period_ticks): 8000 s of 8 ms ticks.
 constexpr int kMaxPeriodTicks = 1'000'000;
 
-// `params` if the model's key declarations (the config's, with v_max and theta_0 any positive
-// value up to their maxima and l, a up to kMaxModelTicks) allow it; std::invalid_argument
+// `params` if the model's declaration (VisitKeys, the config's) allows it; std::invalid_argument
 // (ValueError) naming the field otherwise.
 JointModelParams CheckedModel(JointModelParams params) {
-  CheckKeys("", params, [](KeyVisitor& v, JointModelParams& p) {
-    VisitKeys(v, p, {.min_slope_deg = 0.0, .min_open = true, .max_ticks = kMaxModelTicks});
-  });
+  CheckKeys("", params, [](KeyVisitor& v, JointModelParams& p) { VisitKeys(v, p); });
   return params;
+}
+
+// `value` as an integer in the range `doc` declares.
+int ToInt(py::handle value, const std::string& what, const KeyDoc& doc) {
+  return static_cast<int>(ToInteger(value, what, static_cast<long long>(std::ceil(doc.min)),
+                                    static_cast<long long>(std::floor(doc.max))));
 }
 
 JointModelParams MakeModel(py::handle v_max_deg_per_tick, py::handle theta0_deg,
                            py::handle lag_ticks, py::handle accel_ticks) {
   return CheckedModel({ToReal(v_max_deg_per_tick, "v_max_deg_per_tick"),
                        ToReal(theta0_deg, "theta0_deg"),
-                       static_cast<int>(ToInteger(lag_ticks, "lag_ticks", 0, kMaxModelTicks)),
-                       static_cast<int>(ToInteger(accel_ticks, "accel_ticks", 1, kMaxModelTicks))});
+                       ToInt(lag_ticks, "lag_ticks", kJointModelKeys.lag_ticks),
+                       ToInt(accel_ticks, "accel_ticks", kJointModelKeys.accel_ticks)});
 }
 
 // `model` as a JointModel; TypeError naming `what` for anything else.
@@ -93,16 +93,15 @@ std::vector<JointRecording> ToRecordings(py::handle requests, py::handle measure
   return recordings;
 }
 
-// A (min, max) pair of ticks with 0 <= min <= max <= kMaxModelTicks.
-std::pair<int, int> ToRange(py::handle range, const std::string& what) {
+// A (min, max) pair of ticks with min <= max, each in `doc`'s range (a model's l or a).
+std::pair<int, int> ToRange(py::handle range, const std::string& what, const KeyDoc& doc) {
   if (!(py::isinstance<py::tuple>(range) || py::isinstance<py::list>(range)) ||
       py::len(range) != 2) {
     ThrowTypeError(what + ": expected (min, max), a tuple of two integers, got " +
                    std::string(py::str(py::type::of(range).attr("__name__"))));
   }
-  const auto low = static_cast<int>(ToInteger(range[py::int_(0)], what + "[0]", 0, kMaxModelTicks));
-  const auto high =
-      static_cast<int>(ToInteger(range[py::int_(1)], what + "[1]", 0, kMaxModelTicks));
+  const int low = ToInt(range[py::int_(0)], what + "[0]", doc);
+  const int high = ToInt(range[py::int_(1)], what + "[1]", doc);
   if (high < low) {
     ThrowValueError(what + ": expected (min, max) with min <= max, got (" + std::to_string(low) +
                     ", " + std::to_string(high) + ")");
@@ -119,10 +118,9 @@ IdentificationResult Identify(py::handle requests, py::handle measured, py::hand
   const std::vector<JointRecording> recordings = ToRecordings(requests, measured);
   experiments::IdentifyConfig identify;
   std::tie(identify.search.lag_min_ticks, identify.search.lag_max_ticks) =
-      ToRange(lag_range, "lag_range_ticks");
+      ToRange(lag_range, "lag_range_ticks", kJointModelKeys.lag_ticks);
   std::tie(identify.search.accel_min_ticks, identify.search.accel_max_ticks) =
-      ToRange(accel_range, "accel_range_ticks");
-  if (identify.search.accel_min_ticks < 1) ThrowValueError("accel_range_ticks: a is at least 1");
+      ToRange(accel_range, "accel_range_ticks", kJointModelKeys.accel_ticks);
   identify.average_cycles = period_ticks.has_value();
   if (period_ticks) {
     identify.t_step_ticks = *period_ticks;
@@ -160,8 +158,8 @@ Args:
     accel_ticks: a, ticks over which the speed is averaged (>= 1).
 
 Raises TypeError for a value that is not a number (bool is not; l and a must be integers) and
-ValueError naming the field for one outside its range: v_max in (0, 45], theta_0 in (0, 180]
-(the config's model.* ranges), l in [0, 200], a in [1, 200].
+ValueError naming the field for one outside its range, the config's model.* ranges: v_max in
+[0.01, 45], theta_0 in [0.01, 180], l in [0, 50], a in [1, 50].
 )doc")
       .def(py::init(&MakeModel), py::arg("v_max_deg_per_tick"), py::arg("theta0_deg"),
            py::arg("lag_ticks"), py::arg("accel_ticks"),
@@ -284,10 +282,13 @@ void BindModel(py::module_& m) {
                ", rms_residual_deg=" + std::string(py::repr(py::float_(r.rms_residual_deg))) + ")";
       });
 
+  // The search ranges' defaults are the identification's (and identify.yaml's).
+  const IdentificationOptions search;
   m.def(
       "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
-      py::arg("lag_range_ticks") = py::make_tuple(0, 12),
-      py::arg("accel_range_ticks") = py::make_tuple(1, 12), py::arg("period_ticks") = py::none(),
+      py::arg("lag_range_ticks") = py::make_tuple(search.lag_min_ticks, search.lag_max_ticks),
+      py::arg("accel_range_ticks") = py::make_tuple(search.accel_min_ticks, search.accel_max_ticks),
+      py::arg("period_ticks") = py::none(),
       R"doc(identify(requests, measured, *, lag_range_ticks=(0, 12), accel_range_ticks=(1, 12), period_ticks=None) -> Identification
 
 Fits the paper's joint model to recordings, as `identify` does to its step tests.
@@ -295,8 +296,8 @@ Fits the paper's joint model to recordings, as `identify` does to its step tests
 Args:
     requests: the request sent each tick, deg: a 1-D array (one recording) or a list of them.
     measured: the angle measured right after each request, deg, shaped as `requests`.
-    lag_range_ticks: (min, max) of l, searched exhaustively (integers, 0 to 200).
-    accel_range_ticks: (min, max) of a, searched exhaustively (integers, 1 to 200).
+    lag_range_ticks: (min, max) of l, searched exhaustively (integers, 0 to 50).
+    accel_range_ticks: (min, max) of a, searched exhaustively (integers, 1 to 50).
     period_ticks: when given (1 to 1,000,000), every recording is whole cycles of this many ticks with the
         same requests every cycle (a step test's square wave), and each is averaged into one
         cycle before the fit, as `identify` does (identify.average_cycles: true); None fits

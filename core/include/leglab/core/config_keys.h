@@ -32,6 +32,23 @@ struct KeyDoc {
   std::string_view (*rule)(double value) = nullptr;
 };
 
+/// `doc` with another description: a key that takes the values another declaration
+/// allows (identify's search range of l takes a model's l), its range written once.
+constexpr KeyDoc WithDescription(KeyDoc doc, std::string_view description) {
+  doc.description = description;
+  return doc;
+}
+
+/// `doc` with another range (`min_open`: min excluded): the same key where another user
+/// takes other values.
+constexpr KeyDoc WithRange(KeyDoc doc, double min, double max, bool min_open = false) {
+  doc.min = min;
+  doc.max = max;
+  doc.min_open = min_open;
+  doc.max_open = false;
+  return doc;
+}
+
 /// The range of `doc` as people write it: "[0, 400] ms", "(0, 1]" (without the unit when
 /// `with_unit` is false); empty for an unbounded one.
 inline std::string RangeText(const KeyDoc& doc, bool with_unit = true) {
@@ -321,6 +338,18 @@ template <typename T, typename Visit>
 void CheckKeys(std::string prefix, T value, Visit&& visit) {
   KeyChecker checker(std::move(prefix));
   std::forward<Visit>(visit)(checker, value);
+}
+
+/// What CheckKeys would throw for `value`, or "" when it keeps its declaration: a
+/// precondition checked through the declaration, for a caller that reports it its own way.
+template <typename T, typename Visit>
+std::string KeysProblem(T value, Visit&& visit, std::string prefix = "") {
+  try {
+    CheckKeys(std::move(prefix), std::move(value), std::forward<Visit>(visit));
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return {};
 }
 
 /// The keys `visit(visitor, value)` declares, with `value`'s fields as the defaults.

@@ -20,21 +20,62 @@ struct JointModelParams {
   friend bool operator==(const JointModelParams&, const JointModelParams&) = default;
 };
 
-/// Empty when v_max > 0, theta_0 > 0 (both finite), l >= 0 and a >= 1; otherwise what is
-/// wrong, naming the field ("theta0_deg must be positive, got -1").
-std::string JointModelParamsProblem(const JointModelParams& params);
+/// The most ticks a model's lag l or averaging window a may span. A model remembers l + a
+/// requests and the planners' cost grows with them; the bound keeps that memory small while
+/// covering the log fit's longest window (logs.window_max_s, 1 s) on logs sampled at 1 kHz.
+inline constexpr int kMaxModelTicks = 1000;
 
-/// The ranges of a joint model's config keys where its users differ.
-struct JointModelKeyRanges {
-  double min_slope_deg = 0.01;  ///< least v_max (deg/tick) and theta_0 (deg)
-  bool min_open = false;        ///< ... excluded: any value above it
-  int max_ticks = 50;           ///< most l and a (a narrower search range than identify's)
+/// The declared ranges of a joint model's four values.
+struct JointModelDocs {
+  KeyDoc v_max_deg_per_tick;
+  KeyDoc theta0_deg;
+  KeyDoc lag_ticks;
+  KeyDoc accel_ticks;
 };
 
-/// The four config keys of a joint model (`model.*`, `plant_model.*`,
-/// `adaptive.initial_model.*`), declared once (see KeyVisitor).
+/// A joint model of a leg's joint in 8 ms ticks, as the config keys take it (`model.*`,
+/// `plant_model.*`, `adaptive.initial_model.*`), and Python's JointModel, identify's search
+/// ranges and identify's check of what it fits with them: a fit outside these is refused as no
+/// joint model (a stand that holds the foot, a servo that hardly moves).
+inline constexpr JointModelDocs kJointModelKeys{
+    .v_max_deg_per_tick = {.min = 0.01,
+                           .max = 45,
+                           .unit = "deg/tick",
+                           .description = "v_max: the joint's top speed (45 deg/tick is "
+                                          "5600 deg/s)"},
+    .theta0_deg = {.min = 0.01,
+                   .max = 180,
+                   .unit = "deg",
+                   .description = "theta_0: the request-actual difference that gives the top "
+                                  "speed"},
+    .lag_ticks = {.min = 0,
+                  .max = 50,
+                  .unit = "ticks",
+                  .description = "l: ticks before a request starts to act (eq. 3)"},
+    .accel_ticks = {.min = 1,
+                    .max = 50,
+                    .unit = "ticks",
+                    .description = "a: ticks over which the speed response is averaged "
+                                   "(eq. 3)"}};
+
+/// Any joint model, in any tick: what the model's functions and the planners take, and what a
+/// log fit may give (its tick is the log's, and a servo that never saturates fits a theta_0
+/// beyond a turn). Positive speeds up to kMaxModelDegrees, l and a up to kMaxModelTicks.
+inline constexpr double kMaxModelDegrees = 1e6;
+inline constexpr JointModelDocs kAnyJointModel{
+    .v_max_deg_per_tick = WithRange(kJointModelKeys.v_max_deg_per_tick, 0, kMaxModelDegrees, true),
+    .theta0_deg = WithRange(kJointModelKeys.theta0_deg, 0, kMaxModelDegrees, true),
+    .lag_ticks = WithRange(kJointModelKeys.lag_ticks, 0, kMaxModelTicks),
+    .accel_ticks = WithRange(kJointModelKeys.accel_ticks, 1, kMaxModelTicks)};
+
+/// The four keys of a joint model, declared once (see KeyVisitor), with the ranges `docs`; and
+/// the rule that f's slope v_max / theta_0 is a normal number.
 void VisitKeys(KeyVisitor& visitor, JointModelParams& params,
-               const JointModelKeyRanges& ranges = {});
+               const JointModelDocs& docs = kJointModelKeys);
+
+/// Empty when `params` is a joint model (kAnyJointModel); otherwise what is wrong, naming the
+/// field ("theta0_deg must be in (0, 1000000] deg, got -1").
+std::string JointModelParamsProblem(const JointModelParams& params);
 
 /// Throws std::invalid_argument "joint model: <problem>" unless JointModelParamsProblem is
 /// empty.

@@ -10,9 +10,9 @@
 namespace leglab {
 
 /// The most desired angles ahead a planner is given, and the longest lag (ticks) of a model it
-/// plans for (a model's memory is this long).
+/// plans for: a joint model's own bound (a model's memory is this long).
 inline constexpr int kMaxServoPreviewTicks = 100000;
-inline constexpr int kMaxServoLagTicks = 1000;
+inline constexpr int kMaxServoLagTicks = kMaxModelTicks;
 
 /// How an online planner chooses its requests and uses what is measured.
 struct ServoPlannerOptions {
