@@ -38,9 +38,8 @@ void CheckSpec(AdaptiveController::Spec spec, const std::string& prefix) {
 }  // namespace
 
 void AdaptiveController::VisitKeys(KeyVisitor& v, Spec& spec) {
-  v.Section("initial_model", [&] {
-    leglab::VisitKeys(v, spec.initial_model, WithinTheSearch(kJointModelKeys));
-  });
+  v.Section("initial_model",
+            [&] { leglab::VisitKeys(v, spec.initial_model, WithinTheSearch(kJointModelKeys)); });
   v.Key("window_steps", spec.window_steps,
         {.min = 1, .max = 50, .description = "steps of data each estimate is fitted to"});
   v.Key("probe_deg", spec.probe_deg,

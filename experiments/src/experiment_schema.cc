@@ -60,7 +60,8 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
   v.Key("lag_range_ticks", lag,
         WithDescription(kJointModelKeys.lag_ticks, "[min, max] of the lag l the fit searches"));
   v.Key("accel_range_ticks", accel,
-        WithDescription(kJointModelKeys.accel_ticks, "[min, max] of the acceleration time a the fit searches"));
+        WithDescription(kJointModelKeys.accel_ticks,
+                        "[min, max] of the acceleration time a the fit searches"));
   if (c.theta_test_deg.empty() || c.theta_test_deg.size() > 8) {
     v.Fail("theta_test_deg", "a list of 1 to 8 step heights");
   }
@@ -74,7 +75,8 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
     }
   }
   if (lag.size() != 2 || lag[1] < lag[0]) {
-    v.Fail("lag_range_ticks", "[min, max] with min <= max, each in " + RangeText(kJointModelKeys.lag_ticks));
+    v.Fail("lag_range_ticks",
+           "[min, max] with min <= max, each in " + RangeText(kJointModelKeys.lag_ticks));
   }
   if (accel.size() != 2 || accel[1] < accel[0]) {
     v.Fail("accel_range_ticks",
