@@ -44,6 +44,12 @@ def test_the_papers_tables_as_published():
     assert sorted(leglab.PAPER_FOOT_CM) == ["direct", "model_based", "time_shift"]
 
 
+def test_the_ranges_ends_are_models():
+    # Each end of the config's model.* ranges is a JointModel.
+    for params in ((0.01, 0.01, 0, 1), (45.0, 180.0, 50, 50)):
+        assert leglab.JointModel(*params).lag_ticks == params[2]
+
+
 def test_steady_state_is_the_repeated_cycle():
     cycle = 30.0 * np.sin(np.linspace(0.0, 2.0 * np.pi, 40, endpoint=False))
     model = leglab.PAPER_MODEL
@@ -144,12 +150,23 @@ def test_models_compare_pickle_and_print():
     (lambda: leglab.floor([1.0, 2.0], leglab.PAPER_MODEL), "at least 3"),
     (lambda: leglab.floor(np.zeros((5, 3)), [leglab.PAPER_MODEL]), "one JointModel per joint"),
     (lambda: leglab.floor(np.zeros((5, 3)), leglab.PAPER_MODEL), "got a JointModel"),
-    # Bounds from the model's key declarations, before anything is allocated.
-    (lambda: leglab.JointModel(2.5, 7.0, 2**40, 6), "lag_ticks: expected an integer from 0 to 200"),
-    (lambda: leglab.JointModel(2.5, 7.0, 10**9, 6), "lag_ticks: expected an integer from 0 to 200"),
-    (lambda: leglab.JointModel(1e308, 5e-324, 0, 1), r"v_max_deg_per_tick must be in \(0, 45\]"),
+    # Bounds from the model's key declarations (the config's model.* ranges, as
+    # docs/configuration.md lists them), before anything is allocated.
+    (lambda: leglab.JointModel(2.5, 7.0, 2**40, 6), "lag_ticks: expected an integer from 0 to 50"),
+    (lambda: leglab.JointModel(2.5, 7.0, 10**9, 6), "lag_ticks: expected an integer from 0 to 50"),
+    (lambda: leglab.JointModel(2.5, 7.0, 51, 6), "lag_ticks: expected an integer from 0 to 50"),
+    (lambda: leglab.JointModel(2.5, 7.0, 4, 51), "accel_ticks: expected an integer from 1 to 50"),
+    (lambda: leglab.JointModel(1e308, 5e-324, 0, 1),
+     r"v_max_deg_per_tick must be in \[0.01, 45\] deg/tick"),
+    (lambda: leglab.JointModel(0.005, 7.0, 4, 6),
+     r"v_max_deg_per_tick must be in \[0.01, 45\] deg/tick"),
+    (lambda: leglab.JointModel(2.5, 181.0, 4, 6), r"theta0_deg must be in \[0.01, 180\] deg"),
     (lambda: leglab.JointModel(2.5, float("inf"), 0, 1), "theta0_deg: expected a finite number"),
-    (lambda: leglab.JointModel(2.5, 7.0, 2**70, 1), "lag_ticks: expected an integer from 0 to 200"),
+    (lambda: leglab.JointModel(2.5, 7.0, 2**70, 1), "lag_ticks: expected an integer from 0 to 50"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, lag_range_ticks=(0, 51)),
+     r"lag_range_ticks\[1\]: expected an integer from 0 to 50"),
+    (lambda: leglab.identify([1.0] * 40, [1.0] * 40, accel_range_ticks=(0, 6)),
+     r"accel_range_ticks\[0\]: expected an integer from 1 to 50"),
     (lambda: leglab.PAPER_MODEL.speed_response(float("nan")), "x_deg: expected a finite number"),
     (lambda: leglab.identify([1.0] * 40, [1.0] * 40, period_ticks=0), "period_ticks"),
     # A fit outside the model's ranges is an error, not a model the constructor would refuse.
