@@ -40,9 +40,9 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
          .unit = "m",
          .description = "a CSV log's load distance from the axis (0 at the bottom)"});
   v.Structured("v_max_deg_s", "map of motor: deg/s", "{}",
-               {.unit = "deg/s",
-                .description = "published no-load speeds: the extended model's v_max of a motor "
-                               "named here is held at it instead of fitted"});
+               WithDescription(kServoVMaxDoc,
+                               "published no-load speeds: the extended model's v_max of a motor "
+                               "named here is held at it instead of fitted"));
   v.Key(
       "lag_max_s", c.lag_max_s,
       {.min = 0, .max = 1, .unit = "s", .description = "longest lag either model's fit searches"});
@@ -116,8 +116,9 @@ std::map<std::string, double> ReadSpeeds(const YAML::Node& node) {
       FailConfig("logs.v_max_deg_s." + motor + " must be a number, got '" + FlowYaml(item.second) +
                  "'");
     }
-    if (!(std::isfinite(speed) && speed > 0.0 && speed <= 1e5)) {
-      FailConfig("logs.v_max_deg_s." + motor + " must be in (0, 100000] deg/s, got " +
+    // The range of the model's own v_max_deg_s, which a published speed replaces.
+    if (const std::string problem = KeyValueProblem(speed, kServoVMaxDoc); !problem.empty()) {
+      FailConfig("logs.v_max_deg_s." + motor + " must be " + problem + ", got " +
                  FormatNumber(speed, NumberStyle::kReadable));
     }
     speeds[motor] = speed;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "leglab/core/format.h"
@@ -10,14 +11,19 @@
 namespace leglab {
 namespace {
 
-std::string Positive(const char* field, double value) {
-  if (std::isfinite(value) && value > 0.0) return {};
-  return std::string(field) + " must be positive, got " + FormatNumber(value);
-}
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-std::string NonNegative(const char* field, double value) {
-  if (std::isfinite(value) && value >= 0.0) return {};
-  return std::string(field) + " must be zero or positive, got " + FormatNumber(value);
+// A positive, or a non-negative, finite value in `unit`.
+constexpr KeyDoc Positive(std::string_view unit, std::string_view description) {
+  return {.min = 0,
+          .max = kInfinity,
+          .min_open = true,
+          .max_open = true,
+          .unit = unit,
+          .description = description};
+}
+constexpr KeyDoc NonNegative(std::string_view unit, std::string_view description) {
+  return {.min = 0, .max = kInfinity, .max_open = true, .unit = unit, .description = description};
 }
 
 }  // namespace
@@ -41,19 +47,22 @@ void servo_tick::CheckRecording(const ServoRecording& recording) {
   }
 }
 
+void VisitKeys(KeyVisitor& v, ServoModelParams& params) {
+  v.Key("gain_per_deg_kp", params.gain_per_deg_kp,
+        Positive("", "duty per degree of error per unit of kp"));
+  v.Key("v_max_deg_s", params.v_max_deg_s, kServoVMaxDoc);
+  v.Key("stall_torque_nm", params.stall_torque_nm, Positive("N m", "torque at full duty"));
+  v.Key("friction_duty", params.friction_duty,
+        NonNegative("", "friction band with no load (duty)"));
+  v.Key("friction_load_ratio", params.friction_load_ratio,
+        NonNegative("", "the band's growth per unit of load duty"));
+  v.Key("velocity_lag_s", params.velocity_lag_s, Positive("s", "the velocity's time constant"));
+  v.Key("lag_ticks", params.lag_ticks,
+        WithDescription(kAnyJointModel.lag_ticks, "l: ticks before a request starts to act"));
+}
+
 std::string ServoModelParamsProblem(const ServoModelParams& params) {
-  for (const std::string& problem : {Positive("gain_per_deg_kp", params.gain_per_deg_kp),
-                                     Positive("v_max_deg_s", params.v_max_deg_s),
-                                     Positive("stall_torque_nm", params.stall_torque_nm),
-                                     NonNegative("friction_duty", params.friction_duty),
-                                     NonNegative("friction_load_ratio", params.friction_load_ratio),
-                                     Positive("velocity_lag_s", params.velocity_lag_s)}) {
-    if (!problem.empty()) return problem;
-  }
-  if (params.lag_ticks < 0) {
-    return "lag_ticks must be zero or positive, got " + std::to_string(params.lag_ticks);
-  }
-  return {};
+  return KeysProblem(params, [](KeyVisitor& v, ServoModelParams& p) { VisitKeys(v, p); });
 }
 
 std::vector<double> RecordedRequestsUpTo(const ServoRecording& recording, size_t t, size_t count) {

@@ -326,11 +326,6 @@ std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& d
            ": the load is over " + FormatNumber(kMaxLoadToStall, NumberStyle::kReadable) +
            " times the stall torque";
   }
-  if (params.v_max_deg_s > kMaxPlanSpeedDegS) {
-    return "v_max_deg_s must be at most " +
-           FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
-           FormatNumber(params.v_max_deg_s);
-  }
   if (!(params.velocity_lag_s / tick_s <= kMaxLagOverTick)) {
     return "velocity_lag_s must be at most " +
            FormatNumber(kMaxLagOverTick, NumberStyle::kReadable) + " ticks of " +

@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
+#include "leglab/model/joint_model.h"
+
 namespace leglab {
 
 /// Gravity's acceleration in the load's torque (m/s^2).
@@ -47,8 +50,24 @@ struct ServoModelParams {
   friend bool operator==(const ServoModelParams&, const ServoModelParams&) = default;
 };
 
-/// Empty when every field is finite and within the range its comment gives; otherwise what is
-/// wrong, naming the field ("velocity_lag_s must be positive, got 0").
+/// The fastest a servo model's v_max_deg_s may be (deg/s; 27,800 turns a second): beyond any
+/// servo, and small enough that a plan's speeds stay far from overflow.
+inline constexpr double kMaxServoSpeedDegS = 1e7;
+
+/// The declared range of v_max_deg_s, which `logs.v_max_deg_s` (a published speed) takes too.
+inline constexpr KeyDoc kServoVMaxDoc{.min = 0,
+                                      .max = kMaxServoSpeedDegS,
+                                      .min_open = true,
+                                      .unit = "deg/s",
+                                      .description = "speed at full net duty"};
+
+/// The extended model's seven values, declared once (see KeyVisitor) with the ranges their
+/// comments give: what ServoModelParamsProblem checks for the model's functions, plan's
+/// reading of log_fit.json and the Python package.
+void VisitKeys(KeyVisitor& visitor, ServoModelParams& params);
+
+/// Empty when `params` keeps its declaration (VisitKeys); otherwise what is wrong, naming the
+/// field ("velocity_lag_s must be in (0, inf) s, got 0").
 std::string ServoModelParamsProblem(const ServoModelParams& params);
 
 /// What the model remembers between ticks: M(t-1), w(t-1) and R(t-1), ..., R(t-1-l) (newest

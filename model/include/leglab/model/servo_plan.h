@@ -45,10 +45,11 @@ inline constexpr double kBeyondServoToleranceDeg = 1e-6;
 
 /// The bounds a plan holds its inputs to, so that every number it computes is finite: a plan
 /// never holds a NaN or an infinity, and what would make one is refused, naming the field.
-inline constexpr double kMaxPlanAngleDeg = 1e5;   ///< |desired angle|, |limit| (deg): 278 turns
-inline constexpr double kMinPlanTickS = 1e-6;     ///< the shortest tick (s)
-inline constexpr double kMaxPlanTickS = 10.0;     ///< the longest tick (s)
-inline constexpr double kMaxPlanSpeedDegS = 1e7;  ///< max_speed_deg_s and a model's top speed
+inline constexpr double kMaxPlanAngleDeg = 1e5;  ///< |desired angle|, |limit| (deg): 278 turns
+inline constexpr double kMinPlanTickS = 1e-6;    ///< the shortest tick (s)
+inline constexpr double kMaxPlanTickS = 10.0;    ///< the longest tick (s)
+/// max_speed_deg_s and a model's top speed (deg/s): the servo model's own bound.
+inline constexpr double kMaxPlanSpeedDegS = kMaxServoSpeedDegS;
 /// m g L / stall torque: a load a thousand times what the servo can hold still.
 inline constexpr double kMaxLoadToStall = 1e3;
 /// velocity_lag_s / tick_s: the velocity moves at least a 10^-9th of its way a tick.
