@@ -195,6 +195,9 @@ TEST_F(LogFitTest, BadListsAndLogsAreOneLineAndStatus2) {
                      "sin_sin_kp100_2026-01-15_10h28m10.json]'",
                  "which no training log is");
   ExpectBadInput("--set 'logs.v_max_deg_s={sts3250: -4}'", "logs.v_max_deg_s.sts3250");
+  // The model's own range of v_max_deg_s (servo_model.h): up to 10^7 deg/s.
+  ExpectBadInput("--set 'logs.v_max_deg_s={sts3250: 1.5e7}'",
+                 "logs.v_max_deg_s.sts3250 must be in (0, 10000000] deg/s, got 15000000");
   ExpectBadInput("--set logs.cross_validate=sometimes", "logs.cross_validate");
   std::ofstream(dir_ / "back.csv")
       << "time_s,request_deg,measured_deg\n0,0,0\n0.02,1,0\n0.01,2,1\n";

@@ -145,7 +145,7 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
       {models + "two.json'" + ok, "choose one with --motor (a, b)"},
       {Model() + ok + " --motor xl330", "no motor 'xl330' (it has: sts3250)"},
       {models + "no_field.json'" + ok + " --rung paper", "models.paper is missing"},
-      {models + "out_of_range.json'" + ok, "velocity_lag_s must be positive"},
+      {models + "out_of_range.json'" + ok, "velocity_lag_s must be in (0, inf) s, got 0"},
       {Model() + " " + Out() + " --kp 40" + desired + "bad_header.csv'", "header"},
       {Model() + " " + Out() + " --kp 40" + desired + "bad_cell.csv'", "row 2, desired_deg"},
       {Model() + " " + Out() + " --kp 40" + desired + "backwards.csv'", "row 3, time_s"},
