@@ -24,10 +24,7 @@ std::vector<TimeShiftController::Spec> TimeShiftController::SearchCandidates(
 TimeShiftController::TimeShiftController(const Spec& spec, const ControllerContext& context)
     : desired_(context.desired), shift_ticks_(spec.shift_ticks) {
   if (desired_.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
-  if (shift_ticks_ < 0) {
-    throw std::invalid_argument("time_shift: shift_ticks must be non-negative, got " +
-                                std::to_string(shift_ticks_));
-  }
+  CheckKeys(std::string(kTraits.config_section) + ".", spec, &VisitKeys);
 }
 
 LegAngles TimeShiftController::Update(long tick, const LegAngles& /*measured_deg*/) {
