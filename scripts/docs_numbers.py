@@ -280,6 +280,40 @@ def servo_learned_block(run):
              "lstm"], rows
 
 
+def paper_regime_block(run, leglab):
+    """Every mode on the walk fitted to the paper's direct row, beside the paper."""
+    def with_paper(value, paper):
+        return f"{fixed(value)} [{paper_value(paper)}]"
+
+    def rows():
+        t = run.json("track_paper_regime/table2.json")
+        foot = t["foot_cm"]
+
+        def foot_cells(mode, paper):
+            if paper is None:
+                return [fixed(foot[mode][n]["mean"]) for n in ("L2", "Linf")]
+            return [with_paper(foot[mode][n]["mean"], leglab.PAPER_FOOT_CM[mode][n]["mean"])
+                    for n in ("L2", "Linf")]
+        out = []
+        for key, mode in (("L2(Des,Dir)", "direct"), ("Linf(Des,Dir)", None),
+                          ("L2(Des,MB)", "model_based"), ("Linf(Des,MB)", None),
+                          ("L2(Pwl,MB)", None), ("Linf(Pwl,MB)", None)):
+            out.append([key] + [with_paper(t["joints"][j][key]["mean"],
+                                           leglab.PAPER_TABLE2[key][i])
+                                for i, j in enumerate(JOINTS)] +
+                       (foot_cells(mode, True) if mode else ["", ""]))
+        for label, key, mode, paper in (
+                (f"best time shift (k = {foot['time_shift']['k']}), L2", "L2(Des,TS)",
+                 "time_shift", True),
+                ("floor, L2", "L2(Des,Floor)", "floor", None),
+                ("optimal, L2", "L2(Des,Opt)", "optimal", None),
+                ("ilc, L2", "L2(Des,ILC)", "ilc", None)):
+            out.append([label] + [joint_norm(t, key, j) for j in JOINTS] +
+                       foot_cells(mode, paper))
+        return out
+    return lambda: ["", *JOINTS, "foot L2", "foot Linf"], rows
+
+
 def hind_block(run):
     """The hind leg's walk: each mode's L2 per joint and at the foot."""
     rows_of = (("floor", "L2(Des,Floor)", "floor"), ("L2(Des,Dir)", "L2(Des,Dir)", "direct"),
@@ -338,6 +372,7 @@ def blocks(run, leglab):
         "table2-joints": table2_joints_block(run, leglab),
         "foot": foot_block(run, leglab),
         "table2-summary": table2_summary_block(run, leglab),
+        "paper-regime": paper_regime_block(run, leglab),
         "hind": hind_block(run),
         "engines": engines_block(run),
         "stand-table2": stand_block(run),

@@ -1,5 +1,5 @@
 """A robot's URDF chain from its root link to its foot, and its forward kinematics: read once, for
-every script that draws or examines the leg (animate.py, examine_paper_numbers.py). Python's
+every script that draws the leg (animate.py). Python's
 own reading of the URDF, independent of leglab's C++ (whose kinematics the scripts check).
 
 Imported from the scripts' folder (Python puts a script's own folder first on its path).
