@@ -27,13 +27,14 @@ no block, an --only block whose files are missing): one line on stderr, exit sta
 written.
 """
 import argparse
+import csv
 import os
 import pathlib
 import re
 import sys
 
 import log_fit_results
-from results_reader import read_json
+from results_reader import read_json, read_rows
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
@@ -72,6 +73,19 @@ class Run:
                 self.cache[rel] = read_json(path)
             except (OSError, UnicodeDecodeError, ValueError) as e:
                 raise UserError(f"{path}: not readable as JSON: {e}") from None
+        return self.cache[rel]
+
+    def rows(self, rel):
+        """A CSV file of RESULTS as rows keyed by column."""
+        if rel not in self.cache:
+            path = os.path.join(self.folder, rel)
+            if not os.path.isfile(path):
+                self.missing.add(rel)
+                raise Missing(rel)
+            try:
+                self.cache[rel] = read_rows(path)
+            except (OSError, UnicodeDecodeError, csv.Error) as e:
+                raise UserError(f"{path}: not readable as CSV: {e}") from None
         return self.cache[rel]
 
 
@@ -363,6 +377,46 @@ def stand_block(run):
                     "slip per stance (max)", "sled travel x, y (mm)"], rows
 
 
+def walk_speed_block(run):
+    """The walk_speed sweep: each mode's foot L2 (cm) by step time, the best policy in bold."""
+    modes = ("direct", "time_shift", "model_based", "optimal", "ilc")
+
+    def rows():
+        out = []
+        for row in run.rows("sweeps/walk_speed/sweep.csv"):
+            foot = {mode: float(row[f"{mode}_foot_l2_cm"]) for mode in modes}
+            best = min(foot, key=foot.get)
+
+            def shown(mode):
+                text = fixed(foot[mode], 3)
+                if mode == "time_shift":
+                    text += f" ({row['time_shift_k']})"
+                return f"**{text}**" if mode == best else text
+            out.append([row["track.t_step_ticks"], fixed(row["floor_foot_l2_cm"], 3)] +
+                       [shown(mode) for mode in modes])
+        return out
+    return lambda: ["t_step", "floor", "direct", "time shift (k)", "model_based", "optimal",
+                    "ilc"], rows
+
+
+def regimes_block(run):
+    """The walk_speed sweep's direct, time-shift and model-based foot L2 (cm) and the ratio of
+    the last two, by step time (the paper's 88 named)."""
+    def rows():
+        out = []
+        for row in run.rows("sweeps/walk_speed/sweep.csv"):
+            shift = float(row["time_shift_foot_l2_cm"])
+            model = float(row["model_based_foot_l2_cm"])
+            t_step = row["track.t_step_ticks"]
+            out.append([f"{t_step} (the paper's)" if t_step == "88" else t_step,
+                        fixed(row["direct_foot_l2_cm"], 3),
+                        f"{fixed(shift, 3)} ({row['time_shift_k']})", fixed(model, 3),
+                        fixed(model / shift)])
+        return out
+    return lambda: ["t_step (ticks)", "direct", "best time shift (k)", "model-based",
+                    "model-based / time shift"], rows
+
+
 def blocks(run, leglab):
     """Block id -> (header, rows): functions of RESULTS (header a list of cells, or a function
     giving it), rows raising Missing for a file RESULTS lacks."""
@@ -376,6 +430,8 @@ def blocks(run, leglab):
         "hind": hind_block(run),
         "engines": engines_block(run),
         "stand-table2": stand_block(run),
+        "regimes": regimes_block(run),
+        "walk-speed": walk_speed_block(run),
         "real-servos": real_servos_block(run),
         "servo-ladder": servo_ladder_block(run),
         "servo-by-kp": servo_by_kp_block(run),

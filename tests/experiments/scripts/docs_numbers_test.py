@@ -29,7 +29,7 @@ def program(name, *args):
 
 def fresh_run(out):
     """reproduce.sh's runs of the front and hind leg on ODE and DART, of the stand's walk, of
-    the paper's regime and of the two log fits."""
+    the paper's regime, of the walk_speed sweep and of the two log fits."""
     configs = os.path.join(SOURCE, "experiments", "configs")
     for folder, robot_set, walk in (("", [], "track.yaml"),
                                     ("hind", ["--set", "robot=ers210a_hind"], "track_hind.yaml")):
@@ -43,6 +43,8 @@ def fresh_run(out):
             "--out", os.path.join(out, "stand"))
     program("track", "--config", os.path.join(configs, "track_paper_regime.yaml"),
             "--out", os.path.join(out, "track_paper_regime"))
+    program("sweep", "--config", os.path.join(SOURCE, "experiments", "sweeps", "walk_speed.yaml"),
+            "--out", os.path.join(out, "sweeps", "walk_speed"))
     logs = os.path.join(out, "servo_logs")
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"), "--out", logs)
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"),
