@@ -141,6 +141,29 @@ IdentificationResult Identify(py::handle requests, py::handle measured, py::hand
   return result;
 }
 
+// PAPER_TABLE2 and PAPER_FOOT_CM: the paper's Table 2 and foot table, keyed as table2.json
+// keys them (paper::kTable2, kFootCm).
+void BindPaperTables(py::module_& m) {
+  py::dict table2;
+  for (const paper::Table2Row& row : paper::kTable2) {
+    table2[py::str(std::string(row.key))] =
+        py::make_tuple(row.mean_deg[0], row.mean_deg[1], row.mean_deg[2]);
+  }
+  m.attr("PAPER_TABLE2") = table2;
+  py::dict foot;
+  for (const paper::FootRow& row : paper::kFootCm) {
+    py::dict norms;
+    for (const auto& [name, value] : {std::pair{"L2", row.l2_cm}, std::pair{"Linf", row.linf_cm}}) {
+      py::dict mean_std;
+      mean_std["mean"] = value.mean;
+      mean_std["std"] = value.std;
+      norms[name] = mean_std;
+    }
+    foot[py::str(std::string(row.mode))] = norms;
+  }
+  m.attr("PAPER_FOOT_CM") = foot;
+}
+
 // JointModel and PAPER_MODEL.
 void BindJointModel(py::module_& m) {
   py::class_<JointModelParams>(m, "JointModel", R"doc(
@@ -247,31 +270,13 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
           }));
 
   m.attr("PAPER_MODEL") = paper::kTable1;
-  // The paper's Table 2 and foot table, keyed as table2.json keys them (paper::kTable2, kFootCm).
-  py::dict table2;
-  for (const paper::Table2Row& row : paper::kTable2) {
-    table2[py::str(std::string(row.key))] =
-        py::make_tuple(row.mean_deg[0], row.mean_deg[1], row.mean_deg[2]);
-  }
-  m.attr("PAPER_TABLE2") = table2;
-  py::dict foot;
-  for (const paper::FootRow& row : paper::kFootCm) {
-    py::dict norms;
-    for (const auto& [name, value] : {std::pair{"L2", row.l2_cm}, std::pair{"Linf", row.linf_cm}}) {
-      py::dict mean_std;
-      mean_std["mean"] = value.mean;
-      mean_std["std"] = value.std;
-      norms[name] = mean_std;
-    }
-    foot[py::str(std::string(row.mode))] = norms;
-  }
-  m.attr("PAPER_FOOT_CM") = foot;
 }
 
 }  // namespace
 
 void BindModel(py::module_& m) {
   BindJointModel(m);
+  BindPaperTables(m);
   py::class_<IdentificationResult>(m, "Identification",
                                    "A model fitted to recordings, with how well it predicts them.")
       .def_readonly("model", &IdentificationResult::params, "The fitted JointModel.")
