@@ -64,28 +64,23 @@ class Run:
         self.missing = set()
 
     def json(self, rel):
-        if rel not in self.cache:
-            path = os.path.join(self.folder, rel)
-            if not os.path.isfile(path):
-                self.missing.add(rel)
-                raise Missing(rel)
-            try:
-                self.cache[rel] = read_json(path)
-            except (OSError, UnicodeDecodeError, ValueError) as e:
-                raise UserError(f"{path}: not readable as JSON: {e}") from None
-        return self.cache[rel]
+        """A JSON file of RESULTS, parsed."""
+        return self._read(rel, read_json, "JSON", (OSError, UnicodeDecodeError, ValueError))
 
     def rows(self, rel):
         """A CSV file of RESULTS as rows keyed by column."""
+        return self._read(rel, read_rows, "CSV", (OSError, UnicodeDecodeError, csv.Error))
+
+    def _read(self, rel, reader, kind, errors):
         if rel not in self.cache:
             path = os.path.join(self.folder, rel)
             if not os.path.isfile(path):
                 self.missing.add(rel)
                 raise Missing(rel)
             try:
-                self.cache[rel] = read_rows(path)
-            except (OSError, UnicodeDecodeError, csv.Error) as e:
-                raise UserError(f"{path}: not readable as CSV: {e}") from None
+                self.cache[rel] = reader(path)
+            except errors as e:
+                raise UserError(f"{path}: not readable as {kind}: {e}") from None
         return self.cache[rel]
 
 
@@ -108,6 +103,11 @@ def fixed(value, digits=2):
 def paper_value(value):
     """A published number as the paper prints it (31.0, 2.7, 4)."""
     return str(value)
+
+
+def with_paper(value, paper):
+    """Ours to two decimals with the paper's in brackets: "11.42 [31.0]"."""
+    return f"{fixed(value)} [{paper_value(paper)}]"
 
 
 # --- the blocks -------------------------------------------------------------------------------
@@ -138,8 +138,7 @@ def table2_joints_block(run, leglab):
 
     def rows():
         t = run.json("table2.json")
-        return [[key] + [f"{joint_norm(t, key, joint)} "
-                         f"[{paper_value(leglab.PAPER_TABLE2[key][i])}]"
+        return [[key] + [with_paper(t["joints"][joint][key]["mean"], leglab.PAPER_TABLE2[key][i])
                          for i, joint in enumerate(JOINTS)] for key in keys]
     return lambda: ["", *JOINTS], rows
 
@@ -162,9 +161,6 @@ def foot_block(run, leglab):
 
 
 def table2_summary_block(run, leglab):
-    def with_paper(value, paper):
-        return f"{fixed(value)} [{paper_value(paper)}]"
-
     def rows():
         t = run.json("table2.json")
         foot = t["foot_cm"]
@@ -296,9 +292,6 @@ def servo_learned_block(run):
 
 def paper_regime_block(run, leglab):
     """Every mode on the walk fitted to the paper's direct row, beside the paper."""
-    def with_paper(value, paper):
-        return f"{fixed(value)} [{paper_value(paper)}]"
-
     def rows():
         t = run.json("track_paper_regime/table2.json")
         foot = t["foot_cm"]
