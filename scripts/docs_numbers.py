@@ -12,7 +12,7 @@ sits between two markers naming its block:
     | ... |
     <!-- /numbers -->
 
-and BLOCKS below says what each block shows and which of RESULTS' files it reads. Check (the
+and blocks() below says what each block shows and which of RESULTS' files it reads. Check (the
 default): every block is rendered from RESULTS and compared with the docs cell by cell; a cell
 whose file RESULTS lacks (the learned models' columns after a run without learned_fit.py) is not
 compared, a block none of whose files RESULTS has is skipped (named on stderr). Any difference:
@@ -492,7 +492,7 @@ def find_blocks(text, path, known):
                 raise UserError(f"{path}:{i + 1}: a numbers block inside another")
             if match.group(1) not in known:
                 raise UserError(f"{path}:{i + 1}: no block named '{match.group(1)}' "
-                                f"(scripts/docs_numbers.py's BLOCKS)")
+                                f"(scripts/docs_numbers.py's blocks())")
             start = (match.group(1), i + 1)
         elif line == END:
             if start is None:
