@@ -34,7 +34,7 @@ import re
 import sys
 
 import log_fit_results
-from results_reader import read_json, read_rows
+from results_reader import read_json, read_rows, split_row
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
@@ -449,9 +449,7 @@ def render(block):
 
 def cells_of(line):
     """The cells of a docs table row (stripped), or None for a line that is not one."""
-    if not (line.startswith("|") and line.endswith("|")):
-        return None
-    return [c.strip() for c in line[1:-1].split("|")]
+    return split_row(line) if line.startswith("|") and line.endswith("|") else None
 
 
 def differences(rendered, lines):

@@ -24,7 +24,7 @@ import urllib.parse
 
 import figures
 import log_fit_results
-from results_reader import read_csv, read_json
+from results_reader import read_csv, read_json, split_row
 
 # Files only the programs write: a folder holding one of them (or a folder beneath it that
 # does) is a run. Everything else a page shows is found by extension.
@@ -165,17 +165,6 @@ def inline(text):
         part = re.sub(r"(?<![\w*])\*(?!\s)(.+?)(?<!\s)\*(?![\w*])", r"<em>\1</em>", part)
         out.append(part)
     return "".join(out)
-
-
-def split_row(line):
-    """The cells of a Markdown table row ('| a | b |'), with '\\|' kept as a literal bar."""
-    line = line.strip()
-    if line.startswith("|"):
-        line = line[1:]
-    if line.endswith("|") and not line.endswith("\\|"):
-        line = line[:-1]
-    cells = re.split(r"(?<!\\)\|", line)
-    return [c.strip().replace("\\|", "|") for c in cells]
 
 
 def is_separator(line):

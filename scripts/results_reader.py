@@ -1,6 +1,6 @@
 """The files the programs write, read one way for every script (report.py, plot_figures.py,
 plot_logs.py, plot_sweep.py, animate.py, compare_engines.py): CSV tables as rows keyed by
-column name, JSON as parsed. UTF-8 whatever the locale. Errors are the caller's to turn into
+column name, JSON as parsed, a Markdown table row as its cells. UTF-8 whatever the locale. Errors are the caller's to turn into
 its one-line exit 2: OSError, UnicodeDecodeError and ValueError (a JSON syntax error) as
 Python raises them, csv.Error for a malformed CSV.
 
@@ -8,6 +8,7 @@ Imported from the scripts' folder (Python puts a script's own folder first on it
 """
 import csv
 import json
+import re
 
 
 def read_csv(path):
@@ -28,3 +29,14 @@ def read_json(path):
     """A JSON file, parsed."""
     with open(path, encoding="utf-8") as f:
         return json.load(f)
+
+
+def split_row(line):
+    """The cells of a Markdown table row ('| a | b |'), with '\\|' kept as a literal bar."""
+    line = line.strip()
+    if line.startswith("|"):
+        line = line[1:]
+    if line.endswith("|") and not line.endswith("\\|"):
+        line = line[:-1]
+    cells = re.split(r"(?<!\\)\|", line)
+    return [c.strip().replace("\\|", "|") for c in cells]
