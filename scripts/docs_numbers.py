@@ -6,11 +6,10 @@ Usage: /usr/bin/python3 scripts/docs_numbers.py RESULTS [--write] [--only ID ...
                                                 [--docs DIR] [--build DIR]
 
 RESULTS is a folder as scripts/reproduce.sh writes it (results/). In the docs a generated table
-sits between two markers naming its block:
+follows the marker naming its block (the table's lines, those starting with '|', are the block):
 
     <!-- numbers: table1 -->
     | ... |
-    <!-- /numbers -->
 
 and blocks() below says what each block shows and which of RESULTS' files it reads. Check (the
 default): every block is rendered from RESULTS and compared with the docs cell by cell; a cell
@@ -39,7 +38,6 @@ from results_reader import read_json, read_rows, split_row
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
 BEGIN = re.compile(r"^<!-- numbers: ([a-z0-9-]+) -->$")
-END = "<!-- /numbers -->"
 JOINTS = ("rotator", "abductor", "knee")
 
 # BAM's own models on the XL330 logs (Rhoban/bam, its README's comparison of models m1, m4
@@ -481,24 +479,20 @@ def text_of(rendered):
 
 
 def find_blocks(text, path, known):
-    """[(id, first line index, end marker index)] of the blocks in `text`."""
-    found, lines, start = [], text.split("\n"), None
+    """[(id, first line index, end index)] of the blocks in `text`: each the table of lines
+    starting with '|' right after its marker (the table's end ends the block)."""
+    found, lines = [], text.split("\n")
     for i, line in enumerate(lines):
         match = BEGIN.match(line)
-        if match:
-            if start is not None:
-                raise UserError(f"{path}:{i + 1}: a numbers block inside another")
-            if match.group(1) not in known:
-                raise UserError(f"{path}:{i + 1}: no block named '{match.group(1)}' "
-                                f"(scripts/docs_numbers.py's blocks())")
-            start = (match.group(1), i + 1)
-        elif line == END:
-            if start is None:
-                raise UserError(f"{path}:{i + 1}: {END} without its opening marker")
-            found.append((start[0], start[1], i))
-            start = None
-    if start is not None:
-        raise UserError(f"{path}: block '{start[0]}' has no {END}")
+        if not match:
+            continue
+        if match.group(1) not in known:
+            raise UserError(f"{path}:{i + 1}: no block named '{match.group(1)}' "
+                            f"(scripts/docs_numbers.py's blocks())")
+        end = i + 1
+        while end < len(lines) and lines[end].startswith("|"):
+            end += 1
+        found.append((match.group(1), i + 1, end))
     return found
 
 
@@ -565,7 +559,7 @@ def run_check(args):
     for line in drift:
         print(line, file=sys.stderr)
     if drift:
-        print(f"docs_numbers: the docs differ from {args.results} ({len(drift)} differences); "
+        print(f"docs_numbers: the docs differ from {args.results} ({len(drift)} difference{'s' if len(drift) > 1 else ''}); "
               f"/usr/bin/python3 scripts/docs_numbers.py {args.results} --write updates them",
               file=sys.stderr)
         return 1
