@@ -21,6 +21,8 @@
 
 namespace {
 
+using namespace leglab;
+
 using namespace leglab::experiments;
 using leglab::LegAngles;
 

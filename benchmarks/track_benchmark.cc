@@ -34,6 +34,8 @@
 
 namespace {
 
+using namespace leglab;
+
 using namespace leglab::experiments;
 
 const std::string kConfigs = std::string(LEGLAB_SOURCE_DIR) + "/experiments/configs/";

@@ -5,12 +5,13 @@
 #include <string>
 #include <vector>
 
-#include "leglab/experiments/output.h"
+#include "leglab/app/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/walk_fit.h"
 #include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
+  using namespace leglab;
   using namespace leglab::experiments;
   return RunProgram(
       "fit_walk", "Fit the walk's unknowns to the paper's direct-method row of Table 2", argc, argv,

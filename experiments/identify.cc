@@ -7,13 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "leglab/app/output.h"
 #include "leglab/experiments/log_fit.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
+  using namespace leglab;
   using namespace leglab::experiments;
   return RunProgram("identify", "Table 1: identify the joint model from step responses",
                     kIdentifyScope, argc, argv,

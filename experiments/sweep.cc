@@ -16,13 +16,15 @@
 #include <optional>
 #include <thread>
 
+#include "leglab/app/output.h"
+#include "leglab/app/progress.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
-#include "leglab/experiments/progress.h"
 #include "leglab/experiments/sweep.h"
 
 namespace {
+
+using namespace leglab;
 
 using namespace leglab::experiments;
 namespace fs = std::filesystem;

@@ -6,13 +6,14 @@
 #include <iostream>
 #include <optional>
 
-#include "leglab/experiments/output.h"
+#include "leglab/app/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/experiments/writers.h"
 
 int main(int argc, char** argv) {
+  using namespace leglab;
   using namespace leglab::experiments;
   return RunProgram("track", "Table 2: track the half-ellipse walk with each controller", argc,
                     argv, [](const ProgramArgs& args, const ExperimentConfig& config) {

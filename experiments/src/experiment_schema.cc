@@ -5,12 +5,12 @@
 #include <cmath>
 #include <filesystem>
 
+#include "leglab/app/data_dir.h"
+#include "leglab/app/yaml_config.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/data_dir.h"
 #include "leglab/model/joint_model_plant.h"
 #include "log_fit_config.h"
 #include "run_budget.h"
-#include "yaml_config.h"
 
 namespace leglab::experiments {
 namespace {

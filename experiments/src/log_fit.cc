@@ -11,15 +11,15 @@
 #include <span>
 #include <sstream>
 
+#include "leglab/app/data_dir.h"
+#include "leglab/app/parallel.h"
+#include "leglab/app/progress.h"
+#include "leglab/app/yaml_config.h"
 #include "leglab/core/format.h"
-#include "leglab/experiments/data_dir.h"
-#include "leglab/experiments/parallel.h"
-#include "leglab/experiments/progress.h"
 #include "leglab/model/servo_ladder.h"
 #include "leglab/model/servo_log.h"
 #include "leglab/model/servo_plan.h"
 #include "log_fit_report.h"
-#include "yaml_config.h"
 
 namespace leglab::experiments {
 namespace {

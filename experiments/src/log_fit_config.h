@@ -1,7 +1,7 @@
 #pragma once
 
+#include "leglab/app/yaml_config.h"
 #include "leglab/experiments/log_fit.h"
-#include "yaml_config.h"
 
 namespace leglab::experiments {
 

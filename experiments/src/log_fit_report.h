@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "leglab/app/output.h"
 #include "leglab/core/format.h"
 #include "leglab/experiments/log_fit.h"
-#include "leglab/experiments/output.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/servo_ladder.h"
 #include "leglab/model/servo_model.h"

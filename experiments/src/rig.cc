@@ -6,11 +6,11 @@
 #include <optional>
 #include <string>
 
+#include "leglab/app/parallel.h"
+#include "leglab/app/progress.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/core/format.h"
 #include "leglab/core/units.h"
-#include "leglab/experiments/parallel.h"
-#include "leglab/experiments/progress.h"
 #include "leglab/experiments/trajectory_csv.h"
 #include "leglab/model/joint_model_plant.h"
 #include "leglab/model/metrics.h"

@@ -1,7 +1,7 @@
 #include "run_budget.h"
 
+#include "leglab/app/yaml_config.h"
 #include "leglab/experiments/track.h"
-#include "yaml_config.h"
 
 namespace leglab::experiments {
 namespace {

@@ -12,9 +12,9 @@
 #include <span>
 #include <sstream>
 
+#include "leglab/app/output.h"
 #include "leglab/core/format.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/servo_log_io.h"
 #include "leglab/model/servo_planner.h"

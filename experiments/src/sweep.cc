@@ -15,8 +15,8 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "leglab/experiments/output.h"
-#include "leglab/experiments/parallel.h"
+#include "leglab/app/output.h"
+#include "leglab/app/parallel.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 

@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <random>
 
+#include "leglab/app/output.h"
+#include "leglab/app/yaml_config.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
-#include "yaml_config.h"
 
 namespace leglab::experiments {
 namespace {

@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "leglab/experiments/output.h"
-#include "leglab/experiments/parallel.h"
-#include "leglab/experiments/progress.h"
+#include "leglab/app/output.h"
+#include "leglab/app/parallel.h"
+#include "leglab/app/progress.h"
 #include "leglab/model/floor.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"

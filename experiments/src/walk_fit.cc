@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "leglab/app/output.h"
+#include "leglab/app/parallel.h"
 #include "leglab/core/format.h"
-#include "leglab/experiments/output.h"
-#include "leglab/experiments/parallel.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/model/paper.h"

@@ -3,18 +3,14 @@
 #include <cmath>
 #include <string>
 
+#include "leglab/app/program.h"
 #include "leglab/core/units.h"
-#include "leglab/experiments/program.h"
 
 namespace leglab::python {
 
-void ThrowValueError(std::string_view message) {
-  throw py::value_error(experiments::MessageLine(message));
-}
+void ThrowValueError(std::string_view message) { throw py::value_error(MessageLine(message)); }
 
-void ThrowTypeError(std::string_view message) {
-  throw py::type_error(experiments::MessageLine(message));
-}
+void ThrowTypeError(std::string_view message) { throw py::type_error(MessageLine(message)); }
 
 namespace {
 
@@ -65,11 +61,10 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
   // made, which for real numbers means memory: MemoryError naming the item, never a null array.
   DoubleArray copy = DoubleArray::ensure(array);
   if (!copy) {
-    PyErr_SetString(
-        PyExc_MemoryError,
-        experiments::MessageLine(std::string(what) + ": no memory for a float64 copy of " +
-                                 std::to_string(array.size()) + " values")
-            .c_str());
+    PyErr_SetString(PyExc_MemoryError,
+                    MessageLine(std::string(what) + ": no memory for a float64 copy of " +
+                                std::to_string(array.size()) + " values")
+                        .c_str());
     throw py::error_already_set();
   }
   return copy;

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "bindings.h"
+#include "leglab/app/output.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/program.h"
 
 namespace py = pybind11;
@@ -17,12 +17,12 @@ namespace {
 // What the programs report as bad input (exit 2) is the caller's: ValueError, one line; a
 // failure to write, OSError. The parameter is by value: pybind11's translator signature.
 void TranslateException(std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
-  using leglab::experiments::MessageLine;
+  using leglab::MessageLine;
   try {
     if (p) std::rethrow_exception(p);
-  } catch (const leglab::experiments::OutputError& e) {
+  } catch (const leglab::OutputError& e) {
     PyErr_SetString(PyExc_OSError, MessageLine(e.what()).c_str());
-  } catch (const leglab::experiments::InputError& e) {
+  } catch (const leglab::InputError& e) {
     PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());
   } catch (const std::invalid_argument& e) {
     PyErr_SetString(PyExc_ValueError, MessageLine(e.what()).c_str());

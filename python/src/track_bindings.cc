@@ -14,10 +14,10 @@
 
 #include "bindings.h"
 #include "convert.h"
+#include "leglab/app/output.h"
+#include "leglab/app/progress.h"
 #include "leglab/controller/controller.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
-#include "leglab/experiments/progress.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/experiments/writers.h"
@@ -25,11 +25,11 @@
 namespace leglab::python {
 namespace {
 
-using experiments::ColumnTable;
 using experiments::ExperimentConfig;
 using experiments::ExternalMode;
 using experiments::ModeRun;
 using experiments::TrackResult;
+using leglab::ColumnTable;
 
 // What a Python controller's reset(context) gets: the run's desired cycle, models and limits
 // and the robot's forward kinematics (a copy of the C++ context).
@@ -188,9 +188,9 @@ py::dict ModelsDict(const std::array<JointModelParams, kLegJoints>& models) {
 class StopOnSignals {
  public:
   StopOnSignals() {
-    experiments::RequestStop(0);
+    RequestStop(0);
     struct sigaction action {};
-    action.sa_handler = [](int signal) { experiments::RequestStop(signal); };
+    action.sa_handler = [](int signal) { RequestStop(signal); };
     sigemptyset(&action.sa_mask);
     for (size_t i = 0; i < kSignals.size(); ++i) sigaction(kSignals[i], &action, &previous_[i]);
   }
@@ -207,8 +207,8 @@ class StopOnSignals {
   // After Restore, with the GIL: delivers the pending signal, if any. Returns if none came, or
   // if a handler took it without raising; throws the exception a Python handler raised.
   static void DeliverPending() {
-    const int signal = experiments::StopRequested();
-    experiments::RequestStop(0);
+    const int signal = StopRequested();
+    RequestStop(0);
     if (signal == 0) return;
     std::raise(signal);
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
@@ -231,7 +231,7 @@ py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle contr
   std::vector<std::string> external_names;
   external_names.reserve(external.size());
   for (const ExternalMode& mode : external) external_names.push_back(mode.name);
-  std::optional<experiments::OutputDir> dir;
+  std::optional<OutputDir> dir;
   if (!out.is_none()) {
     dir.emplace(ToPath(out, "out"), experiments::TrackOutputPrefixes(external_names));
   }
@@ -294,7 +294,7 @@ py::dict RunTrackStoppable(py::handle config_path, py::handle overrides, py::han
   py::dict result;
   try {
     result = RunTrack(config_path, overrides, controllers, out, threads);
-  } catch (const experiments::RunStopped& stopped) {
+  } catch (const RunStopped& stopped) {
     // The OutputDir is gone: nothing of this run is on disk.
     stop.Restore();
     const int signal = stopped.signal();

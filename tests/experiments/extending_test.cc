@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "blend_controller.h"
+#include "leglab/app/output.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/experiments/writers.h"

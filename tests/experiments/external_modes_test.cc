@@ -15,8 +15,8 @@
 #include <variant>
 #include <vector>
 
+#include "leglab/app/output.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/experiments/writers.h"

@@ -19,7 +19,7 @@
 #include <tuple>
 #include <vector>
 
-#include "leglab/experiments/output.h"
+#include "leglab/app/output.h"
 
 namespace {
 
@@ -790,7 +790,7 @@ TEST_F(ProgramsTest, ASecondRunIntoTheSameOutIsRefused) {
       "steps=100 --out '" +
       out_.string() + "'";
   {
-    leglab::experiments::OutputDir first(out_, {"table2."});
+    leglab::OutputDir first(out_, {"table2."});
     std::ofstream(first.Path("table2.md")) << "first";
     const Result r = RunCommand(track);
     EXPECT_EQ(r.status, 2) << r.stderr_text;

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/app/input_error.h"
 #include "leglab/controller/registry.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/core/plant.h"
@@ -21,31 +22,9 @@
 
 namespace leglab::experiments {
 
-/// Bad input from the user (config, robot, URDF, CSV): the message names the item.
-/// Programs print it on one line and exit with status 2, having written nothing.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-/// Bad input of one kind: a config key that no reader asked for (a typo, or a key of another
-/// program). A sweep treats it as a broken sweep file, not as one bad point.
-class UnknownKeyError : public InputError {
- public:
-  using InputError::InputError;
-};
-
-/// The largest config file, sweep file or URDF read, bytes (4 MiB: the shipped ones are a few
-/// KiB); a larger one is refused before it is read.
-inline constexpr std::uintmax_t kMaxConfigFileBytes = std::uintmax_t{4} << 20;
 /// The largest desired.csv read, bytes (1 MiB: track.t_step_ticks' 1000 rows at most, of up to
 /// about 1 KiB each); a larger one is refused before it is read.
 inline constexpr std::uintmax_t kMaxDesiredCsvBytes = std::uintmax_t{1} << 20;
-
-/// Refuses a file too large to read: throws InputError "<what> '<path>' is <size> bytes, over
-/// the <limit_bytes>-byte limit" when the file at `path` is larger than `limit_bytes`. Reads
-/// nothing; a file whose size cannot be found is left to its reader.
-void CheckFileSize(const std::string& path, std::uintmax_t limit_bytes, const std::string& what);
 
 /// The most ticks one tracking run (warmup_steps + steps, times track.t_step_ticks) may
 /// simulate: its recorded trace is what track writes, so this also bounds memory and output.

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/app/output.h"
 #include "leglab/core/config_keys.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/servo_log_io.h"
 #include "leglab/model/servo_model.h"
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "leglab/app/output.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/output.h"
 #include "leglab/experiments/tables.h"
 
 /// The tables as files: Markdown for people, JSON and CSV for scripts. Formatting only; every

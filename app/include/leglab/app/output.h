@@ -7,7 +7,7 @@
 #include <variant>
 #include <vector>
 
-namespace leglab::experiments {
+namespace leglab {
 
 /// The results could not be written (a full disk, a folder that vanished): not bad input,
 /// not a bug. Programs print it and exit with status 1.
@@ -173,4 +173,4 @@ class CsvWriter final : public RowSink {
 /// Shortest round-trip text of a double (FormatNumber, kShortest).
 std::string FormatDouble(double value);
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -1,4 +1,4 @@
-#include "leglab/experiments/parallel.h"
+#include "leglab/app/parallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-namespace leglab::experiments {
+namespace leglab {
 
 int ThreadCount(int requested) {
   if (requested > 0) return requested;
@@ -41,4 +41,4 @@ void ParallelFor(int n, int threads, const std::function<void(int)>& fn) {
   if (error) std::rethrow_exception(error);
 }
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -1,8 +1,8 @@
-#include "yaml_config.h"
+#include "leglab/app/yaml_config.h"
 
 #include <algorithm>
 
-namespace leglab::experiments {
+namespace leglab {
 
 namespace fs = std::filesystem;
 
@@ -356,4 +356,4 @@ void YamlKeyReader::CheckUnknown(const YAML::Node& map, const std::string& prefi
 
 void YamlKeyReader::Finish() const { CheckUnknown(levels_.front().node, ""); }
 
-}  // namespace leglab::experiments
+}  // namespace leglab

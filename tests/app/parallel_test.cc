@@ -1,5 +1,5 @@
 // ParallelFor: every index runs once, and the error rethrown does not depend on the schedule.
-#include "leglab/experiments/parallel.h"
+#include "leglab/app/parallel.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace leglab::experiments {
+namespace leglab {
 namespace {
 
 TEST(ParallelForTest, RunsEveryIndexOnce) {
@@ -42,4 +42,4 @@ TEST(ParallelForTest, RethrowsTheLowestIndexsErrorNotTheFirstInTime) {
 }
 
 }  // namespace
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -7,7 +7,7 @@
 #include <string>
 #include <thread>
 
-namespace leglab::experiments {
+namespace leglab {
 
 /// How a program shows its progress on stderr (stdout carries only the tables).
 enum class ProgressStyle {
@@ -85,4 +85,4 @@ class ProgressDisplay {
   std::thread thread_;
 };
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -1,10 +1,11 @@
 #pragma once
 
-// YAML reading for the config loaders (private to the experiments library: nothing else sees
-// yaml-cpp). Knows no config key: the keys are declared beside the structs that own them and
+// YAML reading for the config loaders (the experiments' config, the real servo's logs
+// section). Knows no config key: the keys are declared beside the structs that own them and
 // read through YamlKeyReader.
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <set>
@@ -12,10 +13,14 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/app/input_error.h"
 #include "leglab/core/config_keys.h"
-#include "leglab/experiments/config.h"
 
-namespace leglab::experiments {
+namespace leglab {
+
+/// The largest config file, sweep file or URDF read, bytes (4 MiB: the shipped ones are a few
+/// KiB); a larger one is refused before it is read.
+inline constexpr std::uintmax_t kMaxConfigFileBytes = std::uintmax_t{4} << 20;
 
 /// Throws InputError "config: <what>".
 [[noreturn]] void FailConfig(const std::string& what);
@@ -112,4 +117,4 @@ class YamlKeyReader final : public KeyVisitor {
   std::set<std::string> sections_;  // full names of the sections visited, with "" the root
 };
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -2,7 +2,7 @@
 
 #include <functional>
 
-namespace leglab::experiments {
+namespace leglab {
 
 /// Worker threads for `requested` (--threads): itself when positive, else one per core.
 int ThreadCount(int requested);
@@ -13,4 +13,4 @@ int ThreadCount(int requested);
 /// is rethrown after every thread has stopped (so it does not depend on the schedule either).
 void ParallelFor(int n, int threads, const std::function<void(int)>& fn);
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -4,11 +4,11 @@
 
 #include <string>
 
-#include "leglab/experiments/progress.h"
+#include "leglab/app/progress.h"
 
 namespace {
 
-using namespace leglab::experiments;
+using namespace leglab;
 
 // The line a display draws at once when it starts (kLines), before any wait.
 std::string FirstLine(long long planned_ticks) {

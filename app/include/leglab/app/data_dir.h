@@ -2,7 +2,7 @@
 
 #include <filesystem>
 
-namespace leglab::experiments {
+namespace leglab {
 
 /// The folder of leglab's run-time data: `robots/<name>/`, `experiments/configs/` and
 /// `data/servo_logs/`.
@@ -10,9 +10,9 @@ namespace leglab::experiments {
 /// `share/leglab` beside the running program's `bin/`, i.e.
 /// `<directory of /proc/self/exe>/../share/leglab`: `<prefix>/share/leglab` for an installed
 /// program, `<build>/share/leglab` (links to the source folders) in a build tree. A program
-/// of your own that links leglab::experiments but is not installed beside leglab's programs
+/// of your own that links leglab::app but is not installed beside leglab's programs
 /// sets LEGLAB_DATA_DIR or names robots by path. Throws std::runtime_error when the running
 /// program cannot be found (no /proc).
 std::filesystem::path DataDir();
 
-}  // namespace leglab::experiments
+}  // namespace leglab

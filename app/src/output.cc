@@ -1,4 +1,4 @@
-#include "leglab/experiments/output.h"
+#include "leglab/app/output.h"
 
 #include <fcntl.h>
 #include <pthread.h>
@@ -23,11 +23,11 @@
 #include <utility>
 #include <variant>
 
+#include "leglab/app/input_error.h"
+#include "leglab/app/progress.h"
 #include "leglab/core/format.h"
-#include "leglab/experiments/config.h"
-#include "leglab/experiments/progress.h"
 
-namespace leglab::experiments {
+namespace leglab {
 
 namespace fs = std::filesystem;
 
@@ -543,4 +543,4 @@ void ColumnTable::EndRow() {
   ++rows_;
 }
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -1,4 +1,4 @@
-#include "leglab/experiments/progress.h"
+#include "leglab/app/progress.h"
 
 #include <algorithm>
 #include <atomic>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace leglab::experiments {
+namespace leglab {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -160,4 +160,4 @@ bool ProgressDisplay::Draw() {
   return true;
 }
 
-}  // namespace leglab::experiments
+}  // namespace leglab

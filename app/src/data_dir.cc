@@ -1,4 +1,4 @@
-#include "leglab/experiments/data_dir.h"
+#include "leglab/app/data_dir.h"
 
 #include <cstdlib>
 #include <stdexcept>
@@ -8,7 +8,7 @@
 #error "LEGLAB_DATA_DIR_FROM_BIN (bin/ to share/leglab, e.g. ../share/leglab) is set by CMake"
 #endif
 
-namespace leglab::experiments {
+namespace leglab {
 
 namespace fs = std::filesystem;
 
@@ -24,4 +24,4 @@ fs::path DataDir() {
   return (exe.parent_path() / LEGLAB_DATA_DIR_FROM_BIN).lexically_normal();
 }
 
-}  // namespace leglab::experiments
+}  // namespace leglab

@@ -1,8 +1,8 @@
-#include "leglab/experiments/output.h"
+#include "leglab/app/output.h"
 
 #include <gtest/gtest.h>
 
-#include "leglab/experiments/config.h"
+#include "leglab/app/input_error.h"
 
 #include <sys/mount.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace leglab::experiments {
+namespace leglab {
 namespace {
 
 namespace fs = std::filesystem;
@@ -337,4 +337,4 @@ TEST(Csv, ShortestRoundTripNumbers) {
 }
 
 }  // namespace
-}  // namespace leglab::experiments
+}  // namespace leglab
