@@ -1,5 +1,5 @@
 // The log fit's two inner loops, recordings side by side in vector lanes, against the same
-// arithmetic one recording at a time (the same bits; tests/model/servo_rollouts_test.cc and
+// arithmetic one recording at a time (the same bits; tests/servo/servo_rollouts_test.cc and
 // paper_sweeps_test.cc check that):
 //
 //   extended rollouts  one evaluation of the extended model's fit objective: every
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "leglab/model/identification.h"
-#include "leglab/model/servo_model.h"
+#include "leglab/servo/servo_model.h"
 #include "paper_sweeps.h"
 #include "rounds_flag.h"
 #include "servo_model_tick.h"

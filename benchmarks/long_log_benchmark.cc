@@ -26,11 +26,11 @@
 #include <random>
 #include <vector>
 
-#include "leglab/experiments/log_fit.h"
 #include "leglab/model/floor.h"
 #include "leglab/model/paper.h"
-#include "leglab/model/servo_model.h"
-#include "leglab/model/servo_plan.h"
+#include "leglab/servo/log_fit.h"
+#include "leglab/servo/servo_model.h"
+#include "leglab/servo/servo_plan.h"
 #include "rounds_flag.h"
 #include "xl330_model.h"
 
@@ -53,8 +53,8 @@ double Motion(size_t t) {
   return angle;
 }
 
-experiments::GivenServoLog SyntheticLog(size_t samples) {
-  experiments::GivenServoLog given;
+GivenServoLog SyntheticLog(size_t samples) {
+  GivenServoLog given;
   ServoLog& log = given.log;
   log.file = "synthetic_" + std::to_string(samples) + ".csv";
   log.motor = "xl330";
@@ -76,15 +76,15 @@ experiments::GivenServoLog SyntheticLog(size_t samples) {
   return given;
 }
 
-experiments::LogFitConfig FitConfig() {
-  experiments::LogFitConfig config;
+LogFitConfig FitConfig() {
+  LogFitConfig config;
   config.given = true;
   config.iterations = 100;
   return config;
 }
 
-void FitOnce(const experiments::GivenServoLog& log) {
-  benchmark::DoNotOptimize(experiments::FitServoLogs(FitConfig(), 1, {log}).json.size());
+void FitOnce(const GivenServoLog& log) {
+  benchmark::DoNotOptimize(FitServoLogs(FitConfig(), 1, {log}).json.size());
 }
 
 std::vector<double> Desired(size_t ticks) {
@@ -113,7 +113,7 @@ void FloorOnce(const std::vector<double>& desired) {
 }
 
 void BM_LogFit(benchmark::State& state) {
-  const experiments::GivenServoLog log = SyntheticLog(static_cast<size_t>(state.range(0)));
+  const GivenServoLog log = SyntheticLog(static_cast<size_t>(state.range(0)));
   for (auto _ : state) FitOnce(log);
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
@@ -179,9 +179,8 @@ void ReportSideBySide(int rounds) {
                                   PlanOnce);
   SideBySide<std::vector<double>>("floor", {100, 1000, 10'000, 100'000}, rounds, FastCycle,
                                   FloorOnce);
-  SideBySide<experiments::GivenServoLog>("log fit (identify, no cross-validation)",
-                                         {1000, 10'000, 100'000, 1'000'000}, rounds, SyntheticLog,
-                                         FitOnce);
+  SideBySide<GivenServoLog>("log fit (identify, no cross-validation)",
+                            {1000, 10'000, 100'000, 1'000'000}, rounds, SyntheticLog, FitOnce);
 }
 
 }  // namespace

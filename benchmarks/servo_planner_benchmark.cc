@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "leglab/experiments/servo_plan_io.h"
-#include "leglab/model/servo_model.h"
-#include "leglab/model/servo_planner.h"
+#include "leglab/servo/servo_model.h"
+#include "leglab/servo/servo_plan_io.h"
+#include "leglab/servo/servo_planner.h"
 #include "rounds_flag.h"
 #include "xl330_model.h"
 
@@ -48,8 +48,8 @@ const Case& TheCase() {
     const std::string log = std::string(LEGLAB_SOURCE_DIR) +
                             "/data/servo_logs/dynamixel-xl330/"
                             "sin_time_square_kp400_2026-01-15_10h29m37.json";
-    const experiments::DesiredServoMotion motion = experiments::ReadDesiredMotion(log);
-    return Case{experiments::ResampleDesired(motion, kTickS, log), *motion.drive,
+    const DesiredServoMotion motion = ReadDesiredMotion(log);
+    return Case{ResampleDesired(motion, kTickS, log), *motion.drive,
                 ServoLimits{-180.0, 180.0, kExtended.v_max_deg_s}};
   }();
   return c;

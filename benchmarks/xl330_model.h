@@ -3,7 +3,7 @@
 // (log_fit.json's models.*.xl330), written here so that the benchmarks need no fit.
 
 #include "leglab/model/joint_model.h"
-#include "leglab/model/servo_model.h"
+#include "leglab/servo/servo_model.h"
 
 namespace leglab::benchmarks {
 

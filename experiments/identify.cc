@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "leglab/app/output.h"
-#include "leglab/experiments/log_fit.h"
 #include "leglab/experiments/program.h"
 #include "leglab/experiments/rig.h"
 #include "leglab/experiments/writers.h"
+#include "leglab/servo/log_fit.h"
 
 int main(int argc, char** argv) {
   using namespace leglab;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Fails when a function in the libraries (core/ model/ sim/ controller/ experiments/) or the
-# Python bindings (python/src/) is longer
+# Fails when a function in the libraries (core/ model/ servo/ sim/ controller/ app/
+# experiments/) or the Python bindings (python/src/) is longer
 # than 120 lines or has a cyclomatic complexity over 30, as Debian's pmccabe measures them.
 # pmccabe cannot parse C++17 nested namespace definitions (`namespace a::b {`) nor a
 # `noexcept` after a function's parameters, and silently skips the rest of such a file: each
@@ -26,7 +26,7 @@ while IFS= read -r file; do
     echo "$file: pmccabe cannot parse it: $(head -n 1 "$scratch/errors")" >&2
     status=1
   fi
-done < <(find core model sim controller experiments python/src -name '*.cc' | sort)
+done < <(find core model servo sim controller app experiments python/src -name '*.cc' | sort)
 if [ $status -ne 0 ]; then
   echo "check-complexity: split the functions above (at most $max_lines lines, complexity" \
        "$max_complexity)" >&2

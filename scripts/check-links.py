@@ -22,8 +22,8 @@ import re
 import subprocess
 import sys
 
-TOP = ("core", "model", "sim", "controller", "experiments", "python", "tests", "benchmarks",
-       "scripts", "docs", "robots", "data", "examples", "cmake")
+TOP = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python", "tests",
+       "benchmarks", "scripts", "docs", "robots", "data", "examples", "cmake")
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
 PATH = re.compile(r"(?<![\w./-])((?:" + "|".join(TOP) + r")/[\w./+-]*[\w/])")
 HEADING = re.compile(r"^#{1,6}\s+(.*?)\s*#*\s*$")

@@ -18,7 +18,7 @@ import os
 import re
 import sys
 
-FOLDERS = ("core", "model", "sim", "controller", "experiments", "python/src")
+FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python/src")
 # The declarations' own machinery, which turns a KeyDoc into these words.
 EXEMPT = {"core/include/leglab/core/config_keys.h"}
 LITERAL = re.compile(r'"((?:[^"\\]|\\.)*)"')

@@ -9,7 +9,7 @@
 #include "leglab/app/yaml_config.h"
 #include "leglab/experiments/config.h"
 #include "leglab/model/joint_model_plant.h"
-#include "log_fit_config.h"
+#include "leglab/servo/log_fit_config.h"
 #include "run_budget.h"
 
 namespace leglab::experiments {

@@ -7,8 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "lanes.h"
 #include "leglab/model/identification.h"
+#include "leglab/model/internal/lanes.h"
 #include "leglab/model/joint_model.h"
 
 namespace leglab {

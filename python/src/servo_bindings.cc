@@ -13,18 +13,18 @@
 #include "bindings.h"
 #include "convert.h"
 #include "leglab/experiments/config.h"
-#include "leglab/experiments/log_fit.h"
-#include "leglab/experiments/servo_log_io.h"
-#include "leglab/experiments/servo_plan_io.h"
 #include "leglab/model/joint_model.h"
-#include "leglab/model/servo_model.h"
-#include "leglab/model/servo_plan.h"
-#include "leglab/model/servo_planner.h"
+#include "leglab/servo/log_fit.h"
+#include "leglab/servo/servo_log_io.h"
+#include "leglab/servo/servo_model.h"
+#include "leglab/servo/servo_plan.h"
+#include "leglab/servo/servo_plan_io.h"
+#include "leglab/servo/servo_planner.h"
 
 namespace leglab::python {
 namespace {
 
-using experiments::FittedModel;
+using leglab::FittedModel;
 
 // A log as the Python ServoLog holds it: a dict of its fields and arrays.
 py::dict LogToDict(const ServoLog& log) {
@@ -79,7 +79,7 @@ ServoLog DictToLog(const py::dict& d) {
   return log;
 }
 
-py::dict CurvesToDict(const experiments::LogFitCurves& c) {
+py::dict CurvesToDict(const LogFitCurves& c) {
   py::dict d;
   d["name"] = c.name;
   d["file"] = c.file;
@@ -93,8 +93,8 @@ py::dict CurvesToDict(const experiments::LogFitCurves& c) {
     torque.mutable_at(t) = c.torque_enabled[t] != 0;
   }
   d["torque_enabled"] = torque;
-  for (size_t k = 0; k < experiments::kLogFitRungs.size(); ++k) {
-    d[py::str(std::string(experiments::kLogFitRungs[k]) + "_deg")] = ToArray(c.predicted_deg[k]);
+  for (size_t k = 0; k < kLogFitRungs.size(); ++k) {
+    d[py::str(std::string(kLogFitRungs[k]) + "_deg")] = ToArray(c.predicted_deg[k]);
   }
   return d;
 }
@@ -102,9 +102,9 @@ py::dict CurvesToDict(const experiments::LogFitCurves& c) {
 py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
              py::handle threads_value) {
   const auto threads = static_cast<int>(ToInteger(threads_value, "threads", 0, 4096));
-  experiments::LogFitConfig logs;
+  LogFitConfig logs;
   if (config.is_none()) {
-    logs = experiments::LogFitConfigFromOverrides(ToOverrides(overrides));
+    logs = LogFitConfigFromOverrides(ToOverrides(overrides));
   } else {
     const std::string path = ToPath(config, "config");
     logs =
@@ -116,22 +116,22 @@ py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
                       "are leglab.identify)");
     }
   }
-  std::vector<experiments::GivenServoLog> logs_given;
+  std::vector<GivenServoLog> logs_given;
   for (const py::handle item : given) {
     const auto pair = item.cast<py::tuple>();
     logs_given.push_back({DictToLog(pair[0].cast<py::dict>()), pair[1].cast<bool>()});
   }
   if (threads < 0) ThrowValueError("threads: expected 0 (one per core) or more");
-  experiments::LogFitResult result;
+  LogFitResult result;
   {
     py::gil_scoped_release release;
-    result = experiments::FitServoLogs(logs, threads, logs_given);
+    result = FitServoLogs(logs, threads, logs_given);
   }
   py::dict d;
   d["json"] = result.json;
   d["markdown"] = result.markdown;
   py::list curves;
-  for (const experiments::LogFitCurves& c : result.curves) curves.append(CurvesToDict(c));
+  for (const LogFitCurves& c : result.curves) curves.append(CurvesToDict(c));
   d["curves"] = curves;
   return d;
 }
@@ -225,10 +225,10 @@ py::dict Plan(const FittedModel& m, py::handle desired, const std::string& metho
                     " deg is outside min_deg/max_deg");
   }
   const PlanMethod how = ToMethod(method);
-  experiments::PlanResult r;
+  PlanResult r;
   {
     py::gil_scoped_release release;
-    r = experiments::PlanDesired(m, drive, std::move(d), min_deg, max_deg, how);
+    r = PlanDesired(m, drive, std::move(d), min_deg, max_deg, how);
   }
   DoubleArray time(static_cast<py::ssize_t>(r.desired.size()));
   py::array_t<uint8_t> beyond(static_cast<py::ssize_t>(r.desired.size()));
@@ -286,11 +286,11 @@ void BindServo(py::module_& m) {
       "_read_log",
       [](py::handle path, const std::string& format, const std::string& motor, double kp,
          double mass_kg, double length_m) {
-        experiments::ServoLogFormat f = experiments::ServoLogFormat::kAuto;
+        ServoLogFormat f = ServoLogFormat::kAuto;
         if (format == "csv") {
-          f = experiments::ServoLogFormat::kCsv;
+          f = ServoLogFormat::kCsv;
         } else if (format == "bam_json") {
-          f = experiments::ServoLogFormat::kBamJson;
+          f = ServoLogFormat::kBamJson;
         } else if (format != "auto") {
           ThrowValueError("format: expected 'auto', 'csv' or 'bam_json', got '" + format + "'");
         }
@@ -298,16 +298,16 @@ void BindServo(py::module_& m) {
         ServoLog log;
         {
           py::gil_scoped_release release;
-          log = experiments::ReadServoLog(file, f, {motor, kp, mass_kg, length_m});
+          log = ReadServoLog(file, f, {motor, kp, mass_kg, length_m});
         }
         return LogToDict(log);
       },
       "_read_log(path, format, motor, kp, mass_kg, length_m): the log's fields as a dict");
   m.def(
-      "_check_log", [](const py::dict& d) { experiments::CheckServoLog(DictToLog(d)); },
+      "_check_log", [](const py::dict& d) { CheckServoLog(DictToLog(d)); },
       "_check_log(fields): ValueError unless the log is one identify accepts");
   m.def(
-      "_log_csv_text", [](const py::dict& d) { return experiments::ServoLogCsvText(DictToLog(d)); },
+      "_log_csv_text", [](const py::dict& d) { return ServoLogCsvText(DictToLog(d)); },
       "_log_csv_text(fields): the log in leglab's CSV form");
   m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
         "_fit(config, overrides, given, threads): identify's log fit");
@@ -318,7 +318,7 @@ void BindServo(py::module_& m) {
         if (rung != "paper" && rung != "extended") {
           ThrowValueError("rung: expected 'extended' or 'paper', got '" + rung + "'");
         }
-        return experiments::ParseFittedModel(text, rung, motor, source);
+        return ParseFittedModel(text, rung, motor, source);
       },
       "_model_from_json(text, rung, motor, source)");
 

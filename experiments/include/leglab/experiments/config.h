@@ -13,11 +13,11 @@
 #include "leglab/controller/registry.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/core/plant.h"
-#include "leglab/experiments/log_fit.h"
 #include "leglab/model/identification.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/model/paper.h"
 #include "leglab/model/trajectories.h"
+#include "leglab/servo/log_fit.h"
 #include "leglab/sim/sim_config.h"
 
 namespace leglab::experiments {

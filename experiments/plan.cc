@@ -1,6 +1,0 @@
-// plan: requests for a real servo to follow a desired motion, from a model fitted to its logs
-// (identify's log_fit.json), by either rung and either method. Writes requests.csv and
-// plan.json into --out and prints a summary (docs/real-servos.md, "Requests for a real servo").
-#include "leglab/experiments/servo_plan_io.h"
-
-int main(int argc, char** argv) { return leglab::experiments::PlanMain(argc, argv); }

@@ -1,0 +1,105 @@
+#pragma once
+
+#include <memory>
+#include <span>
+
+#include "leglab/model/joint_model.h"
+#include "leglab/servo/servo_model.h"
+#include "leglab/servo/servo_plan.h"
+
+namespace leglab {
+
+/// The most desired angles ahead a planner is given, and the longest lag (ticks) of a model it
+/// plans for: a joint model's own bound (a model's memory is this long).
+inline constexpr int kMaxServoPreviewTicks = 100000;
+inline constexpr int kMaxServoLagTicks = kMaxModelTicks;
+
+/// How an online planner chooses its requests and uses what is measured.
+struct ServoPlannerOptions {
+  PlanMethod method = PlanMethod::kModelBased;  ///< as PlanServoRequests's (below)
+  /// Desired angles after this tick's that Request is given (and uses) each tick. -1: the
+  /// method's own, HorizonTicks() for kModelBased (all it needs: more is ignored) and
+  /// HorizonTicks() + kOptimalWindowTicks for kOptimal.
+  /// kOptimal needs more than the model's lag l (at least HorizonTicks()); at most
+  /// kMaxServoPreviewTicks.
+  int preview_ticks = -1;
+  /// A measured angle further than this (deg) from the model's prediction of it re-anchors the
+  /// planner's copy of the model there (angle and, for the extended model, the velocity from
+  /// the last two measurements). Closer ones are taken as the model's own error and ignored,
+  /// so that the requests do not chase noise. > 0; infinity: never.
+  double reanchor_deg = 2.0;
+  /// kOptimal: projected gradient iterations per tick on the receding horizon, each one
+  /// gradient (adjoint, O(preview)) and a backtracking line search. >= 1.
+  int optimal_iterations_per_tick = 4;
+};
+
+/// Requests for a servo one tick at a time, from a fitted model: PlanServoRequests online, for
+/// a loop that sends each request as it is computed and reads the servo back.
+///
+/// Tick t: Request(window, measured) is given the desired angles D(t), D(t+1), ... (as many as
+/// are known, up to the preview; the last one is held beyond the window, as the batch plan
+/// holds D(N-1)) and M(t), the angle just measured, and returns R(t), to send now. R(t) first
+/// acts at t + l + 1, so R(t) depends on the desired angles up to D(t + l + 1): HorizonTicks()
+/// is l + 1.
+///
+/// kModelBased is the batch plan, tick by tick: given HorizonTicks() + 1 desired angles and,
+/// as measured, what the batch plan predicts, its requests are the batch plan's, bit for bit.
+/// The planner keeps a copy of the model driven by its own requests; a measurement more than
+/// reanchor_deg off that copy's prediction (the servo held or pushed) moves the copy to it.
+/// For the paper's model, whose model-based request is the model inverted from its state
+/// each tick, the inversion then starts from the measured angle. The extended model's
+/// model-based request follows the desired path open loop, as the batch plan does, whatever
+/// is measured: the servo's own P-law brings a held or pushed joint back
+/// (docs/design/servo-planner.md says why it is not steered back through the model).
+/// PredictedDeg() against the measured angle shows a disturbance either way.
+///
+/// kOptimal is a receding horizon: each tick it minimises the squared error over the preview
+/// from the (re-anchored) model state, warm-started from the last tick's solution shifted by
+/// one, and sends the first request.
+///
+/// No heap allocation after construction (Reset and Request). Not thread-safe.
+class ServoPlanner {
+ public:
+  /// For the extended model with `drive` on ticks of `tick_s` (s), requests within `limits`.
+  /// Throws std::invalid_argument on a model, drive or tick ServoPlanProblem refuses, a lag
+  /// over kMaxServoLagTicks, limits as PlanServoRequests refuses them, or options out of range.
+  ServoPlanner(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+               const ServoLimits& limits, const ServoPlannerOptions& options = {});
+  /// For the paper's model, whose ticks are `tick_s` seconds (to convert the speed limit).
+  ServoPlanner(const JointModelParams& params, double tick_s, const ServoLimits& limits,
+               const ServoPlannerOptions& options = {});
+  ServoPlanner(ServoPlanner&&) noexcept;
+  ServoPlanner& operator=(ServoPlanner&&) noexcept;
+  ~ServoPlanner();
+
+  /// l + 1: the desired angles after this tick's that a request depends on.
+  int HorizonTicks() const;
+  /// The desired angles after this tick's that Request uses (ServoPlannerOptions).
+  int PreviewTicks() const;
+  /// The servo at rest at `angle_deg`, within the limits (else std::invalid_argument): the
+  /// model's state, R(-1) = `angle_deg`, and the next Request is tick 0. A Request before any
+  /// Reset resets at its window's first angle.
+  void Reset(double angle_deg);
+  /// R(t) (deg), within the limits. `window_deg`: D(t), D(t+1), ..., at least one angle, all
+  /// finite (those beyond PreviewTicks() + 1 are ignored); `measured_deg`: M(t), finite.
+  /// Throws std::invalid_argument otherwise, the planner unchanged.
+  double Request(std::span<const double> window_deg, double measured_deg);
+  /// The model's prediction of the last Request's measured angle, before any re-anchoring.
+  double PredictedDeg() const;
+  /// The model's prediction of the next Request's measured angle M(t) (after Reset, M(0)):
+  /// what a servo that is the model would measure.
+  double ExpectedDeg() const;
+  /// Whether the last Request's measurement re-anchored the model.
+  bool Reanchored() const;
+  /// Requests since the last Reset.
+  long Ticks() const;
+
+  /// The implementation (servo_planner.cc), not part of the API: public so that the source
+  /// file's planners can derive from it.
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace leglab

@@ -1,0 +1,548 @@
+#include "leglab/servo/log_fit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <span>
+#include <sstream>
+
+#include "leglab/app/data_dir.h"
+#include "leglab/app/parallel.h"
+#include "leglab/app/progress.h"
+#include "leglab/app/yaml_config.h"
+#include "leglab/core/format.h"
+#include "leglab/servo/servo_ladder.h"
+#include "leglab/servo/servo_log.h"
+#include "leglab/servo/servo_plan.h"
+#include "log_fit_report.h"
+
+namespace leglab {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace log_fit;  // NOLINT: this file's half of the log fit
+
+std::string Sanitized(const std::string& text) {
+  std::string out = text;
+  for (char& c : out) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.')) {
+      c = '_';
+    }
+  }
+  return out;
+}
+
+bool IsLogFile(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".json" || ext == ".csv";
+}
+
+// `entry` of logs.<key>: a file, or a folder's logs by name; from the working directory, else
+// from leglab's data folder.
+std::vector<std::string> Expand(const std::string& entry, const std::string& key) {
+  fs::path path(entry);
+  if (path.is_relative() && !PathExists(path) && PathExists(DataDir() / path)) {
+    path = DataDir() / path;
+  }
+  if (!PathExists(path)) FailConfig(key + ": '" + entry + "' does not exist");
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return {path.string()};
+  std::vector<std::string> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(path, ec)) {
+    if (e.is_regular_file(ec) && IsLogFile(e.path())) files.push_back(e.path().string());
+  }
+  if (ec) FailConfig(key + ": cannot list the folder '" + entry + "'");
+  std::sort(files.begin(), files.end());
+  if (files.empty()) FailConfig(key + ": the folder '" + entry + "' holds no .json or .csv log");
+  return files;
+}
+
+std::vector<std::string> ExpandAll(const std::vector<std::string>& entries,
+                                   const std::string& key) {
+  std::vector<std::string> files;
+  for (const std::string& entry : entries) {
+    for (std::string& file : Expand(entry, key)) files.push_back(std::move(file));
+  }
+  return files;
+}
+
+std::vector<Log> ReadLogs(const LogFitConfig& config, const std::vector<GivenServoLog>& given) {
+  if (config.train.empty() &&
+      std::none_of(given.begin(), given.end(), [](const auto& g) { return g.train; })) {
+    FailConfig("logs.train: no log to fit on");
+  }
+  const std::vector<std::string> train = ExpandAll(config.train, "logs.train");
+  const std::vector<std::string> validate = ExpandAll(config.validate, "logs.validate");
+  std::vector<Log> logs;
+  std::set<std::string> names;
+  std::set<std::string> files;
+  for (size_t i = 0; i < train.size() + validate.size(); ++i) {
+    const bool is_train = i < train.size();
+    const std::string& file = is_train ? train[i] : validate[i - train.size()];
+    const std::string canonical = fs::weakly_canonical(file).string();
+    if (!files.insert(canonical).second) {
+      FailConfig("logs: '" + file + "' is given twice (in logs.train or logs.validate)");
+    }
+    Log log;
+    log.log = ReadServoLog(file, config.format, config.csv);
+    log.train = is_train;
+    log.name = Sanitized(log.log.motor + "_" + fs::path(file).stem().string());
+    if (!names.insert(log.name).second) {
+      FailConfig("logs: two logs would both write log_" + log.name + ".csv ('" + file + "')");
+    }
+    logs.push_back(std::move(log));
+  }
+  for (const GivenServoLog& g : given) {
+    CheckServoLog(g.log);
+    Log log;
+    log.log = g.log;
+    log.train = g.train;
+    log.name = Sanitized(log.log.motor + "_" + fs::path(g.log.file).stem().string());
+    if (!names.insert(log.name).second) {
+      FailConfig("logs: two logs would both be named " + log.name + " ('" + g.log.file + "')");
+    }
+    logs.push_back(std::move(log));
+  }
+  // Training logs first, in the order given (each motor's fits see them in this order).
+  std::stable_partition(logs.begin(), logs.end(), [](const Log& l) { return l.train; });
+  return logs;
+}
+
+std::vector<MotorGroup> GroupByMotor(std::vector<Log>& logs, const LogFitConfig& config) {
+  std::map<std::string, MotorGroup> groups;
+  for (size_t i = 0; i < logs.size(); ++i) {
+    MotorGroup& g = groups[logs[i].log.motor];
+    g.motor = logs[i].log.motor;
+    (logs[i].train ? g.train : g.validate).push_back(i);
+  }
+  std::vector<MotorGroup> result;
+  for (auto& [motor, g] : groups) {
+    if (g.train.empty()) {
+      FailConfig("logs.validate: '" + logs[g.validate.front()].log.file + "' is of motor '" +
+                 motor + "', which no training log is");
+    }
+    std::vector<ServoLog> train_logs;
+    for (size_t i : g.train) {
+      train_logs.push_back(logs[i].log);
+      g.folds.push_back(FoldKey(logs[i].log, config.cross_validate));
+    }
+    std::sort(g.folds.begin(), g.folds.end());
+    g.folds.erase(std::unique(g.folds.begin(), g.folds.end()), g.folds.end());
+    g.tick_s = config.tick_s > 0.0 ? config.tick_s : MedianSampleInterval(train_logs);
+    if (config.cross_validate != CrossValidation::kNone && g.folds.size() < 2) {
+      const bool by_kp = config.cross_validate == CrossValidation::kLeaveOneKpOut;
+      FailConfig("logs.cross_validate: " +
+                 std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]) +
+                 " needs training logs of two " + (by_kp ? "kp values" : "trajectories") +
+                 " or more of motor '" + motor + "'");
+    }
+    result.push_back(std::move(g));
+  }
+  return result;
+}
+
+// The most ticks a log is resampled to: twice the most samples a log may have.
+constexpr double kMaxResampledTicks = 2.0 * static_cast<double>(kMaxServoLogSamples);
+
+// The log's samples split at every pause longer than logs.gap_s.
+std::vector<std::span<const ServoLogSample>> Segments(const ServoLog& log, double gap_s) {
+  std::vector<std::span<const ServoLogSample>> segments;
+  const std::span<const ServoLogSample> all(log.samples);
+  size_t start = 0;
+  for (size_t i = 1; i <= all.size(); ++i) {
+    if (i == all.size() || all[i].time_s - all[i - 1].time_s > gap_s) {
+      segments.push_back(all.subspan(start, i - start));
+      start = i;
+    }
+  }
+  return segments;
+}
+
+// `segment` with each glitch's measurement replaced by the line through its neighbours: a
+// sample (not a segment's first or last) measured more than `glitch_deg` from that line, and
+// further from it than either neighbour is from its own (a glitch pulls its neighbours' lines
+// half as far). Counts them into `glitches`.
+std::vector<ServoLogSample> WithoutGlitches(std::span<const ServoLogSample> segment,
+                                            double glitch_deg, int& glitches) {
+  std::vector<ServoLogSample> out(segment.begin(), segment.end());
+  if (glitch_deg <= 0.0 || segment.size() < 3) return out;
+  const auto line = [&](size_t i) {
+    const ServoLogSample& a = segment[i - 1];
+    const ServoLogSample& b = segment[i + 1];
+    const double w = (segment[i].time_s - a.time_s) / (b.time_s - a.time_s);
+    return a.measured_deg + w * (b.measured_deg - a.measured_deg);
+  };
+  const auto off = [&](size_t i) {
+    return i == 0 || i + 1 == segment.size() ? 0.0 : std::abs(segment[i].measured_deg - line(i));
+  };
+  for (size_t i = 1; i + 1 < segment.size(); ++i) {
+    const double d = off(i);
+    if (d > glitch_deg && d > off(i - 1) && d >= off(i + 1)) {
+      out[i].measured_deg = line(i);
+      ++glitches;
+    }
+  }
+  return out;
+}
+
+// `log` resampled on `tick_s`, segment by segment (Segments), into its recording and times.
+void Resample(Log& log, double tick_s, const LogFitConfig& config) {
+  const std::vector<std::span<const ServoLogSample>> segments = Segments(log.log, config.gap_s);
+  double ticks = 0.0;
+  for (const auto& segment : segments) {
+    if (segment.size() >= 2) ticks += (segment.back().time_s - segment.front().time_s) / tick_s + 2;
+  }
+  const ServoLog& l = log.log;
+  if (!(ticks <= kMaxResampledTicks)) {
+    FailConfig("logs.tick_s" +
+               std::string(config.tick_s > 0.0 ? "" : " (0: the motor's median sample interval)") +
+               " = " + FormatNumber(tick_s) + " s would resample the log '" + l.file + "' (" +
+               FormatNumber(l.samples.back().time_s - l.samples.front().time_s) + " s) to " +
+               FormatNumber(std::ceil(ticks), NumberStyle::kReadable) +
+               " ticks, over the limit of " +
+               FormatNumber(kMaxResampledTicks, NumberStyle::kReadable));
+  }
+  ServoRecording& r = log.recording;
+  r.drive = {l.kp, l.mass_kg, l.length_m};
+  const double first = l.samples.front().time_s;
+  for (const auto& segment : segments) {
+    if (segment.size() < 2) {
+      log.samples_dropped += static_cast<int>(segment.size());
+      continue;
+    }
+    if (!r.scored.empty()) {  // one tick, torque off, between segments: the model restarts
+      log.time_s.push_back(log.time_s.back() + tick_s);
+      r.request_deg.push_back(r.request_deg.back());
+      r.measured_deg.push_back(r.measured_deg.back());
+      r.scored.push_back(0);
+    }
+    const ResampledLog part =
+        leglab::Resample(WithoutGlitches(segment, config.glitch_deg, log.glitches), tick_s);
+    const double offset = segment.front().time_s - first;
+    for (size_t k = 0; k < part.request_deg.size(); ++k) {
+      log.time_s.push_back(offset + static_cast<double>(k) * tick_s);
+    }
+    r.request_deg.insert(r.request_deg.end(), part.request_deg.begin(), part.request_deg.end());
+    r.measured_deg.insert(r.measured_deg.end(), part.measured_deg.begin(), part.measured_deg.end());
+    r.scored.insert(r.scored.end(), part.torque_enabled.begin(), part.torque_enabled.end());
+    ++log.segments;
+  }
+  if (log.segments == 0) {
+    throw InputError("servo log '" + l.file + "': no two samples are within logs.gap_s = " +
+                     FormatNumber(config.gap_s) + " s of each other");
+  }
+  if (std::find(r.scored.begin(), r.scored.end(), 1) == r.scored.end()) {
+    throw InputError("servo log '" + l.file + "': no tick at " + FormatNumber(tick_s) +
+                     " s has the torque on");
+  }
+  if (!(r.drive.kp > 0.0)) {
+    throw InputError("servo log '" + l.file + "': kp must be positive (logs.kp for a CSV log)");
+  }
+}
+
+int Ticks(double seconds, double tick_s) { return static_cast<int>(std::lround(seconds / tick_s)); }
+
+IdentificationOptions PaperOptions(double tick_s, const LogFitConfig& config) {
+  IdentificationOptions paper;
+  paper.lag_min_ticks = 0;
+  paper.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
+  paper.accel_min_ticks = 1;
+  paper.accel_max_ticks = std::max(1, Ticks(config.window_max_s, tick_s));
+  return paper;
+}
+
+ServoFitOptions ExtendedOptions(double tick_s, const std::string& motor,
+                                const LogFitConfig& config) {
+  ServoFitOptions extended;
+  extended.lag_max_ticks = Ticks(config.lag_max_s, tick_s);
+  extended.iterations = config.iterations;
+  if (const auto it = config.v_max_deg_s.find(motor); it != config.v_max_deg_s.end()) {
+    extended.v_max_deg_s = it->second;
+  }
+  return extended;
+}
+
+JointModelParams FitPaper(std::span<const ServoRecording> train, double tick_s,
+                          const std::string& motor, const LogFitConfig& config) {
+  try {
+    return FitJointModelToRecordings(train, PaperOptions(tick_s, config)).params;
+  } catch (const std::invalid_argument& e) {
+    FailConfig("logs: the paper's model cannot be fitted to motor '" + motor + "': " + e.what());
+  }
+}
+
+Predictions Predict(const Models& models, const ServoRecording& r, double tick_s,
+                    const LogFitConfig& config) {
+  Predictions p;
+  p.angle_deg[0] = r.request_deg;
+  ShiftPrediction shift = BestShiftPrediction(r, Ticks(config.shift_max_s, tick_s));
+  p.shift_ticks = shift.shift_ticks;
+  p.angle_deg[1] = std::move(shift.angle_deg);
+  p.angle_deg[2] = PredictWithJointModel(models.paper, r);
+  p.angle_deg[3] = PredictServoRecording(models.extended, r, tick_s);
+  return p;
+}
+
+Row Score(size_t log, const ServoRecording& r, const Predictions& p, double tick_s) {
+  Row row;
+  row.log = log;
+  row.tick_s = tick_s;
+  row.shift_ticks = p.shift_ticks;
+  for (size_t k = 0; k < kRungs.size(); ++k) row.scores[k] = ScorePrediction(p.angle_deg[k], r);
+  return row;
+}
+
+std::vector<FitJob> Jobs(const std::vector<MotorGroup>& groups, const LogFitConfig& config) {
+  std::vector<FitJob> jobs;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    jobs.push_back({g, std::nullopt, {}});
+    if (config.cross_validate == CrossValidation::kNone) continue;
+    for (const std::string& fold : groups[g].folds) jobs.push_back({g, fold, {}});
+  }
+  return jobs;
+}
+
+// Ticks [begin, end) of `from` onto the end of `to`, the first `undriven` of them scored 0.
+void AppendTicks(const ServoRecording& from, size_t begin, size_t end, size_t undriven,
+                 ServoRecording& to) {
+  for (size_t t = begin; t < end; ++t) {
+    to.request_deg.push_back(from.request_deg[t]);
+    to.measured_deg.push_back(from.measured_deg[t]);
+    to.scored.push_back(t < begin + undriven ? 0 : from.scored[t]);
+  }
+}
+
+// Every job's fits, as tasks run in parallel: each job's paper model, and its extended model
+// lag by lag (FitServoModelAtLag), the lag of least error kept as FitServoModel keeps it.
+void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
+             const std::vector<Log>& logs, const LogFitConfig& config, int threads) {
+  std::vector<std::vector<ServoRecording>> train(jobs.size());
+  struct Task {
+    size_t job = 0;
+    int lag = -1;  // -1: the paper model's fit
+  };
+  std::vector<Task> tasks;
+  for (size_t j = 0; j < jobs.size(); ++j) {
+    const MotorGroup& g = groups[jobs[j].group];
+    for (size_t i : g.train) {
+      if (jobs[j].held_out && FoldKey(logs[i].log, config.cross_validate) == *jobs[j].held_out) {
+        continue;
+      }
+      train[j].push_back(logs[i].recording);
+    }
+    for (const ServoRecording& r : train[j]) {
+      for (const uint8_t on : r.scored) jobs[j].training_ticks += on;
+    }
+    // The lead: the longest lag the extended fit searches, and the tick before it.
+    train[j] = FitSample(train[j], config.fit_ticks,
+                         ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks + 1);
+    for (const ServoRecording& r : train[j]) {
+      for (const uint8_t on : r.scored) jobs[j].fitted_ticks += on;
+    }
+    tasks.push_back({j, -1});
+    const int lags = ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks;
+    for (int lag = 0; lag <= lags; ++lag) tasks.push_back({j, lag});
+  }
+  // Progress: each task counts its training ticks when it ends.
+  std::vector<long> task_ticks(tasks.size());
+  long long planned = 0;
+  for (size_t k = 0; k < tasks.size(); ++k) {
+    for (const ServoRecording& r : train[tasks[k].job]) {
+      task_ticks[k] += static_cast<long>(r.scored.size());
+    }
+    planned += task_ticks[k];
+  }
+  ReplanProgress(planned, "training ticks over " + std::to_string(tasks.size()) + " fits");
+  std::atomic<int> done{0};
+  const std::string of = " of " + std::to_string(tasks.size()) + " fits done, for " +
+                         std::to_string(jobs.size()) + " models (final and folds)";
+  SetProgressPhase("fitting: 0" + of);
+  std::vector<ServoLagFit> lag_fits(tasks.size());
+  ParallelFor(static_cast<int>(tasks.size()), threads, [&](int k) {
+    const Task& task = tasks[static_cast<size_t>(k)];
+    FitJob& job = jobs[task.job];
+    const MotorGroup& g = groups[job.group];
+    if (task.lag < 0) {
+      job.models.paper = FitPaper(train[task.job], g.tick_s, g.motor, config);
+    } else {
+      lag_fits[static_cast<size_t>(k)] = FitServoModelAtLag(
+          train[task.job], g.tick_s, ExtendedOptions(g.tick_s, g.motor, config), task.lag);
+    }
+    CountProgressTicks(task_ticks[static_cast<size_t>(k)]);
+    SetProgressPhase("fitting: " + std::to_string(++done) + of);
+  });
+  SetProgressPhase("scoring and planning each log");
+  // Tasks are in lag order within a job: a later lag replaces only a strictly better one.
+  std::vector<std::optional<ServoLagFit>> best(jobs.size());
+  for (size_t k = 0; k < tasks.size(); ++k) {
+    if (tasks[k].lag < 0) continue;
+    std::optional<ServoLagFit>& b = best[tasks[k].job];
+    if (!b || lag_fits[k].squared_error < b->squared_error) b = lag_fits[k];
+  }
+  for (size_t j = 0; j < jobs.size(); ++j) jobs[j].models.extended = best[j]->params;
+}
+
+double DrivenMae(std::span<const double> angles, const ServoRecording& r) {
+  double sum = 0.0;
+  int count = 0;
+  for (size_t t = 0; t < angles.size(); ++t) {
+    if (r.scored[t] == 0) continue;
+    sum += std::abs(angles[t] - r.request_deg[t]);
+    ++count;
+  }
+  return sum / count;
+}
+
+PlanGain PlanLog(const ServoModelParams& model, const ServoRecording& r, double tick_s) {
+  // -180..180 deg, widened to the log's own requests (a servo whose angles run 0..360).
+  const auto [least, most] = std::minmax_element(r.request_deg.begin(), r.request_deg.end());
+  const ServoLimits limits{std::min(-180.0, *least), std::max(180.0, *most), model.v_max_deg_s};
+  PlanGain gain;
+  gain.direct_mae_deg = DrivenMae(PredictServoAngles(model, r.drive, tick_s, r.request_deg), r);
+  const ServoPlan based =
+      PlanServoRequests(model, r.drive, tick_s, r.request_deg, limits, PlanMethod::kModelBased);
+  gain.model_based_mae_deg = DrivenMae(based.predicted_deg, r);
+  for (size_t t = 0; t < r.scored.size(); ++t) {
+    gain.beyond_servo_ticks += based.beyond_servo[t] != 0 && r.scored[t] != 0 ? 1 : 0;
+  }
+  const ServoPlan optimal =
+      PlanServoRequests(model, r.drive, tick_s, r.request_deg, limits, PlanMethod::kOptimal);
+  gain.optimal_mae_deg = DrivenMae(optimal.predicted_deg, r);
+  return gain;
+}
+
+// How often `log` drives its servo to the limits of the final extended model `model`, on its
+// driven ticks: measured speed from the tick before at least 90 % of v_max, and a request error
+// (the request acting, R(t-1-l), less the angle measured at t-1) whose duty saturates.
+void CountLimits(const ServoModelParams& model, double tick_s, Log& log) {
+  const ServoRecording& r = log.recording;
+  log.ticks_at_top_speed = 0;
+  log.ticks_at_full_duty = 0;
+  const auto lag = static_cast<size_t>(model.lag_ticks);
+  for (size_t t = 1; t < r.scored.size(); ++t) {
+    if (r.scored[t] == 0 || r.scored[t - 1] == 0) continue;
+    const double speed = std::abs(r.measured_deg[t] - r.measured_deg[t - 1]) / tick_s;
+    log.ticks_at_top_speed += speed >= 0.9 * model.v_max_deg_s ? 1 : 0;
+    const double error = r.request_deg[t > lag ? t - 1 - lag : 0] - r.measured_deg[t - 1];
+    log.ticks_at_full_duty += std::abs(model.gain_per_deg_kp * r.drive.kp * error) >= 1.0 ? 1 : 0;
+  }
+}
+
+// The rows and figures: every training log in sample (and held out when cross-validated),
+// every validation log by its motor's final models.
+void ScoreAll(Report& report, const LogFitConfig& config) {
+  report.figures.resize(report.logs.size());
+  for (const FitJob& job : report.jobs) {
+    const MotorGroup& g = report.groups[job.group];
+    for (size_t i : g.train) {
+      const Log& log = report.logs[i];
+      if (job.held_out && FoldKey(log.log, config.cross_validate) != *job.held_out) continue;
+      Predictions p = Predict(job.models, log.recording, g.tick_s, config);
+      Row row = Score(i, log.recording, p, g.tick_s);
+      row.train_role = !job.held_out;
+      row.held_out = job.held_out;
+      if (!job.held_out) {
+        row.plan = PlanLog(job.models.extended, log.recording, g.tick_s);
+        CountLimits(job.models.extended, g.tick_s, report.logs[i]);
+      }
+      report.rows.push_back(row);
+      if (job.held_out || config.cross_validate == CrossValidation::kNone) {
+        report.figures[i] = std::move(p);
+      }
+    }
+    if (job.held_out) continue;
+    for (size_t i : g.validate) {
+      Predictions p = Predict(job.models, report.logs[i].recording, g.tick_s, config);
+      report.rows.push_back(Score(i, report.logs[i].recording, p, g.tick_s));
+      report.rows.back().plan = PlanLog(job.models.extended, report.logs[i].recording, g.tick_s);
+      CountLimits(job.models.extended, g.tick_s, report.logs[i]);
+      report.figures[i] = std::move(p);
+    }
+  }
+  // Per motor, by log: in sample, then held out.
+  std::stable_sort(report.rows.begin(), report.rows.end(), [&](const Row& a, const Row& b) {
+    return std::tie(report.logs[a.log].log.motor, a.log, b.train_role) <
+           std::tie(report.logs[b.log].log.motor, b.log, a.train_role);
+  });
+}
+
+}  // namespace
+
+std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
+                                      int lead_ticks) {
+  if (budget < 0 || lead_ticks < 0) {
+    throw std::invalid_argument("FitSample: the budget and the lead must be >= 0");
+  }
+  double total = 0.0;
+  for (const ServoRecording& r : train) total += static_cast<double>(r.scored.size());
+  if (budget == 0 || total <= static_cast<double>(budget)) return {train.begin(), train.end()};
+  std::vector<ServoRecording> sample;
+  for (const ServoRecording& r : train) {
+    const size_t n = r.scored.size();
+    const auto keep = std::max<size_t>(
+        1, static_cast<size_t>(static_cast<double>(budget) * static_cast<double>(n) / total));
+    const size_t chunks = (keep + kFitChunkTicks - 1) / kFitChunkTicks;
+    const size_t length = keep / chunks;
+    ServoRecording s{.drive = r.drive, .request_deg = {}, .measured_deg = {}, .scored = {}};
+    for (size_t c = 0; c < chunks; ++c) {
+      // Evenly from the start to the end: chunk c begins at c (n - L) / (chunks - 1).
+      const size_t begin = chunks == 1 ? (n - length) / 2 : c * (n - length) / (chunks - 1);
+      const size_t lead = std::min(begin, static_cast<size_t>(lead_ticks));
+      AppendTicks(r, begin - lead, begin + length, lead, s);
+    }
+    sample.push_back(std::move(s));
+  }
+  return sample;
+}
+
+LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
+                          const std::vector<GivenServoLog>& given) {
+  Report report;
+  SetProgressPhase("reading the logs");
+  report.logs = ReadLogs(config, given);
+  report.groups = GroupByMotor(report.logs, config);
+  for (const MotorGroup& g : report.groups) {
+    for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
+      for (size_t i : *list) Resample(report.logs[i], g.tick_s, config);
+    }
+  }
+  report.jobs = Jobs(report.groups, config);
+  RunJobs(report.jobs, report.groups, report.logs, config, threads);
+  ScoreAll(report, config);
+  LogFitResult result;
+  result.markdown = ReportMarkdown(report);
+  result.json = ReportJson(report, config);
+  for (const MotorGroup& g : report.groups) {
+    for (const std::vector<size_t>* list : {&g.train, &g.validate}) {
+      for (size_t i : *list) {
+        Log& log = report.logs[i];
+        LogFitCurves c{
+            .name = log.name, .file = log.log.file, .motor = g.motor, .tick_s = g.tick_s};
+        c.time_s = std::move(log.time_s);
+        c.request_deg = std::move(log.recording.request_deg);
+        c.measured_deg = std::move(log.recording.measured_deg);
+        c.torque_enabled = std::move(log.recording.scored);
+        c.predicted_deg = std::move(report.figures[i].angle_deg);
+        result.curves.push_back(std::move(c));
+      }
+    }
+  }
+  return result;
+}
+
+std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int threads) {
+  const LogFitResult result = FitServoLogs(config, threads);
+  WriteTextFile(out.Path("log_fit.json"), result.json);
+  WriteTextFile(out.Path("log_fit.md"), result.markdown);
+  for (const LogFitCurves& c : result.curves) WriteLogCsv(c, out);
+  return result.markdown;
+}
+
+}  // namespace leglab

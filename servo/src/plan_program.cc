@@ -1,0 +1,195 @@
+#include "leglab/servo/plan_program.h"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "leglab/app/input_error.h"
+#include "leglab/app/output.h"
+#include "leglab/app/program.h"
+#include "leglab/core/format.h"
+#include "leglab/servo/servo_log_io.h"
+#include "leglab/servo/servo_planner.h"
+
+namespace leglab {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
+                       const FittedModel& model) {
+  if (motion.drive) {
+    if (o.kp || o.mass_kg || o.length_m) {
+      throw InputError("--kp, --mass-kg and --length-m: the log '" + o.desired_path +
+                       "' gives its own kp, mass and length; leave them out");
+    }
+    return *motion.drive;
+  }
+  if (model.rung == "extended" && !o.kp) {
+    throw InputError("--kp is required for the extended rung (the desired file gives no kp)");
+  }
+  return {o.kp.value_or(1.0), o.mass_kg.value_or(0.0), o.length_m.value_or(0.0)};
+}
+
+void CheckOptions(const PlanOptions& o) {
+  struct Bound {
+    const char* name;
+    std::optional<double> value;
+    double min;
+    double max;
+    bool min_open;
+  };
+  const Bound bounds[] = {{"--kp", o.kp, 0.0, kMaxServoKp, true},
+                          {"--mass-kg", o.mass_kg, 0.0, kMaxServoMassKg, false},
+                          {"--length-m", o.length_m, 0.0, kMaxServoLengthM, false},
+                          {"--min-deg", o.min_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false},
+                          {"--max-deg", o.max_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false}};
+  for (const Bound& b : bounds) {
+    if (!b.value) continue;
+    const double v = *b.value;
+    if (!(v <= b.max && (b.min_open ? v > b.min : v >= b.min))) {
+      throw InputError(std::string(b.name) + " must be in " + (b.min_open ? "(" : "[") +
+                       FormatNumber(b.min, NumberStyle::kReadable) + ", " +
+                       FormatNumber(b.max, NumberStyle::kReadable) + "], got " + FormatNumber(v));
+    }
+  }
+  if (o.preview_ticks && !o.online) {
+    throw InputError("--preview-ticks goes with --online (the batch plan sees the whole motion)");
+  }
+  if (o.min_deg >= o.max_deg) {
+    throw InputError("--min-deg " + FormatNumber(o.min_deg) + " must be below --max-deg " +
+                     FormatNumber(o.max_deg));
+  }
+}
+
+double MeanAbsoluteError(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (size_t t = 0; t < a.size(); ++t) sum += std::abs(a[t] - b[t]);
+  return sum / static_cast<double>(a.size());
+}
+
+PlanResult Plan(const PlanOptions& o) {
+  CheckOptions(o);
+  const DesiredServoMotion motion = ReadDesiredMotion(o.desired_path);
+  const FittedModel model =
+      ReadFittedModel(o.model_path, o.rung, o.motor.empty() ? motion.motor : o.motor);
+  const ServoDrive drive = ChooseDrive(o, motion, model);
+  std::vector<double> desired = ResampleDesired(motion, model.tick_s, o.desired_path);
+  if (desired[0] < o.min_deg || desired[0] > o.max_deg) {
+    throw InputError("--desired '" + o.desired_path + "': its first angle " +
+                     FormatNumber(desired[0]) + " deg is outside --min-deg/--max-deg");
+  }
+  const PlanMethod method = o.method == "optimal" ? PlanMethod::kOptimal : PlanMethod::kModelBased;
+  if (o.online) {
+    return PlanDesiredOnline(model, drive, std::move(desired), o.min_deg, o.max_deg, method,
+                             o.preview_ticks.value_or(-1));
+  }
+  return PlanDesired(model, drive, std::move(desired), o.min_deg, o.max_deg, method);
+}
+
+void WriteRequests(const PlanResult& r, const fs::path& path) {
+  CsvWriter csv(path, {"time_s", "desired_deg", "request_deg", "predicted_deg", "beyond_servo"});
+  for (size_t t = 0; t < r.desired.size(); ++t) {
+    csv.Cell(static_cast<double>(t) * r.model.tick_s)
+        .Cell(r.desired[t])
+        .Cell(r.plan.request_deg[t])
+        .Cell(r.plan.predicted_deg[t])
+        .Cell(static_cast<long>(r.plan.beyond_servo[t]));
+    csv.EndRow();
+  }
+  csv.Close();
+}
+
+std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
+  Json j;
+  j["rung"] = r.model.rung;
+  j["method"] = o.method;
+  j["motor"] = r.model.motor;
+  j["tick_s"] = r.model.tick_s;
+  j["ticks"] = r.desired.size();
+  j["beyond_servo_ticks"] = r.plan.beyond_servo_ticks;
+  j["predicted_mae_deg"] = {{"planned", MeanAbsoluteError(r.plan.predicted_deg, r.desired)},
+                            {"direct", MeanAbsoluteError(r.direct, r.desired)}};
+  j["limits"] = {{"min_deg", r.limits.min_deg},
+                 {"max_deg", r.limits.max_deg},
+                 {"max_speed_deg_s", r.limits.max_speed_deg_s}};
+  if (r.model.rung == "extended") {
+    j["drive"] = {{"kp", r.drive.kp}, {"mass_kg", r.drive.mass_kg}, {"length_m", r.drive.length_m}};
+  }
+  if (r.preview_ticks) j["online"] = {{"preview_ticks", *r.preview_ticks}};
+  j["model_file"] = o.model_path;
+  j["desired_file"] = o.desired_path;
+  return j.dump(2) + "\n";
+}
+
+std::string Summary(const PlanOptions& o, const PlanResult& r) {
+  std::ostringstream s;
+  s << std::fixed << "plan: " << r.desired.size() << " ticks of " << std::setprecision(2)
+    << r.model.tick_s * 1000.0 << " ms, the " << r.model.rung << " model of " << r.model.motor
+    << ", " << o.method << ": predicted mean absolute error "
+    << MeanAbsoluteError(r.plan.predicted_deg, r.desired) << " deg planned vs "
+    << MeanAbsoluteError(r.direct, r.desired) << " deg with the desired angles sent as they are; "
+    << r.plan.beyond_servo_ticks
+    << " ticks beyond the servo for the model-based inversion. Wrote requests.csv and plan.json "
+       "into "
+    << o.out_dir << ".\n";
+  return s.str();
+}
+
+}  // namespace
+
+std::string RunPlan(const PlanOptions& options) {
+  OutputDir out(options.out_dir, {"requests.", "plan."});
+  const PlanResult result = Plan(options);
+  WriteRequests(result, out.Path("requests.csv"));
+  WriteTextFile(out.Path("plan.json"), PlanJson(options, result));
+  out.Commit();
+  return Summary(options, result);
+}
+
+int PlanMain(int argc, char** argv) {
+  CLI::App app(
+      "Plan requests for a real servo from a fitted model (identify's log_fit.json) to follow "
+      "a desired motion within its limits",
+      "plan");
+  PlanOptions o;
+  app.add_option("--model", o.model_path, "identify's log_fit.json")->required();
+  app.add_option("--rung", o.rung, "which model: paper or extended (default)")
+      ->check(CLI::IsMember({"paper", "extended"}));
+  app.add_option("--method", o.method, "model_based (default) or optimal")
+      ->check(CLI::IsMember({"model_based", "optimal"}));
+  app.add_option("--desired", o.desired_path,
+                 "a CSV time_s,desired_deg, or a servo log (BAM .json or leglab's log CSV)")
+      ->required();
+  app.add_option("--out", o.out_dir, "folder for requests.csv and plan.json")->required();
+  app.add_option("--motor", o.motor, "the model file's motor (needed when it has several)");
+  app.add_option("--kp", o.kp, "the servo's gain register (extended rung, not with a BAM log)");
+  app.add_option("--mass-kg", o.mass_kg, "the load's mass (kg, default 0)");
+  app.add_option("--length-m", o.length_m, "the load's arm (m, default 0)");
+  app.add_option("--min-deg", o.min_deg, "least request (deg, default -180)");
+  app.add_option("--max-deg", o.max_deg, "greatest request (deg, default 180)");
+  app.add_flag("--online", o.online,
+               "the online planner's requests, tick by tick on the model, instead of the batch "
+               "plan's");
+  app.add_option("--preview-ticks", o.preview_ticks,
+                 "with --online: desired angles ahead the planner is given (default: the "
+                 "method's own)")
+      ->check(CLI::Range(0, kMaxServoPreviewTicks));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "plan: error: " << MessageLine(e.what()) << " (see --help)\n";
+    return 2;
+  }
+  InstallInterruptCleanup("plan");
+  return ReportErrors("plan", [&] { std::cout << RunPlan(o); });
+}
+
+}  // namespace leglab

@@ -1,0 +1,389 @@
+#include "leglab/servo/servo_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "leglab/core/format.h"
+#include "servo_plan_steps.h"
+
+namespace leglab {
+namespace {
+
+using servo_plan::Choice;
+using servo_plan::DesiredPathTick;
+using servo_plan::ExtendedStepper;
+using servo_plan::InvertAtPending;
+using servo_plan::PaperStepper;
+using servo_plan::PathStep;
+
+// What every plan is asked: follow `desired` with requests in [min_deg, max_deg] that change
+// by at most `max_step_deg` a tick, from R(-1) = desired[0].
+struct Problem {
+  std::span<const double> desired;
+  double min_deg;
+  double max_deg;
+  double max_step_deg;
+};
+
+std::string TickProblem(double tick_s) {
+  if (std::isfinite(tick_s) && tick_s >= kMinPlanTickS && tick_s <= kMaxPlanTickS) return {};
+  return "tick_s must be from " + FormatNumber(kMinPlanTickS, NumberStyle::kReadable) + " to " +
+         FormatNumber(kMaxPlanTickS, NumberStyle::kReadable) + " s, got " + FormatNumber(tick_s);
+}
+
+// An angle is within kMaxPlanAngleDeg.
+bool InRange(double angle_deg) { return std::abs(angle_deg) <= kMaxPlanAngleDeg; }
+
+Problem CheckProblem(std::span<const double> desired, const ServoLimits& limits, double tick_s) {
+  if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
+    throw std::invalid_argument("servo plan: " + problem);
+  }
+  if (desired.empty()) throw std::invalid_argument("servo plan: no desired angles");
+  for (size_t t = 0; t < desired.size(); ++t) {
+    if (!InRange(desired[t])) {
+      throw std::invalid_argument("servo plan: desired angle " + std::to_string(t) + " is " +
+                                  FormatNumber(desired[t]) + ", beyond +-" +
+                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg");
+    }
+  }
+  if (desired[0] < limits.min_deg || desired[0] > limits.max_deg) {
+    throw std::invalid_argument("servo plan: the first desired angle " + FormatNumber(desired[0]) +
+                                " is outside the limits");
+  }
+  return {desired, limits.min_deg, limits.max_deg, limits.max_speed_deg_s * tick_s};
+}
+
+// Runs `stepper` over `requests` from rest at `start_deg`: M(0..N-1).
+template <class Stepper>
+std::vector<double> Simulate(const Stepper& stepper, double start_deg,
+                             std::span<const double> requests) {
+  typename Stepper::State state = stepper.Rest(start_deg);
+  std::vector<double> angles(requests.size());
+  for (size_t t = 0; t < requests.size(); ++t) angles[t] = stepper.Step(state, requests[t]);
+  return angles;
+}
+
+template <class Stepper>
+double SquaredError(const Stepper& stepper, const Problem& p, std::span<const double> requests) {
+  const std::vector<double> angles = Simulate(stepper, p.desired[0], requests);
+  double sum = 0.0;
+  for (size_t t = 0; t < angles.size(); ++t) sum += std::pow(angles[t] - p.desired[t], 2);
+  return sum;
+}
+
+// kModelBased: R(t) by inversion, tick by tick; flags the desired angles it cannot reach.
+template <class Stepper>
+std::vector<double> ModelBasedRequests(const Stepper& stepper, const Problem& p,
+                                       std::vector<uint8_t>& beyond_servo) {
+  const size_t n = p.desired.size();
+  const auto lag = static_cast<size_t>(stepper.Lag());
+  typename Stepper::State pending = stepper.Rest(p.desired[0]);
+  stepper.Advance(pending);
+  typename Stepper::State scratch = pending;
+  std::vector<double> requests(n);
+  double previous = p.desired[0];
+  for (size_t t = 0; t < n; ++t) {
+    const double lo = std::max(p.min_deg, previous - p.max_step_deg);
+    const double hi = std::min(p.max_deg, previous + p.max_step_deg);
+    const size_t acts_at = t + lag + 1;
+    const double target = p.desired[std::min(acts_at, n - 1)];
+    const Choice choice = InvertAtPending(stepper, pending, scratch, previous, lo, hi, target);
+    if (acts_at < n && std::abs(choice.reached_deg - target) > kBeyondServoToleranceDeg) {
+      beyond_servo[acts_at] = 1;
+    }
+    requests[t] = previous = choice.request_deg;
+    Stepper::Push(pending, previous);
+    stepper.Advance(pending);
+  }
+  return requests;
+}
+
+// The requests clamped in time order to the limits and the speed limit from R(-1) = `start`.
+void Project(const Problem& p, std::vector<double>& requests) {
+  double previous = p.desired[0];
+  for (double& r : requests) {
+    r = std::clamp(r, previous - p.max_step_deg, previous + p.max_step_deg);
+    r = std::clamp(r, p.min_deg, p.max_deg);
+    previous = r;
+  }
+}
+
+// d/dR(t) of SquaredError, exactly, by the adjoint of the model's steps (HorizonGradient
+// over the whole plan): one pass forward and one back, O(N).
+template <class Stepper>
+std::vector<double> ErrorGradient(const Stepper& stepper, const Problem& p,
+                                  const std::vector<double>& requests) {
+  const size_t n = requests.size();
+  // As Simulate's state before pushing R(0): M(0) is the first tick's angle, SquaredError's
+  // first term, which no request changes.
+  typename Stepper::State pending = stepper.Rest(p.desired[0]);
+  stepper.Advance(pending);
+  typename Stepper::State scratch = pending;
+  std::vector<double> angles(n);
+  servo_plan::HorizonError(stepper, pending, scratch, requests, p.desired, angles);
+  std::vector<double> gradient(n);
+  servo_plan::HorizonGradient(stepper, pending, requests, p.desired, angles, gradient);
+  return gradient;
+}
+
+// The limited-memory BFGS direction -H g (Nocedal and Wright, algorithm 7.4) from the last
+// steps s and gradient changes y, oldest first; H0 = (s.y / y.y) I from the newest pair.
+std::vector<double> QuasiNewtonDirection(const std::vector<double>& gradient,
+                                         const std::deque<std::vector<double>>& steps,
+                                         const std::deque<std::vector<double>>& changes) {
+  const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    return sum;
+  };
+  std::vector<double> q = gradient;
+  const size_t m = steps.size();
+  std::vector<double> alpha(m);
+  std::vector<double> rho(m);
+  for (size_t k = m; k-- > 0;) {
+    rho[k] = 1.0 / dot(changes[k], steps[k]);
+    alpha[k] = rho[k] * dot(steps[k], q);
+    for (size_t i = 0; i < q.size(); ++i) q[i] -= alpha[k] * changes[k][i];
+  }
+  const double scale = dot(steps.back(), changes.back()) / dot(changes.back(), changes.back());
+  for (double& v : q) v *= scale;
+  for (size_t k = 0; k < m; ++k) {
+    const double beta = rho[k] * dot(changes[k], q);
+    for (size_t i = 0; i < q.size(); ++i) q[i] += (alpha[k] - beta) * steps[k][i];
+  }
+  for (double& v : q) v = -v;
+  return q;
+}
+
+// kModelBased for the extended model, the paper's method carried over: the model inverted
+// along the desired path (DesiredPathTick), R(t) = D(k-1) + u / (gain * kp) for k = t + l + 1.
+// A duty beyond +-1 is saturated (the least request that saturates) and flagged. Open loop
+// like the paper's: the servo's own P-law pulls the joint back to the path, where a
+// tick-by-tick inversion of the predicted state would have to make the velocity jump.
+std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Problem& p,
+                                        std::vector<uint8_t>& beyond_servo) {
+  const size_t n = p.desired.size();
+  const auto desired = [&](long k) {
+    return p.desired[std::clamp<long>(k, 0, static_cast<long>(n) - 1)];
+  };
+  std::vector<double> requests(n);
+  double previous = p.desired[0];
+  for (size_t t = 0; t < n; ++t) {
+    const long k = static_cast<long>(t) + stepper.params.lag_ticks + 1;
+    const PathStep step = DesiredPathTick(stepper, desired(k - 2), desired(k - 1), desired(k));
+    double request =
+        std::clamp(step.request_deg, previous - p.max_step_deg, previous + p.max_step_deg);
+    request = std::clamp(request, p.min_deg, p.max_deg);
+    const bool beyond = std::abs(step.duty) > 1.0 ||
+                        std::abs(request - step.request_deg) > kBeyondServoToleranceDeg;
+    if (beyond && static_cast<size_t>(k) < n) beyond_servo[static_cast<size_t>(k)] = 1;
+    requests[t] = previous = request;
+  }
+  return requests;
+}
+
+// kOptimal from the kModelBased requests: never worse than them. Projected limited-memory
+// BFGS on SquaredError with its exact gradient (ErrorGradient): each iteration tries the
+// quasi-Newton step, projected (Project), halving it until the error falls (at most 40
+// times); with no memory yet, or when that fails, the steepest descent step that moves the
+// steepest request by 1 deg, halved likewise; it stops when neither lowers the error, when an
+// iteration gains at most 1e-12 of it, or after kOptimalMaxIterations.
+template <class Stepper>
+std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
+                                    std::vector<double> requests) {
+  constexpr size_t kMemory = 8;
+  double error = SquaredError(stepper, p, requests);
+  std::vector<double> gradient = ErrorGradient(stepper, p, requests);
+  std::deque<std::vector<double>> steps;
+  std::deque<std::vector<double>> changes;
+  std::vector<double> candidate(requests.size());
+  // Tries requests + alpha direction, projected, halving alpha; true once the error falls.
+  const auto search = [&](const std::vector<double>& direction, double alpha) {
+    for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
+      for (size_t t = 0; t < candidate.size(); ++t) {
+        candidate[t] = requests[t] + alpha * direction[t];
+      }
+      Project(p, candidate);
+      const double candidate_error = SquaredError(stepper, p, candidate);
+      if (candidate_error < error) {
+        error = candidate_error;
+        return true;
+      }
+    }
+    return false;
+  };
+  for (int i = 0; i < kOptimalMaxIterations; ++i) {
+    const double before = error;
+    double largest = 0.0;
+    for (const double g : gradient) largest = std::max(largest, std::abs(g));
+    if (largest == 0.0) break;
+    bool moved = !steps.empty() && search(QuasiNewtonDirection(gradient, steps, changes), 1.0);
+    if (!moved) {
+      steps.clear();
+      changes.clear();
+      std::vector<double> descent(gradient.size());
+      for (size_t t = 0; t < descent.size(); ++t) descent[t] = -gradient[t] / largest;
+      moved = search(descent, 1.0);
+    }
+    if (!moved) break;
+    std::vector<double> next_gradient = ErrorGradient(stepper, p, candidate);
+    std::vector<double> step(requests.size());
+    std::vector<double> change(requests.size());
+    double curvature = 0.0;
+    for (size_t t = 0; t < step.size(); ++t) {
+      step[t] = candidate[t] - requests[t];
+      change[t] = next_gradient[t] - gradient[t];
+      curvature += step[t] * change[t];
+    }
+    requests.swap(candidate);
+    gradient.swap(next_gradient);
+    // Only pairs of positive curvature keep H positive definite.
+    if (curvature > 0.0) {
+      steps.push_back(std::move(step));
+      changes.push_back(std::move(change));
+      if (steps.size() > kMemory) {
+        steps.pop_front();
+        changes.pop_front();
+      }
+    }
+    if (before - error <= 1e-12 * before) break;
+  }
+  return requests;
+}
+
+template <class Stepper>
+ServoPlan Plan(const Stepper& stepper, const Problem& p, PlanMethod method) {
+  ServoPlan plan;
+  plan.beyond_servo.assign(p.desired.size(), 0);
+  if constexpr (std::is_same_v<Stepper, ExtendedStepper>) {
+    plan.request_deg = DesiredPathRequests(stepper, p, plan.beyond_servo);
+  } else {
+    plan.request_deg = ModelBasedRequests(stepper, p, plan.beyond_servo);
+  }
+  if (method == PlanMethod::kOptimal) {
+    plan.request_deg = OptimalRequests(stepper, p, std::move(plan.request_deg));
+  }
+  plan.predicted_deg = Simulate(stepper, p.desired[0], plan.request_deg);
+  plan.beyond_servo_ticks =
+      static_cast<int>(std::count(plan.beyond_servo.begin(), plan.beyond_servo.end(), 1));
+  return plan;
+}
+
+// Never a NaN or an infinity in a plan: the bounds above keep them out; this says so if not.
+void CheckFinite(const ServoPlan& plan) {
+  for (size_t t = 0; t < plan.request_deg.size(); ++t) {
+    if (!std::isfinite(plan.request_deg[t]) || !std::isfinite(plan.predicted_deg[t])) {
+      throw std::invalid_argument(
+          "servo plan: the plan is not finite at tick " + std::to_string(t) + " (request " +
+          FormatNumber(plan.request_deg[t]) + ", predicted " + FormatNumber(plan.predicted_deg[t]) +
+          "): the model's numbers are out of its range");
+    }
+  }
+}
+
+}  // namespace
+
+std::string ServoLimitsProblem(const ServoLimits& limits) {
+  if (!InRange(limits.min_deg) || !InRange(limits.max_deg) || limits.min_deg >= limits.max_deg) {
+    return "the limits need min_deg < max_deg within +-" +
+           FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg, got " +
+           FormatNumber(limits.min_deg) + " and " + FormatNumber(limits.max_deg);
+  }
+  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
+    return "max_speed_deg_s must be positive and at most " +
+           FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
+           FormatNumber(limits.max_speed_deg_s);
+  }
+  return {};
+}
+
+std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& drive,
+                             double tick_s) {
+  if (std::string problem = ServoModelParamsProblem(params); !problem.empty()) {
+    return "servo model: " + problem;
+  }
+  if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
+  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
+    return "kp must be positive, got " + FormatNumber(drive.kp);
+  }
+  const double duty_per_deg = params.gain_per_deg_kp * drive.kp;
+  if (!std::isfinite(duty_per_deg) || !std::isfinite(1.0 / duty_per_deg)) {
+    return "gain_per_deg_kp x kp = " + FormatNumber(duty_per_deg) + " (duty per deg) and its " +
+           "inverse must be finite";
+  }
+  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
+      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
+    return "mass_kg and length_m must be zero or positive, got " + FormatNumber(drive.mass_kg) +
+           " and " + FormatNumber(drive.length_m);
+  }
+  const double load = drive.mass_kg * kGravityMS2 * drive.length_m / params.stall_torque_nm;
+  if (!(load <= kMaxLoadToStall)) {
+    return "mass_kg x 9.81 x length_m / stall_torque_nm = " + FormatNumber(load) +
+           ": the load is over " + FormatNumber(kMaxLoadToStall, NumberStyle::kReadable) +
+           " times the stall torque";
+  }
+  if (!(params.velocity_lag_s / tick_s <= kMaxLagOverTick)) {
+    return "velocity_lag_s must be at most " +
+           FormatNumber(kMaxLagOverTick, NumberStyle::kReadable) + " ticks of " +
+           FormatNumber(tick_s) + " s, got " + FormatNumber(params.velocity_lag_s);
+  }
+  return {};
+}
+
+std::string JointModelPlanProblem(const JointModelParams& params, double tick_s) {
+  if (std::string problem = JointModelParamsProblem(params); !problem.empty()) {
+    return "joint model: " + problem;
+  }
+  if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
+  const double slope = params.v_max_deg_per_tick / params.theta0_deg;
+  if (!(slope <= kMaxSpeedSlopePerTick)) {
+    return "v_max_deg_per_tick / theta0_deg = " + FormatNumber(slope) + " must be at most " +
+           FormatNumber(kMaxSpeedSlopePerTick, NumberStyle::kReadable) + " (theta0_deg " +
+           FormatNumber(params.theta0_deg) + " is too small)";
+  }
+  if (!(params.v_max_deg_per_tick / tick_s <= kMaxPlanSpeedDegS)) {
+    return "v_max_deg_per_tick / tick_s = " + FormatNumber(params.v_max_deg_per_tick / tick_s) +
+           " deg/s must be at most " + FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable);
+  }
+  return {};
+}
+
+ServoPlan PlanServoRequests(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                            std::span<const double> desired_deg, const ServoLimits& limits,
+                            PlanMethod method) {
+  const std::string problem = ServoPlanProblem(params, drive, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo plan: " + problem);
+  const Problem p = CheckProblem(desired_deg, limits, tick_s);
+  ServoPlan plan = Plan(ExtendedStepper{params, drive, tick_s}, p, method);
+  CheckFinite(plan);
+  return plan;
+}
+
+ServoPlan PlanJointModelRequests(const JointModelParams& params, double tick_s,
+                                 std::span<const double> desired_deg, const ServoLimits& limits,
+                                 PlanMethod method) {
+  const std::string problem = JointModelPlanProblem(params, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo plan: " + problem);
+  const Problem p = CheckProblem(desired_deg, limits, tick_s);
+  ServoPlan plan = Plan(PaperStepper{params}, p, method);
+  CheckFinite(plan);
+  return plan;
+}
+
+std::vector<double> PredictServoAngles(const ServoModelParams& params, const ServoDrive& drive,
+                                       double tick_s, std::span<const double> requests_deg) {
+  if (requests_deg.empty()) return {};
+  return Simulate(ExtendedStepper{params, drive, tick_s}, requests_deg[0], requests_deg);
+}
+
+std::vector<double> PredictJointModelAngles(const JointModelParams& params,
+                                            std::span<const double> requests_deg) {
+  if (requests_deg.empty()) return {};
+  return Simulate(PaperStepper{params}, requests_deg[0], requests_deg);
+}
+
+}  // namespace leglab

@@ -1,0 +1,360 @@
+#include "leglab/servo/servo_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "leglab/core/format.h"
+#include "servo_plan_steps.h"
+
+namespace leglab {
+namespace {
+
+using servo_plan::Choice;
+using servo_plan::DesiredPathTick;
+using servo_plan::ExtendedStepper;
+using servo_plan::HorizonError;
+using servo_plan::HorizonGradient;
+using servo_plan::InvertAtPending;
+using servo_plan::InvertExtendedTick;
+using servo_plan::PaperStepper;
+using servo_plan::PathStep;
+
+// The state at rest at `angle_deg`, in place (no allocation): as ServoRestState / RestState.
+void ResetInPlace(ServoModelState& state, double angle_deg) {
+  state.angle_deg = angle_deg;
+  state.velocity_deg_s = 0.0;
+  std::fill(state.past_requests_deg.begin(), state.past_requests_deg.end(), angle_deg);
+}
+void ResetInPlace(JointModelState& state, double angle_deg) {
+  state.angle_deg = angle_deg;
+  std::fill(state.past_requests_deg.begin(), state.past_requests_deg.end(), angle_deg);
+}
+
+}  // namespace
+
+struct ServoPlanner::Impl {
+  virtual ~Impl() = default;
+  virtual int Horizon() const = 0;
+  virtual int Preview() const = 0;
+  virtual void Reset(double angle_deg) = 0;
+  virtual double Request(std::span<const double> window_deg, double measured_deg) = 0;
+  virtual double Predicted() const = 0;
+  virtual double Expected() const = 0;
+  virtual bool Reanchored() const = 0;
+  virtual long Ticks() const = 0;
+};
+
+namespace {
+
+template <class Params>
+class Planner final : public ServoPlanner::Impl {
+ public:
+  using Stepper =
+      std::conditional_t<std::is_same_v<Params, ServoModelParams>, ExtendedStepper, PaperStepper>;
+  using State = typename Stepper::State;
+  static constexpr bool kExtended = std::is_same_v<Params, ServoModelParams>;
+
+  Planner(const Params& params, const ServoDrive& drive, double tick_s, const ServoLimits& limits,
+          const ServoPlannerOptions& options)
+      : params_(params),
+        drive_(drive),
+        tick_s_(tick_s),
+        limits_(limits),
+        max_step_deg_(limits.max_speed_deg_s * tick_s),
+        options_(options),
+        horizon_(params.lag_ticks + 1) {
+    preview_ = options.preview_ticks >= 0               ? options.preview_ticks
+               : options.method == PlanMethod::kOptimal ? horizon_ + kOptimalWindowTicks
+                                                        : horizon_;
+    if (options.method == PlanMethod::kOptimal && preview_ <= params.lag_ticks) {
+      throw std::invalid_argument("servo planner: preview_ticks " + std::to_string(preview_) +
+                                  " is too short for the optimal method: it needs more than the "
+                                  "model's lag (" +
+                                  std::to_string(params.lag_ticks) + " ticks)");
+    }
+    desired_.assign(static_cast<size_t>(std::max(preview_, horizon_)) + 1, 0.0);
+    anchored_ = stepper().Rest(0.0);
+    scratch_ = anchored_;
+    if (options.method == PlanMethod::kOptimal) {
+      const auto decisions = static_cast<size_t>(preview_ - params.lag_ticks);
+      plan_.assign(decisions, 0.0);
+      candidate_.assign(decisions, 0.0);
+      gradient_.assign(decisions, 0.0);
+      angles_.assign(static_cast<size_t>(preview_) + 1, 0.0);
+    }
+  }
+
+  int Horizon() const override { return horizon_; }
+  int Preview() const override { return preview_; }
+  double Predicted() const override { return predicted_; }
+  double Expected() const override { return anchored_.angle_deg; }
+  bool Reanchored() const override { return reanchored_; }
+  long Ticks() const override { return ticks_; }
+
+  void Reset(double angle_deg) override {
+    if (!(angle_deg >= limits_.min_deg && angle_deg <= limits_.max_deg)) {
+      throw std::invalid_argument("servo planner: the reset angle " + FormatNumber(angle_deg) +
+                                  " deg is outside the limits [" + FormatNumber(limits_.min_deg) +
+                                  ", " + FormatNumber(limits_.max_deg) + "]");
+    }
+    ResetInPlace(anchored_, angle_deg);
+    stepper().Advance(anchored_);
+    previous_ = angle_deg;
+    has_measured_ = false;
+    started_ = true;
+    ticks_ = 0;
+    predicted_ = angle_deg;
+    reanchored_ = false;
+    alpha_ = 0.0;
+  }
+
+  double Request(std::span<const double> window_deg, double measured_deg) override {
+    if (window_deg.empty()) {
+      throw std::invalid_argument("servo planner: the window holds no desired angle");
+    }
+    const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
+    for (size_t j = 0; j < used; ++j) {
+      if (!(std::abs(window_deg[j]) <= kMaxPlanAngleDeg)) {
+        throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
+                                    " of the window must be finite and within +-" +
+                                    FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                    " deg, got " + FormatNumber(window_deg[j]));
+      }
+    }
+    if (!(std::abs(measured_deg) <= kMaxPlanAngleDeg)) {
+      throw std::invalid_argument("servo planner: the measured angle must be finite and within +-" +
+                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
+                                  " deg, got " + FormatNumber(measured_deg));
+    }
+    if (!started_) Reset(window_deg[0]);
+    // D(t + j) for j = 0..preview, the window's last angle held beyond it.
+    for (size_t j = 0; j < desired_.size(); ++j) desired_[j] = window_deg[std::min(j, used - 1)];
+    if (ticks_ == 0) last_desired_ = desired_[0];
+    Anchor(measured_deg);
+
+    const double request =
+        options_.method == PlanMethod::kOptimal ? OptimalRequest() : ModelBasedRequest();
+    Stepper::Push(anchored_, request);
+    stepper().Advance(anchored_);
+    previous_ = request;
+    last_desired_ = desired_[0];
+    last_measured_ = measured_deg;
+    has_measured_ = true;
+    ++ticks_;
+    return request;
+  }
+
+ private:
+  Stepper stepper() const {
+    if constexpr (kExtended) {
+      return ExtendedStepper{params_, drive_, tick_s_};
+    } else {
+      return PaperStepper{params_};
+    }
+  }
+
+  // D(t + j), j >= -1 (D(t - 1): the last tick's, or D(0) at tick 0, as the batch plan's).
+  double D(int j) const { return j < 0 ? last_desired_ : desired_[static_cast<size_t>(j)]; }
+
+  // The measurement against the model copy's M(t): beyond reanchor_deg the copy moves to it.
+  void Anchor(double measured_deg) {
+    predicted_ = anchored_.angle_deg;
+    reanchored_ = std::abs(measured_deg - predicted_) > options_.reanchor_deg;
+    if (!reanchored_) return;
+    anchored_.angle_deg = measured_deg;
+    if constexpr (kExtended) {
+      if (has_measured_) anchored_.velocity_deg_s = (measured_deg - last_measured_) / tick_s_;
+    }
+  }
+
+  double Clamp(double request, double previous) const {
+    request = std::clamp(request, previous - max_step_deg_, previous + max_step_deg_);
+    return std::clamp(request, limits_.min_deg, limits_.max_deg);
+  }
+
+  double ModelBasedRequest() {
+    const int lag = params_.lag_ticks;
+    if constexpr (kExtended) {
+      // The batch plan's request (DesiredPathRequests): open loop along the desired path.
+      const PathStep step = DesiredPathTick(stepper(), D(lag - 1), D(lag), D(lag + 1));
+      return Clamp(step.request_deg, previous_);
+    } else {
+      // The batch plan's inversion, from the model's state (re-anchored when measured off it).
+      const double lo = std::max(limits_.min_deg, previous_ - max_step_deg_);
+      const double hi = std::min(limits_.max_deg, previous_ + max_step_deg_);
+      return InvertAtPending(stepper(), anchored_, scratch_, previous_, lo, hi, D(lag + 1))
+          .request_deg;
+    }
+  }
+
+  // D(t..t+preview).
+  std::span<const double> Desired() const {
+    return std::span<const double>(desired_).first(static_cast<size_t>(preview_) + 1);
+  }
+
+  double Error(const std::vector<double>& plan, bool record) {
+    return HorizonError(stepper(), anchored_, scratch_, plan, Desired(),
+                        record ? std::span<double>(angles_) : std::span<double>());
+  }
+
+  // The requests clamped in time order to the limits and the speed limit from R(t-1).
+  void Project(std::vector<double>& plan) const {
+    double previous = previous_;
+    for (double& r : plan) previous = r = Clamp(r, previous);
+  }
+
+  // A first guess for R(t + i): the extended model's path request, the paper model's target.
+  double FirstGuess(int i) const {
+    const int lag = params_.lag_ticks;
+    if constexpr (kExtended) {
+      return DesiredPathTick(stepper(), D(i + lag - 1), D(i + lag), D(i + lag + 1)).request_deg;
+    } else {
+      return D(i + lag + 1);
+    }
+  }
+
+  // kOptimal: the horizon's plan, improved by a few projected gradient steps that each lower
+  // its error (as the batch's DescentStep), its first request sent.
+  double OptimalRequest() {
+    const auto decisions = static_cast<int>(plan_.size());
+    if (ticks_ == 0) {
+      for (int i = 0; i < decisions; ++i) plan_[static_cast<size_t>(i)] = FirstGuess(i);
+    } else {
+      std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
+      plan_.back() = FirstGuess(decisions - 1);
+    }
+    Project(plan_);
+    double error = Error(plan_, true);
+    for (int iteration = 0; iteration < options_.optimal_iterations_per_tick; ++iteration) {
+      HorizonGradient(stepper(), anchored_, plan_, Desired(), angles_, gradient_);
+      double largest = 0.0;
+      for (const double g : gradient_) largest = std::max(largest, std::abs(g));
+      if (largest == 0.0) break;
+      if (alpha_ == 0.0) alpha_ = 1.0 / largest;  // the steepest request moves 1 deg
+      bool lowered = false;
+      for (int tries = 0; tries < 40; ++tries) {
+        for (size_t i = 0; i < plan_.size(); ++i) candidate_[i] = plan_[i] - alpha_ * gradient_[i];
+        Project(candidate_);
+        const double candidate_error = Error(candidate_, false);
+        if (candidate_error < error) {
+          std::swap(plan_, candidate_);
+          error = candidate_error;
+          lowered = true;
+          if (tries == 0) alpha_ *= 2;  // taken at once: try a longer one next time
+          break;
+        }
+        alpha_ /= 2;
+      }
+      if (!lowered) {
+        alpha_ = 0.0;  // no step helped: the next search starts again from 1 deg
+        break;
+      }
+      Error(plan_, true);
+    }
+    return plan_[0];
+  }
+
+  Params params_;
+  ServoDrive drive_;
+  double tick_s_;
+  ServoLimits limits_;
+  double max_step_deg_;
+  ServoPlannerOptions options_;
+  int horizon_;
+  int preview_ = 0;
+
+  State anchored_;  // the model copy the requests drive, re-anchored on measurements
+  State scratch_;
+  double previous_ = 0.0;        // R(t-1)
+  std::vector<double> desired_;  // D(t..t+max(preview, horizon))
+  double last_desired_ = 0.0;    // D(t-1)
+  double last_measured_ = 0.0;
+  bool has_measured_ = false;
+  bool started_ = false;
+  long ticks_ = 0;
+  double predicted_ = 0.0;
+  bool reanchored_ = false;
+
+  // kOptimal's receding horizon: R(t..t+preview-l-1) and its workspace.
+  std::vector<double> plan_;
+  std::vector<double> candidate_;
+  std::vector<double> gradient_;
+  std::vector<double> angles_;  // M(t..t+preview) under plan_
+  double alpha_ = 0.0;
+};
+
+}  // namespace
+
+namespace {
+
+void CheckLag(int ticks) {
+  if (ticks > kMaxServoLagTicks) {
+    throw std::invalid_argument(
+        "servo planner: a model's lag (or averaging window) must be at "
+        "most " +
+        std::to_string(kMaxServoLagTicks) + " ticks, got " + std::to_string(ticks));
+  }
+}
+
+void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& options) {
+  if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
+    throw std::invalid_argument("servo planner: " + problem);
+  }
+  if (options.preview_ticks < -1 || options.preview_ticks > kMaxServoPreviewTicks) {
+    throw std::invalid_argument(
+        "servo planner: preview_ticks must be from 0 to " + std::to_string(kMaxServoPreviewTicks) +
+        " (or -1: the method's), got " + std::to_string(options.preview_ticks));
+  }
+  if (!(options.reanchor_deg > 0.0)) {  // infinity is allowed: never re-anchor
+    throw std::invalid_argument("servo planner: reanchor_deg must be positive, got " +
+                                FormatNumber(options.reanchor_deg));
+  }
+  if (options.optimal_iterations_per_tick < 1 || options.optimal_iterations_per_tick > 1000) {
+    throw std::invalid_argument(
+        "servo planner: optimal_iterations_per_tick must be from 1 to 1000, got " +
+        std::to_string(options.optimal_iterations_per_tick));
+  }
+}
+
+}  // namespace
+
+ServoPlanner::ServoPlanner(const ServoModelParams& params, const ServoDrive& drive, double tick_s,
+                           const ServoLimits& limits, const ServoPlannerOptions& options) {
+  const std::string problem = ServoPlanProblem(params, drive, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckLag(params.lag_ticks);
+  CheckPlannerInputs(limits, options);
+  impl_ = std::make_unique<Planner<ServoModelParams>>(params, drive, tick_s, limits, options);
+}
+
+ServoPlanner::ServoPlanner(const JointModelParams& params, double tick_s, const ServoLimits& limits,
+                           const ServoPlannerOptions& options) {
+  const std::string problem = JointModelPlanProblem(params, tick_s);
+  if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  CheckLag(params.lag_ticks);
+  CheckLag(params.accel_ticks);
+  CheckPlannerInputs(limits, options);
+  impl_ =
+      std::make_unique<Planner<JointModelParams>>(params, ServoDrive{}, tick_s, limits, options);
+}
+
+ServoPlanner::ServoPlanner(ServoPlanner&&) noexcept = default;
+ServoPlanner& ServoPlanner::operator=(ServoPlanner&&) noexcept = default;
+ServoPlanner::~ServoPlanner() = default;
+
+int ServoPlanner::HorizonTicks() const { return impl_->Horizon(); }
+int ServoPlanner::PreviewTicks() const { return impl_->Preview(); }
+void ServoPlanner::Reset(double angle_deg) { impl_->Reset(angle_deg); }
+double ServoPlanner::Request(std::span<const double> window_deg, double measured_deg) {
+  return impl_->Request(window_deg, measured_deg);
+}
+double ServoPlanner::PredictedDeg() const { return impl_->Predicted(); }
+double ServoPlanner::ExpectedDeg() const { return impl_->Expected(); }
+bool ServoPlanner::Reanchored() const { return impl_->Reanchored(); }
+long ServoPlanner::Ticks() const { return impl_->Ticks(); }
+
+}  // namespace leglab

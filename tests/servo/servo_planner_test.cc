@@ -1,0 +1,325 @@
+#include "leglab/servo/servo_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <numbers>
+#include <random>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include "servo_plan_steps.h"  // the receding horizon's error and gradient (internal)
+
+// Every allocation of this test program counted, to show that a planner's ticks make none.
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+// The replaced operator new allocates with malloc, so free is its match (GCC cannot tell).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t /*size*/) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+namespace leglab {
+namespace {
+
+constexpr double kTickS = 0.005;
+
+// Saturating at 20 deg of error at kp 100, a load of up to 0.39 duty, friction that grows
+// with it, and two ticks of lag: every branch of the extended model is taken.
+ServoModelParams Extended() {
+  return {.gain_per_deg_kp = 5e-4,
+          .v_max_deg_s = 400.0,
+          .stall_torque_nm = 0.5,
+          .friction_duty = 0.03,
+          .friction_load_ratio = 0.2,
+          .velocity_lag_s = 0.02,
+          .lag_ticks = 2};
+}
+constexpr ServoDrive kDrive{.kp = 100.0, .mass_kg = 0.2, .length_m = 0.1};
+
+JointModelParams Paper() {
+  return {.v_max_deg_per_tick = 2.0, .theta0_deg = 8.0, .lag_ticks = 3, .accel_ticks = 4};
+}
+
+// Within +-60 deg, the request at most 300 deg/s: slower than the servo, so the speed limit
+// binds on the step.
+constexpr ServoLimits kLimits{.min_deg = -60.0, .max_deg = 60.0, .max_speed_deg_s = 300.0};
+
+// A 1 Hz sine of 40 deg, a 30 deg step at tick 300, then a slow ramp: the plan saturates, meets
+// the speed limit and follows exactly in turn.
+std::vector<double> Desired() {
+  std::vector<double> d(600);
+  for (size_t t = 0; t < d.size(); ++t) {
+    const double s = static_cast<double>(t) * kTickS;
+    d[t] = t < 300   ? 40.0 * std::sin(2.0 * std::numbers::pi * s)
+           : t < 450 ? 30.0
+                     : 30.0 - 0.1 * static_cast<double>(t - 450);
+  }
+  return d;
+}
+
+// D(t..t+count-1), cut at the trajectory's end.
+std::span<const double> Window(const std::vector<double>& d, size_t t, size_t count) {
+  return std::span<const double>(d).subspan(t, std::min(count, d.size() - t));
+}
+
+// The planner fed what the batch plan predicts: its requests.
+std::vector<double> OnlineRequests(ServoPlanner& planner, const std::vector<double>& desired,
+                                   const std::vector<double>& measured, size_t window) {
+  planner.Reset(desired[0]);
+  std::vector<double> requests(desired.size());
+  for (size_t t = 0; t < desired.size(); ++t) {
+    requests[t] = planner.Request(Window(desired, t, window), measured[t]);
+  }
+  return requests;
+}
+
+TEST(ServoPlanner, ModelBasedOnlineIsTheBatchPlanBitForBit) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  ASSERT_GT(batch.beyond_servo_ticks, 0);  // the step saturates: the clamps are exercised
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
+  EXPECT_EQ(planner.HorizonTicks(), 3);
+  EXPECT_EQ(planner.PreviewTicks(), 3);
+  for (const size_t window : {size_t{4}, size_t{50}}) {  // the horizon, and more than it needs
+    const std::vector<double> online = OnlineRequests(planner, d, batch.predicted_deg, window);
+    for (size_t t = 0; t < d.size(); ++t) ASSERT_EQ(online[t], batch.request_deg[t]) << t;
+  }
+}
+
+TEST(ServoPlanner, ModelBasedOnlineIsTheBatchPlanForThePapersModel) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanJointModelRequests(Paper(), kTickS, d, kLimits, PlanMethod::kModelBased);
+  ASSERT_GT(batch.beyond_servo_ticks, 0);
+  ServoPlanner planner(Paper(), kTickS, kLimits);
+  EXPECT_EQ(planner.HorizonTicks(), 4);
+  const std::vector<double> online = OnlineRequests(planner, d, batch.predicted_deg, 5);
+  for (size_t t = 0; t < d.size(); ++t) ASSERT_EQ(online[t], batch.request_deg[t]) << t;
+}
+
+// The horizon's gradient against central differences of its error, for both models, at random
+// plans that saturate some ticks and not others.
+template <class Stepper>
+void ExpectGradientIsFiniteDifferences(const Stepper& stepper, const typename Stepper::State& rest,
+                                       std::mt19937& random) {
+  const int lag = stepper.Lag();
+  const int preview = 40;
+  std::vector<double> desired(static_cast<size_t>(preview) + 1);
+  std::uniform_real_distribution<double> angle(-30.0, 30.0);
+  for (double& x : desired) x = angle(random);
+  std::vector<double> plan(static_cast<size_t>(preview - lag));
+  for (double& x : plan) x = angle(random);
+  typename Stepper::State pending = rest;
+  for (int i = 0; i < 5; ++i) {  // some history
+    Stepper::Push(pending, angle(random));
+    stepper.Advance(pending);
+  }
+  typename Stepper::State scratch = pending;
+  std::vector<double> angles(desired.size());
+  servo_plan::HorizonError(stepper, pending, scratch, plan, desired, angles);
+  std::vector<double> gradient(plan.size());
+  servo_plan::HorizonGradient(stepper, pending, plan, desired, angles, gradient);
+  const double h = 1e-6;
+  for (size_t i = 0; i < plan.size(); ++i) {
+    std::vector<double> up = plan;
+    std::vector<double> down = plan;
+    up[i] += h;
+    down[i] -= h;
+    const double numeric =
+        (servo_plan::HorizonError(stepper, pending, scratch, up, desired, {}) -
+         servo_plan::HorizonError(stepper, pending, scratch, down, desired, {})) /
+        (2 * h);
+    EXPECT_NEAR(gradient[i], numeric, 1e-5 * std::max(1.0, std::abs(numeric))) << "request " << i;
+  }
+}
+
+TEST(ServoPlanner, HorizonGradientIsTheFiniteDifferenceOfItsError) {
+  std::mt19937 random(7);
+  const ServoModelParams extended = Extended();
+  const JointModelParams paper = Paper();
+  for (int trial = 0; trial < 5; ++trial) {
+    ExpectGradientIsFiniteDifferences(servo_plan::ExtendedStepper{extended, kDrive, kTickS},
+                                      ServoRestState(extended, 10.0), random);
+    ExpectGradientIsFiniteDifferences(servo_plan::PaperStepper{paper}, RestState(paper, 10.0),
+                                      random);
+  }
+}
+
+// A servo that is the model itself, held still for ticks [hold_from, hold_until) (its angle
+// kept, its velocity 0), driven by `request` each tick: returns its angles.
+template <class RequestFn>
+std::vector<double> HeldServo(const std::vector<double>& desired, size_t hold_from,
+                              size_t hold_until, RequestFn&& request) {
+  const ServoModelParams params = Extended();
+  ServoModelState servo = ServoRestState(params, desired[0]);
+  std::vector<double> angles(desired.size());
+  double held = 0.0;
+  for (size_t t = 0; t < desired.size(); ++t) {
+    angles[t] = AdvanceServoModel(params, kDrive, kTickS, servo);
+    if (t == hold_from) held = servo.angle_deg;
+    if (t >= hold_from && t < hold_until) {
+      servo.angle_deg = angles[t] = held;
+      servo.velocity_deg_s = 0.0;
+    }
+    PushServoModelRequest(servo, request(t, angles[t]));
+  }
+  return angles;
+}
+
+// The planner on a held servo, feeding it the measured angles: its requests and how many
+// ticks re-anchored its model.
+struct HeldRun {
+  std::vector<double> angles;
+  std::vector<double> requests;
+  int reanchored = 0;
+};
+HeldRun RunHeld(ServoPlanner& planner, const std::vector<double>& d, size_t from, size_t until) {
+  HeldRun run;
+  planner.Reset(d[0]);
+  run.angles = HeldServo(d, from, until, [&](size_t t, double measured) {
+    run.requests.push_back(planner.Request(Window(d, t, 4), measured));
+    run.reanchored += planner.Reanchored() ? 1 : 0;
+    return run.requests.back();
+  });
+  return run;
+}
+
+TEST(ServoPlanner, AHeldServoReanchorsTheModelAndKeepsTheExtendedModelsPlan) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  // Held for 0.25 s from the sine's falling zero crossing to its trough.
+  const size_t from = 100;
+  const size_t until = 150;
+  const std::vector<double> open_loop =
+      HeldServo(d, from, until, [&](size_t t, double) { return batch.request_deg[t]; });
+
+  // The requests stay the batch plan's: the servo's P-law brings it back.
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
+  const HeldRun kept = RunHeld(planner, d, from, until);
+  EXPECT_GT(kept.reanchored, 0);
+  EXPECT_EQ(kept.requests, batch.request_deg);
+  EXPECT_EQ(kept.angles, open_loop);
+
+  // What the planner's model predicts follows the measurements while held.
+  EXPECT_NEAR(planner.PredictedDeg(), kept.angles.back(), 2.0);
+}
+
+TEST(ServoPlanner, TicksMakeNoAllocation) {
+  const std::vector<double> d = Desired();
+  for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
+    ServoPlannerOptions options;
+    options.method = method;
+    ServoPlanner extended(Extended(), kDrive, kTickS, kLimits, options);
+    ServoPlanner paper(Paper(), kTickS, kLimits, options);
+    for (ServoPlanner* planner : {&extended, &paper}) {
+      const long before = g_allocations.load();
+      planner->Reset(d[0]);
+      for (size_t t = 0; t < d.size(); ++t) {
+        // Pushed 5 deg off the prediction every 50th tick: the re-anchoring path too.
+        const double measured = planner->ExpectedDeg() + (t % 50 == 49 ? 5.0 : 0.0);
+        planner->Request(Window(d, t, 100), measured);
+      }
+      EXPECT_EQ(g_allocations.load() - before, 0) << static_cast<int>(method);
+    }
+  }
+}
+
+// Online optimal on the model itself: within the limits, and below the model-based plan's
+// error (its first guess) and near the batch optimum, through the speed-limited step where
+// line searches fail.
+TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
+  const std::vector<double> d = Desired();
+  ServoPlannerOptions options;
+  options.method = PlanMethod::kOptimal;
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits, options);
+  EXPECT_EQ(planner.PreviewTicks(), 3 + kOptimalWindowTicks);
+  std::vector<double> predicted(d.size());
+  double previous = d[0];
+  planner.Reset(d[0]);
+  for (size_t t = 0; t < d.size(); ++t) {
+    predicted[t] = planner.ExpectedDeg();
+    const double r = planner.Request(Window(d, t, 64), predicted[t]);
+    ASSERT_LE(std::abs(r - previous), kLimits.max_speed_deg_s * kTickS + 1e-12) << t;
+    ASSERT_GE(r, kLimits.min_deg);
+    ASSERT_LE(r, kLimits.max_deg);
+    previous = r;
+  }
+  const auto mae = [&](const std::vector<double>& angles) {
+    double sum = 0.0;
+    for (size_t t = 0; t < d.size(); ++t) sum += std::abs(angles[t] - d[t]);
+    return sum / static_cast<double>(d.size());
+  };
+  const double based =
+      mae(PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased)
+              .predicted_deg);
+  const double batch =
+      mae(PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kOptimal)
+              .predicted_deg);
+  EXPECT_LT(mae(predicted), based);
+  EXPECT_LT(mae(predicted), batch + 0.1);
+}
+
+TEST(ServoPlanner, ARequestBeforeAnyResetStartsAtItsWindow) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
+  EXPECT_EQ(planner.Request(Window(d, 0, 4), batch.predicted_deg[0]), batch.request_deg[0]);
+  EXPECT_EQ(planner.Ticks(), 1);
+}
+
+TEST(ServoPlanner, BadInputThrowsAndLeavesThePlannerAsItWas) {
+  ServoPlanner planner(Extended(), kDrive, kTickS, kLimits);
+  planner.Reset(0.0);
+  const double expected = planner.ExpectedDeg();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> good{0.0, 1.0, 2.0, 3.0};
+  const std::vector<double> bad{0.0, 1.0, nan, 3.0};
+  EXPECT_THROW(planner.Request({}, 0.0), std::invalid_argument);
+  EXPECT_THROW(planner.Request(bad, 0.0), std::invalid_argument);
+  EXPECT_THROW(planner.Request(good, nan), std::invalid_argument);
+  EXPECT_THROW(planner.Reset(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(planner.Reset(kLimits.max_deg + 1.0), std::invalid_argument);
+  EXPECT_EQ(planner.Ticks(), 0);
+  EXPECT_EQ(planner.ExpectedDeg(), expected);
+  ServoPlanner fresh(Extended(), kDrive, kTickS, kLimits);
+  fresh.Reset(0.0);
+  EXPECT_EQ(planner.Request(good, expected), fresh.Request(good, fresh.ExpectedDeg()));
+  ServoModelParams broken = Extended();
+  broken.velocity_lag_s = 0.0;
+  EXPECT_THROW(ServoPlanner(broken, kDrive, kTickS, kLimits), std::invalid_argument);
+  EXPECT_THROW(ServoPlanner(Extended(), {.kp = 0.0}, kTickS, kLimits), std::invalid_argument);
+  EXPECT_THROW(ServoPlanner(Extended(), kDrive, 0.0, kLimits), std::invalid_argument);
+  EXPECT_THROW(ServoPlanner(Paper(), kTickS, {.min_deg = 1, .max_deg = 0, .max_speed_deg_s = 1}),
+               std::invalid_argument);
+  ServoPlannerOptions options;
+  options.method = PlanMethod::kOptimal;
+  options.preview_ticks = 3;  // not beyond the paper model's lag of 3
+  EXPECT_THROW(ServoPlanner(Paper(), kTickS, kLimits, options), std::invalid_argument);
+  options.preview_ticks = -1;
+  options.reanchor_deg = 0.0;
+  EXPECT_THROW(ServoPlanner(Paper(), kTickS, kLimits, options), std::invalid_argument);
+  ServoModelParams long_lag = Extended();
+  long_lag.lag_ticks = kMaxServoLagTicks + 1;
+  EXPECT_THROW(ServoPlanner(long_lag, kDrive, kTickS, kLimits), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace leglab
