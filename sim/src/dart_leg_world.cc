@@ -31,7 +31,7 @@ class DartLegWorld final : public PhysicsWorld {
   void SetMotor(int joint, double speed_rad_per_s, double max_torque_nm) override;
   void Step(double dt_s) override;
   void SetConfigurationRad(const LegAngles& q_rad) override;
-  const StandState& stand_state() const override { return kNoStand; }
+  const PlantTelemetry& stand_state() const override { return kNoStand; }
   bool has_stand() const override { return false; }
   std::array<double, 3> LinkOriginMm(int link) const override;
   double MechanicalEnergyJ() const override;
@@ -39,7 +39,7 @@ class DartLegWorld final : public PhysicsWorld {
   std::string StateProblem() const override;
 
  private:
-  static inline const StandState kNoStand{};
+  static inline const PlantTelemetry kNoStand{};
 
   const LegDescription& leg_;
   dart::simulation::WorldPtr world_;

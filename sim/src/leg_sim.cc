@@ -125,9 +125,11 @@ void LegSim::SampleReading() {
   reading_.true_deg = ToDeg(angles_rad);
   reading_.applied_deg = ToDeg(commanded_rad);
   if (world_.has_stand()) {
-    const StandState& stand = world_.stand_state();
-    reading_.telemetry = {tick_force_n_, stand.carriage_z_mm, stand.slip_mm - slip_at_reset_mm_,
-                          stand.sled_x_mm, stand.sled_y_mm};
+    // The world's instruments after the tick's last physics step, with the force averaged
+    // over the tick and the slip counted from the latest reset.
+    reading_.telemetry = world_.stand_state();
+    reading_.telemetry.contact_force_n = tick_force_n_;
+    reading_.telemetry.slip_mm -= slip_at_reset_mm_;
   }
 }
 

@@ -84,7 +84,7 @@ void LegWorld::SetMotor(int joint, double speed_rad_per_s, double max_torque_nm)
 
 void LegWorld::Step(double dt_s) { impl_->physics->Step(dt_s); }
 
-const StandState& LegWorld::stand_state() const { return impl_->physics->stand_state(); }
+const PlantTelemetry& LegWorld::stand_state() const { return impl_->physics->stand_state(); }
 
 bool LegWorld::has_stand() const { return impl_->physics->has_stand(); }
 

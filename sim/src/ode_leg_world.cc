@@ -48,7 +48,7 @@ class OdeLegWorld final : public PhysicsWorld {
   void SetMotor(int joint, double speed_rad_per_s, double max_torque_nm) override;
   void Step(double dt_s) override;
   void SetConfigurationRad(const LegAngles& q_rad) override;
-  const StandState& stand_state() const override;
+  const PlantTelemetry& stand_state() const override;
   bool has_stand() const override { return stand_ != nullptr; }
   std::array<double, 3> LinkOriginMm(int link) const override;
   double MechanicalEnergyJ() const override;
@@ -194,8 +194,8 @@ void OdeLegWorld::Step(double dt_s) {
   }
 }
 
-const StandState& OdeLegWorld::stand_state() const {
-  static const StandState kNone{};
+const PlantTelemetry& OdeLegWorld::stand_state() const {
+  static const PlantTelemetry kNone{};
   return stand_ ? stand_->state : kNone;
 }
 

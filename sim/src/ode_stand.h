@@ -3,7 +3,7 @@
 // The single-leg test stand's ODE objects (StandConfig): the carriage on its rail (or on the
 // sled), the floor and the ball of the foot in a collision space, and the joint group that holds
 // one physics step's contacts. Private to leglab::sim: LegWorld owns one when the stand is
-// enabled; what it measures is the public StandState (leglab/sim/stand.h).
+// enabled; what it measures is core's PlantTelemetry (leglab/core/plant.h).
 
 #include <ode/ode.h>
 
@@ -11,8 +11,8 @@
 #include <array>
 #include <string>
 
+#include "leglab/core/plant.h"
 #include "leglab/sim/sim_config.h"
-#include "leglab/sim/stand.h"
 
 namespace leglab::sim {
 
@@ -80,7 +80,7 @@ struct Stand {
   std::array<dContactGeom, kMaxContacts> geoms{};
   int contact_count = 0;
   double floor_z_m = 0.0;  // the floor plane's height in the world frame
-  StandState state;
+  PlantTelemetry state;
 
  private:
   void BuildCarriage(dWorldID world);

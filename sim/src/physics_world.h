@@ -9,9 +9,9 @@
 #include <string_view>
 
 #include "leglab/core/leg.h"
+#include "leglab/core/plant.h"
 #include "leglab/sim/leg_description.h"
 #include "leglab/sim/sim_config.h"
-#include "leglab/sim/stand.h"
 
 namespace leglab::sim {
 
@@ -31,7 +31,7 @@ class PhysicsWorld {
   virtual void SetMotor(int joint, double speed_rad_per_s, double max_torque_nm) = 0;
   virtual void Step(double dt_s) = 0;
   virtual void SetConfigurationRad(const LegAngles& q_rad) = 0;
-  virtual const StandState& stand_state() const = 0;
+  virtual const PlantTelemetry& stand_state() const = 0;
   virtual bool has_stand() const = 0;
   /// Origin of link `link` (an index into LegDescription::links) in the body frame, mm.
   virtual std::array<double, 3> LinkOriginMm(int link) const = 0;

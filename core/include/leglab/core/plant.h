@@ -10,19 +10,28 @@
 
 namespace leglab {
 
-/// What a plant measures besides the joint angles: the test stand's instruments.
-/// For reporting only: the experiments record it, no controller is given it. All zero for a
-/// plant without a stand (the leg in the air, the model plant).
+/// What a plant measures besides the joint angles: the test stand's instruments. The one
+/// record of them: a plant's reading (PlantReading) and the simulated world's stand
+/// (sim::LegWorld::stand_state()) both use it. For reporting only: the experiments record it,
+/// no controller is given it. All zero for a plant without a stand (the leg in the air, the
+/// model plant). The stand's design: docs/design/stand.md.
 struct PlantTelemetry {
-  /// The floor's force on the foot, mean over the tick, N, body axes (x forward, y left, z up).
+  /// The floor's force on the foot, N, body (= world) axes: x forward, y left, z up (a loaded
+  /// foot has z > 0). In a plant's reading the mean over the tick; in the world's stand state
+  /// that of the latest physics step.
   std::array<double, 3> contact_force_n{};
-  /// The stand's carriage height above the shoulder's walking height at the end of the tick, mm.
+  /// The stand's carriage height above the shoulder's walking height, mm (StandConfig), at the
+  /// end of the tick or physics step.
   double carriage_z_mm = 0.0;
-  /// How far the foot has slid along the floor while loaded since the plant was built or
-  /// reset, mm (cumulative; a step's slip is the difference across it).
+  /// How far the foot has slid along the floor while loaded, mm, cumulative: the tangential
+  /// speed of the foot's material point at the contact relative to the floor's surface (a
+  /// treadmill belt's included), integrated over every physics step whose normal force exceeds
+  /// LegWorld::kLoadedContactN (rolling of the ball is not slip). Counted since the plant was
+  /// built or reset in a reading, since the world was built in its stand state; a step's slip
+  /// is the difference across it.
   double slip_mm = 0.0;
   /// The stand's sled (the body's horizontal give) forward (x) and to the left (y) of its
-  /// spring's rest at the end of the tick, mm; 0 without a sled or in the air.
+  /// spring's rest, mm; 0 without a sled.
   double sled_x_mm = 0.0;
   double sled_y_mm = 0.0;
 };

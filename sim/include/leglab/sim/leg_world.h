@@ -6,10 +6,10 @@
 #include <string_view>
 
 #include "leglab/core/leg.h"
+#include "leglab/core/plant.h"
 #include "leglab/core/units.h"
 #include "leglab/sim/leg_description.h"
 #include "leglab/sim/sim_config.h"
-#include "leglab/sim/stand.h"
 
 namespace leglab::sim {
 
@@ -41,7 +41,7 @@ class LegWorld {
   /// A hinge turning faster than this, rad/s, means the integration has blown up.
   static constexpr double kExplodedRateRadPerS = 1000.0;
 
-  /// A contact carrying more than this normal force, N, counts as loaded (StandState::slip_mm).
+  /// A contact carrying more than this normal force, N, counts as loaded (PlantTelemetry::slip_mm).
   static constexpr double kLoadedContactN = 0.1;
 
   /// Builds `engine`'s world of `leg` (bodies placed at q = 0, at rest; hinges with their motors
@@ -101,7 +101,7 @@ class LegWorld {
   void SetConfigurationRad(const LegAngles& q_rad);
 
   /// The stand's measurements after the latest Step (zeros without a stand).
-  const StandState& stand_state() const;
+  const PlantTelemetry& stand_state() const;
 
   /// Whether the world has a stand.
   bool has_stand() const;
