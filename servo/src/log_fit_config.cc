@@ -28,17 +28,14 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
                         "leave_one_kp_out: likewise for each gain setting"});
   v.Key("motor", c.csv.motor,
         {.description = "a CSV log's servo type (one model is fitted per type)"});
+  // kp as the drive declares it, but from 0 (its default: a CSV log's kp must then be given).
   v.Key("kp", c.csv.kp,
-        {.min = 0,
-         .max = kMaxServoKp,
-         .description = "a CSV log's position-gain setting (register units)"});
-  v.Key("mass_kg", c.csv.mass_kg,
-        {.min = 0, .max = kMaxServoMassKg, .unit = "kg", .description = "a CSV log's load mass"});
+        WithDescription(WithRange(kServoKpDoc, 0, kMaxServoKp),
+                        "a CSV log's position-gain setting (register units)"));
+  v.Key("mass_kg", c.csv.mass_kg, WithDescription(kServoMassDoc, "a CSV log's load mass"));
   v.Key("length_m", c.csv.length_m,
-        {.min = 0,
-         .max = kMaxServoLengthM,
-         .unit = "m",
-         .description = "a CSV log's load distance from the axis (0 at the bottom)"});
+        WithDescription(kServoLengthDoc,
+                        "a CSV log's load distance from the axis (0 at the bottom)"));
   v.Structured("v_max_deg_s", "map of motor: deg/s", "{}",
                WithDescription(kServoVMaxDoc,
                                "published no-load speeds: the extended model's v_max of a motor "

@@ -37,25 +37,23 @@ ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
 }
 
 void CheckOptions(const PlanOptions& o) {
-  struct Bound {
-    const char* name;
+  // The drive's flags keep the drive's declaration (kServo*Doc); the request bounds, any angle
+  // a plan may hold.
+  const KeyDoc angle_doc{.min = -kMaxPlanAngleDeg, .max = kMaxPlanAngleDeg, .unit = "deg"};
+  const struct {
+    const char* flag;
     std::optional<double> value;
-    double min;
-    double max;
-    bool min_open;
-  };
-  const Bound bounds[] = {{"--kp", o.kp, 0.0, kMaxServoKp, true},
-                          {"--mass-kg", o.mass_kg, 0.0, kMaxServoMassKg, false},
-                          {"--length-m", o.length_m, 0.0, kMaxServoLengthM, false},
-                          {"--min-deg", o.min_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false},
-                          {"--max-deg", o.max_deg, -kMaxPlanAngleDeg, kMaxPlanAngleDeg, false}};
-  for (const Bound& b : bounds) {
-    if (!b.value) continue;
-    const double v = *b.value;
-    if (!(v <= b.max && (b.min_open ? v > b.min : v >= b.min))) {
-      throw InputError(std::string(b.name) + " must be in " + (b.min_open ? "(" : "[") +
-                       FormatNumber(b.min, NumberStyle::kReadable) + ", " +
-                       FormatNumber(b.max, NumberStyle::kReadable) + "], got " + FormatNumber(v));
+    const KeyDoc& doc;
+  } flags[] = {{"--kp", o.kp, kServoKpDoc},
+               {"--mass-kg", o.mass_kg, kServoMassDoc},
+               {"--length-m", o.length_m, kServoLengthDoc},
+               {"--min-deg", o.min_deg, angle_doc},
+               {"--max-deg", o.max_deg, angle_doc}};
+  for (const auto& f : flags) {
+    if (!f.value) continue;
+    if (std::string problem = KeyValueProblem(*f.value, f.doc); !problem.empty()) {
+      throw InputError(std::string(f.flag) + " must be " + problem + ", got " +
+                       FormatNumber(*f.value));
     }
   }
   if (o.preview_ticks && !o.online) {

@@ -33,11 +33,8 @@ void servo_tick::CheckRecording(const ServoRecording& recording) {
   if (recording.measured_deg.size() != n || recording.scored.size() != n) {
     throw std::invalid_argument("servo recording: request, measured and scored sizes differ");
   }
-  const ServoDrive& drive = recording.drive;
-  if (!(std::isfinite(drive.kp) && drive.kp > 0.0) ||
-      !(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
-      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
-    throw std::invalid_argument("servo recording: kp must be positive, mass and length >= 0");
+  if (std::string problem = ServoDriveProblem(recording.drive); !problem.empty()) {
+    throw std::invalid_argument("servo recording: " + problem);
   }
   for (size_t t = 0; t < n; ++t) {
     if (!std::isfinite(recording.request_deg[t]) || !std::isfinite(recording.measured_deg[t])) {
@@ -45,6 +42,16 @@ void servo_tick::CheckRecording(const ServoRecording& recording) {
                                   " is not finite");
     }
   }
+}
+
+void VisitKeys(KeyVisitor& v, ServoDrive& drive) {
+  v.Key("kp", drive.kp, kServoKpDoc);
+  v.Key("mass_kg", drive.mass_kg, kServoMassDoc);
+  v.Key("length_m", drive.length_m, kServoLengthDoc);
+}
+
+std::string ServoDriveProblem(const ServoDrive& drive) {
+  return KeysProblem(drive, [](KeyVisitor& v, ServoDrive& d) { VisitKeys(v, d); });
 }
 
 void VisitKeys(KeyVisitor& v, ServoModelParams& params) {

@@ -15,10 +15,6 @@ enum class ServoLogFormat {
   kBamJson,  ///< the JSON object of Rhoban/bam's logs, as shipped in data/servo_logs/
 };
 
-/// The physical bounds of a servo's settings, in a log (and the logs.* keys) or a plan's drive.
-inline constexpr double kMaxServoKp = 1e6;       ///< the gain register (its own units)
-inline constexpr double kMaxServoMassKg = 1000;  ///< the load's mass (kg)
-inline constexpr double kMaxServoLengthM = 10;   ///< the load's arm (m)
 /// The longest motor or trajectory name (bytes): names go into file names and table cells.
 inline constexpr size_t kMaxServoNameBytes = 100;
 

@@ -23,6 +23,35 @@ struct ServoDrive {
   double length_m = 0.0;  ///< from the axis to the load's centre of mass (m), >= 0
 };
 
+/// The physical bounds of a drive, wherever one is given (a log, the logs.* keys, plan's
+/// flags, the Python package): beyond any hobby servo, so a larger value is a typo.
+inline constexpr double kMaxServoKp = 1e6;       ///< the gain register (its own units)
+inline constexpr double kMaxServoMassKg = 1000;  ///< the load's mass (kg)
+inline constexpr double kMaxServoLengthM = 10;   ///< the load's arm (m)
+
+/// The declared range of each of ServoDrive's values (VisitKeys), which plan's flags and the
+/// logs.* keys take too.
+inline constexpr KeyDoc kServoKpDoc{
+    .min = 0,
+    .max = kMaxServoKp,
+    .min_open = true,
+    .description = "the servo's position-gain register (its own units)"};
+inline constexpr KeyDoc kServoMassDoc{
+    .min = 0, .max = kMaxServoMassKg, .unit = "kg", .description = "the load's mass"};
+inline constexpr KeyDoc kServoLengthDoc{
+    .min = 0,
+    .max = kMaxServoLengthM,
+    .unit = "m",
+    .description = "from the axis to the load's centre of mass"};
+
+/// ServoDrive's three values, declared once (see KeyVisitor) with the ranges above: what
+/// ServoDriveProblem checks for the model's functions, plan's flags and the Python package.
+void VisitKeys(KeyVisitor& visitor, ServoDrive& drive);
+
+/// Empty when `drive` keeps its declaration (VisitKeys); otherwise what is wrong, naming the
+/// field ("kp must be in (0, 1000000], got 0").
+std::string ServoDriveProblem(const ServoDrive& drive);
+
 /// The extended joint model: the paper's request-space model (eq. 2-3) given the external
 /// torque of a load and the servo's gain, fitted once per servo type for every gain setting.
 /// One tick of `tick_s` seconds from M(t-1) with velocity w(t-1):
