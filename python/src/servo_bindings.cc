@@ -172,13 +172,7 @@ ServoDrive ToDrive(const FittedModel& m, py::handle kp_value, py::handle mass_va
     ThrowValueError("kp is required for the extended rung (the servo's gain register)");
   }
   const ServoDrive drive{kp.value_or(1.0), mass_kg, length_m};
-  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
-    ThrowValueError("kp must be positive, got " + std::string(py::repr(py::float_(drive.kp))));
-  }
-  if (!(std::isfinite(mass_kg) && mass_kg >= 0.0) ||
-      !(std::isfinite(length_m) && length_m >= 0.0)) {
-    ThrowValueError("mass_kg and length_m must be zero or positive");
-  }
+  if (std::string problem = ServoDriveProblem(drive); !problem.empty()) ThrowValueError(problem);
   return drive;
 }
 

@@ -307,18 +307,11 @@ std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& d
     return "servo model: " + problem;
   }
   if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
-  if (!(std::isfinite(drive.kp) && drive.kp > 0.0)) {
-    return "kp must be positive, got " + FormatNumber(drive.kp);
-  }
+  if (std::string problem = ServoDriveProblem(drive); !problem.empty()) return problem;
   const double duty_per_deg = params.gain_per_deg_kp * drive.kp;
   if (!std::isfinite(duty_per_deg) || !std::isfinite(1.0 / duty_per_deg)) {
     return "gain_per_deg_kp x kp = " + FormatNumber(duty_per_deg) + " (duty per deg) and its " +
            "inverse must be finite";
-  }
-  if (!(std::isfinite(drive.mass_kg) && drive.mass_kg >= 0.0) ||
-      !(std::isfinite(drive.length_m) && drive.length_m >= 0.0)) {
-    return "mass_kg and length_m must be zero or positive, got " + FormatNumber(drive.mass_kg) +
-           " and " + FormatNumber(drive.length_m);
   }
   const double load = drive.mass_kg * kGravityMS2 * drive.length_m / params.stall_torque_nm;
   if (!(load <= kMaxLoadToStall)) {

@@ -254,8 +254,14 @@ TEST(ServoPlanTest, WhatWouldMakeANaNIsRefusedAndJustInsideIsFinite) {
   // A load of 1000 times the stall torque is the most: 0.1 x 9.81 x 1 / 0.000981.
   weak.stall_torque_nm = 0.1 * 9.81 * 1.0 / 1000.0 * (1 + 1e-12);
   EXPECT_EQ(problem(weak, {.kp = 10, .mass_kg = 0.1, .length_m = 1.0}, kTickS, desired), "");
+  // A load beyond the drive's declared range is refused by it before any product is formed.
   EXPECT_NE(problem(Extended(), {.kp = 10, .mass_kg = 1e300, .length_m = 1e300}, kTickS, desired)
-                .find("stall_torque_nm"),
+                .find("mass_kg must be in [0, 1000] kg"),
+            std::string::npos);
+  EXPECT_EQ(problem(Extended(), {.kp = 1e6, .mass_kg = 1000, .length_m = 10}, kTickS, desired)
+                .find("must be in"),
+            std::string::npos);
+  EXPECT_NE(problem(Extended(), {.kp = 0}, kTickS, desired).find("kp must be in (0, 1000000]"),
             std::string::npos);
   EXPECT_NE(problem(Extended(), {.kp = 10}, 5e-324, desired).find("tick_s must be from"),
             std::string::npos);
