@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   using namespace leglab;
   using namespace leglab::experiments;
   return RunProgram(
-      "fit_walk", "Fit the walk's unknowns to the paper's direct-method row of Table 2", argc, argv,
+      "fit_walk", "Fit the walk's unknowns to the paper's direct-method row of Table 2",
+      ConfigScope{"fit_walk", {}}, WalkFitOutputs(), argc, argv,
       [](const ProgramArgs& args, const ExperimentConfig& config) {
         if (!config.track.desired_csv.empty()) {
           throw InputError(

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   using namespace leglab;
   using namespace leglab::experiments;
   return RunProgram("identify", "Table 1: identify the joint model from step responses",
-                    kIdentifyScope, argc, argv,
+                    kIdentifyScope, IdentifyOutputs(), argc, argv,
                     [](const ProgramArgs& args, const ExperimentConfig& config) {
                       if (config.logs.given) {
                         // Recorded servo logs instead of step tests on the plant.

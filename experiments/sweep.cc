@@ -144,6 +144,7 @@ int Run(int argc, char** argv) {
   app.add_flag("--progress", progress,
                "a progress line every 2 s, inside a point too (points done, ticks simulated)")
       ->excludes("--quiet");
+  AddListOutputsFlag(app, SweepOutputs());
   AddListKeysFlag(app, [] {
     return KeyTableMarkdown(SweepKeys()) +
            "\nEvery other key of a sweep file is a key of its base experiment (track "

@@ -15,8 +15,9 @@
 int main(int argc, char** argv) {
   using namespace leglab;
   using namespace leglab::experiments;
-  return RunProgram("track", "Table 2: track the half-ellipse walk with each controller", argc,
-                    argv, [](const ProgramArgs& args, const ExperimentConfig& config) {
+  return RunProgram("track", "Table 2: track the half-ellipse walk with each controller",
+                    ConfigScope{"track", {}}, TrackOutputs(), argc, argv,
+                    [](const ProgramArgs& args, const ExperimentConfig& config) {
                       OutputDir out(args.out_dir, TrackOutputPrefixes());
                       // One mode's run at a time: written and reduced to its table rows, then
                       // dropped, so memory holds one run however many modes there are.

@@ -115,6 +115,10 @@ if [ $ran -eq 1 ]; then
   if ! /usr/bin/python3 scripts/docs_numbers.py "$out"; then
     echo "reproduce: the docs' tables differ from this run (above)" >&2
   fi
+  # Every CSV table of this run against the columns docs/outputs.md declares.
+  if ! /usr/bin/python3 scripts/check-outputs.py "$out"; then
+    echo "reproduce: a table's columns differ from docs/outputs.md (above)" >&2
+  fi
 fi
 if [ $ran -eq 0 ]; then
   echo "reproduce: no experiment programs are built yet (identify, track): nothing to run." >&2

@@ -13,6 +13,12 @@ namespace leglab::experiments {
 int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
                int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
+  return RunProgram(program, description, scope, {}, argc, argv, body);
+}
+
+int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
+               std::span<const OutputDoc> outputs, int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body) {
   CLI::App app(description, program);
   ProgramArgs args;
   app.add_option("--config", args.config_path, "experiment config (YAML)")->required();
@@ -27,6 +33,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   app.add_option("--set", args.overrides,
                  "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
   AddListKeysFlag(app, [&scope] { return KeyTableMarkdown(ExperimentKeys(scope)); });
+  if (!outputs.empty()) AddListOutputsFlag(app, outputs);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -564,4 +564,15 @@ std::string SlurmRerunCommand(const std::vector<int>& missing, int shard_count,
          " " + std::to_string(shard_count);
 }
 
+std::span<const OutputDoc> SweepOutputs() {
+  static const OutputDoc outputs[] = {
+      {"sweep.csv",
+       "track at every point of the sweep, a row each (with --shard I/N: "
+       "sweep.shard-I-of-N.csv, its points only, after a line that stamps the sweep and shard; "
+       "sweep merge joins them into sweep.csv byte for byte).",
+       kSweepColumns},
+  };
+  return outputs;
+}
+
 }  // namespace leglab::experiments

@@ -377,4 +377,17 @@ std::string WalkFitMarkdown(const WalkFitReport& report) {
   return md.str();
 }
 
+std::span<const OutputDoc> WalkFitOutputs() {
+  static const OutputDoc outputs[] = {
+      {"walk_fit.json",
+       "The fit of the walk's unknowns: the config and overrides it ran with, the numbers "
+       "fitted on (fitted_on), the fitted walk (fitted), each unknown's range and why (ranges), "
+       "the residuals per number and the cost.",
+       {}},
+      {"walk_fit.md", "The same as Markdown tables (also what fit_walk prints).", {}},
+      {"fit_walk_config.yaml", "The keys fit_walk ran with, merged.", {}},
+  };
+  return outputs;
+}
+
 }  // namespace leglab::experiments

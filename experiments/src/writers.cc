@@ -140,7 +140,7 @@ std::string WriteIdentifyOutputs(const std::array<JointIdentification, kLegJoint
                       std::vector<double>(r.request_deg.begin(), r.request_deg.begin() + period));
       CsvWriter csv(out.Path("step_" + std::string(kLegJointNames[run.joint]) + "_" +
                              ThetaLabel(run.theta_test_deg) + ".csv"),
-                    {"tick", "request_deg", "actual_deg", "model_deg"});
+                    ColumnNames(kStepColumns));
       for (size_t t = 0; t < r.request_deg.size(); ++t) {
         csv.Cell(static_cast<long>(t))
             .Cell(r.request_deg[t])
@@ -297,17 +297,68 @@ std::vector<std::string> TrackOutputPrefixes(std::span<const std::string> extern
 }
 
 const std::vector<std::string>& TraceColumns() {
-  static const std::vector<std::string> columns = {
-      "step", "tick", "joint", "desired_deg", "pwl_deg", "request_deg", "actual_deg", "model_deg"};
+  static const std::vector<std::string> columns = ColumnNames(kTraceColumns);
   return columns;
 }
 
 const std::vector<std::string>& FootColumns() {
-  static const std::vector<std::string> columns = {"step",         "tick",         "desired_x_cm",
-                                                   "desired_y_cm", "desired_z_cm", "actual_x_cm",
-                                                   "actual_y_cm",  "actual_z_cm",  "contact_fz_n",
-                                                   "contact_fx_n", "contact_fy_n", "carriage_z_mm"};
+  static const std::vector<std::string> columns = ColumnNames(kFootColumns);
   return columns;
+}
+
+std::span<const OutputDoc> IdentifyOutputs() {
+  static const OutputDoc step_tests[] = {
+      {"table1.json",
+       "Without a logs section, Table 1: each joint's identified model "
+       "(`joints.<joint>.{v_max_deg_per_tick, theta0_deg, "
+       "lag_ticks, accel_ticks, fit_rms_deg}`), the paper's values and the plant it was "
+       "identified on.",
+       {}},
+      {"table1.md", "Without a logs section: Table 1 as Markdown, beside the paper's values.", {}},
+      {"step_<joint>_<theta>.csv",
+       "Without a logs section: one step test of eq. 1 (joint rotator, abductor or knee; step "
+       "height theta in deg) as "
+       "recorded, beside the identified model.",
+       kStepColumns},
+      {"identify_config.yaml",
+       "The keys identify ran with: its config, the files it extends, the robot file and the "
+       "--set overrides, merged.",
+       {}},
+  };
+  static const std::vector<OutputDoc> outputs = [] {
+    std::vector<OutputDoc> all(std::begin(step_tests), std::end(step_tests));
+    const std::span<const OutputDoc> logs = LogFitOutputs();
+    all.insert(all.end(), logs.begin(), logs.end());
+    return all;
+  }();
+  return outputs;
+}
+
+std::span<const OutputDoc> TrackOutputs() {
+  static const OutputDoc outputs[] = {
+      {"table2.json",
+       "Table 2 and the foot table: `steps`, `joints.<joint>.<row>.{mean, std}`, "
+       "`foot_cm.<mode>.{L2, Linf}`, the models, on the test stand the stand's numbers per mode, "
+       "and the plant.",
+       {}},
+      {"table2.md", "Table 2 and the foot table as Markdown, the paper's values in brackets.", {}},
+      {"trace_<mode>.csv", "Each joint's angles, tick by tick, under one mode.", kTraceColumns},
+      {"foot_<mode>.csv", "The foot's path, tick by tick, under one mode.", kFootColumns},
+      {"<mode>_learning.csv",
+       "The error step by step of a mode that is not feed-forward (it learns or adapts).",
+       kLearningColumns},
+      {"per_step.csv", "Every mode's error step by step.", kPerStepColumns},
+      {"model_estimates.csv",
+       "The models a mode that estimates its model (adaptive) held after every step (a second "
+       "such mode's in `model_estimates_<mode>.csv`).",
+       kModelEstimateColumns},
+      {"plant_models.csv", "With plant_changes: the plant identified before and after each.",
+       kPlantModelColumns},
+      {"shift_search.csv", "time_shift's candidates, each scored (track.search_shift).",
+       kSearchColumns},
+      {"track_config.yaml", "The keys track ran with, merged.", {}},
+  };
+  return outputs;
 }
 
 void ModeTraceRows(const ModeRun& run, const TrackResult& r, RowSink& trace, RowSink& foot) {
@@ -348,9 +399,7 @@ void ModeTraceRows(const ModeRun& run, const TrackResult& r, RowSink& trace, Row
 
 namespace {
 
-// The columns and cells of one joint's model in model_estimates.csv and plant_models.csv.
-const std::vector<std::string> kModelColumns = {"joint",     "v_max_deg_per_tick", "theta0_deg",
-                                                "lag_ticks", "accel_ticks",        "fit_rms_deg"};
+// The cells of one joint's model in model_estimates.csv and plant_models.csv.
 void ModelCells(CsvWriter& csv, int joint, const IdentificationResult& fit) {
   csv.Cell(std::string(kLegJointNames[joint])).Cell(fit.params.v_max_deg_per_tick);
   csv.Cell(fit.params.theta0_deg).Cell(static_cast<long>(fit.params.lag_ticks));
@@ -372,7 +421,7 @@ void WriteTraceAndFoot(const ModeRun& run, const TrackResult& r, const OutputDir
 // <mode>_learning.csv, for a learning mode: every step's error, warm-up included (negative steps).
 void WriteLearningCurve(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
   CsvWriter csv(out.Path(std::string(ModeInfo(run).name) + "_learning.csv"),
-                {"step", "joint", "l2_deg", "foot_l2_cm"});
+                ColumnNames(kLearningColumns));
   for (const LearningStep& step : LearningCurve(run, r)) {
     for (int j = 0; j < kLegJoints; ++j) {
       csv.Cell(step.step).Cell(std::string(kLegJointNames[j])).Cell(step.l2_deg[j]);
@@ -386,9 +435,7 @@ void WriteLearningCurve(const ModeRun& run, const TrackResult& r, const OutputDi
 // per_step.csv: every mode's error every step, warm-up included (negative steps): one table, a
 // mode's rows appended as its run finishes.
 void AppendPerStep(const ModeRun& run, const TrackResult& r, const OutputDir& out) {
-  CsvWriter csv(out.Path("per_step.csv"),
-                {"mode", "step", "rotator_l2_deg", "abductor_l2_deg", "knee_l2_deg", "foot_l2_cm"},
-                /*append=*/true);
+  CsvWriter csv(out.Path("per_step.csv"), ColumnNames(kPerStepColumns), /*append=*/true);
   for (const LearningStep& step : LearningCurve(run, r)) {
     csv.Cell(std::string(ModeInfo(run).name)).Cell(step.step);
     for (int j = 0; j < kLegJoints; ++j) csv.Cell(step.l2_deg[j]);
@@ -401,12 +448,10 @@ void AppendPerStep(const ModeRun& run, const TrackResult& r, const OutputDir& ou
 // The models a mode estimated after every step (the first such mode's in
 // model_estimates.csv, any other's in model_estimates_<mode>.csv).
 void WriteModelEstimates(const ModeRun& run, const OutputDir& out) {
-  std::vector<std::string> columns = {"step"};
-  columns.insert(columns.end(), kModelColumns.begin(), kModelColumns.end());
   const bool first = !std::filesystem::exists(out.Path("model_estimates.csv"));
   CsvWriter csv(out.Path(first ? std::string("model_estimates.csv")
                                : "model_estimates_" + std::string(ModeInfo(run).name) + ".csv"),
-                columns);
+                ColumnNames(kModelEstimateColumns));
   for (const StepModelEstimates& step : run.run.model_estimates) {
     for (int j = 0; j < kLegJoints; ++j) {
       csv.Cell(step.step);
@@ -432,9 +477,7 @@ std::string WriteTrackTables(const TrackResult& r, const Table2& table,
   WriteTextFile(out.Path("table2.md"), md);
   // The plant's model as identify finds it before and after each change.
   if (!r.plant_models.empty()) {
-    std::vector<std::string> columns = {"from_step"};
-    columns.insert(columns.end(), kModelColumns.begin(), kModelColumns.end());
-    CsvWriter csv(out.Path("plant_models.csv"), columns);
+    CsvWriter csv(out.Path("plant_models.csv"), ColumnNames(kPlantModelColumns));
     for (const PlantIdentification& plant : r.plant_models) {
       for (int j = 0; j < kLegJoints; ++j) {
         csv.Cell(static_cast<long>(plant.from_step));
@@ -446,8 +489,10 @@ std::string WriteTrackTables(const TrackResult& r, const Table2& table,
   for (const ModeSearch& search : r.searches) {
     const ControllerModeInfo& mode = ModeOf(search.best);
     const auto parameters = ModeParameters(search.best);
-    const std::string column = parameters.empty() ? "candidate" : std::string(parameters[0].first);
-    CsvWriter csv(out.Path(std::string(mode.search_file) + ".csv"), {column, "foot_l2_cm"});
+    // kSearchColumns, its first column named after the searched parameter.
+    std::vector<std::string> columns = ColumnNames(kSearchColumns);
+    columns[0] = parameters.empty() ? "candidate" : std::string(parameters[0].first);
+    CsvWriter csv(out.Path(std::string(mode.search_file) + ".csv"), columns);
     for (size_t k = 0; k < search.candidates.size(); ++k) {
       const auto p = ModeParameters(search.candidates[k]);
       csv.Cell(p.empty() ? static_cast<long>(k) : p[0].second).Cell(search.foot_l2_cm[k]);

@@ -15,6 +15,7 @@
 #include "leglab/experiments/config.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/servo/log_fit.h"
+#include "leglab/servo/plan_program.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_model.h"
 #include "leglab/servo/servo_plan.h"
@@ -85,16 +86,16 @@ py::dict CurvesToDict(const LogFitCurves& c) {
   d["file"] = c.file;
   d["motor"] = c.motor;
   d["tick_s"] = c.tick_s;
-  d["time_s"] = ToArray(c.time_s);
-  d["request_deg"] = ToArray(c.request_deg);
-  d["measured_deg"] = ToArray(c.measured_deg);
   py::array_t<bool> torque(static_cast<py::ssize_t>(c.torque_enabled.size()));
   for (size_t t = 0; t < c.torque_enabled.size(); ++t) {
     torque.mutable_at(t) = c.torque_enabled[t] != 0;
   }
-  d["torque_enabled"] = torque;
-  for (size_t k = 0; k < kLogFitRungs.size(); ++k) {
-    d[py::str(std::string(kLogFitRungs[k]) + "_deg")] = ToArray(c.predicted_deg[k]);
+  // The columns of log_<name>.csv, named as declared (kLogCurveColumns).
+  std::array<py::object, kLogCurveColumns.size()> columns = {
+      ToArray(c.time_s), ToArray(c.request_deg), ToArray(c.measured_deg), torque};
+  for (size_t k = 0; k < kLogFitRungs.size(); ++k) columns[4 + k] = ToArray(c.predicted_deg[k]);
+  for (size_t i = 0; i < columns.size(); ++i) {
+    d[py::str(std::string(kLogCurveColumns[i].name))] = columns[i];
   }
   return d;
 }
@@ -230,12 +231,13 @@ py::dict Plan(const FittedModel& m, py::handle desired, const std::string& metho
     time.mutable_at(t) = static_cast<double>(t) * m.tick_s;
     beyond.mutable_at(t) = r.plan.beyond_servo[t];
   }
+  // The columns of plan's requests.csv, named as declared (kRequestsColumns), and direct_deg.
+  const std::array<py::object, kRequestsColumns.size()> columns = {
+      time, ToArray(r.desired), ToArray(r.plan.request_deg), ToArray(r.plan.predicted_deg), beyond};
   py::dict out;
-  out["time_s"] = time;
-  out["desired_deg"] = ToArray(r.desired);
-  out["request_deg"] = ToArray(r.plan.request_deg);
-  out["predicted_deg"] = ToArray(r.plan.predicted_deg);
-  out["beyond_servo"] = beyond;
+  for (size_t i = 0; i < columns.size(); ++i) {
+    out[py::str(std::string(kRequestsColumns[i].name))] = columns[i];
+  }
   out["direct_deg"] = ToArray(r.direct);
   return out;
 }

@@ -545,4 +545,23 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
   return result.markdown;
 }
 
+std::span<const OutputDoc> LogFitOutputs() {
+  static const OutputDoc outputs[] = {
+      {"log_fit.json",
+       "With a logs section: every servo type's fitted models (`models.<rung>.<motor>`, as plan "
+       "reads them), each log's "
+       "scores by rung (direct, best_shift, paper, extended), training and held out, the logs' "
+       "quality, and the planned requests' predicted errors.",
+       {}},
+      {"log_fit.md",
+       "With a logs section: log_fit.json as Markdown tables, one section per servo "
+       "type.",
+       {}},
+      {"log_<motor>_<name>.csv",
+       "With a logs section: one log as the fit saw it, beside every rung's prediction.",
+       kLogCurveColumns},
+  };
+  return outputs;
+}
+
 }  // namespace leglab

@@ -235,11 +235,10 @@ std::string ReportMarkdown(const Report& report) {
 }
 
 void WriteLogCsv(const LogFitCurves& c, const OutputDir& out) {
-  std::string text = "time_s,request_deg,measured_deg,torque_enabled";
-  for (const std::string_view rung : kRungs) {
-    text += ',';
-    text += rung;
-    text += "_deg";
+  std::string text;
+  for (const ColumnDoc& column : kLogCurveColumns) {
+    if (!text.empty()) text += ',';
+    text += column.name;
   }
   text += '\n';
   for (size_t t = 0; t < c.request_deg.size(); ++t) {

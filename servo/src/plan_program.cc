@@ -91,7 +91,7 @@ PlanResult Plan(const PlanOptions& o) {
 }
 
 void WriteRequests(const PlanResult& r, const fs::path& path) {
-  CsvWriter csv(path, {"time_s", "desired_deg", "request_deg", "predicted_deg", "beyond_servo"});
+  CsvWriter csv(path, ColumnNames(kRequestsColumns));
   for (size_t t = 0; t < r.desired.size(); ++t) {
     csv.Cell(static_cast<double>(t) * r.model.tick_s)
         .Cell(r.desired[t])
@@ -150,6 +150,19 @@ std::string RunPlan(const PlanOptions& options) {
   return Summary(options, result);
 }
 
+std::span<const OutputDoc> PlanOutputs() {
+  static const OutputDoc outputs[] = {
+      {"requests.csv", "The planned requests tick by tick, beside the desired motion.",
+       kRequestsColumns},
+      {"plan.json",
+       "The plan's summary: rung, method, motor, tick_s, ticks, beyond_servo_ticks, "
+       "predicted_mae_deg.{planned, direct}, limits, drive (extended rung), online (with "
+       "--online), model_file, desired_file.",
+       {}},
+  };
+  return outputs;
+}
+
 int PlanMain(int argc, char** argv) {
   CLI::App app(
       "Plan requests for a real servo from a fitted model (identify's log_fit.json) to follow "
@@ -174,6 +187,7 @@ int PlanMain(int argc, char** argv) {
   app.add_flag("--online", o.online,
                "the online planner's requests, tick by tick on the model, instead of the batch "
                "plan's");
+  AddListOutputsFlag(app, PlanOutputs());
   app.add_option("--preview-ticks", o.preview_ticks,
                  "with --online: desired angles ahead the planner is given (default: the "
                  "method's own)")

@@ -6,7 +6,9 @@ A fresh run of the programs whose JSON the blocks read, with the commands and fo
 scripts/reproduce.sh (learned_fit.py's networks, minutes of training, are left out: their cells
 are the ones docs_numbers.py names as not checked). Then, on a copy of the docs: a joint-model
 value, a servo error and a paper value changed by hand fail the check naming block and line,
---write puts the run's numbers back byte for byte, and bad input is one line, exit 2.
+--write puts the run's numbers back byte for byte, and bad input is one line, exit 2. The same
+fresh run's CSV tables have the columns docs/outputs.md declares (scripts/check-outputs.py), and
+that check finds a column renamed, one added and a file no program declares.
 
 Usage: docs_numbers_test.py SOURCE_DIR BIN_DIR BUILD_DIR SCRATCH_DIR
 Exit 77 (skipped) when the leglab Python package, which holds the paper's values, is not built.
@@ -70,6 +72,38 @@ def edit(path, old, new):
     with open(path, "w", encoding="utf-8") as f:
         f.write(text[:at] + new + text[at + len(old):])
     return text.count("\n", 0, at) + 1
+
+
+def check_outputs(results, expect):
+    """scripts/check-outputs.py on the fresh run, then on copies of a trace changed by hand."""
+    def run(folder):
+        return subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "scripts",
+                                                                 "check-outputs.py"), folder],
+                              capture_output=True, text=True, check=False)
+
+    result = run(results)
+    expect(result.returncode == 0 and " CSV files have their declared columns" in result.stdout,
+           "the fresh run's CSV files are not what docs/outputs.md declares", result)
+    bad = os.path.join(SCRATCH, "bad_outputs")
+    os.makedirs(bad)
+    with open(os.path.join(results, "trace_direct.csv"), encoding="utf-8") as f:
+        trace = f.read()
+    header, rest = trace.split("\n", 1)
+    for name, text, needle in (
+            ("trace_direct.csv", header.replace("actual_deg", "measured_deg") + "\n" + rest,
+             "trace_direct.csv: declared columns missing or out of order: actual_deg"),
+            ("trace_ilc.csv", header + ",extra_deg\n", "column 'extra_deg' is not declared"),
+            ("mine.csv", header + "\n", "mine.csv: no declared file has this name")):
+        folder = os.path.join(bad, name)
+        os.makedirs(folder)
+        with open(os.path.join(folder, name), "w", encoding="utf-8") as f:
+            f.write(text)
+        result = run(folder)
+        expect(result.returncode == 1 and needle in result.stderr,
+               f"check-outputs does not say {needle!r}", result)
+    result = run(os.path.join(SCRATCH, "nowhere"))
+    expect(result.returncode == 2 and result.stderr.count("\n") == 1,
+           "check-outputs on a missing folder is not one line, exit 2", result)
 
 
 def main():
@@ -136,6 +170,8 @@ def main():
     result = check(os.path.join(SCRATCH, "nowhere"))
     expect(result.returncode == 2 and result.stderr.count("\n") == 1,
            "a missing results folder is not one line, exit 2", result)
+
+    check_outputs(results, expect)
 
     for failure in failures:
         print("FAIL:", failure)

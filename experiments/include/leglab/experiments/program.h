@@ -1,9 +1,11 @@
 #pragma once
 
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "leglab/app/output_docs.h"
 #include "leglab/app/program.h"
 #include "leglab/experiments/config.h"
 
@@ -18,6 +20,12 @@ namespace leglab::experiments {
 /// internal error: <message>" and returns 1; success returns 0.
 int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
                int argc, char** argv,
+               const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
+
+/// RunProgram for a program that declares the files it writes: `--list-outputs` prints them
+/// (OutputsMarkdown) and exits.
+int RunProgram(const std::string& program, const std::string& description, const ConfigScope& scope,
+               std::span<const OutputDoc> outputs, int argc, char** argv,
                const std::function<void(const ProgramArgs&, const ExperimentConfig&)>& body);
 
 /// RunProgram for a program that uses every config key.

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -7,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/app/output_docs.h"
 #include "leglab/experiments/config.h"
 
 namespace leglab::experiments {
@@ -93,5 +95,25 @@ MergeResult MergeShards(const std::vector<std::filesystem::path>& dirs,
 /// scripts/sweep-slurm.sh, e.g. "sbatch --array=1,3-4 scripts/sweep-slurm.sh SWEEP DIR 5".
 std::string SlurmRerunCommand(const std::vector<int>& missing, int shard_count,
                               const std::string& sweep_file, const std::string& out_dir);
+
+/// The columns of sweep.csv (and of each sweep.shard-I-of-N.csv), one row per point. Those
+/// named with `<...>` are several, named when the sweep is read (ResultColumns).
+inline constexpr std::array<ColumnDoc, 10> kSweepColumns{{
+    {"index", "", "the point's index in the sweep's order, from 0"},
+    {"<key>", "", "each swept key's value at the point (YAML text), in the sweep file's order"},
+    {"status", "", "ok, or why the point could not run (bad input at that point)"},
+    {"<mode>_<joint>_l2_deg", "deg", "each base mode's joint L2 distance (Table 2's mean)"},
+    {"<mode>_foot_l2_cm", "cm", "each base mode's foot L2 distance"},
+    {"<mode>_<parameter>", "", "a searched mode's chosen parameter (time_shift_k)"},
+    {"floor_<joint>_l2_deg", "deg",
+     "the floor's joint L2 distance (the best any controller can do)"},
+    {"floor_foot_l2_cm", "cm", "the floor's foot L2 distance"},
+    {"model_source", "", "where the controllers' models came from (identified, given)"},
+    {"model_<joint>_<field>", "",
+     "the models used: v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks per joint"},
+}};
+
+/// What sweep writes: its `--list-outputs`.
+std::span<const OutputDoc> SweepOutputs();
 
 }  // namespace leglab::experiments

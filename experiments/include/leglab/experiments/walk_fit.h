@@ -2,10 +2,12 @@
 
 #include <array>
 #include <limits>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "leglab/app/output_docs.h"
 #include "leglab/experiments/config.h"
 
 namespace leglab::experiments {
@@ -92,5 +94,8 @@ std::string WalkFitJson(const WalkFitReport& report, const std::string& config_p
 
 /// walk_fit.md: the same as a page of Markdown tables (also what fit_walk prints).
 std::string WalkFitMarkdown(const WalkFitReport& report);
+
+/// What fit_walk writes: its `--list-outputs`.
+std::span<const OutputDoc> WalkFitOutputs();
 
 }  // namespace leglab::experiments

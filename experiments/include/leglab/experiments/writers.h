@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "leglab/app/output.h"
+#include "leglab/app/output_docs.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/tables.h"
 
@@ -58,14 +59,99 @@ void WriteConfigFile(const std::string& program, const ExperimentConfig& config,
 std::string WriteTrackOutputs(const TrackResult& result, const Table2& table,
                               const ExperimentConfig& config, const OutputDir& out);
 
-/// The columns of trace_<mode>.csv: step, tick, joint, and the joint's desired_deg, pwl_deg,
-/// request_deg, actual_deg and model_deg (its model's cyclic steady state under the requests of
-/// the first measured step; NaN where it has none).
-const std::vector<std::string>& TraceColumns();
+/// The columns of step_<joint>_<theta>.csv, one row per recorded tick.
+inline constexpr std::array<ColumnDoc, 4> kStepColumns{{
+    {"tick", "", "the recorded tick (8 ms), from 0"},
+    {"request_deg", "deg", "the square wave's request"},
+    {"actual_deg", "deg", "the joint's measured angle"},
+    {"model_deg", "deg", "the identified model's cyclic steady state under the request cycle"},
+}};
 
-/// The columns of foot_<mode>.csv: step, tick, the foot's desired and actual position
-/// ({desired,actual}_{x,y,z}_cm), and the stand's instruments (contact_fz_n, contact_fx_n,
-/// contact_fy_n, carriage_z_mm; zeros in the air).
+/// The columns of trace_<mode>.csv, one row per measured tick and joint.
+inline constexpr std::array<ColumnDoc, 8> kTraceColumns{{
+    {"step", "", "the measured step, from 0"},
+    {"tick", "", "the tick within the step (8 ms)"},
+    {"joint", "", "rotator, abductor or knee"},
+    {"desired_deg", "deg", "D: the desired angle"},
+    {"pwl_deg", "deg", "P: the mode's piecewise-linear approximation of D"},
+    {"request_deg", "deg", "the angle the mode requested"},
+    {"actual_deg", "deg", "the measured angle"},
+    {"model_deg", "deg",
+     "the mode's model's cyclic steady state under the first measured step's requests (NaN "
+     "where it has none)"},
+}};
+
+/// The columns of foot_<mode>.csv, one row per measured tick: the foot in the body frame (x
+/// forward, y left, z up; FootMm), then the stand's instruments (PlantTelemetry; zeros in the
+/// air).
+inline constexpr std::array<ColumnDoc, 12> kFootColumns{{
+    {"step", "", "the measured step, from 0"},
+    {"tick", "", "the tick within the step (8 ms)"},
+    {"desired_x_cm", "cm", "the desired foot position, forward"},
+    {"desired_y_cm", "cm", "the desired foot position, left"},
+    {"desired_z_cm", "cm", "the desired foot position, up"},
+    {"actual_x_cm", "cm", "the foot's position from the measured angles, forward"},
+    {"actual_y_cm", "cm", "the foot's position from the measured angles, left"},
+    {"actual_z_cm", "cm", "the foot's position from the measured angles, up"},
+    {"contact_fz_n", "N", "the floor's force on the foot, up, mean over the tick"},
+    {"contact_fx_n", "N", "the floor's force on the foot, forward, mean over the tick"},
+    {"contact_fy_n", "N", "the floor's force on the foot, left, mean over the tick"},
+    {"carriage_z_mm", "mm", "the stand's carriage above the shoulder's walking height"},
+}};
+
+/// The columns of <mode>_learning.csv, one row per step (warm-up steps negative) and joint.
+inline constexpr std::array<ColumnDoc, 4> kLearningColumns{{
+    {"step", "", "the step; the warm-up's are negative"},
+    {"joint", "", "rotator, abductor or knee"},
+    {"l2_deg", "deg", "the joint's RMS error over the step"},
+    {"foot_l2_cm", "cm", "the foot's RMS distance from its desired path over the step"},
+}};
+
+/// The columns of per_step.csv, one row per mode and step (warm-up steps negative).
+inline constexpr std::array<ColumnDoc, 6> kPerStepColumns{{
+    {"mode", "", "the controller mode"},
+    {"step", "", "the step; the warm-up's are negative"},
+    {"rotator_l2_deg", "deg", "the rotator's RMS error over the step"},
+    {"abductor_l2_deg", "deg", "the abductor's RMS error over the step"},
+    {"knee_l2_deg", "deg", "the knee's RMS error over the step"},
+    {"foot_l2_cm", "cm", "the foot's RMS distance from its desired path over the step"},
+}};
+
+/// The columns of model_estimates.csv (a mode's estimated model after every step) and of
+/// plant_models.csv (identify's model of the plant before and after each plant change): the
+/// first column says when, then one joint's model per row.
+inline constexpr std::array<ColumnDoc, 7> kModelEstimateColumns{{
+    {"step", "", "the step after which the mode estimated the model"},
+    {"joint", "", "rotator, abductor or knee"},
+    {"v_max_deg_per_tick", "deg/tick", "v_max: the joint's top speed"},
+    {"theta0_deg", "deg", "theta_0: the error at which it saturates"},
+    {"lag_ticks", "ticks", "l: ticks before a request starts to act"},
+    {"accel_ticks", "ticks", "a: ticks to reach a new speed"},
+    {"fit_rms_deg", "deg", "the fit's RMS residual"},
+}};
+inline constexpr std::array<ColumnDoc, 7> kPlantModelColumns = [] {
+  std::array<ColumnDoc, 7> columns = kModelEstimateColumns;
+  columns[0] = {"from_step", "",
+                "the measured step from which the plant is so (0: from the start)"};
+  return columns;
+}();
+
+/// The columns of a searched mode's search file (time_shift's shift_search.csv), one row per
+/// candidate.
+inline constexpr std::array<ColumnDoc, 2> kSearchColumns{{
+    {"<parameter>", "",
+     "the candidate's parameter (time_shift: k, ticks ahead; a mode without one: `candidate`, its "
+     "index)"},
+    {"foot_l2_cm", "cm", "the candidate's foot L2 distance, mean over the measured steps"},
+}};
+
+/// What identify and track write, each file once (the files of identify's logs section are
+/// FitServoLogs'): what their `--list-outputs` prints.
+std::span<const OutputDoc> IdentifyOutputs();
+std::span<const OutputDoc> TrackOutputs();
+
+/// The column names of trace_<mode>.csv (kTraceColumns) and foot_<mode>.csv (kFootColumns).
+const std::vector<std::string>& TraceColumns();
 const std::vector<std::string>& FootColumns();
 
 /// The rows of trace_<mode>.csv (TraceColumns: a row per measured tick and joint) and

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "leglab/app/output.h"
+#include "leglab/app/output_docs.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_model.h"
@@ -133,5 +134,30 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
 
 /// The files identify writes in its log mode.
 inline const std::vector<std::string> kLogFitOutputPrefixes{"log_fit.", "log_"};
+
+/// The columns of log_<motor>_<name>.csv (LogFitCurves), one row per tick of the log's tick:
+/// the log resampled, then each rung's prediction (kLogFitRungs, in order).
+inline constexpr std::array<ColumnDoc, 4 + kLogFitRungs.size()> kLogCurveColumns{{
+    {"time_s", "s", "the tick's time from the log's start"},
+    {"request_deg", "deg", "the request in force (held between samples)"},
+    {"measured_deg", "deg", "the measured angle (interpolated between samples)"},
+    {"torque_enabled", "", "1 when the servo drove the joint, 0 when it was limp (not scored)"},
+    {"direct_deg", "deg", "direct: the request as the prediction"},
+    {"best_shift_deg", "deg", "the request delayed by the best fixed time shift in hindsight"},
+    {"paper_deg", "deg", "the paper's model's prediction (held out where cross-validated)"},
+    {"extended_deg", "deg", "the extended model's prediction (held out where cross-validated)"},
+}};
+
+// The rungs' columns are kLogFitRungs' names with "_deg", in their order.
+static_assert([] {
+  for (size_t k = 0; k < kLogFitRungs.size(); ++k) {
+    const std::string_view name = kLogCurveColumns[4 + k].name, rung = kLogFitRungs[k];
+    if (name.substr(0, rung.size()) != rung || name.substr(rung.size()) != "_deg") return false;
+  }
+  return true;
+}());
+
+/// What identify writes in its log mode (FitServoLogs' files; its config file aside).
+std::span<const OutputDoc> LogFitOutputs();
 
 }  // namespace leglab

@@ -2,9 +2,12 @@
 
 // The `plan` program (servo/plan.cc): its flags, and the run that reads a fitted model and a
 // desired motion (servo_plan_io.h), plans and writes requests.csv and plan.json.
+#include <array>
 #include <optional>
+#include <span>
 #include <string>
 
+#include "leglab/app/output_docs.h"
 #include "leglab/servo/servo_plan_io.h"
 
 namespace leglab {
@@ -35,5 +38,20 @@ std::string RunPlan(const PlanOptions& options);
 
 /// `plan`'s main: parses the flags and runs RunPlan, reporting errors as ReportErrors does.
 int PlanMain(int argc, char** argv);
+
+/// The columns of plan's requests.csv (and of leglab.servo.plan's dict), one row per tick of
+/// the model's tick.
+inline constexpr std::array<ColumnDoc, 5> kRequestsColumns{{
+    {"time_s", "s", "the tick's time from the motion's start"},
+    {"desired_deg", "deg", "the desired angle, resampled onto the model's tick"},
+    {"request_deg", "deg", "the planned request"},
+    {"predicted_deg", "deg", "the model's angle under the planned requests"},
+    {"beyond_servo", "",
+     "1 where the model-based inversion cannot reach the desired angle (a property of the "
+     "motion)"},
+}};
+
+/// What plan writes: its `--list-outputs`.
+std::span<const OutputDoc> PlanOutputs();
 
 }  // namespace leglab

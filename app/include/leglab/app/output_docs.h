@@ -1,0 +1,43 @@
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace leglab {
+
+/// One column of a table a program writes: its name as the CSV header and the Python
+/// package's dict keys spell it, its unit ("" for a count, a name or a flag) and what it holds.
+/// A name with `<...>` stands for several columns (one per mode, joint or swept key).
+struct ColumnDoc {
+  std::string_view name;
+  std::string_view unit;
+  std::string_view description;
+};
+
+/// One file a program writes, declared beside the code that fills it: what `--list-outputs`
+/// prints and docs/outputs.md holds. `file` may hold `<...>` for a part named at run time
+/// ("trace_<mode>.csv"). A file without columns (JSON, Markdown) is described in prose.
+struct OutputDoc {
+  std::string_view file;
+  std::string_view description;
+  std::span<const ColumnDoc> columns;
+};
+
+/// The names of `columns`, in order: a CSV's header, a Python dict's keys.
+std::vector<std::string> ColumnNames(std::span<const ColumnDoc> columns);
+
+/// `outputs` as Markdown: per file a `### file` heading, its description, and its columns as a
+/// table column | unit | description.
+std::string OutputsMarkdown(std::span<const OutputDoc> outputs);
+
+/// Adds `--list-outputs` to `app`: prints OutputsMarkdown(`outputs`) on stdout and exits with
+/// status 0 before any other flag is checked.
+void AddListOutputsFlag(CLI::App& app, std::span<const OutputDoc> outputs);
+
+}  // namespace leglab
