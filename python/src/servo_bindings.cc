@@ -250,8 +250,11 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
   ServoPlannerOptions options;
   options.method = ToMethod(method);
   // The planner's own checks (ServoPlannerOptions) bound these further, naming them.
+  // None: the method's own (-1); else the declared range from 0 (kServoPreviewDoc).
   options.preview_ticks =
-      preview.is_none() ? -1 : static_cast<int>(ToInteger(preview, "preview_ticks", 0, 1'000'000));
+      preview.is_none() ? -1
+                        : static_cast<int>(ToInteger(preview, "preview_ticks", 0,
+                                                     static_cast<long long>(kServoPreviewDoc.max)));
   options.reanchor_deg = ToReal(reanchor, "reanchor_deg");
   options.optimal_iterations_per_tick =
       static_cast<int>(ToInteger(iterations, "optimal_iterations_per_tick", 1, 1000));

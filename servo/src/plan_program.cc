@@ -56,6 +56,13 @@ void CheckOptions(const PlanOptions& o) {
                        FormatNumber(*f.value));
     }
   }
+  if (o.preview_ticks) {
+    const KeyDoc doc = WithRange(kServoPreviewDoc, 0, kMaxServoPreviewTicks);
+    if (std::string problem = KeyValueProblem(*o.preview_ticks, doc); !problem.empty()) {
+      throw InputError("--preview-ticks must be " + problem + ", got " +
+                       std::to_string(*o.preview_ticks));
+    }
+  }
   if (o.preview_ticks && !o.online) {
     throw InputError("--preview-ticks goes with --online (the batch plan sees the whole motion)");
   }
@@ -190,8 +197,7 @@ int PlanMain(int argc, char** argv) {
   AddListOutputsFlag(app, PlanOutputs());
   app.add_option("--preview-ticks", o.preview_ticks,
                  "with --online: desired angles ahead the planner is given (default: the "
-                 "method's own)")
-      ->check(CLI::Range(0, kMaxServoPreviewTicks));
+                 "method's own)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

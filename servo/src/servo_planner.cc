@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -289,6 +290,19 @@ class Planner final : public ServoPlanner::Impl {
 
 }  // namespace
 
+void VisitKeys(KeyVisitor& v, ServoPlannerOptions& options) {
+  v.Key("preview_ticks", options.preview_ticks, kServoPreviewDoc);
+  v.Key("reanchor_deg", options.reanchor_deg,
+        {.min = 0,
+         .max = std::numeric_limits<double>::infinity(),
+         .min_open = true,
+         .unit = "deg",
+         .description = "a measurement this far off the model's prediction re-anchors the "
+                        "model (inf: never)"});
+  v.Key("optimal_iterations_per_tick", options.optimal_iterations_per_tick,
+        {.min = 1, .max = 1000, .description = "optimal: gradient iterations per tick"});
+}
+
 namespace {
 
 void CheckLag(int ticks) {
@@ -304,20 +318,9 @@ void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& op
   if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
     throw std::invalid_argument("servo planner: " + problem);
   }
-  if (options.preview_ticks < -1 || options.preview_ticks > kMaxServoPreviewTicks) {
-    throw std::invalid_argument(
-        "servo planner: preview_ticks must be from 0 to " + std::to_string(kMaxServoPreviewTicks) +
-        " (or -1: the method's), got " + std::to_string(options.preview_ticks));
-  }
-  if (!(options.reanchor_deg > 0.0)) {  // infinity is allowed: never re-anchor
-    throw std::invalid_argument("servo planner: reanchor_deg must be positive, got " +
-                                FormatNumber(options.reanchor_deg));
-  }
-  if (options.optimal_iterations_per_tick < 1 || options.optimal_iterations_per_tick > 1000) {
-    throw std::invalid_argument(
-        "servo planner: optimal_iterations_per_tick must be from 1 to 1000, got " +
-        std::to_string(options.optimal_iterations_per_tick));
-  }
+  const std::string problem =
+      KeysProblem(options, [](KeyVisitor& v, ServoPlannerOptions& o) { VisitKeys(v, o); });
+  if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
 }
 
 }  // namespace

@@ -33,6 +33,18 @@ struct ServoPlannerOptions {
   int optimal_iterations_per_tick = 4;
 };
 
+/// The declared range of ServoPlannerOptions::preview_ticks (-1: the method's own), which
+/// plan's --preview-ticks takes from 0.
+inline constexpr KeyDoc kServoPreviewDoc{
+    .min = -1,
+    .max = kMaxServoPreviewTicks,
+    .unit = "ticks",
+    .description = "desired angles after this tick's given to Request (-1: the method's own)"};
+
+/// ServoPlannerOptions' numbers, declared once (see KeyVisitor) with the ranges their comments
+/// give: what the planner checks when it is built (its method is checked by its type).
+void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
+
 /// Requests for a servo one tick at a time, from a fitted model: PlanServoRequests online, for
 /// a loop that sends each request as it is computed and reads the servo back.
 ///
