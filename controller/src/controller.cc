@@ -69,10 +69,11 @@ ControllerContext MakeControllerContext(DesiredCycle desired,
                                         int pwl_segments) {
   if (desired.empty()) throw std::invalid_argument("controller: the desired cycle is empty");
   const auto period = static_cast<int>(desired.size());
-  if (pwl_segments < 1 || pwl_segments > period) {
-    throw std::invalid_argument("config: controller.pwl_segments must be in [1, " +
-                                std::to_string(period) + "] (the ticks of a step), got " +
-                                std::to_string(pwl_segments));
+  if (const std::string problem =
+          KeyValueProblem(pwl_segments, WithRange(kPwlSegmentsDoc, 1, period));
+      !problem.empty()) {
+    throw std::invalid_argument("config: controller.pwl_segments must be " + problem +
+                                " (the ticks of a step), got " + std::to_string(pwl_segments));
   }
   ControllerContext context{std::move(desired), models, limits, {}, 0, {}};
   std::array<double, kLegJoints> v_max{};

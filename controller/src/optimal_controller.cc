@@ -126,8 +126,10 @@ DesiredCycle ComputeFootOptimalRequestCycle(const ControllerContext& context,
 }  // namespace
 
 DesiredCycle OptimalRequestCycle(const ControllerContext& context, double tolerance_deg) {
-  if (!(tolerance_deg >= 0.0)) {
-    throw std::invalid_argument("optimal: the joint optimum's tolerance must be >= 0");
+  if (const std::string problem = KeyValueProblem(tolerance_deg, kOptimalToleranceDoc);
+      !problem.empty()) {
+    throw std::invalid_argument("optimal: the joint optimum's tolerance must be " + problem +
+                                ", got " + FormatNumber(tolerance_deg, NumberStyle::kReadable));
   }
   auto compute = [&context, tolerance_deg] {
     return ComputeOptimalRequestCycle(context, tolerance_deg);

@@ -29,10 +29,7 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
          .description = "step heights, one recording each: 1 to 8, non-zero and distinct (each "
                         "names its step_<joint>_<theta>.csv)"});
   v.Key("t_step_ticks", c.t_step_ticks,
-        {.min = 4,
-         .max = 1000,
-         .unit = "ticks",
-         .description = "period of the step test's square wave (32 ms to 8 s)"});
+        WithDescription(kStepTicksDoc, "period of the step test's square wave (32 ms to 8 s)"));
   v.Key(
       "settle_cycles", c.settle_cycles,
       {.min = 1, .max = 1000, .description = "cycles run before recording, to reach equilibrium"});
@@ -92,19 +89,7 @@ void VisitKeys(KeyVisitor& v, IdentifyConfig& c) {
 // The half-elliptical foot locus: its shape and where it sits.
 void VisitKeys(KeyVisitor& v, LocusConfig& c) {
   HalfEllipseLocus& shape = c.shape;
-  v.Key("length_mm", shape.length_mm,
-        {.min = 0,
-         .max = 1000,
-         .unit = "mm",
-         .description = "fore-aft length of the flat bottom (reachability is checked after)"});
-  v.Key("height_mm", shape.height_mm,
-        {.min = 0, .max = 1000, .unit = "mm", .description = "height of the arc above the bottom"});
-  v.Key("ground_fraction", shape.ground_fraction,
-        {.min = 0,
-         .max = 1,
-         .min_open = true,
-         .max_open = true,
-         .description = "fraction of the step the foot is on the ground"});
+  VisitKeys(v, shape);
   v.Key("forward_mm", c.forward_mm,
         {.min = -1000,
          .max = 1000,
@@ -120,34 +105,7 @@ void VisitKeys(KeyVisitor& v, LocusConfig& c) {
          .max = 1000,
          .unit = "mm",
          .description = "the ground below the shoulder (on the stand, where the floor lies)"});
-  v.Key("skew", shape.skew,
-        {.min = -1,
-         .max = 1,
-         .description = "the locus skewed in the ground plane, outward mm per mm forward"});
-  v.Key("swing_end_speed_fraction", shape.swing_end_speed_fraction,
-        {.min = 0,
-         .max = 2,
-         .description = "the foot's backward speed at lift-off and touch-down over the stance's: "
-                        "0, the plain half-ellipse; 1, it meets the ground at the stance's speed "
-                        "(track_stand.yaml ships 1)"});
-  v.Key("liftoff_ramp_mm", shape.liftoff_ramp_mm,
-        {.min = 0,
-         .max = 50,
-         .unit = "mm",
-         .description = "a slow lift-off's height (0: none); its line must stay under the arc's "
-                        "top (track_stand.yaml ships 8)"});
-  v.Key("liftoff_ramp_ticks", shape.liftoff_ramp_ticks,
-        {.min = 0,
-         .max = 100,
-         .unit = "ticks",
-         .description = "the slow lift-off's length; >= 1 with a ramp, shorter than the flight "
-                        "(track_stand.yaml ships 5)"});
-  v.Key("body_pitch_deg", c.body_pitch_deg,
-        {.min = -45,
-         .max = 45,
-         .unit = "deg",
-         .description = "the body pitched nose down; the offsets are then measured in the level "
-                        "ground frame and the locus turned with the body about the shoulder"});
+  v.Key("body_pitch_deg", c.body_pitch_deg, kBodyPitchDoc);
   // The slow lift-off is checked with the walk's step (and so its flight) in CheckWalk.
   HalfEllipseLocus without_ramp = shape;
   without_ramp.liftoff_ramp_mm = 0.0;
@@ -166,10 +124,7 @@ void VisitKeys(KeyVisitor& v, TrackConfig& t) {
   });
   v.Section("track", [&] {
     v.Key("t_step_ticks", t.t_step_ticks,
-          {.min = 4,
-           .max = 1000,
-           .unit = "ticks",
-           .description = "ticks per step (a desired.csv's rows)"});
+          WithDescription(kStepTicksDoc, "ticks per step (a desired.csv's rows)"));
     v.Key("search_shift", t.search_shift, kShiftSearchNames,
           {.description = "how time_shift finds its k: true, every k scored from one run one step "
                           "longer; exhaustive, every k run on its own (the paper's procedure); "
@@ -177,8 +132,7 @@ void VisitKeys(KeyVisitor& v, TrackConfig& t) {
   });
   v.Key("warmup_steps", t.warmup_steps,
         {.min = 0, .max = 1'000'000, .description = "steps run before measuring"});
-  v.Key("steps", t.steps,
-        {.min = 1, .max = 1'000'000, .description = "measured steps (the paper: 20)"});
+  v.Key("steps", t.steps, kStepsDoc);
 }
 
 // What the loader keeps besides the config while it reads: every mode's options (the modes to
@@ -219,11 +173,7 @@ void VisitExperimentKeys(KeyVisitor& v, ExperimentConfig& c, ReadState& state,
     v.Structured("modes", "list of modes", "[" + ControllerModeNames() + "]",
                  {.description = "the modes track runs, in order, each at most once"});
     if (reader != nullptr) state.modes = reader->Raw("modes");
-    v.Key("pwl_segments", c.pwl_segments,
-          {.min = 1,
-           .max = 1000,
-           .description = "segments of each joint's piecewise-linear approximation P; at most "
-                          "track.t_step_ticks"});
+    v.Key("pwl_segments", c.pwl_segments, kPwlSegmentsDoc);
   });
   // Each mode's keys, in its own section (`controller` unless it says otherwise).
   for (const ControllerModeInfo& m : ControllerModes()) {
@@ -343,11 +293,13 @@ int ReadChangeStep(const YAML::Node& item, const std::string& name,
     } catch (const YAML::Exception&) {
       FailConfig(name + ".at_step: expected an integer");
     }
-    if (step < 0 || step > 1'000'000) {
-      FailConfig(name + ".at_step must be a measured step in [0, 1000000]");
+    if (const std::string problem = KeyValueProblem(static_cast<double>(step), kAtStepDoc);
+        !problem.empty()) {
+      FailConfig(name + ".at_step must be a measured step " + problem + ", got " +
+                 std::to_string(step));
     }
   }
-  if (step < 0) FailConfig(name + ".at_step must be given, a measured step >= 0");
+  if (step < 0) FailConfig(name + ".at_step must be given, a measured step");
   if (!earlier.empty() && step <= earlier.back().at_step) {
     FailConfig(name + ".at_step must be after the previous change's (" +
                std::to_string(earlier.back().at_step) + ")");
@@ -500,18 +452,19 @@ void CheckWalk(ExperimentConfig& config, const std::string& config_path) {
     stand.belt_speed_mm_per_s = t.locus.shape.length_mm /
                                 (t.locus.shape.ground_fraction * t.t_step_ticks * kTickMs / 1000.0);
   }
-  if (config.pwl_segments > t.t_step_ticks) {
-    FailConfig("controller.pwl_segments must be at most track.t_step_ticks = " +
-               std::to_string(t.t_step_ticks) + " (a segment spans at least one tick), got " +
+  if (const std::string problem =
+          KeyValueProblem(config.pwl_segments, WithRange(kPwlSegmentsDoc, 1, t.t_step_ticks));
+      !problem.empty()) {
+    FailConfig("controller.pwl_segments must be " + problem +
+               ", at most track.t_step_ticks (a segment spans at least one tick), got " +
                std::to_string(config.pwl_segments));
   }
   for (size_t i = 0; i < config.plant_changes.size(); ++i) {
-    if (config.plant_changes[i].at_step >= t.steps) {
-      FailConfig("plant_changes[" + std::to_string(i) +
-                 "].at_step must be a measured step, below "
-                 "steps = " +
-                 std::to_string(t.steps) + ", got " +
-                 std::to_string(config.plant_changes[i].at_step));
+    const int at_step = config.plant_changes[i].at_step;
+    if (const std::string problem = KeyValueProblem(at_step, WithRange(kAtStepDoc, 0, t.steps - 1));
+        !problem.empty()) {
+      FailConfig("plant_changes[" + std::to_string(i) + "].at_step must be a measured step " +
+                 problem + ", below steps, got " + std::to_string(at_step));
     }
   }
 }

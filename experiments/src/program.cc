@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "leglab/app/output.h"
+#include "leglab/app/parallel.h"
 #include "leglab/app/progress.h"
 
 namespace leglab::experiments {
@@ -25,7 +26,7 @@ int RunProgram(const std::string& program, const std::string& description, const
   app.add_option("--out", args.out_dir, "folder for the results")->required();
   app.add_option("--threads", args.threads,
                  "worker threads (default: one per core); results do not depend on it")
-      ->check(CLI::Range(1, 4096));
+      ->check(CLI::Range(1, static_cast<int>(kThreadsDoc.max)));
   CLI::Option* progress = app.add_flag(
       "--progress", args.progress,
       "plain progress lines on stderr (for logs and CI); default: a bar on a terminal");

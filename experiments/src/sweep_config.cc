@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 
 #include "leglab/app/output.h"
@@ -13,6 +14,17 @@ namespace leglab::experiments {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The ranges of a sample's count and seed and of a sampled key's step, which the listing and
+// the loader share.
+constexpr KeyDoc kCountDoc{
+    .min = 1, .max = static_cast<double>(kMaxSweepPoints), .description = "points drawn at random"};
+constexpr KeyDoc kSeedDoc{
+    .min = 0,
+    .max = 9.2e18,
+    .description = "seed of the draw: the same seed gives the same points on any machine"};
+constexpr KeyDoc kStepDoc{
+    .min = 0, .max = std::numeric_limits<double>::infinity(), .min_open = true, .max_open = true};
 
 // The sweep file's own keys; every other key is an experiment key merged over the base.
 void VisitSweepKeys(KeyVisitor& v) {
@@ -25,15 +37,9 @@ void VisitSweepKeys(KeyVisitor& v) {
                                "varying slowest (give grid or sample)"});
   v.Section("sample", [&] {
     int count = 1;
-    v.Key("count", count,
-          {.min = 1,
-           .max = static_cast<double>(kMaxSweepPoints),
-           .description = "points drawn at random"});
+    v.Key("count", count, kCountDoc);
     std::uint64_t seed = 0;
-    v.Key("seed", seed,
-          {.min = 0,
-           .max = 9.2e18,
-           .description = "seed of the draw: the same seed gives the same points on any machine"});
+    v.Key("seed", seed, kSeedDoc);
     v.Structured("keys", "map of key: {min, max[, step]}", "(none)",
                  {.description = "each key uniform in [min, max] (integers when min and max are "
                                  "written so); with step, only min + k step"});
@@ -142,8 +148,9 @@ SampleRange ReadSampleRange(const YAML::Node& r, const std::string& name, const 
     fail(name + ": expected finite min <= max");
   }
   if (stepped) {
-    if (!(std::isfinite(range.step) && range.step > 0.0)) {
-      fail(name + ".step must be positive and finite");
+    if (const std::string problem = KeyValueProblem(range.step, kStepDoc); !problem.empty()) {
+      fail(name + ".step must be " + problem + ", got " +
+           FormatNumber(range.step, NumberStyle::kReadable));
     }
     // max counts when it is min plus a whole number of steps up to rounding (0.1 .. 0.5 by
     // 0.1: (0.5 - 0.1) / 0.1 is 3.9999999999999996).
@@ -191,16 +198,19 @@ void LoadSample(const YAML::Node& sample, const SweepError& fail, SweepConfig& s
   } catch (const YAML::Exception&) {
     fail("sample.count: expected a whole number of points");
   }
-  if (count < 1 || count > kMaxSweepPoints) {
-    fail("sample.count must be in [1, " + std::to_string(kMaxSweepPoints) + "], got " +
-         std::to_string(count));
+  if (const std::string problem = KeyValueProblem(static_cast<double>(count), kCountDoc);
+      !problem.empty()) {
+    fail("sample.count must be " + problem + ", got " + std::to_string(count));
   }
   try {
     seed = sample["seed"].as<long long>();
   } catch (const YAML::Exception&) {
     fail("sample.seed: expected a non-negative integer");
   }
-  if (seed < 0) fail("sample.seed must be non-negative");
+  if (const std::string problem = KeyValueProblem(static_cast<double>(seed), kSeedDoc);
+      !problem.empty()) {
+    fail("sample.seed must be " + problem + ", got " + std::to_string(seed));
+  }
   const YAML::Node keys = sample["keys"];
   if (!keys.IsMap() || keys.size() == 0) {
     fail("sample.keys: expected {<key>: {min: a, max: b[, step: s]}}");

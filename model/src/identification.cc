@@ -307,7 +307,10 @@ namespace {
 // The mean over the cycles of `run`'s measured angle at each tick of the cycle (AverageCycles'
 // checks of the run).
 std::vector<double> CycleMean(const JointRecording& run, int period_ticks) {
-  if (period_ticks < 1) Fail("the period must be at least one tick");
+  if (const std::string problem = KeyValueProblem(period_ticks, kCyclePeriodDoc);
+      !problem.empty()) {
+    Fail("the period must be " + problem + ", got " + std::to_string(period_ticks));
+  }
   if (run.request_deg.size() != run.measured_deg.size()) {
     Fail("request and measured lengths differ");
   }

@@ -501,40 +501,37 @@ void Validate(std::span<const double> desired, const JointModelParams& params,
                                 std::to_string(options.lower_deg) + " and " +
                                 std::to_string(options.upper_deg));
   }
-  if (options.max_iterations < 1) {
-    throw std::invalid_argument("optimal requests: max_iterations must be >= 1, got " +
-                                std::to_string(options.max_iterations));
+  if (!options.weights.empty() && options.weights.size() != desired.size()) {
+    throw std::invalid_argument("optimal requests: " + std::to_string(desired.size()) +
+                                " desired angles but " + std::to_string(options.weights.size()) +
+                                " weights");
   }
-  if (!(options.tolerance_deg >= 0.0)) {
-    throw std::invalid_argument("optimal requests: tolerance_deg must be >= 0, got " +
-                                std::to_string(options.tolerance_deg));
-  }
-  if (!options.weights.empty()) {
-    if (options.weights.size() != desired.size()) {
-      throw std::invalid_argument("optimal requests: " + std::to_string(desired.size()) +
-                                  " desired angles but " + std::to_string(options.weights.size()) +
-                                  " weights");
-    }
-    for (std::size_t t = 0; t < options.weights.size(); ++t) {
-      if (!(options.weights[t] >= 0.0 && std::isfinite(options.weights[t]))) {
-        throw std::invalid_argument("optimal requests: weights[" + std::to_string(t) +
-                                    "] must be finite and >= 0, got " +
-                                    std::to_string(options.weights[t]));
-      }
-    }
-  }
-  if (!(options.request_smoothing >= 0.0 && std::isfinite(options.request_smoothing))) {
-    throw std::invalid_argument(
-        "optimal requests: request_smoothing must be finite and >= 0, got " +
-        std::to_string(options.request_smoothing));
-  }
-  if (!(options.smoothing_theta0 >= 0.0 && std::isfinite(options.smoothing_theta0))) {
-    throw std::invalid_argument("optimal requests: smoothing_theta0 must be >= 0, got " +
-                                std::to_string(options.smoothing_theta0));
+  if (std::string problem =
+          KeysProblem(options, [](KeyVisitor& v, OptimalRequestsOptions& o) { VisitKeys(v, o); });
+      !problem.empty()) {
+    throw std::invalid_argument("optimal requests: " + problem);
   }
 }
 
 }  // namespace
+
+void VisitKeys(KeyVisitor& v, OptimalRequestsOptions& options) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  v.Key("max_iterations", options.max_iterations,
+        {.min = 1, .max = 1e6, .description = "sensitivity evaluations at most, over all stages"});
+  v.Key("tolerance_deg", options.tolerance_deg, kOptimalToleranceDoc);
+  v.Key("smoothing_theta0", options.smoothing_theta0,
+        {.min = 0,
+         .max = kInf,
+         .max_open = true,
+         .description = "f's kinks rounded in the first stage, a fraction of theta_0"});
+  v.Key("weights", options.weights, kObjectiveWeightDoc);
+  v.Key("request_smoothing", options.request_smoothing,
+        {.min = 0,
+         .max = kInf,
+         .max_open = true,
+         .description = "move suppression on the requests' second difference, lambda"});
+}
 
 double SumOfSquaredSecondDifferences(std::span<const double> cycle) {
   double sum = 0.0;
@@ -616,11 +613,12 @@ Eigen::MatrixXd SensitivityAtSteadyState(const JointModelParams& params,
                                 " requests but " + std::to_string(row_weights.size()) +
                                 " row weights");
   }
-  RequireFinite(row_weights, "row_weights");
   for (std::size_t t = 0; t < row_weights.size(); ++t) {
-    if (row_weights[t] < 0.0) {
+    if (const std::string problem = KeyValueProblem(row_weights[t], kObjectiveWeightDoc);
+        !problem.empty()) {
       throw std::invalid_argument("optimal requests: row_weights[" + std::to_string(t) +
-                                  "] must be >= 0, got " + std::to_string(row_weights[t]));
+                                  "] must be " + problem + ", got " +
+                                  FormatNumber(row_weights[t], NumberStyle::kReadable));
     }
   }
   const PeriodicModel model(params, requests_deg, 0.0, false);
@@ -649,11 +647,14 @@ Eigen::VectorXd StructuredDampedStep(const JointModelParams& params,
   RequireFinite(requests_deg, "requests_deg");
   RequireFinite(desired_deg, "desired_deg");
   RequireFinite(weights, "weights");
-  if (!(damping > 0.0 && std::isfinite(damping))) {
-    throw std::invalid_argument("optimal requests: the step's damping must be positive and finite");
+  if (const std::string problem = KeyValueProblem(damping, kStepDampingDoc); !problem.empty()) {
+    throw std::invalid_argument("optimal requests: the step's damping must be " + problem +
+                                ", got " + FormatNumber(damping, NumberStyle::kReadable));
   }
-  if (!(suppression >= 0.0 && std::isfinite(suppression))) {
-    throw std::invalid_argument("optimal requests: the step's suppression must be finite and >= 0");
+  if (const std::string problem = KeyValueProblem(suppression, kStepSuppressionDoc);
+      !problem.empty()) {
+    throw std::invalid_argument("optimal requests: the step's suppression must be " + problem +
+                                ", got " + FormatNumber(suppression, NumberStyle::kReadable));
   }
   for (const int j : free) {
     if (j < 0 || j >= static_cast<int>(requests_deg.size())) {

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/model/joint_model.h"
 #include "leglab/model/metrics.h"
 
 namespace leglab {
@@ -25,7 +26,10 @@ void ValidateInput(std::span<const double> desired, double v_max) {
   for (size_t t = 0; t < desired.size(); ++t) {
     if (!std::isfinite(desired[t])) Fail("desired sample " + std::to_string(t) + " is not finite");
   }
-  if (!(std::isfinite(v_max) && v_max > 0.0)) Fail("v_max must be positive");
+  if (const std::string problem = KeyValueProblem(v_max, kAnyJointModel.v_max_deg_per_tick);
+      !problem.empty()) {
+    Fail("v_max must be " + problem + ", got " + FormatNumber(v_max, NumberStyle::kReadable));
+  }
 }
 
 // One slope bound: values[to] - values[from] <= bound.
@@ -131,10 +135,14 @@ namespace {
 // The fit's checks of the breakpoints (FitPiecewiseLinearAt's contract).
 void ValidateBreakpoints(const std::vector<int>& breakpoints, int period) {
   if (breakpoints.empty()) Fail("at least one breakpoint is needed");
+  const KeyDoc in_period = WithRange(kPwlBreakpointDoc, 0, period - 1);
   for (size_t k = 0; k < breakpoints.size(); ++k) {
-    if (breakpoints[k] < 0 || breakpoints[k] >= period ||
-        (k > 0 && breakpoints[k] <= breakpoints[k - 1])) {
-      Fail("breakpoints must be strictly increasing ticks in [0, " + std::to_string(period) + ")");
+    if (const std::string problem = KeyValueProblem(breakpoints[k], in_period); !problem.empty()) {
+      Fail("breakpoint " + std::to_string(k) + " must be " + problem + ", got " +
+           std::to_string(breakpoints[k]));
+    }
+    if (k > 0 && breakpoints[k] <= breakpoints[k - 1]) {
+      Fail("breakpoints must strictly increase, breakpoint " + std::to_string(k) + " does not");
     }
   }
 }
@@ -380,20 +388,38 @@ std::shared_ptr<const PwlFitCache::NormalEquations> PwlFitCache::Get(
   return it->second;
 }
 
+void VisitKeys(KeyVisitor& v, PwlFitOptions& options) {
+  v.Key("segments", options.segments,
+        WithDescription(WithRange(kPwlSegmentsDoc, 0, kPwlSegmentsDoc.max),
+                        "segments of the fit; 0 fits the fewest that meet tolerance_deg"));
+  v.Key("tolerance_deg", options.tolerance_deg,
+        {.min = 0,
+         .min_open = true,
+         .unit = "deg",
+         .description = "tolerance mode: the largest acceptable RMS error to D"});
+  v.Key("max_segments", options.max_segments,
+        WithDescription(kPwlSegmentsDoc, "tolerance mode: give up beyond this many segments"));
+}
+
 PiecewiseLinear FitPiecewiseLinear(std::span<const double> desired, double v_max,
                                    const PwlFitOptions& options, PwlFitCache* cache) {
   ValidateInput(desired, v_max);
   const int period = static_cast<int>(desired.size());
+  if (std::string problem =
+          KeysProblem(options, [](KeyVisitor& v, PwlFitOptions& o) { VisitKeys(v, o); });
+      !problem.empty()) {
+    Fail(problem);
+  }
   if (options.segments != 0) {
-    if (options.segments < 1 || options.segments > period) {
-      Fail("segments must be in [1, " + std::to_string(period) + "], got " +
+    const KeyDoc in_period = WithRange(kPwlSegmentsDoc, 1, period);
+    if (const std::string problem = KeyValueProblem(options.segments, in_period);
+        !problem.empty()) {
+      Fail("segments must be " + problem + " (the ticks of the cycle), got " +
            std::to_string(options.segments));
     }
     return FitWithSegments(desired, v_max, options.segments, cache).pwl;
   }
-  if (!(options.tolerance_deg > 0.0)) Fail("tolerance_deg must be positive");
   const int max_segments = std::min(options.max_segments, period);
-  if (max_segments < 1) Fail("max_segments must be >= 1");
   double best_rms = std::numeric_limits<double>::infinity();
   for (int segments = 1; segments <= max_segments; ++segments) {
     Candidate c = FitWithSegments(desired, v_max, segments, cache);

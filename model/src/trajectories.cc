@@ -12,39 +12,74 @@
 namespace leglab {
 
 std::vector<double> StepTestRequests(double theta_test_deg, int t_step) {
-  if (t_step < 2) throw std::invalid_argument("step test: t_step must be >= 2");
+  if (const std::string problem =
+          KeyValueProblem(t_step, WithRange(kAnyStepTicksDoc, 2, kAnyStepTicksDoc.max));
+      !problem.empty()) {
+    throw std::invalid_argument("step test: t_step must be " + problem + ", got " +
+                                std::to_string(t_step));
+  }
   std::vector<double> requests(t_step, 0.0);
   // Eq. 1: t < t_step / 2 compares against the real half, so an odd t_step rounds up.
   for (int t = 0; 2 * t < t_step; ++t) requests[t] = theta_test_deg;
   return requests;
 }
 
+void VisitKeys(KeyVisitor& v, HalfEllipseLocus& locus) {
+  v.Key("length_mm", locus.length_mm,
+        {.min = 0,
+         .max = 1000,
+         .unit = "mm",
+         .description = "fore-aft length of the flat bottom (reachability is checked after)"});
+  v.Key("height_mm", locus.height_mm,
+        {.min = 0, .max = 1000, .unit = "mm", .description = "height of the arc above the bottom"});
+  v.Key("ground_fraction", locus.ground_fraction,
+        {.min = 0,
+         .max = 1,
+         .min_open = true,
+         .max_open = true,
+         .description = "fraction of the step the foot is on the ground"});
+  v.Key("skew", locus.skew,
+        {.min = -1,
+         .max = 1,
+         .description = "the locus skewed in the ground plane, outward mm per mm forward"});
+  v.Key("swing_end_speed_fraction", locus.swing_end_speed_fraction,
+        {.min = 0,
+         .max = 2,
+         .description = "the foot's backward speed at lift-off and touch-down over the stance's: "
+                        "0, the plain half-ellipse; 1, it meets the ground at the stance's speed "
+                        "(track_stand.yaml ships 1)"});
+  v.Key("liftoff_ramp_mm", locus.liftoff_ramp_mm,
+        {.min = 0,
+         .max = 50,
+         .unit = "mm",
+         .description = "a slow lift-off's height (0: none); its line must stay under the arc's "
+                        "top (track_stand.yaml ships 8)"});
+  v.Key("liftoff_ramp_ticks", locus.liftoff_ramp_ticks, kLiftoffRampTicksDoc);
+}
+
 std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus) {
-  if (locus.t_step_ticks < 4) return "t_step_ticks must be >= 4";
-  if (!(locus.length_mm >= 0.0 && std::isfinite(locus.length_mm))) {
-    return "length_mm must be finite and >= 0";
+  if (std::string problem =
+          KeysProblem(locus, [](KeyVisitor& v, HalfEllipseLocus& l) { VisitKeys(v, l); });
+      !problem.empty()) {
+    return problem;
   }
-  if (!(locus.height_mm >= 0.0 && std::isfinite(locus.height_mm))) {
-    return "height_mm must be finite and >= 0";
-  }
-  if (!(locus.ground_fraction > 0.0 && locus.ground_fraction < 1.0)) {
-    return "ground_fraction must be in (0, 1)";
+  if (const std::string problem = KeyValueProblem(locus.t_step_ticks, kAnyStepTicksDoc);
+      !problem.empty()) {
+    return "t_step_ticks must be " + problem + ", got " + std::to_string(locus.t_step_ticks);
   }
   if (!locus.centre_mm.allFinite()) return "centre_mm must be finite";
-  if (!std::isfinite(locus.skew)) return "skew must be finite";
-  if (!(locus.swing_end_speed_fraction >= 0.0 && std::isfinite(locus.swing_end_speed_fraction))) {
-    return "swing_end_speed_fraction must be finite and >= 0";
-  }
-  if (!(locus.liftoff_ramp_mm >= 0.0 && std::isfinite(locus.liftoff_ramp_mm))) {
-    return "liftoff_ramp_mm must be finite and >= 0";
-  }
-  if (locus.liftoff_ramp_ticks < 0) return "liftoff_ramp_ticks must be >= 0";
   if (locus.liftoff_ramp_mm > 0.0) {
     const int period = locus.t_step_ticks;
     const int ground_ticks =
         std::clamp(static_cast<int>(std::lround(locus.ground_fraction * period)), 1, period - 1);
-    if (locus.liftoff_ramp_ticks < 1 || locus.liftoff_ramp_ticks >= period - ground_ticks) {
-      return "liftoff_ramp_ticks must be >= 1 with a lift-off ramp, and shorter than the flight";
+    // With a ramp its length runs from 1 tick to the flight's less one.
+    const KeyDoc with_ramp = WithRange(kLiftoffRampTicksDoc, 1, period - ground_ticks - 1);
+    if (const std::string problem = KeyValueProblem(locus.liftoff_ramp_ticks, with_ramp);
+        !problem.empty()) {
+      return "liftoff_ramp_ticks must be " + problem +
+             " with a lift-off ramp (shorter than the "
+             "flight), got " +
+             std::to_string(locus.liftoff_ramp_ticks);
     }
     // The line must stay under the arc's top (where the squeezed arc peaks, s = (1 + a) / 2),
     // so that the arc overtakes it on its way up and z stays continuous.
@@ -101,9 +136,9 @@ std::vector<Eigen::Vector3d> HalfEllipseFootPath(const HalfEllipseLocus& locus) 
 
 std::vector<Eigen::Vector3d> PitchFootPath(const std::vector<Eigen::Vector3d>& foot_path_mm,
                                            const Eigen::Vector3d& pivot_mm, double pitch_deg) {
-  if (!(std::isfinite(pitch_deg) && std::abs(pitch_deg) <= 90.0)) {
-    throw std::invalid_argument("body pitch must be in [-90, 90] deg, got " +
-                                std::to_string(pitch_deg));
+  if (const std::string problem = KeyValueProblem(pitch_deg, kBodyPitchDoc); !problem.empty()) {
+    throw std::invalid_argument("body pitch must be " + problem + ", got " +
+                                FormatNumber(pitch_deg, NumberStyle::kReadable));
   }
   if (pitch_deg == 0.0) return foot_path_mm;
   // Level-frame vectors seen from the pitched body: Ry(pitch)^T = Ry(-pitch).

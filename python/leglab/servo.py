@@ -142,9 +142,9 @@ def read_log(path, format="auto", **meta):
     if not fields["motor"]:
         raise ValueError(f"read_log '{fields['file']}': no motor (a CSV log takes it from "
                          f"motor=)")
-    if not fields["kp"] > 0:
-        raise ValueError(f"read_log '{fields['file']}': kp must be positive, got "
-                         f"{fields['kp']:g} (a CSV log takes it from kp=)")
+    problem = _leglab._drive_problem(fields["kp"], fields["mass_kg"], fields["length_m"])
+    if problem:
+        raise ValueError(f"read_log '{fields['file']}': {problem} (a CSV log takes it from kp=)")
     return ServoLog._from_fields(fields)
 
 

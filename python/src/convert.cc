@@ -102,7 +102,7 @@ std::optional<double> ToOptionalReal(py::handle value, std::string_view what) {
   return ToReal(value, what);
 }
 
-long long ToInteger(py::handle value, std::string_view what, long long min, long long max) {
+long long ToInteger(py::handle value, std::string_view what, const KeyDoc& doc) {
   const std::string name(what);
   if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {
     ThrowTypeError(name + ": expected an integer, got bool");
@@ -118,11 +118,12 @@ long long ToInteger(py::handle value, std::string_view what, long long min, long
   }
   int overflow = 0;
   const long long number = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
-  if (overflow != 0 || number < min || number > max) {
+  const std::string problem =
+      overflow != 0 ? "in " + RangeText(doc) : KeyValueProblem(static_cast<double>(number), doc);
+  if (!problem.empty()) {
     std::string text = std::string(py::str(integer));
     if (text.size() > 30) text = text.substr(0, 30) + "...";
-    ThrowValueError(name + ": expected an integer from " + std::to_string(min) + " to " +
-                    std::to_string(max) + ", got " + text);
+    ThrowValueError(name + " must be an integer " + problem + ", got " + text);
   }
   return number;
 }

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/core/leg.h"
 #include "leglab/model/kinematics.h"
 
@@ -39,10 +40,10 @@ double ToReal(py::handle value, std::string_view what, bool finite = true);
 /// None as nullopt, anything else as ToReal (finite).
 std::optional<double> ToOptionalReal(py::handle value, std::string_view what);
 
-/// `value` as an integer in [min, max]: a Python int or a numpy integer (not a bool, not a
-/// float, even a whole one). TypeError for another type; ValueError "<what>: expected an
-/// integer from min to max, got N" outside the range, before anything is allocated for it.
-long long ToInteger(py::handle value, std::string_view what, long long min, long long max);
+/// `value` as an integer in the range `doc` declares: a Python int or a numpy integer (not a
+/// bool, not a float, even a whole one). TypeError for another type; ValueError "<what> must
+/// be an integer in [min, max], got N" outside the range, before anything is allocated for it.
+long long ToInteger(py::handle value, std::string_view what, const KeyDoc& doc);
 
 /// The most values an array argument may hold (800 MB as float64, 3 days of a leg's 8 ms
 /// ticks): a larger one (a broadcast view of 10^9 rows costs nothing to make) is refused before

@@ -29,7 +29,7 @@ std::string ModelRepr(const JointModelParams& p) {
 }
 
 // The longest cycle identify averages (period_ticks): 8000 s of 8 ms ticks.
-constexpr int kMaxPeriodTicks = 1'000'000;
+constexpr KeyDoc kPeriodDoc = WithRange(kCyclePeriodDoc, 1, 1'000'000);
 
 // `params` if the model's declaration (VisitKeys, the config's) allows it; std::invalid_argument
 // (ValueError) naming the field otherwise.
@@ -40,8 +40,7 @@ JointModelParams CheckedModel(JointModelParams params) {
 
 // `value` as an integer in the range `doc` declares.
 int ToInt(py::handle value, const std::string& what, const KeyDoc& doc) {
-  return static_cast<int>(ToInteger(value, what, static_cast<long long>(std::ceil(doc.min)),
-                                    static_cast<long long>(std::floor(doc.max))));
+  return static_cast<int>(ToInteger(value, what, doc));
 }
 
 JointModelParams MakeModel(py::handle v_max_deg_per_tick, py::handle theta0_deg,
@@ -111,10 +110,10 @@ std::pair<int, int> ToRange(py::handle range, const std::string& what, const Key
 
 IdentificationResult Identify(py::handle requests, py::handle measured, py::handle lag_range,
                               py::handle accel_range, py::handle period) {
-  const std::optional<int> period_ticks = period.is_none()
-                                              ? std::nullopt
-                                              : std::optional<int>(static_cast<int>(ToInteger(
-                                                    period, "period_ticks", 1, kMaxPeriodTicks)));
+  const std::optional<int> period_ticks =
+      period.is_none()
+          ? std::nullopt
+          : std::optional<int>(static_cast<int>(ToInteger(period, "period_ticks", kPeriodDoc)));
   const std::vector<JointRecording> recordings = ToRecordings(requests, measured);
   experiments::IdentifyConfig identify;
   std::tie(identify.search.lag_min_ticks, identify.search.lag_max_ticks) =

@@ -12,6 +12,7 @@
 
 #include "bindings.h"
 #include "convert.h"
+#include "leglab/app/parallel.h"
 #include "leglab/experiments/config.h"
 #include "leglab/model/joint_model.h"
 #include "leglab/servo/log_fit.h"
@@ -102,7 +103,7 @@ py::dict CurvesToDict(const LogFitCurves& c) {
 
 py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
              py::handle threads_value) {
-  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", 0, 4096));
+  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", kThreadsDoc));
   LogFitConfig logs;
   if (config.is_none()) {
     logs = LogFitConfigFromOverrides(ToOverrides(overrides));
@@ -252,12 +253,13 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
   // The planner's own checks (ServoPlannerOptions) bound these further, naming them.
   // None: the method's own (-1); else the declared range from 0 (kServoPreviewDoc).
   options.preview_ticks =
-      preview.is_none() ? -1
-                        : static_cast<int>(ToInteger(preview, "preview_ticks", 0,
-                                                     static_cast<long long>(kServoPreviewDoc.max)));
+      preview.is_none()
+          ? -1
+          : static_cast<int>(ToInteger(preview, "preview_ticks",
+                                       WithRange(kServoPreviewDoc, 0, kServoPreviewDoc.max)));
   options.reanchor_deg = ToReal(reanchor, "reanchor_deg");
   options.optimal_iterations_per_tick =
-      static_cast<int>(ToInteger(iterations, "optimal_iterations_per_tick", 1, 1000));
+      static_cast<int>(ToInteger(iterations, "optimal_iterations_per_tick", kServoIterationsDoc));
   const ServoLimits limits{ToReal(min_value, "min_deg"), ToReal(max_value, "max_deg"),
                            m.top_speed_deg_s};
   if (m.rung == "paper") return {m.paper, m.tick_s, limits, options};
@@ -278,9 +280,8 @@ double Request(ServoPlanner& planner, py::handle window, py::handle measured_val
   return planner.Request(std::span<const double>(array.data(), array.size()), measured);
 }
 
-}  // namespace
-
-void BindServo(py::module_& m) {
+// The log's functions: reading, checking and writing a log as the dict ServoLog holds.
+void BindLogs(py::module_& m) {
   m.def(
       "_read_log",
       [](py::handle path, const std::string& format, const std::string& motor, double kp,
@@ -303,11 +304,24 @@ void BindServo(py::module_& m) {
       },
       "_read_log(path, format, motor, kp, mass_kg, length_m): the log's fields as a dict");
   m.def(
+      "_drive_problem",
+      [](double kp, double mass_kg, double length_m) {
+        return ServoDriveProblem({kp, mass_kg, length_m});
+      },
+      "_drive_problem(kp, mass_kg, length_m): '' when the drive keeps its declaration (a "
+      "ServoDrive's ranges), else what is wrong, naming the field");
+  m.def(
       "_check_log", [](const py::dict& d) { CheckServoLog(DictToLog(d)); },
       "_check_log(fields): ValueError unless the log is one identify accepts");
   m.def(
       "_log_csv_text", [](const py::dict& d) { return ServoLogCsvText(DictToLog(d)); },
       "_log_csv_text(fields): the log in leglab's CSV form");
+}
+
+}  // namespace
+
+void BindServo(py::module_& m) {
+  BindLogs(m);
   m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
         "_fit(config, overrides, given, threads): identify's log fit");
   m.def(

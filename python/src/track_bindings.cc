@@ -15,6 +15,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "leglab/app/output.h"
+#include "leglab/app/parallel.h"
 #include "leglab/app/progress.h"
 #include "leglab/controller/controller.h"
 #include "leglab/experiments/config.h"
@@ -223,7 +224,7 @@ class StopOnSignals {
 // What `track` computes and, with `out`, writes, exactly as the program does.
 py::dict RunTrack(py::handle config_path, py::handle overrides, py::handle controllers,
                   py::handle out, py::handle threads_value) {
-  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", 0, 4096));
+  const auto threads = static_cast<int>(ToInteger(threads_value, "threads", kThreadsDoc));
   ExperimentConfig config =
       experiments::LoadExperimentConfig(ToPath(config_path, "config"), ToOverrides(overrides));
   config.threads = threads;

@@ -242,8 +242,9 @@ void Resample(Log& log, double tick_s, const LogFitConfig& config) {
     throw InputError("servo log '" + l.file + "': no tick at " + FormatNumber(tick_s) +
                      " s has the torque on");
   }
-  if (!(r.drive.kp > 0.0)) {
-    throw InputError("servo log '" + l.file + "': kp must be positive (logs.kp for a CSV log)");
+  if (const std::string problem = KeyValueProblem(r.drive.kp, kServoKpDoc); !problem.empty()) {
+    throw InputError("servo log '" + l.file + "': kp must be " + problem +
+                     " (logs.kp for a CSV log), got " + FormatNumber(r.drive.kp));
   }
 }
 
@@ -477,8 +478,15 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
 
 std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
                                       int lead_ticks) {
-  if (budget < 0 || lead_ticks < 0) {
-    throw std::invalid_argument("FitSample: the budget and the lead must be >= 0");
+  if (const std::string problem = KeyValueProblem(static_cast<double>(budget), kFitTicksDoc);
+      !problem.empty()) {
+    throw std::invalid_argument("FitSample: the budget must be " + problem + ", got " +
+                                std::to_string(budget));
+  }
+  const KeyDoc lead_doc = WithRange(kAnyJointModel.lag_ticks, 0, kAnyJointModel.lag_ticks.max + 1);
+  if (const std::string problem = KeyValueProblem(lead_ticks, lead_doc); !problem.empty()) {
+    throw std::invalid_argument("FitSample: the lead must be " + problem + ", got " +
+                                std::to_string(lead_ticks));
   }
   double total = 0.0;
   for (const ServoRecording& r : train) total += static_cast<double>(r.scored.size());

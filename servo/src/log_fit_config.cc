@@ -29,9 +29,7 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
   v.Key("motor", c.csv.motor,
         {.description = "a CSV log's servo type (one model is fitted per type)"});
   // kp as the drive declares it, but from 0 (its default: a CSV log's kp must then be given).
-  v.Key("kp", c.csv.kp,
-        WithDescription(WithRange(kServoKpDoc, 0, kMaxServoKp),
-                        "a CSV log's position-gain setting (register units)"));
+  v.Key("kp", c.csv.kp, kLogKpDoc);
   v.Key("mass_kg", c.csv.mass_kg, WithDescription(kServoMassDoc, "a CSV log's load mass"));
   v.Key("length_m", c.csv.length_m,
         WithDescription(kServoLengthDoc,
@@ -66,17 +64,8 @@ void VisitKeys(KeyVisitor& v, LogFitConfig& c) {
          .unit = "deg",
          .description = "a sample measured this far from the line through its two neighbours "
                         "is a glitch: its measurement is left out and counted (0: no check)"});
-  v.Key("fit_ticks", c.fit_ticks,
-        {.min = 0,
-         .max = 1e9,
-         .unit = "ticks",
-         .description = "the most resampled training ticks one model's fit sees (0: all); "
-                        "above it the fit sees evenly spaced chunks of every training log "
-                        "totalling this many, and the scores still use every tick"});
-  v.Key("iterations", c.iterations,
-        {.min = 1,
-         .max = 1'000'000,
-         .description = "Nelder-Mead iterations per run of the extended model's fit"});
+  v.Key("fit_ticks", c.fit_ticks, kFitTicksDoc);
+  v.Key("iterations", c.iterations, kServoFitIterationsDoc);
 }
 
 namespace {

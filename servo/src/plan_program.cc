@@ -39,7 +39,6 @@ ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
 void CheckOptions(const PlanOptions& o) {
   // The drive's flags keep the drive's declaration (kServo*Doc); the request bounds, any angle
   // a plan may hold.
-  const KeyDoc angle_doc{.min = -kMaxPlanAngleDeg, .max = kMaxPlanAngleDeg, .unit = "deg"};
   const struct {
     const char* flag;
     std::optional<double> value;
@@ -47,8 +46,8 @@ void CheckOptions(const PlanOptions& o) {
   } flags[] = {{"--kp", o.kp, kServoKpDoc},
                {"--mass-kg", o.mass_kg, kServoMassDoc},
                {"--length-m", o.length_m, kServoLengthDoc},
-               {"--min-deg", o.min_deg, angle_doc},
-               {"--max-deg", o.max_deg, angle_doc}};
+               {"--min-deg", o.min_deg, kServoAngleDoc},
+               {"--max-deg", o.max_deg, kServoAngleDoc}};
   for (const auto& f : flags) {
     if (!f.value) continue;
     if (std::string problem = KeyValueProblem(*f.value, f.doc); !problem.empty()) {

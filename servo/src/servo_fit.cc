@@ -6,6 +6,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "leglab/core/format.h"
 #include "leglab/model/nelder_mead.h"
 #include "leglab/servo/servo_model.h"
 #include "servo_model_tick.h"
@@ -83,19 +84,31 @@ class PredictionError {
 
 }  // namespace
 
+void VisitKeys(KeyVisitor& v, ServoFitOptions& options) {
+  v.Key("lag_max_ticks", options.lag_max_ticks,
+        WithDescription(kAnyJointModel.lag_ticks, "l is searched over [0, lag_max_ticks]"));
+  if (options.v_max_deg_s) v.Key("v_max_deg_s", *options.v_max_deg_s, kServoVMaxDoc);
+  v.Key("restarts", options.restarts,
+        {.min = 1, .max = 1000, .description = "Nelder-Mead runs per lag"});
+  v.Key("iterations", options.iterations, kServoFitIterationsDoc);
+}
+
 ServoLagFit FitServoModelAtLag(std::span<const ServoRecording> recordings, double tick_s,
                                const ServoFitOptions& options, int lag) {
   if (recordings.empty()) throw std::invalid_argument("servo fit: no recordings");
-  if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
-    throw std::invalid_argument("servo fit: tick_s must be positive");
+  if (const std::string problem = KeyValueProblem(tick_s, kServoTickDoc); !problem.empty()) {
+    throw std::invalid_argument("servo fit: tick_s must be " + problem + ", got " +
+                                FormatNumber(tick_s));
   }
-  if (options.lag_max_ticks < 0 || options.restarts < 1 || options.iterations < 1) {
-    throw std::invalid_argument(
-        "servo fit: lag_max_ticks must be >= 0, restarts and iterations >= 1");
+  if (std::string problem = KeysProblem(
+          options, [](KeyVisitor& v, ServoFitOptions& o) { VisitKeys(v, o); }, "servo fit: ");
+      !problem.empty()) {
+    throw std::invalid_argument(problem);
   }
-  if (lag < 0 || lag > options.lag_max_ticks) {
-    throw std::invalid_argument("servo fit: lag " + std::to_string(lag) + " is outside 0.." +
-                                std::to_string(options.lag_max_ticks));
+  const KeyDoc searched = WithRange(kAnyJointModel.lag_ticks, 0, options.lag_max_ticks);
+  if (const std::string problem = KeyValueProblem(lag, searched); !problem.empty()) {
+    throw std::invalid_argument("servo fit: lag must be " + problem + " (lag_max_ticks), got " +
+                                std::to_string(lag));
   }
   for (const ServoRecording& r : recordings) {
     servo_tick::CheckRecording(r);

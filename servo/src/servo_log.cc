@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "leglab/core/format.h"
+#include "leglab/servo/servo_model.h"
+
 namespace leglab {
 namespace {
 
@@ -30,9 +33,9 @@ void AppendIntervals(std::span<const ServoLogSample> samples, std::vector<double
 }
 
 void CheckResampleInput(std::span<const ServoLogSample> samples, double tick_s) {
-  if (!std::isfinite(tick_s) || tick_s <= 0.0) {
-    throw std::invalid_argument("Resample: tick_s must be finite and positive, got " +
-                                std::to_string(tick_s));
+  if (const std::string problem = KeyValueProblem(tick_s, kServoTickDoc); !problem.empty()) {
+    throw std::invalid_argument("Resample: tick_s must be " + problem + ", got " +
+                                FormatNumber(tick_s));
   }
   if (samples.size() < 2) {
     throw std::invalid_argument("Resample: needs at least 2 samples, got " +

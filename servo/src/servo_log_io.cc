@@ -146,22 +146,18 @@ ServoLogFormat FormatOf(const std::string& path, ServoLogFormat format) {
                  "' (expected .csv or .json)");
 }
 
-// A setting (kp, mass, length) must be finite and not negative.
-void CheckSetting(const std::string& path, const std::string& name, double value, double max) {
-  if (!std::isfinite(value) || value < 0.0) {
-    Fail(path, name + " = " + Number(value) + " must be finite and not negative");
-  }
-  if (value > max) {
-    Fail(path, name + " = " + Number(value) + " must be at most " +
-                   FormatNumber(max, NumberStyle::kReadable));
+// A setting (kp, mass, length) keeps its declaration (a log's kp may be 0: not given).
+void CheckSetting(const std::string& path, const std::string& name, double value,
+                  const KeyDoc& doc) {
+  if (const std::string problem = KeyValueProblem(value, doc); !problem.empty()) {
+    Fail(path, name + " must be " + problem + ", got " + Number(value));
   }
 }
 
-// A request or measured angle (deg) is physically possible: within kMaxPlanAngleDeg.
+// A request or measured angle (deg) is physically possible: within kServoAngleDoc.
 void CheckAngle(const std::string& path, const std::string& where, double angle_deg) {
-  if (!(std::abs(angle_deg) <= kMaxPlanAngleDeg)) {
-    Fail(path, where + " = " + Number(angle_deg) + " deg is beyond +-" +
-                   FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg");
+  if (const std::string problem = KeyValueProblem(angle_deg, kServoAngleDoc); !problem.empty()) {
+    Fail(path, where + " must be " + problem + ", got " + Number(angle_deg));
   }
 }
 
@@ -276,9 +272,9 @@ std::vector<ServoLogSample> ParseCsvSamples(const std::string& path, std::string
 
 ServoLog ReadCsv(const std::string& path, const std::string& text,
                  const ServoLogDefaults& defaults) {
-  CheckSetting(path, "kp (given for a CSV log)", defaults.kp, kMaxServoKp);
-  CheckSetting(path, "mass_kg (given for a CSV log)", defaults.mass_kg, kMaxServoMassKg);
-  CheckSetting(path, "length_m (given for a CSV log)", defaults.length_m, kMaxServoLengthM);
+  CheckSetting(path, "kp (given for a CSV log)", defaults.kp, kLogKpDoc);
+  CheckSetting(path, "mass_kg (given for a CSV log)", defaults.mass_kg, kServoMassDoc);
+  CheckSetting(path, "length_m (given for a CSV log)", defaults.length_m, kServoLengthDoc);
   ServoLog log{.file = path,
                .motor = defaults.motor,
                .trajectory = fs::path(path).stem().string(),
@@ -393,9 +389,9 @@ ServoLog ReadBamJson(const std::string& path, const std::string& text) {
                .kp = NumberField(path, doc, "kp", -1),
                .mass_kg = NumberField(path, doc, "mass", -1),
                .length_m = NumberField(path, doc, "length", -1)};
-  CheckSetting(path, "kp", log.kp, kMaxServoKp);
-  CheckSetting(path, "mass", log.mass_kg, kMaxServoMassKg);
-  CheckSetting(path, "length", log.length_m, kMaxServoLengthM);
+  CheckSetting(path, "kp", log.kp, kLogKpDoc);
+  CheckSetting(path, "mass", log.mass_kg, kServoMassDoc);
+  CheckSetting(path, "length", log.length_m, kServoLengthDoc);
   log.samples = JsonSamples(path, Field(path, doc, "entries", -1));
   return log;
 }
@@ -418,9 +414,9 @@ void CheckServoLog(const ServoLog& log) {
   if (log.motor.empty()) Fail(path, "motor is empty (a model is fitted per motor)");
   CheckName(path, "motor", log.motor);
   CheckName(path, "trajectory", log.trajectory);
-  CheckSetting(path, "kp", log.kp, kMaxServoKp);
-  CheckSetting(path, "mass", log.mass_kg, kMaxServoMassKg);
-  CheckSetting(path, "length", log.length_m, kMaxServoLengthM);
+  CheckSetting(path, "kp", log.kp, kLogKpDoc);
+  CheckSetting(path, "mass", log.mass_kg, kServoMassDoc);
+  CheckSetting(path, "length", log.length_m, kServoLengthDoc);
   if (log.samples.size() > kMaxServoLogSamples) {
     Fail(path, std::to_string(log.samples.size()) + " samples, more than the limit of " +
                    std::to_string(kMaxServoLogSamples));

@@ -119,8 +119,9 @@ double StepServoModel(const ServoModelParams& params, const ServoDrive& drive, d
 std::vector<double> PredictServoRecording(const ServoModelParams& params,
                                           const ServoRecording& recording, double tick_s) {
   servo_tick::CheckRecording(recording);
-  if (!(std::isfinite(tick_s) && tick_s > 0.0)) {
-    throw std::invalid_argument("servo recording: tick_s must be positive");
+  if (const std::string problem = KeyValueProblem(tick_s, kServoTickDoc); !problem.empty()) {
+    throw std::invalid_argument("servo recording: tick_s must be " + problem + ", got " +
+                                FormatNumber(tick_s));
   }
   ServoModelState state;
   return PredictDrivenRuns(

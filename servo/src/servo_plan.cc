@@ -30,13 +30,13 @@ struct Problem {
 };
 
 std::string TickProblem(double tick_s) {
-  if (std::isfinite(tick_s) && tick_s >= kMinPlanTickS && tick_s <= kMaxPlanTickS) return {};
-  return "tick_s must be from " + FormatNumber(kMinPlanTickS, NumberStyle::kReadable) + " to " +
-         FormatNumber(kMaxPlanTickS, NumberStyle::kReadable) + " s, got " + FormatNumber(tick_s);
+  const std::string problem = KeyValueProblem(tick_s, kServoTickDoc);
+  if (problem.empty()) return {};
+  return "tick_s must be " + problem + ", got " + FormatNumber(tick_s);
 }
 
-// An angle is within kMaxPlanAngleDeg.
-bool InRange(double angle_deg) { return std::abs(angle_deg) <= kMaxPlanAngleDeg; }
+// An angle is within kServoAngleDoc.
+bool InRange(double angle_deg) { return KeyValueProblem(angle_deg, kServoAngleDoc).empty(); }
 
 Problem CheckProblem(std::span<const double> desired, const ServoLimits& limits, double tick_s) {
   if (std::string problem = ServoLimitsProblem(limits); !problem.empty()) {
@@ -45,9 +45,9 @@ Problem CheckProblem(std::span<const double> desired, const ServoLimits& limits,
   if (desired.empty()) throw std::invalid_argument("servo plan: no desired angles");
   for (size_t t = 0; t < desired.size(); ++t) {
     if (!InRange(desired[t])) {
-      throw std::invalid_argument("servo plan: desired angle " + std::to_string(t) + " is " +
-                                  FormatNumber(desired[t]) + ", beyond +-" +
-                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg");
+      throw std::invalid_argument("servo plan: desired angle " + std::to_string(t) + " must be " +
+                                  KeyValueProblem(desired[t], kServoAngleDoc) + ", got " +
+                                  FormatNumber(desired[t]));
     }
   }
   if (desired[0] < limits.min_deg || desired[0] > limits.max_deg) {
@@ -289,14 +289,12 @@ void CheckFinite(const ServoPlan& plan) {
 
 std::string ServoLimitsProblem(const ServoLimits& limits) {
   if (!InRange(limits.min_deg) || !InRange(limits.max_deg) || limits.min_deg >= limits.max_deg) {
-    return "the limits need min_deg < max_deg within +-" +
-           FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) + " deg, got " +
+    return "the limits need min_deg < max_deg, each " + RangeText(kServoAngleDoc) + ", got " +
            FormatNumber(limits.min_deg) + " and " + FormatNumber(limits.max_deg);
   }
-  if (!(limits.max_speed_deg_s > 0.0 && limits.max_speed_deg_s <= kMaxPlanSpeedDegS)) {
-    return "max_speed_deg_s must be positive and at most " +
-           FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable) + ", got " +
-           FormatNumber(limits.max_speed_deg_s);
+  if (const std::string problem = KeyValueProblem(limits.max_speed_deg_s, kServoVMaxDoc);
+      !problem.empty()) {
+    return "max_speed_deg_s must be " + problem + ", got " + FormatNumber(limits.max_speed_deg_s);
   }
   return {};
 }
@@ -319,10 +317,13 @@ std::string ServoPlanProblem(const ServoModelParams& params, const ServoDrive& d
            ": the load is over " + FormatNumber(kMaxLoadToStall, NumberStyle::kReadable) +
            " times the stall torque";
   }
-  if (!(params.velocity_lag_s / tick_s <= kMaxLagOverTick)) {
-    return "velocity_lag_s must be at most " +
-           FormatNumber(kMaxLagOverTick, NumberStyle::kReadable) + " ticks of " +
-           FormatNumber(tick_s) + " s, got " + FormatNumber(params.velocity_lag_s);
+  // At most kMaxLagOverTick ticks: the velocity moves at least that fraction of its way a tick.
+  const KeyDoc lag_doc{.min = 0, .max = kMaxLagOverTick * tick_s, .min_open = true, .unit = "s"};
+  if (const std::string problem = KeyValueProblem(params.velocity_lag_s, lag_doc);
+      !problem.empty()) {
+    return "velocity_lag_s must be " + problem + " (" +
+           FormatNumber(kMaxLagOverTick, NumberStyle::kReadable) + " ticks), got " +
+           FormatNumber(params.velocity_lag_s);
   }
   return {};
 }
@@ -333,14 +334,13 @@ std::string JointModelPlanProblem(const JointModelParams& params, double tick_s)
   }
   if (std::string problem = TickProblem(tick_s); !problem.empty()) return problem;
   const double slope = params.v_max_deg_per_tick / params.theta0_deg;
-  if (!(slope <= kMaxSpeedSlopePerTick)) {
-    return "v_max_deg_per_tick / theta0_deg = " + FormatNumber(slope) + " must be at most " +
-           FormatNumber(kMaxSpeedSlopePerTick, NumberStyle::kReadable) + " (theta0_deg " +
-           FormatNumber(params.theta0_deg) + " is too small)";
+  if (const std::string problem = KeyValueProblem(slope, kSpeedSlopeDoc); !problem.empty()) {
+    return "v_max_deg_per_tick / theta0_deg must be " + problem + ", got " + FormatNumber(slope) +
+           " (theta0_deg " + FormatNumber(params.theta0_deg) + " is too small)";
   }
-  if (!(params.v_max_deg_per_tick / tick_s <= kMaxPlanSpeedDegS)) {
-    return "v_max_deg_per_tick / tick_s = " + FormatNumber(params.v_max_deg_per_tick / tick_s) +
-           " deg/s must be at most " + FormatNumber(kMaxPlanSpeedDegS, NumberStyle::kReadable);
+  const double speed = params.v_max_deg_per_tick / tick_s;
+  if (const std::string problem = KeyValueProblem(speed, kServoVMaxDoc); !problem.empty()) {
+    return "v_max_deg_per_tick / tick_s must be " + problem + ", got " + FormatNumber(speed);
   }
   return {};
 }

@@ -72,13 +72,16 @@ double Number(const Json& object, const std::string& name, const std::string& wh
   return found->get<double>();
 }
 
+// A model's count of ticks (l or a): a whole number in `doc`'s range (any joint model's, up to
+// kMaxServoLagTicks: beyond it a model's memory makes planning quadratic).
 int Ticks(const Json& object, const std::string& name, const std::string& where,
-          const std::string& file) {
+          const std::string& file, const KeyDoc& doc) {
   const double value = Number(object, name, where, file);
-  // Beyond kMaxServoLagTicks a model's memory makes planning quadratic; no servo lags that long.
-  if (value != std::floor(value) || value < 0.0 || value > kMaxServoLagTicks) {
-    throw InputError(file + ": " + where + name + " must be a whole number from 0 to " +
-                     std::to_string(kMaxServoLagTicks) + ", got " + FormatNumber(value));
+  std::string problem = KeyValueProblem(value, doc);
+  if (problem.empty() && value != std::floor(value)) problem = "a whole number";
+  if (!problem.empty()) {
+    throw InputError(file + ": " + where + name + " must be " + problem + ", got " +
+                     FormatNumber(value));
   }
   return static_cast<int>(value);
 }
@@ -103,8 +106,9 @@ void ReadRungParams(const Json& entry, const std::string& where, const std::stri
   std::string problem;
   if (model.rung == "paper") {
     model.paper = {Number(entry, "v_max_deg_per_tick", where, file),
-                   Number(entry, "theta0_deg", where, file), Ticks(entry, "lag_ticks", where, file),
-                   Ticks(entry, "accel_ticks", where, file)};
+                   Number(entry, "theta0_deg", where, file),
+                   Ticks(entry, "lag_ticks", where, file, kAnyJointModel.lag_ticks),
+                   Ticks(entry, "accel_ticks", where, file, kAnyJointModel.accel_ticks)};
     problem = JointModelParamsProblem(model.paper);
     model.top_speed_deg_s = model.paper.v_max_deg_per_tick / model.tick_s;
   } else {
@@ -114,7 +118,7 @@ void ReadRungParams(const Json& entry, const std::string& where, const std::stri
                       Number(entry, "friction_duty", where, file),
                       Number(entry, "friction_load_ratio", where, file),
                       Number(entry, "velocity_lag_s", where, file),
-                      Ticks(entry, "lag_ticks", where, file)};
+                      Ticks(entry, "lag_ticks", where, file, kAnyJointModel.lag_ticks)};
     problem = ServoModelParamsProblem(model.extended);
     model.top_speed_deg_s = model.extended.v_max_deg_s;
   }
@@ -223,10 +227,8 @@ FittedModel ParseFittedModel(const std::string& text, const std::string& rung,
   const std::string where = "models." + rung + "." + model.motor;
   const Json& entry = Member(rung_models, model.motor, "models." + rung + ".", file);
   model.tick_s = Number(entry, "tick_s", where + ".", file);
-  if (!(model.tick_s >= kMinPlanTickS && model.tick_s <= kMaxPlanTickS)) {
-    throw InputError(source + ": " + where + ".tick_s must be from " +
-                     FormatNumber(kMinPlanTickS, NumberStyle::kReadable) + " to " +
-                     FormatNumber(kMaxPlanTickS, NumberStyle::kReadable) + " s, got " +
+  if (const std::string problem = KeyValueProblem(model.tick_s, kServoTickDoc); !problem.empty()) {
+    throw InputError(source + ": " + where + ".tick_s must be " + problem + ", got " +
                      FormatNumber(model.tick_s));
   }
   ReadRungParams(entry, where + ".", file, model);

@@ -119,17 +119,17 @@ class Planner final : public ServoPlanner::Impl {
     }
     const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
     for (size_t j = 0; j < used; ++j) {
-      if (!(std::abs(window_deg[j]) <= kMaxPlanAngleDeg)) {
+      if (const std::string problem = KeyValueProblem(window_deg[j], kServoAngleDoc);
+          !problem.empty()) {
         throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
-                                    " of the window must be finite and within +-" +
-                                    FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
-                                    " deg, got " + FormatNumber(window_deg[j]));
+                                    " of the window must be " + problem + ", got " +
+                                    FormatNumber(window_deg[j]));
       }
     }
-    if (!(std::abs(measured_deg) <= kMaxPlanAngleDeg)) {
-      throw std::invalid_argument("servo planner: the measured angle must be finite and within +-" +
-                                  FormatNumber(kMaxPlanAngleDeg, NumberStyle::kReadable) +
-                                  " deg, got " + FormatNumber(measured_deg));
+    if (const std::string problem = KeyValueProblem(measured_deg, kServoAngleDoc);
+        !problem.empty()) {
+      throw std::invalid_argument("servo planner: the measured angle must be " + problem +
+                                  ", got " + FormatNumber(measured_deg));
     }
     if (!started_) Reset(window_deg[0]);
     // D(t + j) for j = 0..preview, the window's last angle held beyond it.
@@ -299,8 +299,7 @@ void VisitKeys(KeyVisitor& v, ServoPlannerOptions& options) {
          .unit = "deg",
          .description = "a measurement this far off the model's prediction re-anchors the "
                         "model (inf: never)"});
-  v.Key("optimal_iterations_per_tick", options.optimal_iterations_per_tick,
-        {.min = 1, .max = 1000, .description = "optimal: gradient iterations per tick"});
+  v.Key("optimal_iterations_per_tick", options.optimal_iterations_per_tick, kServoIterationsDoc);
 }
 
 namespace {

@@ -94,11 +94,9 @@ std::string Num(double value) {
 }
 
 void CheckInRange(const std::string& path, const std::string& item, const std::string& field,
-                  double value, double lo, double hi, const std::string& unit) {
-  if (!(value >= lo && value <= hi)) {  // NaN fails too
-    Refuse(
-        path, item,
-        field + " must be in [" + Num(lo) + ", " + Num(hi) + "] " + unit + ", got " + Num(value));
+                  double value, const KeyDoc& doc) {
+  if (const std::string problem = KeyValueProblem(value, doc); !problem.empty()) {
+    Refuse(path, item, field + " must be " + problem + ", got " + Num(value));
   }
 }
 
@@ -113,7 +111,7 @@ void CheckOrigin(const std::string& path, const std::string& item, const std::st
            field + " must be finite, got xyz (" + Num(xyz.x()) + ", " + Num(xyz.y()) + ", " +
                Num(xyz.z()) + ")");
   }
-  CheckInRange(path, item, field + " offset", xyz.norm(), 0.0, kMaxOriginOffsetM, "m");
+  CheckInRange(path, item, field + " offset", xyz.norm(), kOriginOffsetDoc);
 }
 
 // Mass of one link's <inertial>, checked, as inertia about its centre of mass in link axes.
@@ -126,7 +124,7 @@ struct LinkMass {
 LinkMass CheckedMass(const urdf::Link& link, const std::string& path) {
   const urdf::Inertial& in = *link.inertial;
   const std::string item = "link '" + link.name + "'";
-  CheckInRange(path, item, "mass", in.mass, kMinLinkMassKg, kMaxLinkMassKg, "kg");
+  CheckInRange(path, item, "mass", in.mass, kLinkMassDoc);
   CheckOrigin(path, item, "inertial origin", in.origin);
   Eigen::Matrix3d inertia;
   inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
@@ -142,10 +140,8 @@ LinkMass CheckedMass(const urdf::Link& link, const std::string& path) {
     Refuse(path, item,
            "inertia must be positive definite, principal moments " + listed + " kg m^2");
   }
-  CheckInRange(path, item, "inertia's least principal moment", moments[0], kMinPrincipalInertiaKgM2,
-               kMaxPrincipalInertiaKgM2, "kg m^2");
-  CheckInRange(path, item, "inertia's greatest principal moment", moments[2],
-               kMinPrincipalInertiaKgM2, kMaxPrincipalInertiaKgM2, "kg m^2");
+  CheckInRange(path, item, "inertia's least principal moment", moments[0], kPrincipalInertiaDoc);
+  CheckInRange(path, item, "inertia's greatest principal moment", moments[2], kPrincipalInertiaDoc);
   // A rigid body's largest principal moment cannot exceed the sum of the other two.
   if (moments[2] > (moments[0] + moments[1]) * (1.0 + kInertiaTriangleTolerance)) {
     Refuse(path, item,
@@ -215,9 +211,10 @@ std::array<JointDescription, kLegJoints> CheckJoints(const urdf::ModelInterface&
                  "] deg must be increasing and leave room for the mechanical stops 3 deg beyond "
                  "them inside (-180, 180) deg");
     }
-    if (!(limits.effort > 0.0) || !std::isfinite(limits.effort)) {
+    if (const std::string problem = KeyValueProblem(limits.effort, kLimitEffortDoc);
+        !problem.empty()) {
       Refuse(path, "joint '" + name + "'",
-             "limit effort must be finite and > 0 N m, got " + Num(limits.effort));
+             "limit effort must be " + problem + ", got " + Num(limits.effort));
     }
     joints[j].name = name;
     joints[j].lower_rad = limits.lower;

@@ -57,6 +57,19 @@ std::vector<std::string> Modes(const ExperimentConfig& c) {
 const std::string kRobot =
     std::string("robot: ") + LEGLAB_SOURCE_DIR + "/robots/ers210a/robot.yaml\n";
 
+// A declared range as messages and docs/configuration.md write it: whole numbers written out,
+// others with their shortest round-trip digits in printf's %g notation (fixed from 1e-4 up).
+TEST(RangeText, WritesNumbersAsPeopleDo) {
+  EXPECT_EQ(RangeText({.min = 1e-4, .max = 100, .unit = "kg"}), "[0.0001, 100] kg");
+  EXPECT_EQ(RangeText({.min = 1e-6, .max = 10, .unit = "s"}), "[1e-06, 10] s");
+  EXPECT_EQ(RangeText({.min = 0, .max = 1e6, .min_open = true}), "(0, 1000000]");
+  EXPECT_EQ(FormatNumber(0.1 + 0.2, NumberStyle::kReadable), "0.30000000000000004");
+  EXPECT_EQ(FormatNumber(-2.5e-5, NumberStyle::kReadable), "-2.5e-05");
+  EXPECT_EQ(FormatNumber(1e300, NumberStyle::kReadable), "1e+300");
+  EXPECT_EQ(FormatNumber(std::nan(""), NumberStyle::kReadable), "nan");
+  EXPECT_EQ(FormatNumber(0.0001, NumberStyle::kShortest), "1e-04");  // the files' form stays
+}
+
 TEST_F(ConfigTest, RobotYamlIsMergedBeneathTheExperiment) {
   const ExperimentConfig c = LoadExperimentConfig(Write(kRobot + "servo:\n  gain_per_s: 30\n"));
   EXPECT_EQ(c.sim.servo.gain_per_s, 30.0);      // the experiment wins
@@ -88,7 +101,7 @@ TEST_F(ConfigTest, SetOverridesComeLastAndTakeYamlValues) {
 
 TEST_F(ConfigTest, ANullOrEmptyValueIsRefusedNamingTheKeyNeverTakenAsTheDefault) {
   const std::string expected = "config: servo.delay_ms must be a value, not null or empty";
-  for (const std::string& set : {"servo.delay_ms=null", "servo.delay_ms=", "servo.delay_ms=~"}) {
+  for (const std::string set : {"servo.delay_ms=null", "servo.delay_ms=", "servo.delay_ms=~"}) {
     EXPECT_EQ(ErrorOf(kRobot, {set}).rfind(expected, 0), 0u) << set;
   }
   EXPECT_EQ(ErrorOf(kRobot + "servo:\n  delay_ms:\n").rfind(expected, 0), 0u);

@@ -2,7 +2,14 @@
 
 #include <functional>
 
+#include "leglab/core/config_keys.h"
+
 namespace leglab {
+
+/// The declared range of a worker-thread count (the programs' --threads from 1, the Python
+/// package's threads from 0: one per core).
+inline constexpr KeyDoc kThreadsDoc{
+    .min = 0, .max = 4096, .description = "worker threads (0: one per core)"};
 
 /// Worker threads for `requested` (--threads): itself when positive, else one per core.
 int ThreadCount(int requested);

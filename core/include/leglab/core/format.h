@@ -13,7 +13,8 @@ enum class NumberStyle {
   /// the result files hold, so that a value read back is bit for bit the one computed.
   kShortest,
   /// For people (messages, the configuration reference): a whole number below 10^15 written
-  /// out ("1000000"), anything else as kShortest.
+  /// out ("1000000"), anything else with kShortest's digits in printf's %g notation ("0.0001",
+  /// not kShortest's "1e-04"; "1e-06").
   kReadable,
 };
 
@@ -29,6 +30,12 @@ inline void AppendNumber(std::string& out, double value) {
 inline std::string FormatNumber(double value, NumberStyle style = NumberStyle::kShortest) {
   if (style == NumberStyle::kReadable && value == std::round(value) && std::abs(value) < 1e15) {
     return std::to_string(static_cast<long long>(value));
+  }
+  if (style == NumberStyle::kReadable) {  // %g's choice of notation: 0.0001, not 1e-04
+    char buffer[32];
+    const auto result =
+        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general);
+    return {buffer, result.ptr};
   }
   std::string text;
   AppendNumber(text, value);

@@ -112,6 +112,12 @@ struct PlantChange {
   std::vector<PlantSetting> set;  ///< in the order written
 };
 
+/// The declared ranges of track.steps and of a change's at_step (in a run of N steps, at most
+/// N - 1).
+inline constexpr KeyDoc kStepsDoc{
+    .min = 1, .max = 1'000'000, .description = "measured steps (the paper: 20)"};
+inline constexpr KeyDoc kAtStepDoc{.min = 0, .max = kStepsDoc.max - 1, .unit = "steps"};
+
 /// A whole experiment's configuration: the robot's robot.yaml merged under the experiment's
 /// YAML file, then the --set overrides.
 struct ExperimentConfig {

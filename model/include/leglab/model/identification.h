@@ -20,6 +20,10 @@ struct JointRecording {
   double weight = 1.0;
 };
 
+/// The declared range of a recording's cycle, AverageCycles' and CycleScatter's period: one
+/// tick or more.
+inline constexpr KeyDoc kCyclePeriodDoc{.min = 1, .unit = "ticks"};
+
 /// Synchronous averaging of a periodic run: `run` is whole cycles of `period_ticks` with the
 /// same requests every cycle, after any warm-up (a time-invariant plant then answers every cycle
 /// alike, up to noise). Returns one recording of `warmup_ticks` + `played_cycles` * period ticks
@@ -30,7 +34,8 @@ struct JointRecording {
 /// cycles about their mean). For IdentifyJointModel with warm-up `warmup_ticks` = lag_max +
 /// accel_max: it scores the played cycles, each tick of the cycle `played_cycles` times. Throws
 /// std::invalid_argument on a run that is not whole cycles (at least one), requests that differ
-/// between cycles, mismatched lengths, a period < 1, warmup_ticks < 0 or played_cycles < 1.
+/// between cycles, mismatched lengths, a period outside kCyclePeriodDoc, warmup_ticks < 0 or
+/// played_cycles < 1.
 JointRecording AverageCycles(const JointRecording& run, int period_ticks, int warmup_ticks,
                              int played_cycles);
 

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/model/joint_model.h"
 
 namespace leglab {
@@ -45,6 +46,38 @@ struct OptimalRequestsOptions {
   /// still the tracking error alone.
   double request_smoothing = 0.0;
 };
+
+/// The declared range of a tick's weight w_t in an objective (OptimalRequestsOptions::weights,
+/// SteadyStateNormalMatrix's row_weights): finite and not negative.
+inline constexpr KeyDoc kObjectiveWeightDoc{.min = 0,
+                                            .max = std::numeric_limits<double>::infinity(),
+                                            .max_open = true,
+                                            .description = "a tick's weight w_t in the objective"};
+
+/// The declared range of OptimalRequestsOptions::tolerance_deg (and of the joint optimum's
+/// tolerance the optimal mode passes on): finite and not negative.
+inline constexpr KeyDoc kOptimalToleranceDoc{
+    .min = 0,
+    .max = std::numeric_limits<double>::infinity(),
+    .max_open = true,
+    .unit = "deg",
+    .description = "the exact stage stops when a step gains less RMS error than this"};
+
+/// OptimalRequestsOptions' values with their ranges, what OptimizeRequests checks (with the
+/// limits' order, lower_deg <= upper_deg, and the weights' count).
+void VisitKeys(KeyVisitor& visitor, OptimalRequestsOptions& options);
+
+/// The declared ranges of StructuredDampedStep's damping (positive, finite) and suppression
+/// (finite, not negative).
+inline constexpr KeyDoc kStepDampingDoc{.min = 0,
+                                        .max = std::numeric_limits<double>::infinity(),
+                                        .min_open = true,
+                                        .max_open = true,
+                                        .description = "the step's damping mu"};
+inline constexpr KeyDoc kStepSuppressionDoc{.min = 0,
+                                            .max = std::numeric_limits<double>::infinity(),
+                                            .max_open = true,
+                                            .description = "the step's move suppression"};
 
 /// sum_t (R(t+1) - 2 R(t) + R(t-1))^2 over the cycle R(0..T-1) (indices mod T): what
 /// request_smoothing suppresses, deg^2.

@@ -6,6 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
+
 namespace leglab {
 
 /// A cyclic, continuous piecewise-linear trajectory P over one period of T ticks (section
@@ -34,10 +36,26 @@ struct PiecewiseLinear {
 
 /// How many segments a fit uses: a fixed number, or the fewest that meet a tolerance.
 struct PwlFitOptions {
-  int segments = 8;            ///< number of segments (>= 1); 0 selects the tolerance mode
+  int segments = 8;            ///< number of segments (1 to T); 0 selects the tolerance mode
   double tolerance_deg = 1.0;  ///< tolerance mode: the largest acceptable RMS error to D
   int max_segments = 32;       ///< tolerance mode: give up beyond this many segments
 };
+
+/// The declared range of an approximation's number of segments (controller.pwl_segments, a
+/// fixed-count fit's segments); a fit of T ticks further takes at most T.
+inline constexpr KeyDoc kPwlSegmentsDoc{
+    .min = 1,
+    .max = 1000,
+    .description =
+        "segments of each joint's piecewise-linear approximation P; at most "
+        "track.t_step_ticks"};
+
+/// The declared range of a breakpoint's tick; in a fit of T ticks, [0, T - 1].
+inline constexpr KeyDoc kPwlBreakpointDoc{.min = 0, .max = 1000, .unit = "ticks"};
+
+/// PwlFitOptions' values with their ranges (segments 0 or kPwlSegmentsDoc's, a positive
+/// tolerance, max_segments from 1), what FitPiecewiseLinear checks.
+void VisitKeys(KeyVisitor& visitor, PwlFitOptions& options);
 
 /// Least-squares values at fixed breakpoints: minimises the sum over t of (P(t) - D(t))^2
 /// subject to |slope| <= v_max on every segment (a small convex QP, solved exactly by an

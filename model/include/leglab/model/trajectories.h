@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/model/kinematics.h"
 
 namespace leglab {
@@ -11,8 +12,25 @@ namespace leglab {
 /// The Aibo's step: 88 ticks of 8 ms = 704 ms.
 inline constexpr int kStepTicks = 88;
 
+/// The declared range of a step's length in ticks, the step test's and the walk's, as the
+/// configs take it (identify.t_step_ticks, track.t_step_ticks): 32 ms to 8 s.
+inline constexpr KeyDoc kStepTicksDoc{.min = 4, .max = 1000, .unit = "ticks"};
+/// Any step the model's functions take (StepTestRequests, HalfEllipseLocusProblem): from the
+/// fewest ticks they are defined for to a million (a finely sampled locus).
+inline constexpr KeyDoc kAnyStepTicksDoc = WithRange(kStepTicksDoc, 4, 1e6);
+
+/// The declared range of the body's pitch, nose down (PitchFootPath, desired.locus).
+inline constexpr KeyDoc kBodyPitchDoc{
+    .min = -45,
+    .max = 45,
+    .unit = "deg",
+    .description =
+        "the body pitched nose down; the offsets are then measured in the level "
+        "ground frame and the locus turned with the body about the shoulder"};
+
 /// One cycle of the step test of eq. 1: theta_test for t < t_step / 2, then 0.
-/// Throws std::invalid_argument if t_step < 2.
+/// Throws std::invalid_argument if t_step is outside [2, kAnyStepTicksDoc.max] (two ticks make
+/// a step test's square wave).
 std::vector<double> StepTestRequests(double theta_test_deg, int t_step_ticks = kStepTicks);
 
 /// The half-elliptical foot locus of the UT Austin Villa walk (ers210a.md): a flat bottom on
@@ -52,8 +70,24 @@ struct HalfEllipseLocus {
   int liftoff_ramp_ticks = 0;
 };
 
-/// Empty when the locus is valid; otherwise what is wrong, naming the field
-/// ("ground_fraction must be in (0, 1)").
+/// The declared range of the slow lift-off's length (HalfEllipseLocus::liftoff_ramp_ticks);
+/// with a ramp it runs from 1 tick to the flight's length less one.
+inline constexpr KeyDoc kLiftoffRampTicksDoc{
+    .min = 0,
+    .max = 100,
+    .unit = "ticks",
+    .description =
+        "the slow lift-off's length; >= 1 with a ramp, shorter than the flight "
+        "(track_stand.yaml ships 5)"};
+
+/// The locus's shape keys with their ranges (not centre_mm, which a config derives, nor
+/// t_step_ticks, which belongs to the walk: kStepTicksDoc), for desired.locus and
+/// HalfEllipseLocusProblem.
+void VisitKeys(KeyVisitor& visitor, HalfEllipseLocus& locus);
+
+/// Empty when the locus is valid (its keys keep VisitKeys, t_step_ticks kAnyStepTicksDoc, a
+/// finite centre and a lift-off ramp that fits the flight); otherwise what is wrong, naming
+/// the field ("ground_fraction must be in (0, 1), got 1").
 std::string HalfEllipseLocusProblem(const HalfEllipseLocus& locus);
 
 /// One step of foot positions (body frame, mm), t = 0..t_step-1; t = 0 is the front end of the

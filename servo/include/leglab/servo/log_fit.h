@@ -62,6 +62,16 @@ struct LogFitConfig {
   int fit_ticks = kDefaultFitTicks;
 };
 
+/// The declared range of LogFitConfig::fit_ticks, FitSample's budget (0: all).
+inline constexpr KeyDoc kFitTicksDoc{
+    .min = 0,
+    .max = 1e9,
+    .unit = "ticks",
+    .description =
+        "the most resampled training ticks one model's fit sees (0: all); above it "
+        "the fit sees evenly spaced chunks of every training log totalling this "
+        "many, and the scores still use every tick"};
+
 /// The `logs.*` keys, declared once (KeyVisitor); the lists and the map are Structured, read by
 /// ReadLogFitStructured.
 void VisitKeys(KeyVisitor& v, LogFitConfig& c);
@@ -76,7 +86,8 @@ inline constexpr int kFitChunkTicks = 1000;
 /// kFitChunkTicks) chunks of equal length L spread evenly over it, the first at its start and
 /// the last at its end, each after `lead_ticks` ticks marked undriven (scored 0: the requests
 /// the model remembers when a run starts at the chunk, and the break between chunks); its
-/// drive is kept. Deterministic. Throws std::invalid_argument on a negative budget or lead.
+/// drive is kept. Deterministic. Throws std::invalid_argument on a budget outside kFitTicksDoc
+/// or a lead outside a model's lag (kAnyJointModel.lag_ticks, plus the tick before it).
 std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
                                       int lead_ticks);
 

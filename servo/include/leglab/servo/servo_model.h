@@ -44,6 +44,21 @@ inline constexpr KeyDoc kServoLengthDoc{
     .unit = "m",
     .description = "from the axis to the load's centre of mass"};
 
+/// A log's kp as it is read (a file, logs.kp): kServoKpDoc's range from 0, where 0 means not
+/// given (a CSV log's kp then comes from logs.kp; a fit refuses a drive still without one).
+inline constexpr KeyDoc kLogKpDoc = WithDescription(
+    WithRange(kServoKpDoc, 0, kMaxServoKp), "a CSV log's position-gain setting (register units)");
+
+/// The declared range of the tick a servo's model runs on (s): what its fits, predictions,
+/// plans and resampling take (1 us to 10 s).
+inline constexpr KeyDoc kServoTickDoc{
+    .min = 1e-6, .max = 10, .unit = "s", .description = "the tick the servo's model runs on"};
+
+/// The declared range of a servo's angle (deg): a request, a measurement, a desired angle or a
+/// limit (278 turns either way), within which every number a plan computes stays finite.
+inline constexpr KeyDoc kServoAngleDoc{
+    .min = -1e5, .max = 1e5, .unit = "deg", .description = "a servo's angle"};
+
 /// ServoDrive's three values, declared once (see KeyVisitor) with the ranges above: what
 /// ServoDriveProblem checks for the model's functions, plan's flags and the Python package.
 void VisitKeys(KeyVisitor& visitor, ServoDrive& drive);
@@ -183,14 +198,24 @@ struct ServoFitOptions {
   int iterations = 3000;  ///< iterations per Nelder-Mead run
 };
 
+/// The declared range of the extended fit's Nelder-Mead iterations per run (logs.iterations).
+inline constexpr KeyDoc kServoFitIterationsDoc{
+    .min = 1,
+    .max = 1'000'000,
+    .description = "Nelder-Mead iterations per run of the extended model's fit"};
+
+/// ServoFitOptions' values with their ranges (lag_max_ticks as a model's lag, restarts from 1,
+/// kServoFitIterationsDoc, a fixed v_max as kServoVMaxDoc): what FitServoModel checks.
+void VisitKeys(KeyVisitor& visitor, ServoFitOptions& options);
+
 /// Fits the continuous parameters of ServoModelParams (gain, v_max unless fixed, stall torque,
 /// both frictions and the velocity lag; on logarithms where they must stay positive) for every
 /// lag, by Nelder-Mead (NelderMead) on the sum over recordings of each one's mean squared
 /// open-loop prediction error over its driven ticks (every recording weighs alike whatever its
 /// length), and returns the best lag's (FitServoModelAtLag for each lag, the smallest lag on a
 /// tie). Deterministic. Throws std::invalid_argument on no recordings, one without a driven
-/// tick, mismatched sizes, non-finite samples, a drive out of range, tick_s <= 0, a negative
-/// lag_max_ticks, or fewer than one restart or iteration.
+/// tick, mismatched sizes, non-finite samples, a drive out of range, tick_s outside
+/// kServoTickDoc, or options outside their declaration (VisitKeys).
 ServoModelParams FitServoModel(std::span<const ServoRecording> recordings, double tick_s,
                                const ServoFitOptions& options = {});
 

@@ -45,9 +45,10 @@ inline constexpr double kBeyondServoToleranceDeg = 1e-6;
 
 /// The bounds a plan holds its inputs to, so that every number it computes is finite: a plan
 /// never holds a NaN or an infinity, and what would make one is refused, naming the field.
-inline constexpr double kMaxPlanAngleDeg = 1e5;  ///< |desired angle|, |limit| (deg): 278 turns
-inline constexpr double kMinPlanTickS = 1e-6;    ///< the shortest tick (s)
-inline constexpr double kMaxPlanTickS = 10.0;    ///< the longest tick (s)
+/// |desired angle|, |limit| (deg): kServoAngleDoc's.
+inline constexpr double kMaxPlanAngleDeg = kServoAngleDoc.max;
+inline constexpr double kMinPlanTickS = kServoTickDoc.min;  ///< the shortest tick (s)
+inline constexpr double kMaxPlanTickS = kServoTickDoc.max;  ///< the longest tick (s)
 /// max_speed_deg_s and a model's top speed (deg/s): the servo model's own bound.
 inline constexpr double kMaxPlanSpeedDegS = kMaxServoSpeedDegS;
 /// m g L / stall torque: a load a thousand times what the servo can hold still.
@@ -56,6 +57,9 @@ inline constexpr double kMaxLoadToStall = 1e3;
 inline constexpr double kMaxLagOverTick = 1e9;
 /// The paper's model's slope v_max / theta_0 (per tick): theta_0 at least 10^-9 v_max.
 inline constexpr double kMaxSpeedSlopePerTick = 1e9;
+/// The declared range of the paper's model's slope v_max / theta_0 in a plan (per tick).
+inline constexpr KeyDoc kSpeedSlopeDoc{
+    .min = 0, .max = kMaxSpeedSlopePerTick, .min_open = true, .unit = "per tick"};
 
 /// Empty when PlanServoRequests of this model and drive on ticks of `tick_s` keeps every
 /// number finite for any desired motion and limits within kMaxPlanAngleDeg (the model in

@@ -41,6 +41,10 @@ inline constexpr KeyDoc kServoPreviewDoc{
     .unit = "ticks",
     .description = "desired angles after this tick's given to Request (-1: the method's own)"};
 
+/// The declared range of ServoPlannerOptions::optimal_iterations_per_tick.
+inline constexpr KeyDoc kServoIterationsDoc{
+    .min = 1, .max = 1000, .description = "optimal: gradient iterations per tick"};
+
 /// ServoPlannerOptions' numbers, declared once (see KeyVisitor) with the ranges their comments
 /// give: what the planner checks when it is built (its method is checked by its type).
 void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "leglab/core/config_keys.h"
 #include "leglab/core/leg.h"
 #include "leglab/core/units.h"
 
@@ -39,6 +41,18 @@ inline constexpr double kInertiaTriangleTolerance = 1e-9;
 /// Greatest length of a joint origin's or an inertial origin's offset from its frame, m: no
 /// part of a leg is a metre from the joint it hangs on (the shipped greatest is 0.084 m).
 inline constexpr double kMaxOriginOffsetM = 1.0;
+
+/// The ranges above as declarations, which LoadLegDescription checks through.
+inline constexpr KeyDoc kLinkMassDoc{.min = kMinLinkMassKg, .max = kMaxLinkMassKg, .unit = "kg"};
+inline constexpr KeyDoc kPrincipalInertiaDoc{
+    .min = kMinPrincipalInertiaKgM2, .max = kMaxPrincipalInertiaKgM2, .unit = "kg m^2"};
+inline constexpr KeyDoc kOriginOffsetDoc{.min = 0, .max = kMaxOriginOffsetM, .unit = "m"};
+/// A joint's <limit effort>, N m: positive and finite.
+inline constexpr KeyDoc kLimitEffortDoc{.min = 0,
+                                        .max = std::numeric_limits<double>::infinity(),
+                                        .min_open = true,
+                                        .max_open = true,
+                                        .unit = "N m"};
 
 /// A rigid transform: a point p given in the child frame is rotation * p + translation_m in
 /// the parent frame.
