@@ -219,7 +219,7 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
         (lambda: servo.read_log(tmp_path / "none.csv", motor="m", kp=1), "no such file"),
         (lambda: servo.read_log(XL330_LOG, speed=3), "unknown keyword 'speed'"),
         (lambda: servo.read_log(csv_log, kp=1), "no motor"),
-        (lambda: servo.read_log(csv_log, motor="m"), "kp must be positive, got 0"),
+        (lambda: servo.read_log(csv_log, motor="m"), "kp must be in (0, 1000000], got 0"),
         (lambda: servo.fit(IDENTIFY_LOGS, {"logs.nope": 1}), "nope"),
         (lambda: servo.fit([], {"logs.iterations": 10}), "no log to fit on"),
         (lambda: servo.fit(str(SOURCE_DIR / "experiments/configs/identify.yaml")),

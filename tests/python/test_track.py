@@ -169,8 +169,8 @@ def test_a_bad_config_is_a_value_error_and_writes_nothing(tmp_path):
 @pytest.mark.parametrize("threads, error, message", [
     (1.5, TypeError, "threads: expected an integer, got float 1.5"),
     (True, TypeError, "threads: expected an integer, got bool"),
-    (-1, ValueError, "threads: expected an integer from 0 to 4096, got -1"),
-    (2**80, ValueError, "threads: expected an integer from 0 to 4096"),
+    (-1, ValueError, r"threads must be an integer in \[0, 4096\], got -1"),
+    (2**80, ValueError, r"threads must be an integer in \[0, 4096\]"),
 ])
 def test_a_bad_thread_count_is_one_line_and_runs_nothing(tmp_path, threads, error, message):
     with pytest.raises(error, match=message) as raised:

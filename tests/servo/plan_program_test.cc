@@ -162,10 +162,11 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
       {models + "tiny_stall.json'" + ok + " --mass-kg 0.1 --length-m 0.1",
        "mass_kg x 9.81 x length_m / stall_torque_nm"},
       {models + "tiny_theta.json'" + ok + " --rung paper", "v_max_deg_per_tick / theta0_deg"},
-      {models + "tiny_tick.json'" + ok, "models.extended.sts3250.tick_s must be from 1e-06"},
+      {models + "tiny_tick.json'" + ok, "models.extended.sts3250.tick_s must be in [1e-06, 10] s"},
       {Model() + ok + " --mass-kg 1e300 --length-m 1e300", "--mass-kg must be in [0, 1000]"},
       {Model() + " " + Desired() + " " + Out() + " --kp 1e300", "--kp must be in (0, 1000000]"},
-      {Model() + " " + Out() + " --kp 40" + desired + "far.csv'", "beyond +-100000 deg"},
+      {Model() + " " + Out() + " --kp 40" + desired + "far.csv'",
+       "desired angle 1 must be in [-100000, 100000] deg"},
   };
   for (const auto& [args, named] : cases) {
     SCOPED_TRACE(args);

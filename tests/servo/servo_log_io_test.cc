@@ -203,7 +203,7 @@ TEST_F(ServoLogIoTest, BadCsvDefaults) {
       ReadServoLog(path, ServoLogFormat::kCsv, bad);
       ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
-      EXPECT_MESSAGE(std::string(e.what()), "log.csv", "must be finite and not negative");
+      EXPECT_MESSAGE(std::string(e.what()), "log.csv", "(given for a CSV log) must be in [0, ");
     }
   }
 }
@@ -244,7 +244,7 @@ TEST_F(ServoLogIoTest, BadBamLogs) {
   EXPECT_MESSAGE(
       JsonError(Bam(
           both, R"("mass": 0.49, "length": -0.1, "kp": 100, "motor": "xl330", "trajectory": "t")")),
-      "length = -0.1 must be finite and not negative");
+      "length must be in [0, 10] m, got -0.1");
   EXPECT_MESSAGE(
       JsonError(
           Bam(both,
@@ -253,7 +253,7 @@ TEST_F(ServoLogIoTest, BadBamLogs) {
   EXPECT_MESSAGE(
       JsonError(Bam(
           both, R"("mass": 0.49, "length": 0.1, "kp": -3, "motor": "xl330", "trajectory": "t")")),
-      "kp = -3 must be finite and not negative");
+      "kp must be in [0, 1000000], got -3");
   EXPECT_MESSAGE(
       JsonError(
           R"({"mass": 0.49, "length": 0.1, "kp": 1, "motor": "m", "trajectory": "t", "entries": {}})"),
@@ -314,25 +314,25 @@ TEST(MarkdownText, EscapesWhatWouldEndACellStartMarkupOrBreakALine) {
 TEST_F(ServoLogIoTest, PhysicallyImpossibleValuesAreRefusedWhereTheyAre) {
   const std::string h = "time_s,request_deg,measured_deg\n";
   EXPECT_MESSAGE(CsvError(h + "0,0,0\n1,1e308,0\n"),
-                 "row 2, request_deg = 1e+308 deg is beyond +-100000 deg");
+                 "row 2, request_deg must be in [-100000, 100000] deg, got 1e+308");
   EXPECT_MESSAGE(CsvError(h + "0,0,-100000.5\n1,0,0\n"), "row 1, measured_deg");
   EXPECT_EQ(CsvError(h + "0,0,-100000\n1,100000,0\n"), "");
   EXPECT_MESSAGE(
       JsonError(Bam(kEntry0 + R"(, {"timestamp": 1, "goal_position": 0, "position": 1e300,
                                     "torque_enable": true})")),
-      "entries[1].position = ", "beyond +-100000 deg");
+      "entries[1].position must be in [-100000, 100000] deg, got 5.7");
   EXPECT_MESSAGE(
       JsonError(Bam(kEntry0 + "," + kEntry1,
                     R"("mass": 1e200, "length": 0.1, "kp": 100, "motor": "m", "trajectory": "t")")),
-      "mass = 1e+200 must be at most 1000");
+      "mass must be in [0, 1000] kg, got 1e+200");
   EXPECT_MESSAGE(
       JsonError(Bam(kEntry0 + "," + kEntry1,
                     R"("mass": 0.5, "length": 10.5, "kp": 100, "motor": "m", "trajectory": "t")")),
-      "length = 10.5 must be at most 10");
+      "length must be in [0, 10] m, got 10.5");
   EXPECT_MESSAGE(
       JsonError(Bam(kEntry0 + "," + kEntry1,
                     R"("mass": 0.5, "length": 0.1, "kp": 2e6, "motor": "m", "trajectory": "t")")),
-      "kp = 2e+06 must be at most 1000000");
+      "kp must be in [0, 1000000], got 2e+06");
 }
 
 }  // namespace leglab
