@@ -391,8 +391,8 @@ void ModeTraceRows(const ModeRun& run, const TrackResult& r, RowSink& trace, Row
     // The stand's instruments (zeros in the air), appended so that readers of the first
     // eight columns keep working.
     const PlantTelemetry m = i < run.run.telemetry.size() ? run.run.telemetry[i] : PlantTelemetry{};
-    foot.Cell(m.contact_force_n[2]).Cell(m.contact_force_n[0]).Cell(m.contact_force_n[1]);
-    foot.Cell(m.carriage_z_mm);
+    for (const TelemetryColumn& c : kContactForceColumns) foot.Cell(c.value(m));
+    foot.Cell(kCarriageColumn.value(m));
     foot.EndRow();
   }
 }

@@ -70,7 +70,8 @@ py::dict RunRequests(PlantHandle& h, py::handle requests) {
   const auto lock = h.Lock();
   const size_t n = rows.size();
   std::vector<LegAngles> measured(n), truth(n), applied(n), force(n);
-  std::vector<double> carriage(n), slip(n), sled_x(n), sled_y(n);
+  std::array<std::vector<double>, kStandColumns.size()> stand;
+  for (std::vector<double>& column : stand) column.resize(n);
   {
     py::gil_scoped_release release;
     Plant& plant = *h.plant;
@@ -80,10 +81,7 @@ py::dict RunRequests(PlantHandle& h, py::handle requests) {
       truth[t] = r.true_deg;
       applied[t] = r.applied_deg;
       force[t] = r.telemetry.contact_force_n;
-      carriage[t] = r.telemetry.carriage_z_mm;
-      slip[t] = r.telemetry.slip_mm;
-      sled_x[t] = r.telemetry.sled_x_mm;
-      sled_y[t] = r.telemetry.sled_y_mm;
+      for (size_t c = 0; c < stand.size(); ++c) stand[c][t] = kStandColumns[c].value(r.telemetry);
     }
   }
   py::dict out;
@@ -91,10 +89,9 @@ py::dict RunRequests(PlantHandle& h, py::handle requests) {
   out["true"] = ToArray(truth);
   out["applied"] = ToArray(applied);
   out["contact_force_n"] = ToArray(force);
-  out["carriage_z_mm"] = ToArray(carriage);
-  out["slip_mm"] = ToArray(slip);
-  out["sled_x_mm"] = ToArray(sled_x);
-  out["sled_y_mm"] = ToArray(sled_y);
+  for (size_t c = 0; c < stand.size(); ++c) {
+    out[py::str(std::string(kStandColumns[c].doc.name))] = ToArray(stand[c]);
+  }
   return out;
 }
 
@@ -177,37 +174,33 @@ the half-elliptical foot locus through inverse kinematics) and the foot path the
           "period", [](const Walk& w) { return w.motion.angles_deg.size(); }, "T: ticks per step.")
       .def_readonly("robot", &Walk::robot, "The Robot that walks it.");
 
-  py::class_<PlantReading>(m, "Reading", R"doc(
+  auto reading =
+      py::class_<PlantReading>(m, "Reading", R"doc(
 What a plant reports at the end of a tick. Angles in degrees, shape (3,): rotator, abductor,
 knee. A controller is given only `measured` (and the `applied` request); `true` and the
 stand's instruments are for scoring and plotting.
 )doc")
-      .def_property_readonly(
-          "measured", [](const PlantReading& r) { return ToArray(r.measured_deg); },
-          "The sensors' reading, deg.")
-      .def_property_readonly(
-          "true", [](const PlantReading& r) { return ToArray(r.true_deg); },
-          "The exact joint angles, deg.")
-      .def_property_readonly(
-          "applied", [](const PlantReading& r) { return ToArray(r.applied_deg); },
-          "The latest request as the servos took it (clamped to the limits), deg.")
-      .def_property_readonly(
-          "contact_force_n",
-          [](const PlantReading& r) { return ToArray(r.telemetry.contact_force_n); },
-          "The floor's force on the foot, mean over the tick, N, body axes; zeros in the air.")
-      .def_property_readonly(
-          "carriage_z_mm", [](const PlantReading& r) { return r.telemetry.carriage_z_mm; },
-          "The stand's carriage above the shoulder's walking height, mm; 0 in the air.")
-      .def_property_readonly(
-          "slip_mm", [](const PlantReading& r) { return r.telemetry.slip_mm; },
-          "How far the foot has slid while loaded since the plant was made or reset, mm.")
-      .def_property_readonly(
-          "sled_x_mm", [](const PlantReading& r) { return r.telemetry.sled_x_mm; },
-          "The stand's sled forward of its rest, mm; 0 without a sled.")
-      .def_property_readonly(
-          "sled_y_mm", [](const PlantReading& r) { return r.telemetry.sled_y_mm; },
-          "The stand's sled to the left of its rest, mm; 0 without a sled.")
-      .def("__repr__", &ReadingRepr);
+          .def_property_readonly(
+              "measured", [](const PlantReading& r) { return ToArray(r.measured_deg); },
+              "The sensors' reading, deg.")
+          .def_property_readonly(
+              "true", [](const PlantReading& r) { return ToArray(r.true_deg); },
+              "The exact joint angles, deg.")
+          .def_property_readonly(
+              "applied", [](const PlantReading& r) { return ToArray(r.applied_deg); },
+              "The latest request as the servos took it (clamped to the limits), deg.")
+          .def_property_readonly(
+              "contact_force_n",
+              [](const PlantReading& r) { return ToArray(r.telemetry.contact_force_n); },
+              "The floor's force on the foot, mean over the tick, N, body axes; zeros in the air.")
+          .def("__repr__", &ReadingRepr);
+  // The stand's instruments, named and described as PlantTelemetry declares them.
+  for (const TelemetryColumn& c : kStandColumns) {
+    const std::string doc = std::string(c.doc.description) + " (" + std::string(c.doc.unit) + ").";
+    reading.def_property_readonly(
+        std::string(c.doc.name).c_str(),
+        [value = c.value](const PlantReading& r) { return value(r.telemetry); }, doc.c_str());
+  }
 }
 
 }  // namespace

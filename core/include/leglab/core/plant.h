@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "leglab/core/column_doc.h"
 #include "leglab/core/leg.h"
 
 namespace leglab {
@@ -35,6 +36,39 @@ struct PlantTelemetry {
   double sled_x_mm = 0.0;
   double sled_y_mm = 0.0;
 };
+
+/// One number of PlantTelemetry as tables and the Python package name it: its column (name,
+/// unit, description) and how to read it. The one place these names are spelled:
+/// foot_<mode>.csv's instrument columns and the Python package's Reading properties and
+/// Plant.run() arrays take them from here.
+struct TelemetryColumn {
+  ColumnDoc doc;
+  double (*value)(const PlantTelemetry& telemetry);
+};
+
+/// The floor's force on the foot, axis by axis, in foot_<mode>.csv's order (up first).
+inline constexpr std::array<TelemetryColumn, 3> kContactForceColumns{{
+    {{"contact_fz_n", "N", "the floor's force on the foot, up, mean over the tick"},
+     [](const PlantTelemetry& t) { return t.contact_force_n[2]; }},
+    {{"contact_fx_n", "N", "the floor's force on the foot, forward, mean over the tick"},
+     [](const PlantTelemetry& t) { return t.contact_force_n[0]; }},
+    {{"contact_fy_n", "N", "the floor's force on the foot, left, mean over the tick"},
+     [](const PlantTelemetry& t) { return t.contact_force_n[1]; }},
+}};
+
+/// The stand's other instruments, one number each.
+inline constexpr TelemetryColumn kCarriageColumn{
+    {"carriage_z_mm", "mm", "the stand's carriage above the shoulder's walking height"},
+    [](const PlantTelemetry& t) { return t.carriage_z_mm; }};
+inline constexpr std::array<TelemetryColumn, 4> kStandColumns{{
+    kCarriageColumn,
+    {{"slip_mm", "mm", "how far the foot has slid while loaded since the plant was made or reset"},
+     [](const PlantTelemetry& t) { return t.slip_mm; }},
+    {{"sled_x_mm", "mm", "the stand's sled forward of its rest; 0 without a sled"},
+     [](const PlantTelemetry& t) { return t.sled_x_mm; }},
+    {{"sled_y_mm", "mm", "the stand's sled to the left of its rest; 0 without a sled"},
+     [](const PlantTelemetry& t) { return t.sled_y_mm; }},
+}};
 
 /// What a plant reports at the end of a control tick, degrees.
 struct PlantReading {

@@ -7,6 +7,7 @@
 
 #include "leglab/app/output.h"
 #include "leglab/app/output_docs.h"
+#include "leglab/core/plant.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/tables.h"
 
@@ -82,22 +83,25 @@ inline constexpr std::array<ColumnDoc, 8> kTraceColumns{{
 }};
 
 /// The columns of foot_<mode>.csv, one row per measured tick: the foot in the body frame (x
-/// forward, y left, z up; FootMm), then the stand's instruments (PlantTelemetry; zeros in the
-/// air).
-inline constexpr std::array<ColumnDoc, 12> kFootColumns{{
-    {"step", "", "the measured step, from 0"},
-    {"tick", "", "the tick within the step (8 ms)"},
-    {"desired_x_cm", "cm", "the desired foot position, forward"},
-    {"desired_y_cm", "cm", "the desired foot position, left"},
-    {"desired_z_cm", "cm", "the desired foot position, up"},
-    {"actual_x_cm", "cm", "the foot's position from the measured angles, forward"},
-    {"actual_y_cm", "cm", "the foot's position from the measured angles, left"},
-    {"actual_z_cm", "cm", "the foot's position from the measured angles, up"},
-    {"contact_fz_n", "N", "the floor's force on the foot, up, mean over the tick"},
-    {"contact_fx_n", "N", "the floor's force on the foot, forward, mean over the tick"},
-    {"contact_fy_n", "N", "the floor's force on the foot, left, mean over the tick"},
-    {"carriage_z_mm", "mm", "the stand's carriage above the shoulder's walking height"},
-}};
+/// forward, y left, z up; FootMm), then the stand's instruments as PlantTelemetry declares
+/// them (kContactForceColumns, kCarriageColumn; zeros in the air).
+inline constexpr std::array<ColumnDoc, 12> kFootColumns = [] {
+  std::array<ColumnDoc, 12> columns{{
+      {"step", "", "the measured step, from 0"},
+      {"tick", "", "the tick within the step (8 ms)"},
+      {"desired_x_cm", "cm", "the desired foot position, forward"},
+      {"desired_y_cm", "cm", "the desired foot position, left"},
+      {"desired_z_cm", "cm", "the desired foot position, up"},
+      {"actual_x_cm", "cm", "the foot's position from the measured angles, forward"},
+      {"actual_y_cm", "cm", "the foot's position from the measured angles, left"},
+      {"actual_z_cm", "cm", "the foot's position from the measured angles, up"},
+  }};
+  for (size_t i = 0; i < kContactForceColumns.size(); ++i) {
+    columns[8 + i] = kContactForceColumns[i].doc;
+  }
+  columns[11] = kCarriageColumn.doc;
+  return columns;
+}();
 
 /// The columns of <mode>_learning.csv, one row per step (warm-up steps negative) and joint.
 inline constexpr std::array<ColumnDoc, 4> kLearningColumns{{
