@@ -152,8 +152,8 @@ def load_run(folder):
     per_step = os.path.join(folder, "per_step.csv")
     if os.path.exists(per_step):
         for row in read_rows(per_step):
-            if row["mode"] in traced and row["mode"] not in order:
-                order.append(row["mode"])
+            if row.mode in traced and row.mode not in order:
+                order.append(row.mode)
     modes = order + [m for m in traced if m not in order]
     stand = plant.get("stand")
     if stand is not None and not isinstance(stand, dict):
@@ -184,16 +184,17 @@ def read_trace(run, mode):
     period = 0
     try:
         for row in read_rows(path):
-            key = (int(row["step"]), int(row["tick"]))
+            key = (int(row.step), int(row.tick))
             actual, desired = angles.setdefault(key, ({}, {}))
-            for target, column in ((actual, "actual_deg"), (desired, "desired_deg")):
-                value = float(row[column])
+            for target, text, what in ((actual, row.actual_deg, "the actual angle"),
+                                       (desired, row.desired_deg, "the desired angle")):
+                value = float(text)
                 if not math.isfinite(value):
-                    raise ValueError(f"step {key[0]} tick {key[1]} {row['joint']}: {column} is "
+                    raise ValueError(f"step {key[0]} tick {key[1]} {row.joint}: {what} is "
                                      f"{value}")
-                target[row["joint"]] = math.radians(value)
+                target[row.joint] = math.radians(value)
             period = max(period, key[1] + 1)
-    except (OSError, KeyError, ValueError) as e:
+    except (OSError, AttributeError, ValueError) as e:
         raise InputError(f"'{path}': unreadable ({e})") from None
     if not angles:
         raise InputError(f"'{path}': no ticks")
@@ -241,12 +242,12 @@ def build_animation(folder, modes=None, steps=1, every=None):
         if run.stand is not None:
             path = os.path.join(run.folder, f"foot_{mode}.csv")
             try:
-                rows = {(int(r["step"]), int(r["tick"])): r for r in read_rows(path)}
+                rows = {(int(r.step), int(r.tick)): r for r in read_rows(path)}
                 for i, f in enumerate(frames):
-                    carriage[i] = float(rows[f]["carriage_z_mm"]) / 10.0
-                    force[i] = [float(rows[f][k]) for k in
-                                ("contact_fx_n", "contact_fy_n", "contact_fz_n")]
-            except (OSError, KeyError, ValueError) as e:
+                    carriage[i] = float(rows[f].carriage_z_mm) / 10.0
+                    force[i] = [float(rows[f].contact_fx_n), float(rows[f].contact_fy_n),
+                                float(rows[f].contact_fz_n)]
+            except (OSError, KeyError, AttributeError, ValueError) as e:
                 raise InputError(f"'{path}': no stand column or tick ({e})") from None
         anim.carriage_cm[mode] = carriage
         anim.force_n[mode] = force

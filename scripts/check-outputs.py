@@ -15,33 +15,11 @@ one line, exit status 2.
 """
 import argparse
 import pathlib
-import re
 import sys
 
+from results_reader import column_problems, declared_pattern, declared_tables
+
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
-HEADING = re.compile(r"^### `([^`]+)`$")
-COLUMN = re.compile(r"^\| `([^`]+)` \|")
-
-
-def shape(name):
-    """A regular expression for a declared name: `<...>` is any text without a comma or slash."""
-    return re.compile("".join("[^,/]+" if part.startswith("<") else re.escape(part)
-                              for part in re.split(r"(<[^>]+>)", name) if part) + r"\Z")
-
-
-def declared_tables(docs):
-    """{file pattern: [column names]} of every declared file that has columns."""
-    tables, current = {}, None
-    for line in docs.read_text(encoding="utf-8").splitlines():
-        heading = HEADING.match(line)
-        if heading:
-            current = heading.group(1)
-            continue
-        column = COLUMN.match(line)
-        if column and current is not None:
-            tables.setdefault(current, []).append(column.group(1))
-    return tables
-
 
 def header_of(path):
     """A CSV's column names (after a sweep shard's stamp line)."""
@@ -50,22 +28,6 @@ def header_of(path):
         if line.startswith("#"):
             line = f.readline()
     return line.rstrip("\r\n").split(",")
-
-
-def problems_of(name, header, columns):
-    """What is wrong with `header` for a file declared with `columns`."""
-    problems = []
-    literals = [c for c in columns if "<" not in c]
-    found = [c for c in header if c in literals]
-    if found != literals:
-        missing = [c for c in literals if c not in header]
-        problems.append(f"{name}: declared columns missing or out of order: "
-                        f"{', '.join(missing) or 'order ' + ', '.join(found)}")
-    shapes = [shape(c) for c in columns]
-    for c in header:
-        if c not in literals and not any(s.match(c) for s in shapes):
-            problems.append(f"{name}: column '{c}' is not declared")
-    return problems
 
 
 def main(argv):
@@ -84,12 +46,11 @@ def main(argv):
     problems, checked = [], 0
     for path in sorted(results.rglob("*.csv")):
         name = str(path.relative_to(results))
-        fitting = [p for p in tables if shape(p).match(path.name)]
-        if not fitting:
+        pattern = declared_pattern(path.name, tables)
+        if pattern is None:
             problems.append(f"{name}: no declared file has this name")
             continue
-        pattern = max(fitting, key=lambda p: len(re.sub(r"<[^>]+>", "", p)))
-        problems += problems_of(name, header_of(path), tables[pattern])
+        problems += column_problems(name, header_of(path), tables[pattern])
         checked += 1
     for problem in problems:
         print(f"check-outputs: {problem}", file=sys.stderr)

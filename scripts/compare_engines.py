@@ -45,8 +45,8 @@ def read_steps(path):
     """A step test's actual angle per tick (the step_<joint>_<height>.csv identify writes)."""
     try:
         rows = results_reader.read_rows(path)
-        return [float(row["actual_deg"]) for row in rows]
-    except (OSError, UnicodeDecodeError, KeyError, TypeError, ValueError, csv.Error) as e:
+        return [float(row.actual_deg) for row in rows]
+    except (OSError, UnicodeDecodeError, AttributeError, TypeError, ValueError, csv.Error) as e:
         raise BadInput(f"'{path}' is not a step test's CSV (tick,...,actual_deg): {e}") from None
 
 

@@ -383,7 +383,7 @@ def walk_speed_block(run):
                 if mode == "time_shift":
                     text += f" ({row['time_shift_k']})"
                 return f"**{text}**" if mode == best else text
-            out.append([row["track.t_step_ticks"], fixed(row["floor_foot_l2_cm"], 3)] +
+            out.append([row["track.t_step_ticks"], fixed(row.floor_foot_l2_cm, 3)] +
                        [shown(mode) for mode in modes])
         return out
     return lambda: ["t_step", "floor", "direct", "time shift (k)", "model_based", "optimal",

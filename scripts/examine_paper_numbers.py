@@ -77,20 +77,30 @@ def ik_solutions(target, inside_limits):
     return found
 
 
+def desired_cm(row):
+    """A foot_<mode>.csv row's desired foot position (x, y, z), cm."""
+    return [float(row.desired_x_cm), float(row.desired_y_cm), float(row.desired_z_cm)]
+
+
+def actual_cm(row):
+    """A foot_<mode>.csv row's actual foot position (x, y, z), cm."""
+    return [float(row.actual_x_cm), float(row.actual_y_cm), float(row.actual_z_cm)]
+
+
 def examine(run):
     trace = read_rows(f"{run}/trace_direct.csv")
     foot = read_rows(f"{run}/foot_direct.csv")
-    period = 1 + max(int(r["tick"]) for r in foot if r["step"] == "0")
+    period = 1 + max(int(r.tick) for r in foot if r.step == "0")
     desired = np.zeros((period, 3))
     for r in trace:
-        if r["step"] == "0":
-            desired[int(r["tick"]), ["rotator", "abductor", "knee"].index(r["joint"])] = float(
-                r["desired_deg"])
+        if r.step == "0":
+            desired[int(r.tick), ["rotator", "abductor", "knee"].index(r.joint)] = float(
+                r.desired_deg)
     worst = 0.0
     levers, smallest = [], []
     for t in range(period):
         q = np.radians(desired[t])
-        want = 10 * np.array([float(foot[t][f"desired_{a}_cm"]) for a in "xyz"])
+        want = 10 * np.array(desired_cm(foot[t]))
         worst = max(worst, np.linalg.norm(fk(q) - want))
         jac = jacobian(q)
         levers.append(np.linalg.norm(jac, axis=0))
@@ -99,16 +109,15 @@ def examine(run):
     # The IK's branches: how many of the (up to four) solutions lie inside the joint limits.
     branches = {}
     for t in range(period):
-        want = 10 * np.array([float(foot[t][f"desired_{a}_cm"]) for a in "xyz"])
+        want = 10 * np.array(desired_cm(foot[t]))
         key = (len(ik_solutions(want, True)), len(ik_solutions(want, False)))
         branches[key] = branches.get(key, 0) + 1
     # Joint errors of the direct run, every measured tick.
     err = {}
     for r in trace:
-        err.setdefault(r["joint"], []).append(float(r["actual_deg"]) - float(r["desired_deg"]))
+        err.setdefault(r.joint, []).append(float(r.actual_deg) - float(r.desired_deg))
     joint_rms = [math.sqrt(np.mean(np.square(err[j]))) for j in ("rotator", "abductor", "knee")]
-    foot_err = [math.dist([float(r[f"desired_{a}_cm"]) for a in "xyz"],
-                          [float(r[f"actual_{a}_cm"]) for a in "xyz"]) for r in foot]
+    foot_err = [math.dist(desired_cm(r), actual_cm(r)) for r in foot]
     foot_rms_cm = math.sqrt(np.mean(np.square(foot_err)))
     combined_deg = math.sqrt(sum(v * v for v in joint_rms))
     print(f"{run}: FK check {worst:.1e} mm")

@@ -16,11 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 import figures  # noqa: E402
-from results_reader import read_json, read_rows  # noqa: E402
-
-
-def column(rows, name, **where):
-    return [float(r[name]) for r in rows if all(r[k] == str(v) for k, v in where.items())]
+from results_reader import declared_columns, read_json, read_rows, select  # noqa: E402
 
 
 def save(fig, out, name):
@@ -33,10 +29,8 @@ def save(fig, out, name):
 
 
 def foot_paths(out, mode):
-    rows = read_rows(os.path.join(out, f"foot_{mode}.csv"))
-    first = [r for r in rows if r["step"] == "0"]
-    get = lambda key: [float(r[key]) for r in first]  # noqa: E731
-    return get("desired_x_cm"), get("desired_z_cm"), get("actual_x_cm"), get("actual_z_cm")
+    first = select(read_rows(os.path.join(out, f"foot_{mode}.csv")), step=0)
+    return first.desired_x_cm, first.desired_z_cm, first.actual_x_cm, first.actual_z_cm
 
 
 def closed(values):
@@ -94,9 +88,8 @@ def main(out):
 
     # Figure 2: requests (= desired) and actual angles of the rotator under the direct method.
     if have("trace_direct.csv"):
-        rows = read_rows(os.path.join(out, "trace_direct.csv"))
-        req = column(rows, "request_deg", step=0, joint="rotator")
-        act = column(rows, "actual_deg", step=0, joint="rotator")
+        rotator = select(read_rows(os.path.join(out, "trace_direct.csv")), step=0, joint="rotator")
+        req, act = rotator.request_deg, rotator.actual_deg
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(req, "k-", label="requested (= desired)")
         ax.plot(act, "r--", label="actual")
@@ -110,12 +103,12 @@ def main(out):
         name = f"step_rotator_{theta}.csv"
         if not have(name):
             continue
-        rows = read_rows(os.path.join(out, name))
+        test = select(read_rows(os.path.join(out, name)))
         period = 88
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(column(rows, "request_deg")[:period], "k-", label="requested")
-        ax.plot(column(rows, "actual_deg")[:period], "r.", ms=4, label="actual")
-        ax.plot(column(rows, "model_deg")[:period], "b-", lw=1, label="model")
+        ax.plot(test.request_deg[:period], "k-", label="requested")
+        ax.plot(test.actual_deg[:period], "r.", ms=4, label="actual")
+        ax.plot(test.model_deg[:period], "b-", lw=1, label="model")
         ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
                title=f"Fig. {number}: step test, theta_test = {theta} deg")
         ax.legend()
@@ -136,22 +129,22 @@ def main(out):
         save(fig, out, "fig5_f.png")
 
     if have("trace_model_based.csv"):
-        rows = read_rows(os.path.join(out, "trace_model_based.csv"))
-        get = lambda key: column(rows, key, step=0, joint="rotator")  # noqa: E731
+        rotator = select(read_rows(os.path.join(out, "trace_model_based.csv")), step=0,
+                         joint="rotator")
         # Figure 6: the piecewise-linear approximation of the rotator's desired angles.
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(get("desired_deg"), "k-", label="desired")
-        ax.plot(get("pwl_deg"), "g-", label="piecewise linear")
+        ax.plot(rotator.desired_deg, "k-", label="desired")
+        ax.plot(rotator.pwl_deg, "g-", label="piecewise linear")
         ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
                title="Fig. 6: piecewise-linear approximation")
         ax.legend()
         save(fig, out, "fig6_pwl_rotator.png")
         # Figure 7: desired, approximation, requests and actual under the model-based method.
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(get("desired_deg"), "k-", label="desired")
-        ax.plot(get("pwl_deg"), "g-", label="piecewise linear")
-        ax.plot(get("request_deg"), "b:", label="requested")
-        ax.plot(get("actual_deg"), "r--", label="actual")
+        ax.plot(rotator.desired_deg, "k-", label="desired")
+        ax.plot(rotator.pwl_deg, "g-", label="piecewise linear")
+        ax.plot(rotator.request_deg, "b:", label="requested")
+        ax.plot(rotator.actual_deg, "r--", label="actual")
         ax.set(xlabel="tick (8 ms)", ylabel="rotator angle (deg)",
                title="Fig. 7: model-based requests, rotator")
         ax.legend()
@@ -164,9 +157,9 @@ def main(out):
 
     # The time-shift search behind the best k.
     if have("shift_search.csv"):
-        rows = read_rows(os.path.join(out, "shift_search.csv"))
+        search = select(read_rows(os.path.join(out, "shift_search.csv")))
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(column(rows, "k"), column(rows, "foot_l2_cm"), "k.-")
+        ax.plot(search.k, search.foot_l2_cm, "k.-")
         ax.set(xlabel="time shift k (ticks)", ylabel="foot L2 (cm)",
                title="Time-shift baseline: foot error for every k")
         save(fig, out, "fig9_shift_search.png")
@@ -177,17 +170,16 @@ def main(out):
         table = read_json(os.path.join(out, "table2.json"))
         fig, (joints_ax, foot_ax) = plt.subplots(1, 2, figsize=(10, 4))
         for joint, colour in (("rotator", "C0"), ("abductor", "C1"), ("knee", "C2")):
-            steps = column(rows, "step", joint=joint)
-            joints_ax.plot(steps, column(rows, "l2_deg", joint=joint), "o-", color=colour,
-                           ms=3, label=joint)
+            learned = select(rows, joint=joint)
+            joints_ax.plot(learned.step, learned.l2_deg, "o-", color=colour, ms=3, label=joint)
             floor = table["joints"][joint]["L2(Des,Floor)"]["mean"]
             joints_ax.axhline(floor, color=colour, ls=":", lw=1)
         joints_ax.axvline(-0.5, color="0.6", lw=0.8)
         joints_ax.set(xlabel="step (warm-up < 0)", ylabel="L2 to desired (deg)",
                       title="ILC learning, joints (dotted: floor)")
         joints_ax.legend()
-        steps = column(rows, "step", joint="rotator")
-        foot_ax.plot(steps, column(rows, "foot_l2_cm", joint="rotator"), "ko-", ms=3, label="ilc")
+        learned = select(rows, joint="rotator")
+        foot_ax.plot(learned.step, learned.foot_l2_cm, "ko-", ms=3, label="ilc")
         foot = table["foot_cm"]
         for mode, style in (("floor", "k:"), ("model_based", "b--"), ("time_shift", "g--")):
             if mode in foot:
@@ -211,21 +203,24 @@ def main(out):
     # the plant before and after each change; every mode's foot error per step.
     changes = []
     if have("model_estimates.csv") and have("plant_models.csv"):
-        rows = read_rows(os.path.join(out, "model_estimates.csv"))
+        path = os.path.join(out, "model_estimates.csv")
+        rows = read_rows(path)
         plant = read_rows(os.path.join(out, "plant_models.csv"))
-        starts = sorted({int(r["from_step"]) for r in plant})
+        starts = sorted({int(s) for s in select(plant).from_step})
         changes = starts[1:]
-        last = max(int(r["step"]) for r in rows)
+        last = max(select(rows).step)
         fig, axes = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
-        params = (("v_max_deg_per_tick", "v_max (deg/tick)"), ("theta0_deg", "theta_0 (deg)"),
-                  ("lag_ticks", "l (ticks)"), ("accel_ticks", "a (ticks)"))
+        # The model's four values, in the declared order after step and joint.
+        params = zip(declared_columns(path)[2:6],
+                     ("v_max (deg/tick)", "theta_0 (deg)", "l (ticks)", "a (ticks)"))
         for ax, (key, label) in zip(axes.flat, params):
             for joint, colour in (("rotator", "C0"), ("abductor", "C1"), ("knee", "C2")):
-                ax.plot(column(rows, "step", joint=joint), column(rows, key, joint=joint), "o-",
-                        color=colour, ms=2.5, lw=1, label=joint)
+                estimates = select(rows, joint=joint)
+                ax.plot(estimates.step, estimates[key], "o-", color=colour, ms=2.5, lw=1,
+                        label=joint)
                 for k, start in enumerate(starts):
                     end = starts[k + 1] if k + 1 < len(starts) else last
-                    value = column(plant, key, joint=joint, from_step=start)[0]
+                    value = select(plant, joint=joint, from_step=start)[key][0]
                     ax.hlines(value, start, end, color=colour, ls="--", lw=1.2)
             for step in changes:
                 ax.axvline(step - 0.5, color="0.5", lw=0.8)
@@ -238,15 +233,15 @@ def main(out):
     if have("per_step.csv") and have("model_estimates.csv"):
         rows = read_rows(os.path.join(out, "per_step.csv"))
         fig, ax = plt.subplots(figsize=(8, 4))
-        for mode in dict.fromkeys(r["mode"] for r in rows):
-            ax.plot(column(rows, "step", mode=mode), column(rows, "foot_l2_cm", mode=mode), "o-",
-                    color=mode_color(mode), ms=2.5, lw=1, label=mode)
+        for mode in dict.fromkeys(select(rows).mode):
+            per_step = select(rows, mode=mode)
+            ax.plot(per_step.step, per_step.foot_l2_cm, "o-", color=mode_color(mode), ms=2.5,
+                    lw=1, label=mode)
         # model_based with a model identified on the changed plant, when reproduce.sh ran it.
         worn = os.path.join(out, "worn_model", "per_step.csv")
         if os.path.exists(worn):
-            rows = read_rows(worn)
-            ax.plot(column(rows, "step", mode="model_based"),
-                    column(rows, "foot_l2_cm", mode="model_based"), "--", color="b", lw=1,
+            per_step = select(read_rows(worn), mode="model_based")
+            ax.plot(per_step.step, per_step.foot_l2_cm, "--", color="b", lw=1,
                     label="model_based, model of the changed plant")
         for step in changes:
             ax.axvline(step - 0.5, color="0.5", lw=0.8)
@@ -263,8 +258,8 @@ def main(out):
                    if have(f"foot_{m}.csv")]
     on_stand = False
     for mode, _, _ in stand_modes:
-        rows = read_rows(os.path.join(out, f"foot_{mode}.csv"))
-        on_stand = on_stand or any(float(r.get("contact_fz_n", 0) or 0) != 0 for r in rows)
+        foot = select(read_rows(os.path.join(out, f"foot_{mode}.csv")))
+        on_stand = on_stand or any(f != 0 for f in foot.contact_fz_n)
     if on_stand:
         weight = None
         if have("table2.json"):
@@ -273,13 +268,11 @@ def main(out):
         # Figure 14: the floor's force on the foot over one step (step 0), each mode.
         fig, axes = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
         for mode, label, style in stand_modes:
-            rows = [r for r in read_rows(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
-            ticks = [int(r["tick"]) for r in rows]
-            axes[0].plot(ticks, [float(r["contact_fz_n"]) for r in rows], style, label=label)
-            axes[1].plot(ticks, [float(r["contact_fx_n"]) for r in rows], style,
-                         label=f"{label}, x")
-            axes[1].plot(ticks, [float(r["contact_fy_n"]) for r in rows], style, lw=0.8,
-                         alpha=0.5, label=f"{label}, y")
+            first = select(read_rows(os.path.join(out, f"foot_{mode}.csv")), step=0)
+            axes[0].plot(first.tick, first.contact_fz_n, style, label=label)
+            axes[1].plot(first.tick, first.contact_fx_n, style, label=f"{label}, x")
+            axes[1].plot(first.tick, first.contact_fy_n, style, lw=0.8, alpha=0.5,
+                         label=f"{label}, y")
         if weight:
             axes[0].axhline(weight, color="0.4", ls=":", label="carried weight")
         axes[0].set(ylabel="normal Fz (N)",
@@ -291,9 +284,8 @@ def main(out):
         # Figure 15: the carriage height over the same step.
         fig, ax = plt.subplots(figsize=(7, 3.5))
         for mode, label, style in stand_modes:
-            rows = [r for r in read_rows(os.path.join(out, f"foot_{mode}.csv")) if r["step"] == "0"]
-            ax.plot([int(r["tick"]) for r in rows], [float(r["carriage_z_mm"]) for r in rows],
-                    style, label=label)
+            first = select(read_rows(os.path.join(out, f"foot_{mode}.csv")), step=0)
+            ax.plot(first.tick, first.carriage_z_mm, style, label=label)
         ax.set(xlabel="tick (8 ms)", ylabel="carriage height (mm)",
                title="Carriage height above the walking height (stand, step 0)")
         ax.legend(fontsize=8)

@@ -16,19 +16,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import figures  # noqa: E402
-from results_reader import read_rows  # noqa: E402
+from results_reader import read_columns  # noqa: E402
 
-RUNGS = [
-    ("direct_deg", "direct (angle = request)", "0.6", ":"),
-    ("best_shift_deg", "best shift (hindsight oracle)", "tab:purple", "--"),
-    ("paper_deg", "paper's model", "tab:orange", "-"),
-    ("extended_deg", "extended model", "tab:green", "-"),
-]
-
-
-def read_columns(path):
-    rows = read_rows(path)
-    return {key: [float(r[key]) for r in rows] for key in rows[0]} if rows else {}
+# The rungs' prediction columns follow the log's own four (time, request, measured, torque), in
+# the ladder's order: direct, best shift, the paper's model, the extended model.
+LOG_COLUMNS = 4
+RUNG_STYLES = [("0.6", ":"), ("tab:purple", "--"), ("tab:orange", "-"), ("tab:green", "-")]
+RUNG_LABELS = {"direct": "direct (angle = request)", "best_shift": "best shift (hindsight oracle)",
+               "paper": "paper's model", "extended": "extended model"}
 
 
 def save(fig, path):
@@ -57,14 +52,14 @@ def log_figure(path):
     if not c:
         return
     fig, ax = plt.subplots(figsize=(10, 4))
-    t = c["time_s"]
-    grey_torque_off(ax, t, c["torque_enabled"])
-    ax.plot(t, c["request_deg"], color="0.3", lw=1.0, label="request")
-    ax.plot(t, c["measured_deg"], color="k", lw=2.0, label="measured")
-    for key, label, color, style in RUNGS:
-        if key in c:  # not drawn where the torque is off: nothing is predicted there
-            y = [v if on else float("nan") for v, on in zip(c[key], c["torque_enabled"])]
-            ax.plot(t, y, color=color, ls=style, lw=1.2, label=label)
+    t = c.time_s
+    grey_torque_off(ax, t, c.torque_enabled)
+    ax.plot(t, c.request_deg, color="0.3", lw=1.0, label="request")
+    ax.plot(t, c.measured_deg, color="k", lw=2.0, label="measured")
+    for key, (color, style) in zip(list(c)[LOG_COLUMNS:], RUNG_STYLES):
+        # Not drawn where the torque is off: nothing is predicted there.
+        y = [v if on else float("nan") for v, on in zip(c[key], c.torque_enabled)]
+        ax.plot(t, y, color=color, ls=style, lw=1.2, label=RUNG_LABELS.get(key.removesuffix("_deg"), key))
     name = os.path.basename(path)[len("log_"):-len(".csv")]
     ax.set_title(f"{name}: open-loop predictions (grey: torque off, not scored)")
     ax.set_xlabel("time (s)")
@@ -78,13 +73,13 @@ def plan_figure(folder):
     if not c:
         return
     fig, ax = plt.subplots(figsize=(10, 4))
-    t = c["time_s"]
-    ax.plot(t, c["desired_deg"], color="k", lw=2.0, label="desired")
-    ax.plot(t, c["request_deg"], color="tab:blue", lw=1.0, label="planned request")
-    ax.plot(t, c["predicted_deg"], color="tab:green", lw=1.2, label="predicted angle")
-    beyond = [x for x, b in zip(t, c["beyond_servo"]) if b != 0.0]
+    t = c.time_s
+    ax.plot(t, c.desired_deg, color="k", lw=2.0, label="desired")
+    ax.plot(t, c.request_deg, color="tab:blue", lw=1.0, label="planned request")
+    ax.plot(t, c.predicted_deg, color="tab:green", lw=1.2, label="predicted angle")
+    beyond = [x for x, b in zip(t, c.beyond_servo) if b != 0.0]
     if beyond:
-        ax.plot(beyond, [min(c["desired_deg"])] * len(beyond), "|", color="tab:red",
+        ax.plot(beyond, [min(c.desired_deg)] * len(beyond), "|", color="tab:red",
                 label="beyond the servo")
     ax.set_title("Planned requests and the model's predicted angle")
     ax.set_xlabel("time (s)")

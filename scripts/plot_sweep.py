@@ -23,7 +23,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
-from results_reader import read_csv  # noqa: E402
+from results_reader import declared_columns, read_csv  # noqa: E402
 
 
 def read_sweep(path):
@@ -31,9 +31,11 @@ def read_sweep(path):
     if "index" not in header or "status" not in header:
         sys.exit(f"plot_sweep: {path} is not a sweep.csv (no index or status column)")
     keys = header[header.index("index") + 1:header.index("status")]
+    # A mode's column is "<mode>_foot_l2_cm"; the floor's is declared on its own.
+    declared = set(declared_columns(path))
     modes = [c[: -len("_foot_l2_cm")] for c in header
-             if c.endswith("_foot_l2_cm") and c != "floor_foot_l2_cm"]
-    ok = [r for r in rows if r["status"] == "ok"]
+             if c.endswith("_foot_l2_cm") and c not in declared]
+    ok = [r for r in rows if r.status == "ok"]
     return keys, modes, ok, len(rows) - len(ok)
 
 

@@ -1,28 +1,143 @@
 """The files the programs write, read one way for every script (report.py, plot_figures.py,
-plot_logs.py, plot_sweep.py, animate.py, compare_engines.py): CSV tables as rows keyed by
-column name, JSON as parsed, a Markdown table row as its cells. UTF-8 whatever the locale. Errors are the caller's to turn into
-its one-line exit 2: OSError, UnicodeDecodeError and ValueError (a JSON syntax error) as
-Python raises them, csv.Error for a malformed CSV.
+plot_logs.py, plot_sweep.py, animate.py, compare_engines.py, docs_numbers.py): CSV tables
+checked against their declaration and read as rows keyed by column name, JSON as parsed, a
+Markdown table row as its cells. UTF-8 whatever the locale. Errors are the caller's to turn into
+its one-line exit 2: OSError, UnicodeDecodeError and ValueError (a JSON syntax error, a CSV
+whose columns are not its declared ones) as Python raises them, csv.Error for a malformed CSV.
+
+A CSV's columns are declared once, beside the code that writes them; docs/outputs.md is
+generated from those declarations (and checked against them by a test), and is what this module
+reads them from. A row gives a column's cell as an attribute, row.carriage_z_mm, so that a
+script names a column only by using it, and a name the declaration lacks fails there, naming
+the table's columns.
 
 Imported from the scripts' folder (Python puts a script's own folder first on its path).
 """
 import csv
+import functools
 import json
+import pathlib
 import re
 
+OUTPUTS_MD = pathlib.Path(__file__).resolve().parent.parent / "docs" / "outputs.md"
+_HEADING = re.compile(r"^### `([^`]+)`$")
+_COLUMN = re.compile(r"^\| `([^`]+)` \|")
 
-def read_csv(path):
-    """A CSV table: (header, rows), each row a dict from column name to text (a short row's
-    missing cells None, a long row's extra cells under None, as csv.DictReader gives them)."""
+
+def shape(name):
+    """A regular expression for a declared name: `<...>` is any text without a comma or slash."""
+    return re.compile("".join("[^,/]+" if part.startswith("<") else re.escape(part)
+                              for part in re.split(r"(<[^>]+>)", name) if part) + r"\Z")
+
+
+@functools.lru_cache(maxsize=None)
+def declared_tables(docs=OUTPUTS_MD):
+    """{file pattern: [column names]} of every declared file with columns in `docs` (a path)."""
+    tables, current = {}, None
+    for line in pathlib.Path(docs).read_text(encoding="utf-8").splitlines():
+        heading = _HEADING.match(line)
+        if heading:
+            current = heading.group(1)
+            continue
+        column = _COLUMN.match(line)
+        if column and current is not None:
+            tables.setdefault(current, []).append(column.group(1))
+    return tables
+
+
+def declared_pattern(file_name, tables):
+    """The declared file pattern `file_name` (a base name) fits, the most specific one, or
+    None."""
+    fitting = [p for p in tables if shape(p).match(file_name)]
+    if not fitting:
+        return None
+    return max(fitting, key=lambda p: len(re.sub(r"<[^>]+>", "", p)))
+
+
+def column_problems(name, header, columns):
+    """What is wrong with `header` for a file declared with `columns`: every declared column
+    without a `<...>` in the declared order, and nothing that matches no declared column (a
+    `<...>` column matches any name of its shape, in any place)."""
+    problems = []
+    literals = [c for c in columns if "<" not in c]
+    found = [c for c in header if c in literals]
+    if found != literals:
+        missing = [c for c in literals if c not in header]
+        problems.append(f"{name}: declared columns missing or out of order: "
+                        f"{', '.join(missing) or 'order ' + ', '.join(found)}")
+    shapes = [shape(c) for c in columns]
+    for c in header:
+        if c not in literals and not any(s.match(c) for s in shapes):
+            problems.append(f"{name}: column '{c}' is not declared")
+    return problems
+
+
+class Row(dict):
+    """One row of a CSV table: column name -> cell text. A declared column is also an
+    attribute (row.tick); a column whose name is not an identifier (a swept key's,
+    "servo.delay_ms") is an item."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(f"no column '{name}' (the table has {', '.join(self)})") from None
+
+
+def read_csv(path, docs=OUTPUTS_MD):
+    """A CSV table a program wrote: (header, rows), each row a Row (a short row's missing cells
+    None, a long row's extra cells under None, as csv.DictReader gives them). Its header is
+    checked against its file's declaration in `docs` first: ValueError naming the file and the
+    column when the file is not declared or its columns are not the declared ones."""
+    columns = declared_columns(path, docs)
     with open(path, encoding="utf-8", newline="") as f:
         reader = csv.DictReader(f)
-        rows = list(reader)
-        return list(reader.fieldnames or []), rows
+        rows = [Row(row) for row in reader]
+        header = list(reader.fieldnames or [])
+    problems = column_problems(str(path), header, columns)
+    if problems:
+        raise ValueError(problems[0])
+    return header, rows
 
 
-def read_rows(path):
+def declared_columns(path, docs=OUTPUTS_MD):
+    """The columns declared for the file at `path` (by its name), `<...>` patterns included;
+    ValueError when no declared file has its name."""
+    tables = declared_tables(pathlib.Path(docs))
+    pattern = declared_pattern(pathlib.Path(path).name, tables)
+    if pattern is None:
+        raise ValueError(f"{path}: no declared output has this name ({pathlib.Path(docs).name})")
+    return tables[pattern]
+
+
+def read_columns(path, docs=OUTPUTS_MD):
+    """A CSV table of numbers as columns: a Row from column name to its cells as floats (empty
+    when the table has no row), its header checked as read_csv checks it."""
+    header, rows = read_csv(path, docs)
+    return Row({name: [float(r[name]) for r in rows] for name in header} if rows else {})
+
+
+def _cell(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return text
+
+
+def select(rows, **where):
+    """The rows whose cells equal `where`'s values (compared as text: step=0 matches "0") as
+    columns: a Row from column name to its cells in order, numbers as floats, other text as
+    it is. select(rows, step=0, joint="rotator").actual_deg."""
+    chosen = [r for r in rows if all(r[k] == str(v) for k, v in where.items())]
+    names = list(rows[0]) if rows else []
+    return Row({name: [_cell(r[name]) for r in chosen] for name in names})
+
+
+def read_rows(path, docs=OUTPUTS_MD):
     """read_csv's rows alone."""
-    return read_csv(path)[1]
+    return read_csv(path, docs)[1]
 
 
 def read_json(path):
