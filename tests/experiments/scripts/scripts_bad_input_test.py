@@ -95,7 +95,7 @@ def animate_cases(source, track, out):
     with open(trace, "w") as f:
         f.write("\n".join(lines) + "\n")
     expect_refused("a NaN in a trace", [PY, animate, run_dir, "--out", gif],
-                   "actual_deg is nan")
+                   "the actual angle is nan")
     if os.path.exists(gif):
         failures.append("animate.py wrote a.gif though it refused")
 
