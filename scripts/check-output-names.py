@@ -1,0 +1,121 @@
+#!/usr/bin/python3
+"""Finds output names spelled in more than one place: a CSV column (docs/outputs.md, generated
+from the programs' declarations) or a telemetry field (core/plant.h's TelemetryColumn
+declarations) written as a whole string literal in more than one non-test source file besides
+the files that declare it. A column is declared once beside the code that fills it; a reader
+takes it from there (results_reader's rows, the Python package's dicts), so a rename cannot
+leave a reader behind.
+
+A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...}
+or a config key Key("name", ...) (a joint model's values are its keys). Names without
+an underscore ("tick", "step", "mode", "joint") are words as much as names and are not
+checked. Where one name still has several spellers they are listed in
+scripts/output_names.txt (name: file), a list that may only shrink: a finding not in it fails,
+and so does an entry no longer found.
+
+Usage: /usr/bin/python3 scripts/check-output-names.py [SOURCE_DIR] [--list FILE] [--update]
+Exit 0: nothing new; 1: a name spelled in one more place, or a stale entry, each on stderr.
+"""
+import argparse
+import os
+import re
+import sys
+
+FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python",
+           "scripts", "benchmarks", "examples")
+SUFFIXES = (".cc", ".h", ".py", ".sh")
+COLUMN = re.compile(r"^\| `([^`<>]+)` \|")
+TELEMETRY = re.compile(r'\{\{"(\w+)", "')
+LITERAL = re.compile(r"\"([^\"\n\\\\]*)\"|'([^'\n\\\\]*)'")
+
+
+def declared_names(source):
+    """The CSV columns of docs/outputs.md and the telemetry fields of core/plant.h that hold an
+    underscore."""
+    names = set()
+    with open(os.path.join(source, "docs", "outputs.md"), encoding="utf-8") as f:
+        for line in f:
+            m = COLUMN.match(line)
+            if m:
+                names.add(m.group(1))
+    with open(os.path.join(source, "core", "include", "leglab", "core", "plant.h"),
+              encoding="utf-8") as f:
+        names.update(TELEMETRY.findall(f.read()))
+    return {n for n in names if "_" in n}
+
+
+def declares(text, name):
+    """Whether a source declares `name`: a column's or a config key's."""
+    quoted = re.escape(f'"{name}"')
+    return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},", text) is not None
+
+
+def findings(source, names):
+    """[(name, file)] of every name spelled in two or more non-declaring files, sorted."""
+    spellers = {n: set() for n in names}
+    for folder in FOLDERS:
+        for root, dirs, files in os.walk(os.path.join(source, folder)):
+            dirs[:] = sorted(d for d in dirs if d != "tests")
+            for file in sorted(files):
+                if not file.endswith(SUFFIXES):
+                    continue
+                path = os.path.join(root, file)
+                rel = os.path.relpath(path, source)
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    text = f.read()
+                spelled = {a or b for a, b in LITERAL.findall(text)} & names
+                for name in spelled:
+                    if not declares(text, name):
+                        spellers[name].add(rel)
+    return sorted((n, rel) for n, files in spellers.items() if len(files) > 1 for rel in files)
+
+
+def read_list(path):
+    entries = []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.rstrip("\n")
+            if line and not line.startswith("#"):
+                name, _, rel = line.partition(": ")
+                entries.append((name, rel))
+    return entries
+
+
+HEADER = """\
+# Output names still spelled in more than one non-declaring source file
+# (scripts/check-output-names.py): name: file. This list may only shrink. Read the name from
+# its declaration instead (results_reader's rows, the package's dicts); then take its line out.
+"""
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(prog="check-output-names.py")
+    parser.add_argument("source", nargs="?",
+                        default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    parser.add_argument("--list", help="the known ones (default: scripts/output_names.txt)")
+    parser.add_argument("--update", action="store_true", help="rewrite the list")
+    args = parser.parse_args(argv)
+    listed_path = args.list or os.path.join(args.source, "scripts", "output_names.txt")
+    found = findings(args.source, declared_names(args.source))
+    if args.update:
+        with open(listed_path, "w", encoding="utf-8") as f:
+            f.write(HEADER + "".join(f"{name}: {rel}\n" for name, rel in found))
+        print(f"output names: {len(found)} spellings listed in {listed_path}")
+        return 0
+    listed = read_list(listed_path)
+    new = [entry for entry in found if entry not in listed]
+    stale = [entry for entry in listed if entry not in found]
+    for name, rel in new:
+        print(f"{rel}: spells the output name \"{name}\", which other sources spell too (read "
+              f"it from its declaration: docs/outputs.md)", file=sys.stderr)
+    for name, rel in stale:
+        print(f"{listed_path}: \"{name}: {rel}\" is no longer found: take it out (--update)",
+              file=sys.stderr)
+    if new or stale:
+        return 1
+    print(f"output names: nothing new ({len(found)} spellings still listed)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
