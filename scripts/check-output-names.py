@@ -30,13 +30,15 @@ LITERAL = re.compile(r"\"([^\"\n\\\\]*)\"|'([^'\n\\\\]*)'")
 
 
 def declared_names(source):
-    """The CSV columns of docs/outputs.md and the telemetry fields of core/plant.h that hold an
-    underscore."""
-    names = set()
+    """The CSV columns of docs/outputs.md (not a JSON file's fields) and the telemetry fields of
+    core/plant.h that hold an underscore."""
+    names, in_columns = set(), False
     with open(os.path.join(source, "docs", "outputs.md"), encoding="utf-8") as f:
         for line in f:
+            if line.startswith("| column |") or line.startswith("| field |"):
+                in_columns = line.startswith("| column |")  # a JSON file's fields: not yet
             m = COLUMN.match(line)
-            if m:
+            if m and in_columns:
                 names.add(m.group(1))
     with open(os.path.join(source, "core", "include", "leglab", "core", "plant.h"),
               encoding="utf-8") as f:

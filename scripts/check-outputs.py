@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Checks that every CSV table in a results folder has the columns docs/outputs.md declares for
-its file: the page is generated from the programs' declarations (--list-outputs), so this finds
-a writer that does not write what it declares.
+its file, and every JSON file a program declares only the fields it declares: the page is
+generated from the programs' declarations (--list-outputs), so this finds a writer that does not
+write what it declares.
 
 Usage: /usr/bin/python3 scripts/check-outputs.py RESULTS [--docs FILE]
 
@@ -10,14 +11,17 @@ to the declared file whose name pattern fits it (`<...>` stands for any text; th
 pattern wins). Its header must hold every declared column without a `<...>` in the declared
 order, and nothing that matches no declared column (a `<...>` column matches any name of its
 shape, in any place: a sweep's columns come per mode). A CSV no pattern fits is an error too.
-Each difference is named on stderr, exit status 1; bad input (no RESULTS folder, no docs file):
+Each *.json whose name a program declares must hold no field its declaration lacks (a field's
+dotted path, `<...>` any one key, `[]` a list's elements; a field the run did not need may be
+absent); other JSON files (a script's, learned_fit.json) are not checked. Each difference is named on stderr, exit status 1; bad input (no RESULTS folder, no docs file):
 one line, exit status 2.
 """
 import argparse
 import pathlib
 import sys
 
-from results_reader import column_problems, declared_pattern, declared_tables
+from results_reader import (column_problems, declared_pattern, declared_tables, field_problems,
+                            read_json)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 
@@ -52,11 +56,26 @@ def main(argv):
             continue
         problems += column_problems(name, header_of(path), tables[pattern])
         checked += 1
+    # A JSON file a program declares: every field it holds is declared (a field the run did not
+    # need, the test stand's say, may be absent). Others (learned_fit.json, a script's) are not
+    # the programs'.
+    for path in sorted(results.rglob("*.json")):
+        pattern = declared_pattern(path.name, tables)
+        if pattern is None:
+            continue
+        name = str(path.relative_to(results))
+        try:
+            value = read_json(path)
+        except (OSError, UnicodeDecodeError, ValueError) as e:
+            problems.append(f"{name}: not JSON ({e})")
+            continue
+        problems += field_problems(name, value, tables[pattern])
+        checked += 1
     for problem in problems:
         print(f"check-outputs: {problem}", file=sys.stderr)
     if problems:
         return 1
-    print(f"outputs: {checked} CSV files have their declared columns")
+    print(f"outputs: {checked} CSV and JSON files have their declared columns and fields")
     return 0
 
 

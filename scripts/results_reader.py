@@ -72,6 +72,33 @@ def column_problems(name, header, columns):
     return problems
 
 
+def json_fields(value, path=()):
+    """The leaf fields of a parsed JSON value, each as its path of keys; the elements of a list of
+    objects share one path, the list's key with `[]` appended ("logs[]"); a list of numbers or
+    text is a leaf."""
+    if isinstance(value, dict):
+        return [field for key, v in value.items() for field in json_fields(v, path + (key,))]
+    if isinstance(value, list) and any(isinstance(v, dict) for v in value):
+        listed = path[:-1] + (path[-1] + "[]",)
+        return [field for v in value for field in json_fields(v, listed)]
+    return [path]
+
+
+def field_problems(name, value, fields):
+    """What is wrong with a JSON file's parsed `value` for a file declared with `fields` (dotted
+    paths, `<...>` any one key): each leaf field no declared field matches, once."""
+    declared = [tuple(f.split(".")) for f in fields]
+
+    def matches(pattern, path):
+        return len(pattern) == len(path) and all(
+            p == k or (p.startswith("<") and not k.endswith("[]")) for p, k in zip(pattern, path))
+    problems = []
+    for path in dict.fromkeys(json_fields(value)):
+        if not any(matches(pattern, path) for pattern in declared):
+            problems.append(f"{name}: field '{'.'.join(path)}' is not declared")
+    return problems
+
+
 class Row(dict):
     """One row of a CSV table: column name -> cell text. A declared column is also an
     attribute (row.tick); a column whose name is not an identifier (a swept key's,

@@ -21,7 +21,10 @@ std::string OutputsMarkdown(std::span<const OutputDoc> outputs) {
     md += output.description;
     md += "\n";
     if (!output.columns.empty()) {
-      md += "\n| column | unit | description |\n|---|---|---|\n";
+      // A JSON file's are its fields, named by their dotted paths.
+      const bool json = output.file.ends_with(".json");
+      md += json ? "\n| field | unit | description |\n|---|---|---|\n"
+                 : "\n| column | unit | description |\n|---|---|---|\n";
       for (const ColumnDoc& c : output.columns) {
         md += "| `";
         md += c.name;

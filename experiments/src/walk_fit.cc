@@ -377,13 +377,38 @@ std::string WalkFitMarkdown(const WalkFitReport& report) {
   return md.str();
 }
 
+// walk_fit.json's fields (WalkFitJson), as dotted paths (`<...>`: a key named at run time).
+constexpr ColumnDoc kWalkFitFields[] = {
+    {"program", "", "fit_walk"},
+    {"config", "", "the config file it ran with"},
+    {"overrides", "", "the --set overrides, in order (a list)"},
+    {"fitted_on", "", "the paper's numbers it fitted, by name (a list)"},
+    {"fitted.<key>", "", "the fitted walk: each unknown's value, by its config key"},
+    {"ranges.<key>.min", "", "an unknown's range searched: its least value"},
+    {"ranges.<key>.max", "", "its greatest"},
+    {"ranges.<key>.choices", "", "or the values it chose among (a list)"},
+    {"ranges.<key>.why", "", "why that range"},
+    {"residuals.<name>.paper", "", "each number fitted: the paper's"},
+    {"residuals.<name>.fitted", "", "the fitted walk's"},
+    {"residuals.<name>.residual", "", "their difference"},
+    {"residuals.<name>.relative", "", "the difference over the paper's"},
+    {"cost", "", "the fit's cost: the sum of the squared relative residuals"},
+    {"fit.warmup_steps", "", "the warm-up steps of each evaluation"},
+    {"fit.steps", "", "the measured steps of each evaluation"},
+    {"fit.evaluations", "", "the walks it ran"},
+    {"fit.grid_feasible", "", "the grid's points the foot could reach"},
+    {"fit.cost_at_fit_steps", "", "the cost the fit found at those steps"},
+    {"fit.checked_with.warmup_steps", "", "the final check's warm-up steps"},
+    {"fit.checked_with.steps", "", "the final check's measured steps"},
+};
+
 std::span<const OutputDoc> WalkFitOutputs() {
   static const OutputDoc outputs[] = {
       {"walk_fit.json",
        "The fit of the walk's unknowns: the config and overrides it ran with, the numbers "
        "fitted on (fitted_on), the fitted walk (fitted), each unknown's range and why (ranges), "
        "the residuals per number and the cost.",
-       {}},
+       kWalkFitFields},
       {"walk_fit.md", "The same as Markdown tables (also what fit_walk prints).", {}},
       {"fit_walk_config.yaml", "The keys fit_walk ran with, merged.", {}},
   };

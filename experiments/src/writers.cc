@@ -306,14 +306,70 @@ const std::vector<std::string>& FootColumns() {
   return columns;
 }
 
+// The fields of table1.json and table2.json, as dotted paths (`<...>`: a key named at run time).
+constexpr ColumnDoc kPlantFields[] = {
+    {"plant.<setting>", "",
+     "the plant it ran on: robot (its file), the servo's delay_ms, max_speed_deg_s, gain_per_s, "
+     "smoothing_ms and max_torque_nm, the sensor's noise_deg and the seed, as the config names "
+     "them"},
+    {"plant.stand.<setting>", "",
+     "on the test stand, its settings as the config names them (robot.yaml's stand.*)"},
+    {"plant.kind", "", "with plant: model, `model`"},
+    {"plant.model.<value>", "", "with plant: model, the joint model it ran (as model.*)"},
+};
+constexpr ColumnDoc kTable1Fields[] = {
+    {"joints.<joint>.v_max_deg_per_tick", "deg/tick", "v_max identified: the top speed"},
+    {"joints.<joint>.theta0_deg", "deg", "theta_0 identified: the error at the top speed"},
+    {"joints.<joint>.lag_ticks", "ticks", "l identified: ticks before a request acts"},
+    {"joints.<joint>.accel_ticks", "ticks", "a identified: ticks to reach a new speed"},
+    {"joints.<joint>.fit_rms_deg", "deg", "the fit's RMS residual over the step tests"},
+    {"paper.<value>", "", "the paper's Table 1 model, the same four values"},
+    kPlantFields[0],
+    kPlantFields[1],
+    kPlantFields[2],
+    kPlantFields[3],
+};
+constexpr ColumnDoc kTable2Fields[] = {
+    {"steps", "", "the measured steps the statistics are over"},
+    {"joints.<joint>.<row>.<stat>", "deg",
+     "Table 2: the row's norm (L2 or Linf of one trajectory against another, e.g. L2(Des,MB)) "
+     "over a step, its mean or std over the measured steps"},
+    {"foot_cm.<mode>.L2.<stat>", "cm",
+     "the foot's RMS distance from its desired path over a step, its mean or std; `floor` is "
+     "the joints' floors put together"},
+    {"foot_cm.<mode>.Linf.<stat>", "cm", "the foot's greatest distance, likewise"},
+    {"foot_cm.<mode>.<parameter>", "",
+     "a mode's own parameters, as it declares them (time_shift's k: the shift, ticks)"},
+    {"model.<joint>.<value>", "", "the model the modes ran with: its four values (as model.*)"},
+    {"model.<joint>.pwl_segments", "", "its piecewise-linear approximation's segments"},
+    {"model.<joint>.identified", "", "true when identify found the model on the plant"},
+    {"walk_model.<joint>.<value>", "", "with a walk-fitted model, its four values"},
+    {"stand.carried_weight_n", "N", "on the test stand, the weight the foot carries at rest"},
+    {"stand.ground_phase_ticks", "ticks", "the ticks of a step the locus has the foot down"},
+    {"stand.modes.<mode>.stance_fz_n.<stat>", "N",
+     "the floor's normal force over the stance, mean over a step, its mean or std over the "
+     "steps"},
+    {"stand.modes.<mode>.ground_phase_fz_n.<stat>", "N", "the same over the ground phase"},
+    {"stand.modes.<mode>.peak_fz_n", "N", "the largest normal force"},
+    {"stand.modes.<mode>.loaded_ticks", "ticks", "the ticks a step the foot is loaded, mean"},
+    {"stand.modes.<mode>.slip_mm.<stat>", "mm", "the foot's slip per step, mean or std"},
+    {"stand.modes.<mode>.slip_mm_per_step", "mm", "the foot's slip, step by step (a list)"},
+    {"stand.modes.<mode>.max_slip_mm", "mm", "the most a step slipped"},
+    {"stand.modes.<mode>.sled_travel_x_mm.<stat>", "mm",
+     "the sled's travel forward over a step, mean or std"},
+    {"stand.modes.<mode>.sled_travel_y_mm.<stat>", "mm", "the same to the left"},
+    kPlantFields[0],
+    kPlantFields[1],
+    kPlantFields[2],
+    kPlantFields[3],
+};
+
 std::span<const OutputDoc> IdentifyOutputs() {
   static const OutputDoc step_tests[] = {
       {"table1.json",
-       "Without a logs section, Table 1: each joint's identified model "
-       "(`joints.<joint>.{v_max_deg_per_tick, theta0_deg, "
-       "lag_ticks, accel_ticks, fit_rms_deg}`), the paper's values and the plant it was "
-       "identified on.",
-       {}},
+       "Without a logs section, Table 1: each joint's identified model, the paper's values and "
+       "the plant it was identified on.",
+       kTable1Fields},
       {"table1.md", "Without a logs section: Table 1 as Markdown, beside the paper's values.", {}},
       {"step_<joint>_<theta>.csv",
        "Without a logs section: one step test of eq. 1 (joint rotator, abductor or knee; step "
@@ -337,10 +393,9 @@ std::span<const OutputDoc> IdentifyOutputs() {
 std::span<const OutputDoc> TrackOutputs() {
   static const OutputDoc outputs[] = {
       {"table2.json",
-       "Table 2 and the foot table: `steps`, `joints.<joint>.<row>.{mean, std}`, "
-       "`foot_cm.<mode>.{L2, Linf}`, the models, on the test stand the stand's numbers per mode, "
-       "and the plant.",
-       {}},
+       "Table 2 and the foot table, the models the modes ran with, on the test stand the stand's "
+       "numbers per mode, and the plant.",
+       kTable2Fields},
       {"table2.md", "Table 2 and the foot table as Markdown, the paper's values in brackets.", {}},
       {"trace_<mode>.csv", "Each joint's angles, tick by tick, under one mode.", kTraceColumns},
       {"foot_<mode>.csv", "The foot's path, tick by tick, under one mode.", kFootColumns},

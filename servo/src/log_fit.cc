@@ -553,14 +553,61 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
   return result.markdown;
 }
 
+// log_fit.json's fields (log_fit_report.cc writes them), as dotted paths; `[]` is every element
+// of a list.
+constexpr ColumnDoc kLogFitFields[] = {
+    {"models.paper.<motor>.<value>", "",
+     "the paper's model of a servo type: v_max_deg_per_tick, theta0_deg, lag_ticks, "
+     "accel_ticks in its ticks, tick_s (s) and v_max_deg_s (deg/s), as plan reads it"},
+    {"models.extended.<motor>.<value>", "",
+     "the extended model: gain_per_deg_kp, v_max_deg_s, v_max_given (true when given, not "
+     "fitted), stall_torque_nm, friction_duty, friction_load_ratio, velocity_lag_s, lag_ticks "
+     "and tick_s, as plan reads it"},
+    {"fit_sample.<motor>.training_ticks", "ticks", "the servo type's training ticks"},
+    {"fit_sample.<motor>.fitted_ticks", "ticks", "those its fit saw (logs.fit_ticks)"},
+    {"cross_validate", "", "logs.cross_validate"},
+    {"folds[].motor", "", "a fold of the cross-validation: its servo type"},
+    {"folds[].held_out", "", "the trajectory or gain it leaves out"},
+    {"folds[].training_ticks", "ticks", "its training ticks"},
+    {"folds[].fitted_ticks", "ticks", "those its fit saw"},
+    {"folds[].<rung>.<value>", "", "the fold's models, as models.* holds them"},
+    {"logs[].file", "", "a log: its file"},
+    {"logs[].role", "", "train or validate"},
+    {"logs[].held_out_by", "",
+     "how it was scored held out: the cross-validation's name, validate (a validate log) or "
+     "none (scored by the models it trained)"},
+    {"logs[].motor", "", "its servo type"},
+    {"logs[].trajectory", "", "its motion's name"},
+    {"logs[].kp", "", "its position gain"},
+    {"logs[].ticks_scored", "ticks", "its ticks with the torque on"},
+    {"logs[].best_shift_s", "s", "the best time shift in hindsight"},
+    {"logs[].mae_deg.<rung>", "deg", "each rung's mean absolute prediction error"},
+    {"logs[].rms_deg.<rung>", "deg", "each rung's RMS prediction error"},
+    {"logs[].data.samples", "", "its samples"},
+    {"logs[].data.duration_s", "s", "its length"},
+    {"logs[].data.median_interval_s", "s", "the median time between samples"},
+    {"logs[].data.interval_jitter_s", "s", "the spread of the time between samples"},
+    {"logs[].data.segments", "", "its pieces of 2 samples or more between pauses over logs.gap_s"},
+    {"logs[].data.samples_dropped", "", "samples alone between two pauses: in no segment"},
+    {"logs[].data.glitches", "", "measurements left out as glitches (logs.glitch_deg)"},
+    {"logs[].data.ticks_at_top_speed", "ticks",
+     "driven ticks measured at 90 % of the final model's v_max or more"},
+    {"logs[].data.ticks_at_full_duty", "ticks",
+     "driven ticks whose request error saturates the final model's duty"},
+    {"logs[].plan.direct_mae_deg", "deg",
+     "planned on the log's motion: the model's error with the desired angles sent as they are"},
+    {"logs[].plan.model_based_mae_deg", "deg", "with the model-based requests"},
+    {"logs[].plan.optimal_mae_deg", "deg", "with the optimal requests"},
+    {"logs[].plan.beyond_servo_ticks", "ticks", "ticks the motion is beyond the servo"},
+};
+
 std::span<const OutputDoc> LogFitOutputs() {
   static const OutputDoc outputs[] = {
       {"log_fit.json",
-       "With a logs section: every servo type's fitted models (`models.<rung>.<motor>`, as plan "
-       "reads them), each log's "
+       "With a logs section: every servo type's fitted models (as plan reads them), each log's "
        "scores by rung (direct, best_shift, paper, extended), training and held out, the logs' "
        "quality, and the planned requests' predicted errors.",
-       {}},
+       kLogFitFields},
       {"log_fit.md",
        "With a logs section: log_fit.json as Markdown tables, one section per servo "
        "type.",

@@ -156,15 +156,34 @@ std::string RunPlan(const PlanOptions& options) {
   return Summary(options, result);
 }
 
+// plan.json's fields (as the summary above writes them), as dotted paths.
+constexpr ColumnDoc kPlanFields[] = {
+    {"rung", "", "the model planned with: paper or extended"},
+    {"method", "", "model_based or optimal"},
+    {"motor", "", "the servo type whose model it is"},
+    {"tick_s", "s", "the model's tick, the requests' spacing"},
+    {"ticks", "", "the desired motion's ticks"},
+    {"beyond_servo_ticks", "",
+     "the ticks where the model-based inversion cannot reach the desired angle"},
+    {"predicted_mae_deg.planned", "deg",
+     "the model's mean absolute error from the desired angles under the planned requests"},
+    {"predicted_mae_deg.direct", "deg", "the same with the desired angles sent as they are"},
+    {"limits.min_deg", "deg", "the least request"},
+    {"limits.max_deg", "deg", "the greatest request"},
+    {"limits.max_speed_deg_s", "deg/s", "the fastest change of the request"},
+    {"drive.kp", "", "the extended rung's drive: the position gain"},
+    {"drive.mass_kg", "kg", "the load's mass"},
+    {"drive.length_m", "m", "the load's arm"},
+    {"online.preview_ticks", "ticks", "with --online, the desired ticks each request saw ahead"},
+    {"model_file", "", "the --model file"},
+    {"desired_file", "", "the --desired file"},
+};
+
 std::span<const OutputDoc> PlanOutputs() {
   static const OutputDoc outputs[] = {
       {"requests.csv", "The planned requests tick by tick, beside the desired motion.",
        kRequestsColumns},
-      {"plan.json",
-       "The plan's summary: rung, method, motor, tick_s, ticks, beyond_servo_ticks, "
-       "predicted_mae_deg.{planned, direct}, limits, drive (extended rung), online (with "
-       "--online), model_file, desired_file.",
-       {}},
+      {"plan.json", "The plan's summary.", kPlanFields},
   };
   return outputs;
 }

@@ -7,12 +7,14 @@ scripts/reproduce.sh (learned_fit.py's networks, minutes of training, are left o
 are the ones docs_numbers.py names as not checked). Then, on a copy of the docs: a joint-model
 value, a servo error and a paper value changed by hand fail the check naming block and line,
 --write puts the run's numbers back byte for byte, and bad input is one line, exit 2. The same
-fresh run's CSV tables have the columns docs/outputs.md declares (scripts/check-outputs.py), and
-that check finds a column renamed, one added and a file no program declares.
+fresh run's CSV tables and JSON files have the columns and fields docs/outputs.md declares
+(scripts/check-outputs.py), and that check finds a column renamed, one added, a file no program
+declares, and a JSON field renamed or added.
 
 Usage: docs_numbers_test.py SOURCE_DIR BIN_DIR BUILD_DIR SCRATCH_DIR
 Exit 77 (skipped) when the leglab Python package, which holds the paper's values, is not built.
 """
+import json
 import os
 import shutil
 import subprocess
@@ -82,8 +84,9 @@ def check_outputs(results, expect):
                               capture_output=True, text=True, check=False)
 
     result = run(results)
-    expect(result.returncode == 0 and " CSV files have their declared columns" in result.stdout,
-           "the fresh run's CSV files are not what docs/outputs.md declares", result)
+    expect(result.returncode == 0 and
+           " CSV and JSON files have their declared columns and fields" in result.stdout,
+           "the fresh run's CSV and JSON files are not what docs/outputs.md declares", result)
     bad = os.path.join(SCRATCH, "bad_outputs")
     os.makedirs(bad)
     with open(os.path.join(results, "trace_direct.csv"), encoding="utf-8") as f:
@@ -101,6 +104,23 @@ def check_outputs(results, expect):
         result = run(folder)
         expect(result.returncode == 1 and needle in result.stderr,
                f"check-outputs does not say {needle!r}", result)
+    # A JSON file's fields: one renamed (table1.json's joints.<joint>.theta0_deg) and one added
+    # in a list's elements (log_fit.json's logs[]) are not declared.
+    for rel, change, needle in (
+            ("table1.json", lambda t: t["joints"]["knee"].update(theta_0=t["joints"]["knee"].pop(
+                "theta0_deg")), "table1.json: field 'joints.knee.theta_0' is not declared"),
+            ("servo_logs/log_fit.json", lambda t: t["logs"][0].update(extra_deg=1.0),
+             "log_fit.json: field 'logs[].extra_deg' is not declared")):
+        with open(os.path.join(results, rel), encoding="utf-8") as f:
+            table = json.load(f)
+        change(table)
+        folder = os.path.join(bad, "json_" + os.path.basename(rel))
+        os.makedirs(folder)
+        with open(os.path.join(folder, os.path.basename(rel)), "w", encoding="utf-8") as f:
+            json.dump(table, f)
+        result = run(folder)
+        expect(result.returncode == 1 and needle in result.stderr and
+               result.stderr.count("\n") == 1, f"check-outputs does not say {needle!r}", result)
     result = run(os.path.join(SCRATCH, "nowhere"))
     expect(result.returncode == 2 and result.stderr.count("\n") == 1,
            "check-outputs on a missing folder is not one line, exit 2", result)

@@ -15,7 +15,9 @@ namespace leglab {
 
 /// One file a program writes, declared beside the code that fills it: what `--list-outputs`
 /// prints and docs/outputs.md holds. `file` may hold `<...>` for a part named at run time
-/// ("trace_<mode>.csv"). A file without columns (JSON, Markdown) is described in prose.
+/// ("trace_<mode>.csv"). A CSV's `columns` are its columns; a JSON file's are its fields, each
+/// named by its dotted path (`<...>` for a key named at run time, `[]` for every element of a
+/// list: "logs[].mae_deg.<rung>"). A file without them (Markdown, YAML) is described in prose.
 struct OutputDoc {
   std::string_view file;
   std::string_view description;
