@@ -66,9 +66,12 @@ std::vector<std::string> ResultColumns(const ExperimentConfig& base) {
   }
   joint_l2("floor");
   columns.emplace_back("model_source");
+  // A joint model's values by their keys' names (VisitKeys).
+  const std::vector<KeyValue> model_keys =
+      KeyValues(JointModelParams{}, [](KeyVisitor& v, JointModelParams& m) { VisitKeys(v, m); });
   for (std::string_view joint : kLegJointNames) {
-    for (const char* field : {"v_max_deg_per_tick", "theta0_deg", "lag_ticks", "accel_ticks"}) {
-      columns.push_back("model_" + std::string(joint) + "_" + field);
+    for (const KeyValue& k : model_keys) {
+      columns.push_back("model_" + std::string(joint) + "_" + k.key);
     }
   }
   return columns;

@@ -34,11 +34,14 @@ std::string ThetaLabel(double theta) {
                                     : FormatDouble(theta);
 }
 
+// A joint model's values under its keys' names (VisitKeys), integers as integers.
 Json ModelJson(const JointModelParams& p) {
-  return {{"v_max_deg_per_tick", p.v_max_deg_per_tick},
-          {"theta0_deg", p.theta0_deg},
-          {"lag_ticks", p.lag_ticks},
-          {"accel_ticks", p.accel_ticks}};
+  Json json = Json::object();
+  const auto visit = [](KeyVisitor& v, JointModelParams& m) { VisitKeys(v, m, kAnyJointModel); };
+  for (const KeyValue& k : KeyValues(p, visit)) {
+    json[k.key] = k.integer ? Json(static_cast<long>(k.value)) : Json(k.value);
+  }
+  return json;
 }
 
 Json StatJson(const MeanStd& s) { return {{"mean", s.mean}, {"std", s.std}}; }

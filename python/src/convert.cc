@@ -102,6 +102,13 @@ std::optional<double> ToOptionalReal(py::handle value, std::string_view what) {
   return ToReal(value, what);
 }
 
+void AddKeyValues(py::dict& dict, const std::vector<KeyValue>& values) {
+  for (const KeyValue& k : values) {
+    dict[py::str(k.key)] = k.integer ? py::object(py::int_(static_cast<long long>(k.value)))
+                                     : py::object(py::float_(k.value));
+  }
+}
+
 long long ToInteger(py::handle value, std::string_view what, const KeyDoc& doc) {
   const std::string name(what);
   if (PyBool_Check(value.ptr()) || IsNumpyScalar(value, "bool_")) {

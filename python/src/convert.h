@@ -40,6 +40,10 @@ double ToReal(py::handle value, std::string_view what, bool finite = true);
 /// None as nullopt, anything else as ToReal (finite).
 std::optional<double> ToOptionalReal(py::handle value, std::string_view what);
 
+/// Adds each of `values` (KeyValues: a struct's numeric keys) to `dict` under its key's name,
+/// an integer key as an int.
+void AddKeyValues(py::dict& dict, const std::vector<KeyValue>& values);
+
 /// `value` as an integer in the range `doc` declares: a Python int or a numpy integer (not a
 /// bool, not a float, even a whole one). TypeError for another type; ValueError "<what> must
 /// be an integer in [min, max], got N" outside the range, before anything is allocated for it.

@@ -245,10 +245,9 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
           "to_dict",
           [](const JointModelParams& p) {
             py::dict d;
-            d["v_max_deg_per_tick"] = p.v_max_deg_per_tick;
-            d["theta0_deg"] = p.theta0_deg;
-            d["lag_ticks"] = p.lag_ticks;
-            d["accel_ticks"] = p.accel_ticks;
+            AddKeyValues(d, KeyValues(p, [](KeyVisitor& v, JointModelParams& m) {
+                           VisitKeys(v, m, kAnyJointModel);
+                         }));
             return d;
           },
           "to_dict() -> dict\n\n"

@@ -146,20 +146,15 @@ std::string ModelRepr(const FittedModel& m) {
 py::dict ModelToDict(const FittedModel& m) {
   py::dict d;
   d["tick_s"] = m.tick_s;
+  // The model's values under its keys' names (its VisitKeys), as log_fit.json holds them.
   if (m.rung == "paper") {
-    d["v_max_deg_per_tick"] = m.paper.v_max_deg_per_tick;
-    d["theta0_deg"] = m.paper.theta0_deg;
-    d["lag_ticks"] = m.paper.lag_ticks;
-    d["accel_ticks"] = m.paper.accel_ticks;
+    AddKeyValues(d, KeyValues(m.paper, [](KeyVisitor& v, JointModelParams& p) {
+                   VisitKeys(v, p, kAnyJointModel);
+                 }));
     d["v_max_deg_s"] = m.top_speed_deg_s;
   } else {
-    d["gain_per_deg_kp"] = m.extended.gain_per_deg_kp;
-    d["v_max_deg_s"] = m.extended.v_max_deg_s;
-    d["stall_torque_nm"] = m.extended.stall_torque_nm;
-    d["friction_duty"] = m.extended.friction_duty;
-    d["friction_load_ratio"] = m.extended.friction_load_ratio;
-    d["velocity_lag_s"] = m.extended.velocity_lag_s;
-    d["lag_ticks"] = m.extended.lag_ticks;
+    AddKeyValues(
+        d, KeyValues(m.extended, [](KeyVisitor& v, ServoModelParams& p) { VisitKeys(v, p); }));
   }
   return d;
 }

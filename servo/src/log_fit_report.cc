@@ -13,13 +13,16 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+// The paper's model in the log's ticks: the tick, the model's values under its keys' names
+// (VisitKeys), and its top speed in deg/s.
 Json PaperJson(const JointModelParams& p, double tick_s) {
-  return {{"tick_s", tick_s},
-          {"v_max_deg_per_tick", p.v_max_deg_per_tick},
-          {"theta0_deg", p.theta0_deg},
-          {"lag_ticks", p.lag_ticks},
-          {"accel_ticks", p.accel_ticks},
-          {"v_max_deg_s", p.v_max_deg_per_tick / tick_s}};
+  Json json = {{"tick_s", tick_s}};
+  const auto visit = [](KeyVisitor& v, JointModelParams& m) { VisitKeys(v, m, kAnyJointModel); };
+  for (const KeyValue& k : KeyValues(p, visit)) {
+    json[k.key] = k.integer ? Json(static_cast<long>(k.value)) : Json(k.value);
+  }
+  json["v_max_deg_s"] = p.v_max_deg_per_tick / tick_s;
+  return json;
 }
 
 Json ExtendedJson(const ServoModelParams& p, double tick_s, bool v_max_given) {

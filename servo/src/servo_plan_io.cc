@@ -101,24 +101,37 @@ std::string ChooseMotor(const Json& rung_models, const std::string& motor, const
   return rung_models.items().begin().key();
 }
 
+// A model's values read under its keys' names, in its declaration's order (`visit`, its
+// VisitKeys): a number each, an integer key a whole number in its declared range. Its ranges
+// are the caller's to check.
+template <typename Params, typename Visit>
+Params ReadKeys(const Json& entry, const std::string& where, const std::string& file, Visit visit) {
+  Params params{};
+  for (const KeyValue& k : KeyValues(params, visit)) {
+    const double value =
+        k.integer ? Ticks(entry, k.key, where, file, k.doc) : Number(entry, k.key, where, file);
+    KeyAssigner assigner(k.key, value);
+    try {
+      visit(assigner, params);
+    } catch (const std::invalid_argument& e) {  // a rule of several keys, broken
+      throw InputError(file + ": " + where + e.what());
+    }
+  }
+  return params;
+}
+
 void ReadRungParams(const Json& entry, const std::string& where, const std::string& file,
                     FittedModel& model) {
   std::string problem;
   if (model.rung == "paper") {
-    model.paper = {Number(entry, "v_max_deg_per_tick", where, file),
-                   Number(entry, "theta0_deg", where, file),
-                   Ticks(entry, "lag_ticks", where, file, kAnyJointModel.lag_ticks),
-                   Ticks(entry, "accel_ticks", where, file, kAnyJointModel.accel_ticks)};
+    model.paper = ReadKeys<JointModelParams>(
+        entry, where, file,
+        [](KeyVisitor& v, JointModelParams& p) { VisitKeys(v, p, kAnyJointModel); });
     problem = JointModelParamsProblem(model.paper);
     model.top_speed_deg_s = model.paper.v_max_deg_per_tick / model.tick_s;
   } else {
-    model.extended = {Number(entry, "gain_per_deg_kp", where, file),
-                      Number(entry, "v_max_deg_s", where, file),
-                      Number(entry, "stall_torque_nm", where, file),
-                      Number(entry, "friction_duty", where, file),
-                      Number(entry, "friction_load_ratio", where, file),
-                      Number(entry, "velocity_lag_s", where, file),
-                      Ticks(entry, "lag_ticks", where, file, kAnyJointModel.lag_ticks)};
+    model.extended = ReadKeys<ServoModelParams>(
+        entry, where, file, [](KeyVisitor& v, ServoModelParams& p) { VisitKeys(v, p); });
     problem = ServoModelParamsProblem(model.extended);
     model.top_speed_deg_s = model.extended.v_max_deg_s;
   }

@@ -234,6 +234,55 @@ class KeyLister final : public SectionedKeyVisitor {
   std::vector<KeyRow> rows_;
 };
 
+/// One numeric key as a declaration visits it, with the visited struct's value (KeyValues).
+struct KeyValue {
+  std::string key;  ///< dotted, as the config writes it
+  double value = 0.0;
+  bool integer = false;  ///< an integer key (int or unsigned): write it without a fraction
+  KeyDoc doc;
+};
+
+/// Lists the numeric keys a declaration visits with the visited struct's values: what writes a
+/// struct's values under its keys' names (a JSON object, a dict) and reads them back.
+class KeyValueLister final : public SectionedKeyVisitor {
+ public:
+  const std::vector<KeyValue>& values() const { return values_; }
+
+  void Key(std::string_view name, int& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
+  }
+  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
+  }
+  void Key(std::string_view name, double& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), value, false, doc});
+  }
+  void Key(std::string_view, bool&, const KeyDoc&) override {}
+  void Key(std::string_view, std::string&, const KeyDoc&) override {}
+  void Key(std::string_view, std::vector<double>&, const KeyDoc&) override {}
+  void Key(std::string_view, std::vector<int>&, const KeyDoc&) override {}
+  void Structured(std::string_view, std::string_view, std::string_view, const KeyDoc&) override {}
+  bool Given(std::string_view /*name*/) const override { return false; }
+  [[noreturn]] void Fail(std::string_view name, const std::string& expectation) override {
+    throw std::invalid_argument(FullName(name) + " must be " + expectation);
+  }
+
+ protected:
+  void Choice(std::string_view, int&, std::span<const std::string_view>, const KeyDoc&) override {}
+
+ private:
+  std::vector<KeyValue> values_;
+};
+
+/// The numeric keys `visit(visitor, value)` declares, in order, with `value`'s values. Throws
+/// std::invalid_argument as KeyChecker where `value` breaks a rule of several keys.
+template <typename T, typename Visit>
+std::vector<KeyValue> KeyValues(T value, Visit&& visit) {
+  KeyValueLister lister;
+  std::forward<Visit>(visit)(lister, value);
+  return lister.values();
+}
+
 /// Checks the values a declaration visits as they are (a struct built in code, not loaded):
 /// each against its range and rule, an enum against its names, and the declaration's checks
 /// of several keys. Throws std::invalid_argument "<prefix><key> must be <expectation>, got
