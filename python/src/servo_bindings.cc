@@ -252,7 +252,8 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
           ? -1
           : static_cast<int>(ToInteger(preview, "preview_ticks",
                                        WithRange(kServoPreviewDoc, 0, kServoPreviewDoc.max)));
-  options.reanchor_deg = ToReal(reanchor, "reanchor_deg");
+  // Any number here: the planner checks it against its declaration ((0, inf]; inf: never).
+  options.reanchor_deg = ToReal(reanchor, "reanchor_deg", /*finite=*/false);
   options.optimal_iterations_per_tick =
       static_cast<int>(ToInteger(iterations, "optimal_iterations_per_tick", kServoIterationsDoc));
   const ServoLimits limits{ToReal(min_value, "min_deg"), ToReal(max_value, "max_deg"),
@@ -375,7 +376,7 @@ request(window_deg, measured_deg) with the desired angles from this tick on (as 
 know, up to preview_ticks + 1; the last one is held beyond them) and the angle just measured;
 send what it returns. model_based given horizon_ticks + 1 desired angles, and as measured what
 the plan predicts, returns plan()'s requests bit for bit. A measured angle more than
-reanchor_deg off the model's prediction moves the planner's model there (see
+reanchor_deg off the model's prediction moves the planner's model there (inf: never; see
 docs/real-servos.md, "Online"). optimal is a receding horizon of preview_ticks ticks.
 Requests stay within [min_deg, max_deg] and change at most at the model's top speed.
 )doc")

@@ -182,6 +182,21 @@ def test_online_model_based_is_the_batch_plan(identified):
         assert np.array_equal(predicted, batch["predicted_deg"]), rung
 
 
+def test_the_planner_takes_the_reanchor_range_its_declaration_gives(identified):
+    # (0, inf]: inf never re-anchors, as the C++ planner allows; 0 and NaN are refused by it.
+    _, fit = identified
+    model = fit.model("xl330")
+    for reanchor, moved in ((2.0, True), (float("inf"), False)):
+        planner = servo.ServoPlanner(model, kp=400, reanchor_deg=reanchor)
+        window = [0.0] * (planner.preview_ticks + 1)
+        planner.request(window, 0.0)
+        planner.request(window, 1e4)  # measured far off the prediction
+        assert planner.reanchored == moved, reanchor
+    for bad in (0.0, float("nan")):
+        with pytest.raises(ValueError, match=r"reanchor_deg must be in \(0, inf\] deg"):
+            servo.ServoPlanner(model, kp=400, reanchor_deg=bad)
+
+
 def test_online_optimal_is_near_the_batch_optimum(identified):
     _, fit = identified
     log = servo.read_log(XL330_LOG)
