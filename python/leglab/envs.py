@@ -22,8 +22,8 @@ import numpy as _np
 
 import leglab as _leglab
 
-SEED_MAX = 9_200_000_000_000_000_000
-"""The largest plant seed (the config key `seed`'s range is [0, SEED_MAX])."""
+SEED_MAX = int(_leglab._leglab._key_range("seed")[1])
+"""The largest plant seed: the config key `seed`'s declared range is [0, SEED_MAX]."""
 
 ACTIONS = ("request", "offset")
 """The action kinds of LegTrackingEnv: the requested angles, or offsets from the desired ones."""

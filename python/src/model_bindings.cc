@@ -287,13 +287,12 @@ void BindModel(py::module_& m) {
 
   // The search ranges' defaults are the identification's (and identify.yaml's).
   const IdentificationOptions search;
-  m.def(
-      "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
-      py::arg("lag_range_ticks") = py::make_tuple(search.lag_min_ticks, search.lag_max_ticks),
-      py::arg("accel_range_ticks") = py::make_tuple(search.accel_min_ticks, search.accel_max_ticks),
-      py::arg("period_ticks") = py::none(),
-      R"doc(identify(requests, measured, *, lag_range_ticks=(0, 12), accel_range_ticks=(1, 12), period_ticks=None) -> Identification
-
+  // The docstring's first line shows the search ranges' defaults as they are.
+  static const std::string identify_doc =
+      "identify(requests, measured, *, lag_range_ticks=(" + std::to_string(search.lag_min_ticks) +
+      ", " + std::to_string(search.lag_max_ticks) + "), accel_range_ticks=(" +
+      std::to_string(search.accel_min_ticks) + ", " + std::to_string(search.accel_max_ticks) +
+      "), period_ticks=None) -> Identification\n" + R"doc(
 Fits the paper's joint model to recordings, as `identify` does to its step tests.
 
 Args:
@@ -311,7 +310,21 @@ period_ticks the averaged fit's residual plus the cycles' spread about their mea
 `identify` reports it). The first lag_max + accel_max ticks
 of each recording are the prediction's warm-up and are not scored. Raises ValueError for
 recordings that are empty, of different lengths, non-finite, too short to score, or not
-whole cycles of one request pattern when period_ticks is given.)doc");
+whole cycles of one request pattern when period_ticks is given.)doc";
+  m.def(
+      "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
+      py::arg("lag_range_ticks") = py::make_tuple(search.lag_min_ticks, search.lag_max_ticks),
+      py::arg("accel_range_ticks") = py::make_tuple(search.accel_min_ticks, search.accel_max_ticks),
+      py::arg("period_ticks") = py::none(), identify_doc.c_str());
+  m.def(
+      "_key_range",
+      [](const std::string& key) {
+        for (const KeyRow& row : experiments::ExperimentKeys({})) {
+          if (row.key == key) return py::make_tuple(row.doc.min, row.doc.max);
+        }
+        ThrowValueError("no config key '" + key + "'");
+      },
+      "_key_range(key) -> (min, max): an experiment config key's declared range");
 
   m.def(
       "floor",

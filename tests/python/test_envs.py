@@ -216,6 +216,13 @@ def test_numpy_integer_seeds_and_the_largest_seed_are_taken():
     assert env.episode_seed == 4
     env.reset(seed=SEED_MAX)
     assert env.episode_seed == SEED_MAX
+    # SEED_MAX comes from the seed key's declaration ([0, 9.2e18], docs/configuration.md): the
+    # plant takes it as its seed and refuses a larger one (10^6 larger: an override passes
+    # through a double, whose neighbours there are 1024 apart).
+    assert SEED_MAX == 9_200_000_000_000_000_000
+    leglab.Plant(CONFIG, {"seed": SEED_MAX})
+    with pytest.raises(ValueError, match="seed"):
+        leglab.Plant(CONFIG, {"seed": SEED_MAX + 10**6})
 
 
 def test_bad_arguments_raise_value_error():
