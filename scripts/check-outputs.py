@@ -17,11 +17,11 @@ absent); other JSON files (a script's, learned_fit.json) are not checked. Each d
 one line, exit status 2.
 """
 import argparse
+import json
 import pathlib
 import sys
 
-from results_reader import (column_problems, declared_pattern, declared_tables, field_problems,
-                            read_json)
+from results_reader import column_problems, declared_pattern, declared_tables, field_problems
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 
@@ -65,7 +65,8 @@ def main(argv):
             continue
         name = str(path.relative_to(results))
         try:
-            value = read_json(path)
+            with open(path, encoding="utf-8") as f:
+                value = json.load(f)
         except (OSError, UnicodeDecodeError, ValueError) as e:
             problems.append(f"{name}: not JSON ({e})")
             continue

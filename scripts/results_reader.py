@@ -92,9 +92,17 @@ def field_problems(name, value, fields):
     def matches(pattern, path):
         return len(pattern) == len(path) and all(
             p == k or (p.startswith("<") and not k.endswith("[]")) for p, k in zip(pattern, path))
+    if not isinstance(value, dict):
+        return [f"{name}: expected a JSON object, got {type(value).__name__}"]
     problems = []
     for path in dict.fromkeys(json_fields(value)):
-        if not any(matches(pattern, path) for pattern in declared):
+        if any(matches(pattern, path) for pattern in declared):
+            continue
+        inner = [p for p in declared if len(p) > len(path) and matches(p[:len(path)], path)]
+        if inner:
+            problems.append(f"{name}: field '{'.'.join(path)}' is not an object (declared: "
+                            f"{'.'.join(inner[0])})")
+        else:
             problems.append(f"{name}: field '{'.'.join(path)}' is not declared")
     return problems
 
@@ -167,10 +175,19 @@ def read_rows(path, docs=OUTPUTS_MD):
     return read_csv(path, docs)[1]
 
 
-def read_json(path):
-    """A JSON file, parsed."""
+def read_json(path, docs=OUTPUTS_MD):
+    """A JSON file, parsed. One a program declares field by field (table1.json, log_fit.json,
+    ...) is checked against its declaration first: ValueError naming the file and the first
+    field its declaration lacks. Others (a script's own, learned_fit.json) are read as they are."""
     with open(path, encoding="utf-8") as f:
-        return json.load(f)
+        value = json.load(f)
+    tables = declared_tables(pathlib.Path(docs))
+    pattern = declared_pattern(pathlib.Path(path).name, tables)
+    if pattern is not None and pattern.endswith(".json"):
+        problems = field_problems(pathlib.Path(path).name, value, tables[pattern])
+        if problems:
+            raise ValueError(problems[0])
+    return value
 
 
 def split_row(line):
