@@ -79,11 +79,11 @@ def animate_cases(source, track, out):
                                       os.path.join(out, "folder.gif")], "is a folder")
     table = os.path.join(run_dir, "table2.json")
     shutil.copy(table, table + ".kept")
-    for text in ("[1, 2]", '{"plant": "sim"}'):
+    for text, needle in (("[1, 2]", "table2.json: expected a JSON object, got list"),
+                         ('{"plant": "sim"}', "table2.json: field 'plant' is not an object")):
         with open(table, "w") as f:
             f.write(text)
-        expect_refused(f"table2.json {text}", [PY, animate, run_dir, "--out", gif],
-                       "expected a JSON object with a 'plant' object")
+        expect_refused(f"table2.json {text}", [PY, animate, run_dir, "--out", gif], needle)
     shutil.copy(table + ".kept", table)
     trace = os.path.join(run_dir, "trace_direct.csv")
     with open(trace) as f:
