@@ -245,6 +245,27 @@ def servo_ladder_block(run):
              "extended"], rows
 
 
+def servo_plans_block(run):
+    """The planned requests' predicted errors on each log's motion, the models fitted on every
+    log (the logs a plan was made for), by motor and trajectory, a cell per gain."""
+    def rows():
+        logs = [log for log in run.json("servo_logs/log_fit.json")["logs"] if "plan" in log]
+        out = []
+        for motor in sorted({log["motor"] for log in logs}):
+            mine = sorted((log for log in logs if log["motor"] == motor),
+                          key=lambda log: (log["trajectory"], float(log["kp"])))
+            for trajectory in sorted({log["trajectory"] for log in mine}):
+                plans = [log["plan"] for log in mine if log["trajectory"] == trajectory]
+                kps = [float(log["kp"]) for log in mine if log["trajectory"] == trajectory]
+                out.append([motor.upper(), f"{trajectory} ({kp_text(kps)})"] +
+                           [", ".join(fixed(plan[key]) for plan in plans) for key in
+                            ("direct_mae_deg", "model_based_mae_deg", "optimal_mae_deg")] +
+                           [", ".join(str(plan["beyond_servo_ticks"]) for plan in plans)])
+        return out
+    return lambda: ["servo", "log (kp)", "direct", "model_based", "optimal",
+                    "beyond servo (ticks)"], rows
+
+
 def servo_by_kp_block(run):
     """The extended model's error on each log of the gain-setting folds, by the gain held out."""
     def rows():
@@ -426,6 +447,7 @@ def blocks(run, leglab):
         "real-servos": real_servos_block(run),
         "servo-ladder": servo_ladder_block(run),
         "servo-by-kp": servo_by_kp_block(run),
+        "servo-plans": servo_plans_block(run),
         "servo-learned": servo_learned_block(run),
     }
 
