@@ -21,6 +21,8 @@ import os
 import re
 import sys
 
+from shrinking_list import compare, read_entries, write_entries
+
 FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python",
            "scripts", "benchmarks", "examples")
 SUFFIXES = (".cc", ".h", ".py", ".sh")
@@ -72,17 +74,6 @@ def findings(source, names):
     return sorted((n, rel) for n, files in spellers.items() if len(files) > 1 for rel in files)
 
 
-def read_list(path):
-    entries = []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            line = line.rstrip("\n")
-            if line and not line.startswith("#"):
-                name, _, rel = line.partition(": ")
-                entries.append((name, rel))
-    return entries
-
-
 HEADER = """\
 # Output names still spelled in more than one non-declaring source file
 # (scripts/check-output-names.py): name: file. This list may only shrink. Read the name from
@@ -100,13 +91,10 @@ def main(argv):
     listed_path = args.list or os.path.join(args.source, "scripts", "output_names.txt")
     found = findings(args.source, declared_names(args.source))
     if args.update:
-        with open(listed_path, "w", encoding="utf-8") as f:
-            f.write(HEADER + "".join(f"{name}: {rel}\n" for name, rel in found))
+        write_entries(listed_path, HEADER, found)
         print(f"output names: {len(found)} spellings listed in {listed_path}")
         return 0
-    listed = read_list(listed_path)
-    new = [entry for entry in found if entry not in listed]
-    stale = [entry for entry in listed if entry not in found]
+    new, stale = compare(found, read_entries(listed_path))
     for name, rel in new:
         print(f"{rel}: spells the output name \"{name}\", which other sources spell too (read "
               f"it from its declaration: docs/outputs.md)", file=sys.stderr)

@@ -18,6 +18,8 @@ import os
 import re
 import sys
 
+from shrinking_list import compare, read_entries, write_entries
+
 FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python/src")
 # The declarations' own machinery, which turns a KeyDoc into these words.
 EXEMPT = {"core/include/leglab/core/config_keys.h"}
@@ -52,17 +54,6 @@ def findings(source):
     return found
 
 
-def read_list(path):
-    entries = []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            line = line.rstrip("\n")
-            if line and not line.startswith("#"):
-                rel, _, literal = line.partition(": ")
-                entries.append((rel, literal))
-    return entries
-
-
 HEADER = """\
 # Ranges still written by hand in the sources (scripts/check-ranges.py): file: message text.
 # This list may only shrink. Declare a value's range once (a KeyDoc beside its struct's
@@ -80,18 +71,10 @@ def main(argv):
     listed_path = args.list or os.path.join(args.source, "scripts", "hand_ranges.txt")
     found = findings(args.source)
     if args.update:
-        with open(listed_path, "w", encoding="utf-8") as f:
-            f.write(HEADER + "".join(f"{rel}: {literal}\n" for rel, literal in found))
+        write_entries(listed_path, HEADER, found)
         print(f"ranges: {len(found)} written by hand, listed in {listed_path}")
         return 0
-    listed = read_list(listed_path)
-    new = list(found)
-    stale = []
-    for entry in listed:
-        if entry in new:
-            new.remove(entry)
-        else:
-            stale.append(entry)
+    new, stale = compare(found, read_entries(listed_path))
     for rel, literal in new:
         print(f"{rel}: a range written by hand: \"{literal}\" (declare it once, a KeyDoc, and "
               f"check through the declaration: docs/design/config-keys.md)", file=sys.stderr)
