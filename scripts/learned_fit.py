@@ -42,6 +42,8 @@ import sys
 
 import numpy as np
 
+from results_reader import read_columns
+
 SOURCE_DIR = pathlib.Path(__file__).resolve().parents[1]
 GRAVITY = 9.81  # m/s^2, as the extended model's
 
@@ -95,12 +97,13 @@ def read_run(run):
             continue
         name = f"log_{row['motor']}_{pathlib.Path(row['file']).stem}.csv"
         try:
-            table = np.genfromtxt(run / name, delimiter=",", names=True)
-            columns = [table[c] for c in ("request_deg", "measured_deg", "torque_enabled")]
-        except (OSError, ValueError) as e:
+            table = read_columns(run / name)  # checked against its declared columns
+            request, measured = np.array(table.request_deg), np.array(table.measured_deg)
+            driven = np.array(table.torque_enabled) == 1
+        except (OSError, ValueError, AttributeError) as e:
             raise UserError(f"{run / name}: cannot read its columns ({e})") from None
         logs[row["file"]] = {
-            "request": columns[0], "measured": columns[1], "driven": columns[2] == 1,
+            "request": request, "measured": measured, "driven": driven,
             "kp": float(row["kp"]), "load_nm": _load_torque_nm(row),
             "tick_s": float(models[row["motor"]]["tick_s"]), "row": row,
             "cross_validate": fit.get("cross_validate", "none"),

@@ -14,6 +14,8 @@ torch = pytest.importorskip("torch", reason="PyTorch is not installed (python3-t
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parents[2]
 SCRIPT = SOURCE_DIR / "scripts" / "learned_fit.py"
+# The script imports its folder's shared modules (results_reader), as when it is run.
+sys.path.insert(0, str(SCRIPT.parent))
 spec = importlib.util.spec_from_file_location("learned_fit", SCRIPT)
 learned_fit = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(learned_fit)
