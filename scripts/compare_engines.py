@@ -69,15 +69,15 @@ def table1_section(ode_path, dart_path):
     for joint in JOINTS:
         try:
             o, d = ode["joints"][joint], dart["joints"][joint]
-            cells = [fmt(number(o["v_max_deg_per_tick"], ode_path, "v_max"), 4),
-                     fmt(number(d["v_max_deg_per_tick"], dart_path, "v_max"), 4),
-                     fmt(number(o["theta0_deg"], ode_path, "theta0_deg")),
-                     fmt(number(d["theta0_deg"], dart_path, "theta0_deg")),
-                     f"{o['lag_ticks']}, {d['lag_ticks']}",
-                     f"{o['accel_ticks']}, {d['accel_ticks']}",
-                     fmt(number(o["fit_rms_deg"], ode_path, "fit_rms_deg")),
-                     fmt(number(d["fit_rms_deg"], dart_path, "fit_rms_deg"))]
-        except (KeyError, TypeError) as e:
+            cells = [fmt(number(o.v_max_deg_per_tick, ode_path, "v_max"), 4),
+                     fmt(number(d.v_max_deg_per_tick, dart_path, "v_max"), 4),
+                     fmt(number(o.theta0_deg, ode_path, "theta_0")),
+                     fmt(number(d.theta0_deg, dart_path, "theta_0")),
+                     f"{o.lag_ticks}, {d.lag_ticks}",
+                     f"{o.accel_ticks}, {d.accel_ticks}",
+                     fmt(number(o.fit_rms_deg, ode_path, "the fit's RMS")),
+                     fmt(number(d.fit_rms_deg, dart_path, "the fit's RMS"))]
+        except (KeyError, AttributeError, TypeError) as e:
             raise BadInput(f"'{ode_path}' or '{dart_path}': no Table 1 entry {e} "
                            f"for joint {joint}") from None
         lines.append(f"| {joint} | " + " | ".join(cells) + " |")

@@ -115,13 +115,13 @@ def table1_block(run, rms_row, lag_label):
         t = run.json("table1.json")
         p = t["paper"]
         j = [t["joints"][name] for name in JOINTS]
-        out = [["v_max (deg/tick)", paper_value(p["v_max_deg_per_tick"])] +
-               [fixed(x["v_max_deg_per_tick"]) for x in j],
-               ["theta_0 (deg)", paper_value(p["theta0_deg"])] + [fixed(x["theta0_deg"]) for x in j],
-               [lag_label, paper_value(p["lag_ticks"])] + [str(x["lag_ticks"]) for x in j],
-               ["a (ticks)", paper_value(p["accel_ticks"])] + [str(x["accel_ticks"]) for x in j]]
+        out = [["v_max (deg/tick)", paper_value(p.v_max_deg_per_tick)] +
+               [fixed(x.v_max_deg_per_tick) for x in j],
+               ["theta_0 (deg)", paper_value(p.theta0_deg)] + [fixed(x.theta0_deg) for x in j],
+               [lag_label, paper_value(p.lag_ticks)] + [str(x.lag_ticks) for x in j],
+               ["a (ticks)", paper_value(p.accel_ticks)] + [str(x.accel_ticks) for x in j]]
         if rms_row:
-            out.append(["fit RMS residual (deg)", ""] + [fixed(x["fit_rms_deg"], 3) for x in j])
+            out.append(["fit RMS residual (deg)", ""] + [fixed(x.fit_rms_deg, 3) for x in j])
         return out
     return lambda: ["", "paper", *JOINTS], rows
 

@@ -117,7 +117,7 @@ def main(out):
     # Figure 5: the function f of eq. 2 with the rotator's identified parameters.
     if have("table1.json"):
         p = read_json(os.path.join(out, "table1.json"))["joints"]["rotator"]
-        v, t0 = p["v_max_deg_per_tick"], p["theta0_deg"]
+        v, t0 = p.v_max_deg_per_tick, p.theta0_deg
         xs = [-3 * t0, -t0, t0, 3 * t0]
         ys = [-v, -v, v, v]
         fig, ax = plt.subplots(figsize=(5, 4))

@@ -108,9 +108,10 @@ def field_problems(name, value, fields):
 
 
 class Row(dict):
-    """One row of a CSV table: column name -> cell text. A declared column is also an
-    attribute (row.tick); a column whose name is not an identifier (a swept key's,
-    "servo.delay_ms") is an item."""
+    """One row of a CSV table (column name -> cell text) or one object of a JSON file (field ->
+    value). A name that is an identifier is also an attribute (row.tick,
+    table1.joints.rotator.theta0_deg); others (a swept key's column "servo.delay_ms", a Table 2
+    row "L2(Des,Dir)") are items."""
 
     __slots__ = ()
 
@@ -118,7 +119,16 @@ class Row(dict):
         try:
             return self[name]
         except KeyError:
-            raise AttributeError(f"no column '{name}' (the table has {', '.join(self)})") from None
+            raise AttributeError(f"no '{name}' here (there are {', '.join(self)})") from None
+
+
+def _with_attributes(value):
+    """A parsed JSON value with each object a Row, nested."""
+    if isinstance(value, dict):
+        return Row({k: _with_attributes(v) for k, v in value.items()})
+    if isinstance(value, list):
+        return [_with_attributes(v) for v in value]
+    return value
 
 
 def read_csv(path, docs=OUTPUTS_MD):
@@ -176,9 +186,10 @@ def read_rows(path, docs=OUTPUTS_MD):
 
 
 def read_json(path, docs=OUTPUTS_MD):
-    """A JSON file, parsed. One a program declares field by field (table1.json, log_fit.json,
-    ...) is checked against its declaration first: ValueError naming the file and the first
-    field its declaration lacks. Others (a script's own, learned_fit.json) are read as they are."""
+    """A JSON file, parsed, each object a Row (its fields also attributes). One a program
+    declares field by field (table1.json, log_fit.json, ...) is checked against its declaration
+    first: ValueError naming the file and the first field its declaration lacks. Others (a
+    script's own, learned_fit.json) are read as they are."""
     with open(path, encoding="utf-8") as f:
         value = json.load(f)
     tables = declared_tables(pathlib.Path(docs))
@@ -187,7 +198,7 @@ def read_json(path, docs=OUTPUTS_MD):
         problems = field_problems(pathlib.Path(path).name, value, tables[pattern])
         if problems:
             raise ValueError(problems[0])
-    return value
+    return _with_attributes(value)
 
 
 def split_row(line):
