@@ -245,8 +245,8 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
           "to_dict",
           [](const JointModelParams& p) {
             py::dict d;
-            AddKeyValues(d, KeyValues(p, [](KeyVisitor& v, JointModelParams& m) {
-                           VisitKeys(v, m, kAnyJointModel);
+            AddKeyValues(d, KeyValues(p, [](KeyVisitor& v, JointModelParams& model) {
+                           VisitKeys(v, model, kAnyJointModel);
                          }));
             return d;
           },

@@ -234,29 +234,12 @@ class KeyLister final : public SectionedKeyVisitor {
   std::vector<KeyRow> rows_;
 };
 
-/// One numeric key as a declaration visits it, with the visited struct's value (KeyValues).
-struct KeyValue {
-  std::string key;  ///< dotted, as the config writes it
-  double value = 0.0;
-  bool integer = false;  ///< an integer key (int or unsigned): write it without a fraction
-  KeyDoc doc;
-};
-
-/// Lists the numeric keys a declaration visits with the visited struct's values: what writes a
-/// struct's values under its keys' names (a JSON object, a dict) and reads them back.
-class KeyValueLister final : public SectionedKeyVisitor {
+/// A KeyVisitor that sees only a declaration's numeric keys (int, unsigned, double): every other
+/// key is passed over, and a rule of several keys that fails throws std::invalid_argument
+/// "<key> must be <expectation>". What KeyValueLister and KeyAssigner are built on.
+class NumericKeyVisitor : public SectionedKeyVisitor {
  public:
-  const std::vector<KeyValue>& values() const { return values_; }
-
-  void Key(std::string_view name, int& value, const KeyDoc& doc) override {
-    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
-  }
-  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) override {
-    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
-  }
-  void Key(std::string_view name, double& value, const KeyDoc& doc) override {
-    values_.push_back({FullName(name), value, false, doc});
-  }
+  using KeyVisitor::Key;
   void Key(std::string_view, bool&, const KeyDoc&) override {}
   void Key(std::string_view, std::string&, const KeyDoc&) override {}
   void Key(std::string_view, std::vector<double>&, const KeyDoc&) override {}
@@ -269,6 +252,32 @@ class KeyValueLister final : public SectionedKeyVisitor {
 
  protected:
   void Choice(std::string_view, int&, std::span<const std::string_view>, const KeyDoc&) override {}
+};
+
+/// One numeric key as a declaration visits it, with the visited struct's value (KeyValues).
+struct KeyValue {
+  std::string key;  ///< dotted, as the config writes it
+  double value = 0.0;
+  bool integer = false;  ///< an integer key (int or unsigned): write it without a fraction
+  KeyDoc doc;
+};
+
+/// Lists the numeric keys a declaration visits with the visited struct's values: what writes a
+/// struct's values under its keys' names (a JSON object, a dict) and reads them back.
+class KeyValueLister final : public NumericKeyVisitor {
+ public:
+  using NumericKeyVisitor::Key;
+  const std::vector<KeyValue>& values() const { return values_; }
+
+  void Key(std::string_view name, int& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
+  }
+  void Key(std::string_view name, std::uint64_t& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), static_cast<double>(value), true, doc});
+  }
+  void Key(std::string_view name, double& value, const KeyDoc& doc) override {
+    values_.push_back({FullName(name), value, false, doc});
+  }
 
  private:
   std::vector<KeyValue> values_;
@@ -336,8 +345,9 @@ class KeyChecker final : public SectionedKeyVisitor {
 /// Sets one numeric key of a struct, found through its declaration: a running plant's
 /// settings named as the config names them ("servo.delay_ms"), unchecked beyond the type (the
 /// owner validates the result). assigned() tells whether the declaration has such a key.
-class KeyAssigner final : public SectionedKeyVisitor {
+class KeyAssigner final : public NumericKeyVisitor {
  public:
+  using NumericKeyVisitor::Key;
   /// `name` is dotted from the visited struct's own keys, `value` in the key's unit.
   KeyAssigner(std::string name, double value) : target_(std::move(name)), value_(value) {}
   bool assigned() const { return assigned_; }
@@ -351,18 +361,6 @@ class KeyAssigner final : public SectionedKeyVisitor {
   void Key(std::string_view name, double& value, const KeyDoc& /*doc*/) override {
     if (Matches(name)) value = value_;
   }
-  void Key(std::string_view, bool&, const KeyDoc&) override {}
-  void Key(std::string_view, std::string&, const KeyDoc&) override {}
-  void Key(std::string_view, std::vector<double>&, const KeyDoc&) override {}
-  void Key(std::string_view, std::vector<int>&, const KeyDoc&) override {}
-  void Structured(std::string_view, std::string_view, std::string_view, const KeyDoc&) override {}
-  bool Given(std::string_view /*name*/) const override { return false; }
-  [[noreturn]] void Fail(std::string_view name, const std::string& expectation) override {
-    throw std::invalid_argument(FullName(name) + " must be " + expectation);
-  }
-
- protected:
-  void Choice(std::string_view, int&, std::span<const std::string_view>, const KeyDoc&) override {}
 
  private:
   bool Matches(std::string_view name) {
