@@ -147,14 +147,21 @@ def read_csv(path, docs=OUTPUTS_MD):
     return header, rows
 
 
+def _declaration(path, docs):
+    """The columns or fields declared for the file at `path` (by its name), `<...>` patterns
+    included, or None when no declared file has its name."""
+    tables = declared_tables(pathlib.Path(docs))
+    pattern = declared_pattern(pathlib.Path(path).name, tables)
+    return None if pattern is None else tables[pattern]
+
+
 def declared_columns(path, docs=OUTPUTS_MD):
     """The columns declared for the file at `path` (by its name), `<...>` patterns included;
     ValueError when no declared file has its name."""
-    tables = declared_tables(pathlib.Path(docs))
-    pattern = declared_pattern(pathlib.Path(path).name, tables)
-    if pattern is None:
+    columns = _declaration(path, docs)
+    if columns is None:
         raise ValueError(f"{path}: no declared output has this name ({pathlib.Path(docs).name})")
-    return tables[pattern]
+    return columns
 
 
 def read_columns(path, docs=OUTPUTS_MD):
@@ -192,10 +199,9 @@ def read_json(path, docs=OUTPUTS_MD):
     script's own, learned_fit.json) are read as they are."""
     with open(path, encoding="utf-8") as f:
         value = json.load(f)
-    tables = declared_tables(pathlib.Path(docs))
-    pattern = declared_pattern(pathlib.Path(path).name, tables)
-    if pattern is not None and pattern.endswith(".json"):
-        problems = field_problems(pathlib.Path(path).name, value, tables[pattern])
+    fields = _declaration(path, docs)
+    if fields is not None:
+        problems = field_problems(pathlib.Path(path).name, value, fields)
         if problems:
             raise ValueError(problems[0])
     return _with_attributes(value)
