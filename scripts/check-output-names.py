@@ -6,8 +6,9 @@ the files that declare it. A column is declared once beside the code that fills 
 takes it from there (results_reader's rows, the Python package's dicts), so a rename cannot
 leave a reader behind.
 
-A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...}
-or a config key Key("name", ...) (a joint model's values are its keys). Names without
+A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...},
+a config key Key("name", ...) or a declared name, std::string_view field = "name" (a joint
+model's values are its keys, named in joint_model.h). Names without
 an underscore ("tick", "step", "mode", "joint") are words as much as names and are not
 checked. Where one name still has several spellers they are listed in
 scripts/output_names.txt (name: file), a list that may only shrink: a finding not in it fails,
@@ -49,9 +50,10 @@ def declared_names(source):
 
 
 def declares(text, name):
-    """Whether a source declares `name`: a column's or a config key's."""
+    """Whether a source declares `name`: a column's, a config key's or a declared name's."""
     quoted = re.escape(f'"{name}"')
-    return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},", text) is not None
+    return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},|std::string_view \w+ = {quoted};",
+                     text) is not None
 
 
 def findings(source, names):

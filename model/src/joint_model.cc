@@ -26,15 +26,16 @@ double ModelVelocity(const JointModelParams& p, double angle_deg, RequestAt requ
 }  // namespace
 
 void VisitKeys(KeyVisitor& v, JointModelParams& params, const JointModelDocs& docs) {
-  v.Key("v_max_deg_per_tick", params.v_max_deg_per_tick, docs.v_max_deg_per_tick);
-  v.Key("theta0_deg", params.theta0_deg, docs.theta0_deg);
-  v.Key("lag_ticks", params.lag_ticks, docs.lag_ticks);
-  v.Key("accel_ticks", params.accel_ticks, docs.accel_ticks);
+  const JointModelNames& n = kJointModelNames;
+  v.Key(n.v_max_deg_per_tick, params.v_max_deg_per_tick, docs.v_max_deg_per_tick);
+  v.Key(n.theta0_deg, params.theta0_deg, docs.theta0_deg);
+  v.Key(n.lag_ticks, params.lag_ticks, docs.lag_ticks);
+  v.Key(n.accel_ticks, params.accel_ticks, docs.accel_ticks);
   // f's slope inside (-theta_0, theta_0): an infinite or subnormal one makes f(0) NaN or the
   // model's steps meaningless. (Unset values, 0, are the ranges' to report.)
   const double slope = params.v_max_deg_per_tick / params.theta0_deg;
   if (params.v_max_deg_per_tick > 0.0 && params.theta0_deg > 0.0 && !std::isnormal(slope)) {
-    v.Fail("theta0_deg", "such that v_max_deg_per_tick / theta0_deg is a normal number, got " +
+    v.Fail(n.theta0_deg, "such that v_max_deg_per_tick / theta0_deg is a normal number, got " +
                              FormatNumber(params.v_max_deg_per_tick) + " / " +
                              FormatNumber(params.theta0_deg));
   }

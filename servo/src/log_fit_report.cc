@@ -34,7 +34,7 @@ Json ExtendedJson(const ServoModelParams& p, double tick_s, bool v_max_given) {
           {"friction_duty", p.friction_duty},
           {"friction_load_ratio", p.friction_load_ratio},
           {"velocity_lag_s", p.velocity_lag_s},
-          {"lag_ticks", p.lag_ticks}};
+          {kJointModelNames.lag_ticks, p.lag_ticks}};
 }
 
 // How a row's log was kept from the models that scored it: the cross-validation, the

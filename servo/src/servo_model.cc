@@ -64,7 +64,7 @@ void VisitKeys(KeyVisitor& v, ServoModelParams& params) {
   v.Key("friction_load_ratio", params.friction_load_ratio,
         NonNegative("", "the band's growth per unit of load duty"));
   v.Key("velocity_lag_s", params.velocity_lag_s, Positive("s", "the velocity's time constant"));
-  v.Key("lag_ticks", params.lag_ticks,
+  v.Key(kJointModelNames.lag_ticks, params.lag_ticks,
         WithDescription(kAnyJointModel.lag_ticks, "l: ticks before a request starts to act"));
 }
 

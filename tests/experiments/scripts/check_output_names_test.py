@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """scripts/check-output-names.py: no output name is spelled in more non-declaring sources than
-its list holds, and the check finds a name a second reader spells, leaves alone one reader, a
-declaration and a plain word, and names a stale entry.
+its list holds, and the check finds a name a second reader spells, leaves alone one reader, the
+three forms of a declaration and a plain word, and names a stale entry.
 
 Usage: check_output_names_test.py SOURCE_DIR
 """
@@ -20,6 +20,7 @@ FILES = {
                                         '"the force"}, nullptr};\n',
     "experiments/include/writers.h": 'inline constexpr ColumnDoc kFoot{"foot_mm", "mm", "x"};\n',
     "experiments/src/config.cc": 'v.Key("foot_mm", c.foot, kDoc);  // a key of that name\n',
+    "model/include/names.h": 'struct Names { std::string_view foot = "foot_mm"; };  // declared\n',
     "scripts/first.py": 'x = [float(r["foot_mm"]) for r in rows]\nt = r["tick"]\n',
     "scripts/second.py": "y = row['foot_mm']\nt = row['tick']\n",
     "scripts/tests/third.py": 'z = row["foot_mm"]  # a test folder is not a source\n',

@@ -10,6 +10,7 @@
 #include "leglab/core/plant.h"
 #include "leglab/experiments/config.h"
 #include "leglab/experiments/tables.h"
+#include "leglab/model/joint_model.h"
 
 /// The tables as files: Markdown for people, JSON and CSV for scripts. Formatting only; every
 /// number comes from tables.h (and the paper's from leglab/model/paper.h).
@@ -124,15 +125,23 @@ inline constexpr std::array<ColumnDoc, 6> kPerStepColumns{{
 /// The columns of model_estimates.csv (a mode's estimated model after every step) and of
 /// plant_models.csv (identify's model of the plant before and after each plant change): the
 /// first column says when, then one joint's model per row.
-inline constexpr std::array<ColumnDoc, 7> kModelEstimateColumns{{
-    {"step", "", "the step after which the mode estimated the model"},
-    {"joint", "", "rotator, abductor or knee"},
-    {"v_max_deg_per_tick", "deg/tick", "v_max: the joint's top speed"},
-    {"theta0_deg", "deg", "theta_0: the error at which it saturates"},
-    {"lag_ticks", "ticks", "l: ticks before a request starts to act"},
-    {"accel_ticks", "ticks", "a: ticks to reach a new speed"},
-    {"fit_rms_deg", "deg", "the fit's RMS residual"},
-}};
+/// The model's four columns are its keys as joint_model.h declares them.
+inline constexpr std::array<ColumnDoc, 7> kModelEstimateColumns = [] {
+  const JointModelNames& n = kJointModelNames;
+  const JointModelDocs& d = kJointModelKeys;
+  const auto column = [](std::string_view name, const KeyDoc& doc) {
+    return ColumnDoc{name, doc.unit, doc.description};
+  };
+  return std::array<ColumnDoc, 7>{{
+      {"step", "", "the step after which the mode estimated the model"},
+      {"joint", "", "rotator, abductor or knee"},
+      column(n.v_max_deg_per_tick, d.v_max_deg_per_tick),
+      column(n.theta0_deg, d.theta0_deg),
+      column(n.lag_ticks, d.lag_ticks),
+      column(n.accel_ticks, d.accel_ticks),
+      {"fit_rms_deg", "deg", "the fit's RMS residual"},
+  }};
+}();
 inline constexpr std::array<ColumnDoc, 7> kPlantModelColumns = [] {
   std::array<ColumnDoc, 7> columns = kModelEstimateColumns;
   columns[0] = {"from_step", "",

@@ -2,6 +2,7 @@
 
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "leglab/core/config_keys.h"
@@ -24,6 +25,16 @@ struct JointModelParams {
 /// requests and the planners' cost grows with them; the bound keeps that memory small while
 /// covering the log fit's longest window (logs.window_max_s, 1 s) on logs sampled at 1 kHz.
 inline constexpr int kMaxModelTicks = 1000;
+
+/// A joint model's four values' names, as the config keys, the JSON fields and the CSV columns
+/// spell them, in VisitKeys' order.
+struct JointModelNames {
+  std::string_view v_max_deg_per_tick = "v_max_deg_per_tick";
+  std::string_view theta0_deg = "theta0_deg";
+  std::string_view lag_ticks = "lag_ticks";
+  std::string_view accel_ticks = "accel_ticks";
+};
+inline constexpr JointModelNames kJointModelNames;
 
 /// The declared ranges of a joint model's four values.
 struct JointModelDocs {
