@@ -10,7 +10,8 @@ Each *.csv under RESULTS (recursively; a sweep shard's first line, its stamp, sk
 to the declared file whose name pattern fits it (`<...>` stands for any text; the most specific
 pattern wins). Its header must hold every declared column without a `<...>` in the declared
 order, and nothing that matches no declared column (a `<...>` column matches any name of its
-shape, in any place: a sweep's columns come per mode). A CSV no pattern fits is an error too.
+shape, in any place: a sweep's columns come per mode). A CSV no pattern fits is an error too;
+one under a folder named `inputs` is a run's input, not an output (scripts/variants.py's walks).
 Each *.json whose name a program declares must hold no field its declaration lacks (a field's
 dotted path, `<...>` any one key, `[]` a list's elements; a field the run did not need may be
 absent); other JSON files (a script's, learned_fit.json) are not checked. Each difference is named on stderr, exit status 1; bad input (no RESULTS folder, no docs file):
@@ -50,6 +51,8 @@ def main(argv):
     problems, checked = [], 0
     for path in sorted(results.rglob("*.csv")):
         name = str(path.relative_to(results))
+        if "inputs" in path.relative_to(results).parts[:-1]:
+            continue
         pattern = declared_pattern(path.name, tables)
         if pattern is None:
             problems.append(f"{name}: no declared file has this name")

@@ -26,14 +26,16 @@ no block, an --only block whose files are missing): one line on stderr, exit sta
 written.
 """
 import argparse
-import csv
 import os
 import pathlib
 import re
 import sys
 
 import log_fit_results
-from results_reader import read_json, read_rows, split_row
+import numbers_beyond
+from numbers_run import (UNKNOWN, Missing, Run, UserError, cell, fixed, joint_norm, paper_value,
+                         with_paper)
+from results_reader import split_row
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
@@ -43,69 +45,6 @@ JOINTS = ("rotator", "abductor", "knee")
 # BAM's own models on the XL330 logs (Rhoban/bam, its README's comparison of models m1, m4
 # and m6 over these 12 logs and four more, fitted on all of them): published, not a run's.
 BAM_PUBLISHED = {"xl330": "4.0-4.7 (not held out)"}
-
-
-class UserError(Exception):
-    """Bad input: one line, exit 2."""
-
-
-class Missing(Exception):
-    """A file of RESULTS that a cell needs is not there."""
-
-
-class Run:
-    """RESULTS' files, each read once; `missing` collects what was asked for and absent."""
-
-    def __init__(self, folder):
-        self.folder = folder
-        self.cache = {}
-        self.missing = set()
-
-    def json(self, rel):
-        """A JSON file of RESULTS, parsed."""
-        return self._read(rel, read_json, "JSON", (OSError, UnicodeDecodeError, ValueError))
-
-    def rows(self, rel):
-        """A CSV file of RESULTS as rows keyed by column."""
-        return self._read(rel, read_rows, "CSV", (OSError, UnicodeDecodeError, csv.Error))
-
-    def _read(self, rel, reader, kind, errors):
-        if rel not in self.cache:
-            path = os.path.join(self.folder, rel)
-            if not os.path.isfile(path):
-                self.missing.add(rel)
-                raise Missing(rel)
-            try:
-                self.cache[rel] = reader(path)
-            except errors as e:
-                raise UserError(f"{path}: not readable as {kind}: {e}") from None
-        return self.cache[rel]
-
-
-# A cell whose file RESULTS lacks: matches any text in a check, never written.
-UNKNOWN = None
-
-
-def cell(compute):
-    """compute(), or UNKNOWN if a file it reads is missing."""
-    try:
-        return compute()
-    except Missing:
-        return UNKNOWN
-
-
-def fixed(value, digits=2):
-    return f"{float(value):.{digits}f}"
-
-
-def paper_value(value):
-    """A published number as the paper prints it (31.0, 2.7, 4)."""
-    return str(value)
-
-
-def with_paper(value, paper):
-    """Ours to two decimals with the paper's in brackets: "11.42 [31.0]"."""
-    return f"{fixed(value)} [{paper_value(paper)}]"
 
 
 # --- the blocks -------------------------------------------------------------------------------
@@ -124,10 +63,6 @@ def table1_block(run, rms_row, lag_label):
             out.append(["fit RMS residual (deg)", ""] + [fixed(x.fit_rms_deg, 3) for x in j])
         return out
     return lambda: ["", "paper", *JOINTS], rows
-
-
-def joint_norm(table2, key, joint):
-    return fixed(table2["joints"][joint][key]["mean"])
 
 
 def table2_joints_block(run, leglab):
@@ -449,6 +384,7 @@ def blocks(run, leglab):
         "servo-by-kp": servo_by_kp_block(run),
         "servo-plans": servo_plans_block(run),
         "servo-learned": servo_learned_block(run),
+        **numbers_beyond.blocks(run),
     }
 
 

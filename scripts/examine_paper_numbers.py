@@ -87,6 +87,23 @@ def actual_cm(row):
     return [float(row.actual_x_cm), float(row.actual_y_cm), float(row.actual_z_cm)]
 
 
+def direct_errors(run, trace=None, foot=None):
+    """The direct run's errors over every measured tick of `run` (a folder track wrote):
+    joint_rms_deg (per joint), combined_deg (their root sum of squares), foot_cm (the foot's
+    RMS distance) and mm_per_rad (foot error per radian of combined joint error)."""
+    trace = read_rows(f"{run}/trace_direct.csv") if trace is None else trace
+    foot = read_rows(f"{run}/foot_direct.csv") if foot is None else foot
+    err = {}
+    for r in trace:
+        err.setdefault(r.joint, []).append(float(r.actual_deg) - float(r.desired_deg))
+    joint_rms = [math.sqrt(np.mean(np.square(err[j]))) for j in ("rotator", "abductor", "knee")]
+    foot_err = [math.dist(desired_cm(r), actual_cm(r)) for r in foot]
+    foot_rms_cm = math.sqrt(np.mean(np.square(foot_err)))
+    combined_deg = math.sqrt(sum(v * v for v in joint_rms))
+    return {"joint_rms_deg": joint_rms, "combined_deg": combined_deg, "foot_cm": foot_rms_cm,
+            "mm_per_rad": 10 * foot_rms_cm / math.radians(combined_deg)}
+
+
 def examine(run):
     trace = read_rows(f"{run}/trace_direct.csv")
     foot = read_rows(f"{run}/foot_direct.csv")
@@ -112,14 +129,7 @@ def examine(run):
         want = 10 * np.array(desired_cm(foot[t]))
         key = (len(ik_solutions(want, True)), len(ik_solutions(want, False)))
         branches[key] = branches.get(key, 0) + 1
-    # Joint errors of the direct run, every measured tick.
-    err = {}
-    for r in trace:
-        err.setdefault(r.joint, []).append(float(r.actual_deg) - float(r.desired_deg))
-    joint_rms = [math.sqrt(np.mean(np.square(err[j]))) for j in ("rotator", "abductor", "knee")]
-    foot_err = [math.dist(desired_cm(r), actual_cm(r)) for r in foot]
-    foot_rms_cm = math.sqrt(np.mean(np.square(foot_err)))
-    combined_deg = math.sqrt(sum(v * v for v in joint_rms))
+    errors = direct_errors(run, trace, foot)
     print(f"{run}: FK check {worst:.1e} mm")
     for j, name in enumerate(("rotator", "abductor", "knee")):
         t_min = int(np.argmin(levers[:, j]))
@@ -131,10 +141,10 @@ def examine(run):
         print(f"  IK: {inside} solution(s) inside the limits, of {every}, on {ticks} ticks")
     print(f"  smallest singular value mm/rad: min {min(smallest):.1f} (tick "
           f"{int(np.argmin(smallest))}), mean {np.mean(smallest):.1f}")
-    print(f"  direct: joint RMS {np.round(joint_rms, 2)} deg, combined {combined_deg:.1f} deg; "
-          f"foot RMS {foot_rms_cm:.2f} cm; foot per joint error "
-          f"{10 * foot_rms_cm / math.radians(combined_deg):.1f} mm/rad")
-    return 10 * foot_rms_cm / math.radians(combined_deg)
+    print(f"  direct: joint RMS {np.round(errors['joint_rms_deg'], 2)} deg, combined "
+          f"{errors['combined_deg']:.1f} deg; foot RMS {errors['foot_cm']:.2f} cm; foot per joint "
+          f"error {errors['mm_per_rad']:.1f} mm/rad")
+    return errors["mm_per_rad"]
 
 
 def main(runs):

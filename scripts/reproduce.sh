@@ -101,6 +101,12 @@ if [ -x build/bin/sweep ]; then
     /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
   done
 fi
+# The variants the results page quotes (scripts/variants.py: closed-form C_m, the modes' options,
+# optimal at four step times, the untuned and held-out walks, adaptive's probes, the stand-load
+# sweep on a rigid rail), each into results/variants/<name>/.
+if [ -x build/bin/track ] && [ -x build/bin/sweep ]; then
+  /usr/bin/python3 scripts/variants.py "$out"
+fi
 # The leg in motion (leg.gif) for the default run, the stand and the paper's regime; then a page
 # for every folder of results (index.html, self-contained), the top one linking the others.
 if [ -f scripts/animate.py ] && [ $ran -eq 1 ]; then

@@ -31,9 +31,16 @@ def program(name, *args):
     subprocess.run([os.path.join(BIN, name), "--quiet", *args], check=True, cwd=SOURCE)
 
 
+def script(name, *args):
+    subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "scripts", name), *args],
+                   check=True, cwd=SOURCE, stdout=subprocess.DEVNULL)
+
+
 def fresh_run(out):
-    """reproduce.sh's runs of the front and hind leg on ODE and DART, of the stand's walk, of
-    the paper's regime, of the walk_speed sweep and of the two log fits."""
+    """reproduce.sh's runs of the front and hind leg on ODE and DART, of the stand (its walk
+    and Table 1 with the foot free and in the air), of the paper's regime and its walk fit, of
+    adaptive, of three sweeps, of the two log fits and the online planner's previews, and
+    scripts/variants.py's runs."""
     configs = os.path.join(SOURCE, "experiments", "configs")
     for folder, robot_set, walk in (("", [], "track.yaml"),
                                     ("hind", ["--set", "robot=ers210a_hind"], "track_hind.yaml")):
@@ -47,14 +54,31 @@ def fresh_run(out):
             "--out", os.path.join(out, "stand"))
     program("track", "--config", os.path.join(configs, "track_paper_regime.yaml"),
             "--out", os.path.join(out, "track_paper_regime"))
-    program("sweep", "--config", os.path.join(SOURCE, "experiments", "sweeps", "walk_speed.yaml"),
-            "--out", os.path.join(out, "sweeps", "walk_speed"))
+    program("fit_walk", "--config", os.path.join(configs, "track.yaml"),
+            "--out", os.path.join(out, "walk_fit"))
+    stand = os.path.join(configs, "identify_stand.yaml")
+    program("identify", "--config", stand, "--out", os.path.join(out, "stand"))
+    program("identify", "--config", stand, "--set", "robot=ers210a",
+            "--out", os.path.join(out, "stand", "air70"))
+    for start in ("adapt_cold_start", "adapt_wear"):
+        program("track", "--config", os.path.join(configs, f"{start}.yaml"),
+                "--out", os.path.join(out, start))
+    program("track", "--config", os.path.join(configs, "adapt_wear.yaml"),
+            "--out", os.path.join(out, "adapt_wear", "worn_model"), "--set", "plant_changes=[]",
+            "--set", "servo.max_speed_deg_s=250", "--set", "servo.delay_ms=56",
+            "--set", "controller.modes=[model_based]")
+    for sweep in ("walk_speed", "stand_load", "servo_firmware"):
+        program("sweep", "--config", os.path.join(SOURCE, "experiments", "sweeps", f"{sweep}.yaml"),
+                "--out", os.path.join(out, "sweeps", sweep))
     logs = os.path.join(out, "servo_logs")
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"), "--out", logs)
     program("identify", "--config", os.path.join(configs, "identify_logs.yaml"),
             "--out", os.path.join(logs, "by_kp"),
             "--set", "logs.train=[data/servo_logs/dynamixel-xl330]",
             "--set", "logs.cross_validate=leave_one_kp_out")
+    script("online_preview_table.py", "--model", os.path.join(logs, "log_fit.json"),
+           "--out", os.path.join(logs, "online"), "--build", BUILD)
+    script("variants.py", out, "--bin", BIN)
 
 
 def check(results, *args, docs=SOURCE):
@@ -158,13 +182,17 @@ def main():
     theta = edit(readme, "| theta_0 (deg) | 7.0 | 5.65 |", "| theta_0 (deg) | 7.0 | 5.66 |")
     paper = edit(readme, "11.42 [31.0]", "11.42 [31.5]")
     kp = edit(page, "| 100 | 2.61 |", "| 100 | 2.62 |")
+    # A variant's number (scripts/variants.py's probe runs).
+    probe = edit(page, "; 3/6 -0.06 +0.71 | 0.451 |", "; 3/6 -0.06 +0.71 | 0.450 |")
     result = check(results, docs=copy)
-    expect(result.returncode == 1, "three numbers changed by hand were not all found", result)
+    expect(result.returncode == 1, "four numbers changed by hand were not all found", result)
     for where in (f"README.md:{theta}: 'table1': column 3: '5.66' where the run gives '5.65'",
                   f"README.md:{paper}: 'table2-joints': column 2: '11.42 [31.5]' where the run "
                   f"gives '11.42 [31.0]'",
                   f"docs/results.md:{kp}: 'servo-by-kp': column 2: '2.62' where the run gives "
-                  f"'2.61'"):
+                  f"'2.61'",
+                  f"docs/results.md:{probe}: 'probes': column 3: '0.450' where the run gives "
+                  f"'0.451'"):
         expect(where in result.stderr, f"the check does not say {where!r}", result)
     result = check(results, "--write", docs=copy)
     expect(result.returncode == 0, "--write failed", result)
