@@ -135,12 +135,12 @@ def main():
         print(f"  {method:<12} {mae(measured_deg, desired_deg):6.3f} deg, "
               f"planner.request {1e6 * cost_s:5.1f} us a tick")
     requests_deg, measured_deg, _ = online["model_based"]
-    same = np.array_equal(requests_deg, plans["model_based"]["request_deg"])
+    same = np.array_equal(requests_deg, plans["model_based"].request_deg)
     print(f"  online model_based requests equal servo.plan's: {same}")
     assert same
 
     # 6. The CSV your own recording loop writes: one row a tick, read back for servo.fit.
-    log = servo.ServoLog(plans["model_based"]["time_s"], requests_deg, measured_deg,
+    log = servo.ServoLog(plans["model_based"].time_s, requests_deg, measured_deg,
                          motor=model.motor, trajectory="pick_and_place", **drive)
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "pick_and_place.csv")

@@ -29,6 +29,10 @@ from ._leglab import ServoModel
 ServoModel.__module__ = "leglab.servo"
 
 
+# A log's arrays, named as leglab's CSV log names its columns (time, request, measured, torque).
+_LOG_COLUMNS = _leglab._log_columns()
+
+
 class ServoPlanner(_leglab.ServoPlanner):
     __doc__ = _leglab.ServoPlanner.__doc__
 
@@ -80,16 +84,16 @@ class ServoLog:
 
     def __init__(self, time_s, request_deg, measured_deg, torque_enabled=None, *, motor, kp,
                  mass_kg=0.0, length_m=0.0, trajectory="", file=""):
-        time_s = _real_vector(time_s, "time_s")
-        request_deg = _real_vector(request_deg, "request_deg")
-        measured_deg = _real_vector(measured_deg, "measured_deg")
+        time_s, request_deg, measured_deg = (
+            _real_vector(value, name)
+            for value, name in zip((time_s, request_deg, measured_deg), _LOG_COLUMNS))
         if torque_enabled is None:
             torque_enabled = _np.ones(time_s.shape, dtype=bool)
         else:
             torque = _np.asarray(torque_enabled)
             if torque.dtype.kind not in "biu" or (torque.dtype.kind != "b" and
                                                   not _np.isin(torque, (0, 1)).all()):
-                raise ValueError("torque_enabled: expected booleans (or 0 and 1)")
+                raise ValueError(f"{_LOG_COLUMNS[3]}: expected booleans (or 0 and 1)")
             torque_enabled = _np.array(torque, dtype=bool, order="C", copy=True)
         for name, value in (("motor", motor), ("trajectory", trajectory), ("file", file)):
             if not isinstance(value, str):
@@ -97,9 +101,8 @@ class ServoLog:
         self._fields = {
             "file": file or trajectory or "log", "motor": motor, "trajectory": trajectory,
             "kp": _number(kp, "kp"), "mass_kg": _number(mass_kg, "mass_kg"),
-            "length_m": _number(length_m, "length_m"), "time_s": time_s,
-            "request_deg": request_deg, "measured_deg": measured_deg,
-            "torque_enabled": torque_enabled,
+            "length_m": _number(length_m, "length_m"),
+            **dict(zip(_LOG_COLUMNS, (time_s, request_deg, measured_deg, torque_enabled))),
         }
         _leglab._check_log(self._fields)
 
@@ -116,7 +119,7 @@ class ServoLog:
         raise AttributeError(name)
 
     def __len__(self):
-        return len(self._fields["time_s"])
+        return len(self._fields[_LOG_COLUMNS[0]])
 
     def __repr__(self):
         f = self._fields
@@ -270,11 +273,24 @@ def plan(model, desired_deg, method="model_based", *, kp=None, mass_kg=0.0, leng
 
     Returns a dict of arrays: the columns of plan's requests.csv (time_s, desired_deg,
     request_deg, predicted_deg, beyond_servo) and direct_deg, the model's prediction with the
-    desired angles sent as they are.
+    desired angles sent as they are. Each is also an attribute: plan(...).request_deg.
     """
     if not isinstance(model, ServoModel):
         raise ValueError(f"plan: expected a ServoModel (LogFit.model), got {type(model).__name__}")
-    return _leglab._plan(model, desired_deg, method, kp, mass_kg, length_m, min_deg, max_deg)
+    return _Columns(_leglab._plan(model, desired_deg, method, kp, mass_kg, length_m, min_deg,
+                                  max_deg))
+
+
+class _Columns(dict):
+    """A dict of named arrays whose names are also attributes."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(f"no '{name}' here (there are {', '.join(self)})") from None
 
 
 __all__ = ["ServoLog", "read_log", "write_log", "fit", "LogFit", "ServoModel", "plan",

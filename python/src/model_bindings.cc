@@ -39,16 +39,17 @@ JointModelParams CheckedModel(JointModelParams params) {
 }
 
 // `value` as an integer in the range `doc` declares.
-int ToInt(py::handle value, const std::string& what, const KeyDoc& doc) {
+int ToInt(py::handle value, std::string_view what, const KeyDoc& doc) {
   return static_cast<int>(ToInteger(value, what, doc));
 }
 
 JointModelParams MakeModel(py::handle v_max_deg_per_tick, py::handle theta0_deg,
                            py::handle lag_ticks, py::handle accel_ticks) {
-  return CheckedModel({ToReal(v_max_deg_per_tick, "v_max_deg_per_tick"),
-                       ToReal(theta0_deg, "theta0_deg"),
-                       ToInt(lag_ticks, "lag_ticks", kJointModelKeys.lag_ticks),
-                       ToInt(accel_ticks, "accel_ticks", kJointModelKeys.accel_ticks)});
+  const JointModelNames& names = kJointModelNames;
+  return CheckedModel({ToReal(v_max_deg_per_tick, names.v_max_deg_per_tick),
+                       ToReal(theta0_deg, names.theta0_deg),
+                       ToInt(lag_ticks, names.lag_ticks, kJointModelKeys.lag_ticks),
+                       ToInt(accel_ticks, names.accel_ticks, kJointModelKeys.accel_ticks)});
 }
 
 // `model` as a JointModel; TypeError naming `what` for anything else.
@@ -183,16 +184,18 @@ Raises TypeError for a value that is not a number (bool is not; l and a must be 
 ValueError naming the field for one outside its range, the config's model.* ranges: v_max in
 [0.01, 45], theta_0 in [0.01, 180], l in [0, 50], a in [1, 50].
 )doc")
-      .def(py::init(&MakeModel), py::arg("v_max_deg_per_tick"), py::arg("theta0_deg"),
-           py::arg("lag_ticks"), py::arg("accel_ticks"),
+      // The names are views of literals, so NUL-terminated.
+      .def(py::init(&MakeModel), py::arg(kJointModelNames.v_max_deg_per_tick.data()),
+           py::arg(kJointModelNames.theta0_deg.data()), py::arg(kJointModelNames.lag_ticks.data()),
+           py::arg(kJointModelNames.accel_ticks.data()),
            "JointModel(v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks)")
-      .def_readonly("v_max_deg_per_tick", &JointModelParams::v_max_deg_per_tick,
-                    "Top speed v_max, deg per tick.")
-      .def_readonly("theta0_deg", &JointModelParams::theta0_deg,
+      .def_readonly(kJointModelNames.v_max_deg_per_tick.data(),
+                    &JointModelParams::v_max_deg_per_tick, "Top speed v_max, deg per tick.")
+      .def_readonly(kJointModelNames.theta0_deg.data(), &JointModelParams::theta0_deg,
                     "Request-actual difference that gives top speed, deg.")
-      .def_readonly("lag_ticks", &JointModelParams::lag_ticks,
+      .def_readonly(kJointModelNames.lag_ticks.data(), &JointModelParams::lag_ticks,
                     "l: ticks before a request starts to act.")
-      .def_readonly("accel_ticks", &JointModelParams::accel_ticks,
+      .def_readonly(kJointModelNames.accel_ticks.data(), &JointModelParams::accel_ticks,
                     "a: ticks over which the speed is averaged.")
       .def(
           "simulate",

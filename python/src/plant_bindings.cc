@@ -203,6 +203,23 @@ stand's instruments are for scoring and plotting.
   }
 }
 
+// Plant.run()'s docstring, the stand's arrays named from their declarations.
+const std::string& RunDoc() {
+  static const std::string doc = [] {
+    std::string names;
+    for (const TelemetryColumn& c : kStandColumns) {
+      if (!names.empty()) names += &c == &kStandColumns.back() ? " and " : ", ";
+      names += '"' + std::string(c.doc.name) + '"';
+    }
+    return "run(requests) -> dict\n\nTicks through `requests`, shape (T, 3), deg, one row a "
+           "tick, with the GIL released.\n\nReturns a dict of arrays, one row a tick: "
+           "\"measured\", \"true\", \"applied\" (T, 3) deg, \"contact_force_n\" (T, 3) N, "
+           "and " +
+           names + " (T,) mm. Every request is checked (finite) before the first tick.";
+  }();
+  return doc;
+}
+
 }  // namespace
 
 void BindPlant(py::module_& m) {
@@ -252,14 +269,7 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
           "One 8 ms tick: `request` (3 angles, deg; clamped into the limits as the servos do)\n"
           "goes to the servos, the leg moves, and the Reading at the end of the tick is\n"
           "returned.")
-      .def("run", &RunRequests, py::arg("requests"),
-           R"doc(run(requests) -> dict
-
-Ticks through `requests`, shape (T, 3), deg, one row a tick, with the GIL released.
-
-Returns a dict of arrays, one row a tick: "measured", "true", "applied" (T, 3) deg,
-"contact_force_n" (T, 3) N, and "carriage_z_mm", "slip_mm", "sled_x_mm", "sled_y_mm"
-(T,) mm. Every request is checked (finite) before the first tick.)doc")
+      .def("run", &RunRequests, py::arg("requests"), RunDoc().c_str())
       .def(
           "change_settings",
           [](PlantHandle& h, py::handle settings) {

@@ -28,7 +28,11 @@ namespace {
 
 using leglab::FittedModel;
 
-// A log as the Python ServoLog holds it: a dict of its fields and arrays.
+// A declared name as a Python str.
+py::str Name(std::string_view name) { return {name.data(), name.size()}; }
+
+// A log as the Python ServoLog holds it: a dict of its fields and arrays (the arrays under
+// kServoLogColumns' names).
 py::dict LogToDict(const ServoLog& log) {
   const size_t n = log.samples.size();
   DoubleArray time(static_cast<py::ssize_t>(n));
@@ -48,10 +52,10 @@ py::dict LogToDict(const ServoLog& log) {
   d["kp"] = log.kp;
   d["mass_kg"] = log.mass_kg;
   d["length_m"] = log.length_m;
-  d["time_s"] = time;
-  d["request_deg"] = request;
-  d["measured_deg"] = measured;
-  d["torque_enabled"] = torque;
+  d[Name(kServoLogColumns.time_s)] = time;
+  d[Name(kServoLogColumns.request_deg)] = request;
+  d[Name(kServoLogColumns.measured_deg)] = measured;
+  d[Name(kServoLogColumns.torque_enabled)] = torque;
   return d;
 }
 
@@ -64,15 +68,18 @@ ServoLog DictToLog(const py::dict& d) {
   log.kp = d["kp"].cast<double>();
   log.mass_kg = d["mass_kg"].cast<double>();
   log.length_m = d["length_m"].cast<double>();
-  const auto time = d["time_s"].cast<DoubleArray>();
-  const auto request = d["request_deg"].cast<DoubleArray>();
-  const auto measured = d["measured_deg"].cast<DoubleArray>();
-  const auto torque = d["torque_enabled"].cast<py::array_t<bool, py::array::c_style>>();
+  const auto time = d[Name(kServoLogColumns.time_s)].cast<DoubleArray>();
+  const auto request = d[Name(kServoLogColumns.request_deg)].cast<DoubleArray>();
+  const auto measured = d[Name(kServoLogColumns.measured_deg)].cast<DoubleArray>();
+  const auto torque =
+      d[Name(kServoLogColumns.torque_enabled)].cast<py::array_t<bool, py::array::c_style>>();
   const auto n = static_cast<size_t>(time.size());
   if (static_cast<size_t>(request.size()) != n || static_cast<size_t>(measured.size()) != n ||
       static_cast<size_t>(torque.size()) != n) {
-    ThrowValueError("servo log '" + log.file +
-                    "': time_s, request_deg, measured_deg and torque_enabled differ in length");
+    ThrowValueError("servo log '" + log.file + "': " + std::string(kServoLogColumns.time_s) + ", " +
+                    std::string(kServoLogColumns.request_deg) + ", " +
+                    std::string(kServoLogColumns.measured_deg) + " and " +
+                    std::string(kServoLogColumns.torque_enabled) + " differ in length");
   }
   log.samples.resize(n);
   for (size_t i = 0; i < n; ++i) {
@@ -263,7 +270,7 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
 }
 
 double Request(ServoPlanner& planner, py::handle window, py::handle measured_value) {
-  const double measured = ToReal(measured_value, "measured_deg", false);
+  const double measured = ToReal(measured_value, kServoLogColumns.measured_deg, false);
   // Fast path: a float64 array as it is (no copy); anything else through numpy's checks.
   if (DoubleArray::check_(window)) {
     const auto array = py::reinterpret_borrow<DoubleArray>(window);
@@ -307,6 +314,15 @@ void BindLogs(py::module_& m) {
       "_drive_problem(kp, mass_kg, length_m): '' when the drive keeps its declaration (a "
       "ServoDrive's ranges), else what is wrong, naming the field");
   m.def(
+      "_log_columns",
+      [] {
+        py::tuple names(kServoLogColumnList.size());
+        for (size_t c = 0; c < kServoLogColumnList.size(); ++c)
+          names[c] = Name(kServoLogColumnList[c]);
+        return names;
+      },
+      "_log_columns() -> the names of a servo log's arrays, in the CSV log's order");
+  m.def(
       "_check_log", [](const py::dict& d) { CheckServoLog(DictToLog(d)); },
       "_check_log(fields): ValueError unless the log is one identify accepts");
   m.def(
@@ -344,7 +360,7 @@ length_m, 0 hanging straight down); the paper's model ignores them.
       .def_readonly("top_speed_deg_s", &FittedModel::top_speed_deg_s,
                     "The model's top speed (deg/s): a plan's requests change no faster.")
       .def_property_readonly(
-          "lag_ticks",
+          kJointModelNames.lag_ticks.data(),
           [](const FittedModel& f) {
             return f.rung == "paper" ? f.paper.lag_ticks : f.extended.lag_ticks;
           },
@@ -391,7 +407,8 @@ Requests stay within [min_deg, max_deg] and change at most at the model's top sp
                              "The desired angles after this tick's that request() uses.")
       .def("reset", &ServoPlanner::Reset, py::arg("angle_deg"),
            "reset(angle_deg): the servo at rest there; the next request is tick 0.")
-      .def("request", &Request, py::arg("window_deg"), py::arg("measured_deg"),
+      .def("request", &Request, py::arg("window_deg"),
+           py::arg(kServoLogColumns.measured_deg.data()),  // a literal's view: NUL-terminated
            R"doc(request(window_deg, measured_deg) -> float
 
 R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg = M(t).)doc")

@@ -29,10 +29,17 @@ using Json = nlohmann::json;
 constexpr size_t kShownCellChars = 40;
 constexpr size_t kShownPathChars = 120;
 
-constexpr std::string_view kCsvHeader = "time_s,request_deg,measured_deg";
-constexpr std::string_view kCsvHeaderWithTorque = "time_s,request_deg,measured_deg,torque_enabled";
-constexpr std::array<std::string_view, 4> kCsvColumns = {"time_s", "request_deg", "measured_deg",
-                                                         "torque_enabled"};
+constexpr const auto& kCsvColumns = kServoLogColumnList;
+
+// The CSV log's header of its first `columns` columns (3, or 4 with torque_enabled).
+std::string CsvHeader(size_t columns) {
+  std::string header;
+  for (size_t c = 0; c < columns; ++c) {
+    if (c > 0) header += ',';
+    header += kCsvColumns[c];
+  }
+  return header;
+}
 
 // The code point of the UTF-8 sequence at text[i] and its length in bytes (0: not UTF-8).
 std::pair<char32_t, size_t> DecodeUtf8(std::string_view text, size_t i) {
@@ -241,10 +248,10 @@ std::string_view NextLine(std::string_view text, size_t& pos) {
 
 // The number of columns the header announces (3 or 4).
 size_t ParseCsvHeader(const std::string& path, std::string_view header) {
-  if (header == kCsvHeader) return 3;
-  if (header == kCsvHeaderWithTorque) return 4;
-  Fail(path, "header must be '" + std::string(kCsvHeader) + "' or with ',torque_enabled', got '" +
-                 Shown(header, 2 * kShownCellChars) + "'");
+  if (header == CsvHeader(3)) return 3;
+  if (header == CsvHeader(4)) return 4;
+  Fail(path, "header must be '" + CsvHeader(3) + "' or with '," + std::string(kCsvColumns[3]) +
+                 "', got '" + Shown(header, 2 * kShownCellChars) + "'");
 }
 
 std::vector<ServoLogSample> ParseCsvSamples(const std::string& path, std::string_view text) {
@@ -421,21 +428,22 @@ void CheckServoLog(const ServoLog& log) {
     Fail(path, std::to_string(log.samples.size()) + " samples, more than the limit of " +
                    std::to_string(kMaxServoLogSamples));
   }
-  const char* const names[] = {"time_s", "request_deg", "measured_deg"};
+  const auto column = [](size_t i, std::string_view name) {
+    return "sample " + std::to_string(i) + ", " + std::string(name);
+  };
   for (size_t i = 0; i < log.samples.size(); ++i) {
     const ServoLogSample& s = log.samples[i];
     const double values[] = {s.time_s, s.request_deg, s.measured_deg};
     for (size_t c = 0; c < 3; ++c) {
       if (!std::isfinite(values[c])) {
-        Fail(path, "sample " + std::to_string(i) + ", " + names[c] + ": " + Number(values[c]) +
-                       " is not finite");
+        Fail(path, column(i, kCsvColumns[c]) + ": " + Number(values[c]) + " is not finite");
       }
     }
-    CheckAngle(path, "sample " + std::to_string(i) + ", request_deg", s.request_deg);
-    CheckAngle(path, "sample " + std::to_string(i) + ", measured_deg", s.measured_deg);
+    CheckAngle(path, column(i, kServoLogColumns.request_deg), s.request_deg);
+    CheckAngle(path, column(i, kServoLogColumns.measured_deg), s.measured_deg);
     if (i > 0) {
-      CheckNotBefore(path, log.samples[i - 1].time_s, s.time_s,
-                     "sample " + std::to_string(i) + ", time_s", "sample " + std::to_string(i - 1));
+      CheckNotBefore(path, log.samples[i - 1].time_s, s.time_s, column(i, kServoLogColumns.time_s),
+                     "sample " + std::to_string(i - 1));
     }
   }
   CheckSamples(path, log.samples);
@@ -443,7 +451,7 @@ void CheckServoLog(const ServoLog& log) {
 
 std::string ServoLogCsvText(const ServoLog& log) {
   CheckServoLog(log);
-  std::string text(kCsvHeaderWithTorque);
+  std::string text = CsvHeader(4);
   text += '\n';
   for (const ServoLogSample& s : log.samples) {
     AppendNumber(text, s.time_s);

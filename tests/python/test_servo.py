@@ -145,6 +145,7 @@ def test_plan_is_the_plan_program(identified, tmp_path):
                              mass_kg=log.mass_kg, length_m=log.length_m)
             for column, values in written.items():
                 assert np.array_equal(got[column].astype(float), values), (rung, method, column)
+                assert getattr(got, column) is got[column]
             start = got["desired_deg"][0]
             drive = dict(kp=log.kp, mass_kg=log.mass_kg, length_m=log.length_m)
             assert np.array_equal(model.simulate(got["request_deg"], start_deg=start, **drive),

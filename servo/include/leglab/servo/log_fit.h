@@ -149,10 +149,11 @@ inline const std::vector<std::string> kLogFitOutputPrefixes{"log_fit.", "log_"};
 /// The columns of log_<motor>_<name>.csv (LogFitCurves), one row per tick of the log's tick:
 /// the log resampled, then each rung's prediction (kLogFitRungs, in order).
 inline constexpr std::array<ColumnDoc, 4 + kLogFitRungs.size()> kLogCurveColumns{{
-    {"time_s", "s", "the tick's time from the log's start"},
-    {"request_deg", "deg", "the request in force (held between samples)"},
-    {"measured_deg", "deg", "the measured angle (interpolated between samples)"},
-    {"torque_enabled", "", "1 when the servo drove the joint, 0 when it was limp (not scored)"},
+    {kServoLogColumns.time_s, "s", "the tick's time from the log's start"},
+    {kServoLogColumns.request_deg, "deg", "the request in force (held between samples)"},
+    {kServoLogColumns.measured_deg, "deg", "the measured angle (interpolated between samples)"},
+    {kServoLogColumns.torque_enabled, "",
+     "1 when the servo drove the joint, 0 when it was limp (not scored)"},
     {"direct_deg", "deg", "direct: the request as the prediction"},
     {"best_shift_deg", "deg", "the request delayed by the best fixed time shift in hindsight"},
     {"paper_deg", "deg", "the paper's model's prediction (held out where cross-validated)"},

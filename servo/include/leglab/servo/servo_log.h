@@ -1,11 +1,28 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace leglab {
+
+/// The columns of a servo log's samples as leglab's CSV log spells them, in order (the fourth
+/// optional): identify reads them so, and the Python ServoLog's arrays and the first columns of
+/// log_<motor>_<name>.csv are named so.
+struct ServoLogColumnNames {
+  std::string_view time_s = "time_s";
+  std::string_view request_deg = "request_deg";
+  std::string_view measured_deg = "measured_deg";
+  std::string_view torque_enabled = "torque_enabled";
+};
+inline constexpr ServoLogColumnNames kServoLogColumns;
+/// The same names in the CSV log's order.
+inline constexpr std::array<std::string_view, 4> kServoLogColumnList{
+    kServoLogColumns.time_s, kServoLogColumns.request_deg, kServoLogColumns.measured_deg,
+    kServoLogColumns.torque_enabled};
 
 /// One recorded sample of a servo log.
 struct ServoLogSample {
