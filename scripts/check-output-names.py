@@ -1,12 +1,13 @@
 #!/usr/bin/python3
-"""Finds output names spelled in more than one place: a CSV column (docs/outputs.md, generated
-from the programs' declarations) or a telemetry field (core/plant.h's TelemetryColumn
-declarations) written as a whole string literal in more than one non-test source file besides
-the files that declare it. A column is declared once beside the code that fills it; a reader
+"""Finds output names spelled in more than one place: a CSV column or a JSON file's field (the
+last key of its dotted path; docs/outputs.md, generated from the programs' declarations) or a
+telemetry field (core/plant.h's TelemetryColumn declarations) written as a whole string literal
+in more than one non-test source file besides the files that declare it. A column is declared once beside the code that fills it; a reader
 takes it from there (results_reader's rows, the Python package's dicts), so a rename cannot
 leave a reader behind.
 
-A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...},
+A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...}
+or a JSON field {"path.to.name", "unit", ...},
 a config key Key("name", ...) or a declared name, std::string_view field = "name" (a joint
 model's values are its keys, named in joint_model.h). Names without
 an underscore ("tick", "step", "mode", "joint") are words as much as names and are not
@@ -28,21 +29,27 @@ FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", 
            "scripts", "benchmarks", "examples")
 SUFFIXES = (".cc", ".h", ".py", ".sh")
 COLUMN = re.compile(r"^\| `([^`<>]+)` \|")
+FIELD = re.compile(r"^\| `([^`]+)` \|")
 TELEMETRY = re.compile(r'\{\{"(\w+)", "')
 LITERAL = re.compile(r"\"([^\"\n\\\\]*)\"|'([^'\n\\\\]*)'")
 
 
 def declared_names(source):
-    """The CSV columns of docs/outputs.md (not a JSON file's fields) and the telemetry fields of
-    core/plant.h that hold an underscore."""
+    """The CSV columns and the JSON fields' last keys (not a `<...>` or a list's `[]`) of
+    docs/outputs.md and the telemetry fields of core/plant.h that hold an underscore."""
     names, in_columns = set(), False
     with open(os.path.join(source, "docs", "outputs.md"), encoding="utf-8") as f:
         for line in f:
             if line.startswith("| column |") or line.startswith("| field |"):
-                in_columns = line.startswith("| column |")  # a JSON file's fields: not yet
+                in_columns = line.startswith("| column |")
             m = COLUMN.match(line)
             if m and in_columns:
                 names.add(m.group(1))
+            m = FIELD.match(line)
+            if m and not in_columns:
+                leaf = m.group(1).split(".")[-1]
+                if "<" not in leaf and not leaf.endswith("[]"):
+                    names.add(leaf)
     with open(os.path.join(source, "core", "include", "leglab", "core", "plant.h"),
               encoding="utf-8") as f:
         names.update(TELEMETRY.findall(f.read()))
@@ -50,10 +57,12 @@ def declared_names(source):
 
 
 def declares(text, name):
-    """Whether a source declares `name`: a column's, a config key's or a declared name's."""
+    """Whether a source declares `name`: a column's, a JSON field's, a config key's or a declared
+    name's."""
     quoted = re.escape(f'"{name}"')
-    return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},|std::string_view \w+ = {quoted};",
-                     text) is not None
+    dotted = re.escape(name)
+    return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},|std::string_view \w+ = {quoted};"
+                     rf"|\{{\"[^\"]*\.{dotted}\", \"", text) is not None
 
 
 def findings(source, names):

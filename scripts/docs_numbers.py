@@ -193,9 +193,10 @@ def servo_plans_block(run):
                 plans = [log["plan"] for log in mine if log["trajectory"] == trajectory]
                 kps = [float(log["kp"]) for log in mine if log["trajectory"] == trajectory]
                 out.append([motor.upper(), f"{trajectory} ({kp_text(kps)})"] +
-                           [", ".join(fixed(plan[key]) for plan in plans) for key in
-                            ("direct_mae_deg", "model_based_mae_deg", "optimal_mae_deg")] +
-                           [", ".join(str(plan["beyond_servo_ticks"]) for plan in plans)])
+                           [", ".join(fixed(mae(plan)) for plan in plans) for mae in
+                            (lambda p: p.direct_mae_deg, lambda p: p.model_based_mae_deg,
+                             lambda p: p.optimal_mae_deg)] +
+                           [", ".join(str(plan.beyond_servo_ticks) for plan in plans)])
         return out
     return lambda: ["servo", "log (kp)", "direct", "model_based", "optimal",
                     "beyond servo (ticks)"], rows
@@ -314,7 +315,7 @@ def stand_block(run):
         for mode, s in stand["modes"].items():
             label = f"{mode} (k = {foot[mode]['k']})" if "k" in foot[mode] else mode
             out.append([label, fixed(foot[mode]["L2"]["mean"], 3),
-                        fixed(s["stance_fz_n"]["mean"] / stand["carried_weight_n"], 3),
+                        fixed(s.stance_fz_n.mean / stand.carried_weight_n, 3),
                         fixed(s["peak_fz_n"], 1), f"{s['loaded_ticks']:.0f}",
                         f"{fixed(s['slip_mm']['mean'])} ({fixed(s['max_slip_mm'])})",
                         f"{fixed(s['sled_travel_x_mm']['mean'], 1)}, "

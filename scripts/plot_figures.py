@@ -263,8 +263,8 @@ def main(out):
     if on_stand:
         weight = None
         if have("table2.json"):
-            weight = read_json(os.path.join(out, "table2.json")).get("stand", {}).get(
-                "carried_weight_n")
+            stand = read_json(os.path.join(out, "table2.json")).get("stand")
+            weight = stand.carried_weight_n if stand else None
         # Figure 14: the floor's force on the foot over one step (step 0), each mode.
         fig, axes = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
         for mode, label, style in stand_modes:

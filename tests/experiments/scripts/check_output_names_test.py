@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/check-output-names.py: no output name is spelled in more non-declaring sources than
-its list holds, and the check finds a name a second reader spells, leaves alone one reader, the
-three forms of a declaration and a plain word, and names a stale entry.
+its list holds, and the check finds a name a second reader spells (a CSV column's, and a JSON
+field's whose writer and reader both spell it), leaves alone one reader, the four forms of a
+declaration and a plain word, and names a stale entry.
 
 Usage: check_output_names_test.py SOURCE_DIR
 """
@@ -15,13 +16,19 @@ SCRIPT = os.path.join(SOURCE, "scripts", "check-output-names.py")
 
 FILES = {
     "docs/outputs.md": "| column | unit | description |\n|---|---|---|\n"
-                       "| `foot_mm` | mm | declared |\n| `tick` |  | a word |\n",
+                       "| `foot_mm` | mm | declared |\n| `tick` |  | a word |\n\n"
+                       "| field | unit | description |\n|---|---|---|\n"
+                       "| `stand.<mode>.slip_mm` | mm | a JSON field |\n",
     "core/include/leglab/core/plant.h": 'inline constexpr TelemetryColumn kX{{"force_n", "N", '
                                         '"the force"}, nullptr};\n',
-    "experiments/include/writers.h": 'inline constexpr ColumnDoc kFoot{"foot_mm", "mm", "x"};\n',
+    "experiments/include/writers.h": 'inline constexpr ColumnDoc kFoot{"foot_mm", "mm", "x"};\n'
+                                     'inline constexpr FieldDoc kS{"stand.<mode>.slip_mm", "mm", '
+                                     '"x"};\n',
+    "experiments/src/writers.cc": 'entry["slip_mm"] = slip;  // the JSON field\'s writer\n',
     "experiments/src/config.cc": 'v.Key("foot_mm", c.foot, kDoc);  // a key of that name\n',
     "model/include/names.h": 'struct Names { std::string_view foot = "foot_mm"; };  // declared\n',
-    "scripts/first.py": 'x = [float(r["foot_mm"]) for r in rows]\nt = r["tick"]\n',
+    "scripts/first.py": 'x = [float(r["foot_mm"]) for r in rows]\nt = r["tick"]\n'
+                        's = stand["slip_mm"]\n',
     "scripts/second.py": "y = row['foot_mm']\nt = row['tick']\n",
     "scripts/tests/third.py": 'z = row["foot_mm"]  # a test folder is not a source\n',
     "python/src/plant.cc": 'out["force_n"] = force;  // its one reader\n',
@@ -48,12 +55,17 @@ def main():
             f.write("# known\n")
         result = check(tree, "--list", listed)
         lines = result.stderr.splitlines()
-        if (result.returncode != 1 or len(lines) != 2 or
-                not lines[0].startswith('scripts/first.py: spells the output name "foot_mm"') or
-                not lines[1].startswith('scripts/second.py: spells the output name "foot_mm"')):
-            failures.append(f"two readers of foot_mm are not the two findings:\n{result.stderr}")
+        want = ('scripts/first.py: spells the output name "foot_mm"',
+                'scripts/second.py: spells the output name "foot_mm"',
+                'experiments/src/writers.cc: spells the output name "slip_mm"',
+                'scripts/first.py: spells the output name "slip_mm"')
+        if (result.returncode != 1 or len(lines) != len(want) or
+                not all(line.startswith(w) for line, w in zip(lines, want))):
+            failures.append(f"two readers of foot_mm and slip_mm's writer and reader are not the "
+                            f"four findings:\n{result.stderr}")
         with open(listed, "a", encoding="utf-8") as f:
             f.write("foot_mm: scripts/first.py\nfoot_mm: scripts/second.py\n"
+                    "slip_mm: experiments/src/writers.cc\nslip_mm: scripts/first.py\n"
                     "gone_mm: scripts/old.py\n")
         result = check(tree, "--list", listed)
         if result.returncode != 1 or result.stderr.count("\n") != 1 or \
@@ -61,7 +73,7 @@ def main():
             failures.append(f"a stale entry is not the one finding:\n{result.stderr}")
         result = check(tree, "--list", listed.replace("listed", "none"), "--update")
         result = check(tree, "--list", listed.replace("listed", "none"))
-        if result.returncode != 0 or "nothing new (2 spellings still listed)" not in result.stdout:
+        if result.returncode != 0 or "nothing new (4 spellings still listed)" not in result.stdout:
             failures.append(f"--update does not list what it finds:\n{result.stdout}"
                             f"{result.stderr}")
     for failure in failures:
