@@ -19,6 +19,14 @@ import figures  # noqa: E402
 from results_reader import declared_columns, read_json, read_rows, select  # noqa: E402
 
 
+def square_wave_period(request):
+    """The ticks of a square wave's first period: up to where it returns to its first level
+    after its first change (all of it if it never does)."""
+    changed = next((t for t, r in enumerate(request) if r != request[0]), len(request))
+    return next((t for t in range(changed, len(request)) if request[t] == request[0]),
+                len(request))
+
+
 def save(fig, out, name):
     figures.require(name)
     fig.tight_layout()
@@ -98,13 +106,15 @@ def main(out):
         ax.legend()
         save(fig, out, "fig2_rotator_direct.png")
 
-    # Figures 3 and 4: the step tests with the identified model's prediction.
+    # Figures 3 and 4: the paper's two step tests (40 and 110 deg; a run with other
+    # identify.theta_test_deg has no such files) with the identified model's prediction, over
+    # the square wave's first period.
     for number, theta in ((3, 40), (4, 110)):
         name = f"step_rotator_{theta}.csv"
         if not have(name):
             continue
         test = select(read_rows(os.path.join(out, name)))
-        period = 88
+        period = square_wave_period(test.request_deg)
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(test.request_deg[:period], "k-", label="requested")
         ax.plot(test.actual_deg[:period], "r.", ms=4, label="actual")

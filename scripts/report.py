@@ -60,6 +60,8 @@ RUN_DESCRIPTIONS = {
     "servo_logs/online": "The online planner against the batch plan by preview length: the "
                          "XL330's kp 400 logs as desired motions (plan --online).",
     "sweeps": "The sweeps: track over a grid of config values, one folder each.",
+    "variants": "The runs the results page quotes beyond the shipped configs, one folder each "
+                "(scripts/variants.py; --list prints each command).",
     "sweeps/walk_speed": "Sweep: the walk's step time from 40 to 120 ticks, every mode.",
     "sweeps/model_mismatch": "Sweep: the plant's servo delay and top speed around a fixed "
                              "model: how much model error the paper's method stands.",
