@@ -227,7 +227,9 @@ def smoothing_block(run):
 
         def joints(s, i, style):
             return " / ".join(style(s[j][i]) for j in JOINTS)
-        squares = lambda x: f"{x:.1f}" if x < 100 else f"{x:.0f}"  # noqa: E731
+
+        def squares(x):  # one decimal below 100 deg^2, whole deg^2 above
+            return f"{x:.1f}" if x < 100 else f"{x:.0f}"
         return [[f"foot L2 (cm; best time shift {fixed(foot(shipped, 'time_shift'), 3)})"] +
                 [bold(fixed(foot(table2(run, v), "optimal"), 3),
                       foot(table2(run, v), "optimal") == best) for v in variants_of],
