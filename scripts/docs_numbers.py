@@ -33,14 +33,13 @@ import sys
 
 import log_fit_results
 import numbers_beyond
-from numbers_run import (UNKNOWN, Missing, Run, UserError, cell, fixed, joint_norm, paper_value,
-                         with_paper)
+from numbers_run import (JOINTS, UNKNOWN, Missing, Run, UserError, cell, fixed, joint_norm,
+                         paper_value, with_paper)
 from results_reader import split_row
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
 BEGIN = re.compile(r"^<!-- numbers: ([a-z0-9-]+) -->$")
-JOINTS = ("rotator", "abductor", "knee")
 
 # BAM's own models on the XL330 logs (Rhoban/bam, its README's comparison of models m1, m4
 # and m6 over these 12 logs and four more, fitted on all of them): published, not a run's.

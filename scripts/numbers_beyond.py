@@ -13,9 +13,7 @@ import statistics
 
 import examine_paper_numbers
 import variants
-from numbers_run import fixed, joint_norm
-
-JOINTS = ("rotator", "abductor", "knee")
+from numbers_run import JOINTS, fixed, joint_norm
 
 
 def table2(run, variant=None):
@@ -71,8 +69,9 @@ def examined_block(run):
                 fixed(10 * paper_cm / math.radians(paper_deg), 1), ""]]
         for label, rel in (("shipped walk, direct", ""),
                            ("fitted walk, direct", "track_paper_regime/")):
-            run.rows(rel + "trace_direct.csv")  # Missing when the run is not there
-            e = examine_paper_numbers.direct_errors(f"{run.folder}/{rel}")
+            e = examine_paper_numbers.direct_errors(f"{run.folder}/{rel}",
+                                                    run.rows(rel + "trace_direct.csv"),
+                                                    run.rows(rel + "foot_direct.csv"))
             out.append([label, fixed(e["combined_deg"], 1), fixed(e["foot_cm"]),
                         fixed(e["mm_per_rad"], 1),
                         fixed(math.degrees(10 * paper_cm / e["mm_per_rad"]), 1)])

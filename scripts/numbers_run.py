@@ -12,6 +12,9 @@ import yaml
 from results_reader import read_json, read_rows
 
 
+JOINTS = ("rotator", "abductor", "knee")
+
+
 class UserError(Exception):
     """Bad input: one line, exit 2."""
 

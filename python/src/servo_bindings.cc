@@ -28,9 +28,6 @@ namespace {
 
 using leglab::FittedModel;
 
-// A declared name as a Python str.
-py::str Name(std::string_view name) { return {name.data(), name.size()}; }
-
 // A log as the Python ServoLog holds it: a dict of its fields and arrays (the arrays under
 // kServoLogColumns' names).
 py::dict LogToDict(const ServoLog& log) {
@@ -52,10 +49,10 @@ py::dict LogToDict(const ServoLog& log) {
   d["kp"] = log.kp;
   d["mass_kg"] = log.mass_kg;
   d["length_m"] = log.length_m;
-  d[Name(kServoLogColumns.time_s)] = time;
-  d[Name(kServoLogColumns.request_deg)] = request;
-  d[Name(kServoLogColumns.measured_deg)] = measured;
-  d[Name(kServoLogColumns.torque_enabled)] = torque;
+  d[py::str(kServoLogColumns.time_s)] = time;
+  d[py::str(kServoLogColumns.request_deg)] = request;
+  d[py::str(kServoLogColumns.measured_deg)] = measured;
+  d[py::str(kServoLogColumns.torque_enabled)] = torque;
   return d;
 }
 
@@ -68,11 +65,11 @@ ServoLog DictToLog(const py::dict& d) {
   log.kp = d["kp"].cast<double>();
   log.mass_kg = d["mass_kg"].cast<double>();
   log.length_m = d["length_m"].cast<double>();
-  const auto time = d[Name(kServoLogColumns.time_s)].cast<DoubleArray>();
-  const auto request = d[Name(kServoLogColumns.request_deg)].cast<DoubleArray>();
-  const auto measured = d[Name(kServoLogColumns.measured_deg)].cast<DoubleArray>();
+  const auto time = d[py::str(kServoLogColumns.time_s)].cast<DoubleArray>();
+  const auto request = d[py::str(kServoLogColumns.request_deg)].cast<DoubleArray>();
+  const auto measured = d[py::str(kServoLogColumns.measured_deg)].cast<DoubleArray>();
   const auto torque =
-      d[Name(kServoLogColumns.torque_enabled)].cast<py::array_t<bool, py::array::c_style>>();
+      d[py::str(kServoLogColumns.torque_enabled)].cast<py::array_t<bool, py::array::c_style>>();
   const auto n = static_cast<size_t>(time.size());
   if (static_cast<size_t>(request.size()) != n || static_cast<size_t>(measured.size()) != n ||
       static_cast<size_t>(torque.size()) != n) {
@@ -318,7 +315,7 @@ void BindLogs(py::module_& m) {
       [] {
         py::tuple names(kServoLogColumnList.size());
         for (size_t c = 0; c < kServoLogColumnList.size(); ++c)
-          names[c] = Name(kServoLogColumnList[c]);
+          names[c] = py::str(kServoLogColumnList[c]);
         return names;
       },
       "_log_columns() -> the names of a servo log's arrays, in the CSV log's order");
