@@ -266,18 +266,27 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
   return {m.extended, drive, m.tick_s, limits, options};
 }
 
-double Request(ServoPlanner& planner, py::handle window, py::handle measured_value) {
-  const double measured = ToReal(measured_value, kServoLogColumns.measured_deg, false);
-  // Fast path: a float64 array as it is (no copy); anything else through numpy's checks.
+// window_deg as a span: a float64 array as it is (no copy, the fast path of a loop), anything
+// else through numpy's checks into `storage`.
+std::span<const double> Window(py::handle window, std::optional<DoubleArray>& storage) {
   if (DoubleArray::check_(window)) {
     const auto array = py::reinterpret_borrow<DoubleArray>(window);
-    if (array.ndim() == 1) {
-      return planner.Request(std::span<const double>(array.data(), array.size()), measured);
-    }
+    if (array.ndim() == 1) return {array.data(), static_cast<size_t>(array.size())};
   }
-  const DoubleArray array = RealArray(window, "window_deg");
-  if (array.ndim() != 1) ThrowValueError("window_deg: expected a 1-D array of desired angles");
-  return planner.Request(std::span<const double>(array.data(), array.size()), measured);
+  storage = RealArray(window, "window_deg");
+  if (storage->ndim() != 1) ThrowValueError("window_deg: expected a 1-D array of desired angles");
+  return {storage->data(), static_cast<size_t>(storage->size())};
+}
+
+double Request(ServoPlanner& planner, py::handle window, py::handle measured_value) {
+  const double measured = ToReal(measured_value, kServoLogColumns.measured_deg, false);
+  std::optional<DoubleArray> storage;
+  return planner.Request(Window(window, storage), measured);
+}
+
+void Hold(ServoPlanner& planner, py::handle window) {
+  std::optional<DoubleArray> storage;
+  planner.Hold(Window(window, storage));
 }
 
 // The log's functions: reading, checking and writing a log as the dict ServoLog holds.
@@ -303,6 +312,30 @@ void BindLogs(py::module_& m) {
         return LogToDict(log);
       },
       "_read_log(path, format, motor, kp, mass_kg, length_m): the log's fields as a dict");
+  m.def(
+      "_read_desired",
+      [](py::handle path, double tick_s) {
+        const std::string file = ToPath(path, "desired");
+        DesiredServoMotion motion;
+        std::vector<double> desired;
+        {
+          py::gil_scoped_release release;
+          motion = ReadDesiredMotion(file);
+          desired = ResampleDesired(motion, tick_s, file);
+        }
+        py::dict d;
+        d["desired_deg"] = DoubleArray(static_cast<py::ssize_t>(desired.size()), desired.data());
+        d["is_log"] = motion.is_log;
+        d["motor"] = motion.motor;
+        if (motion.drive) {
+          d["kp"] = motion.drive->kp;
+          d["mass_kg"] = motion.drive->mass_kg;
+          d["length_m"] = motion.drive->length_m;
+        }
+        return d;
+      },
+      "_read_desired(path, tick_s): plan's --desired, read and put on ticks of tick_s (a dict: "
+      "desired_deg, is_log, motor, and a BAM log's kp, mass_kg, length_m)");
   m.def(
       "_drive_problem",
       [](double kp, double mass_kg, double length_m) {
@@ -409,6 +442,11 @@ Requests stay within [min_deg, max_deg] and change at most at the model's top sp
            R"doc(request(window_deg, measured_deg) -> float
 
 R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg = M(t).)doc")
+      .def("hold", &Hold, py::arg("window_deg"), R"doc(hold(window_deg) -> None
+
+A tick that passed with no request sent (the loop woke too late): the servo kept the last
+request, and the planner's model is advanced by that tick as the servo was. window_deg as
+request()'s; the next request is the next tick's.)doc")
       .def_property_readonly("predicted_deg", &ServoPlanner::PredictedDeg,
                              "What the model predicted for the last measured angle.")
       .def_property_readonly("expected_deg", &ServoPlanner::ExpectedDeg,
@@ -416,7 +454,8 @@ R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg =
                              "reset, tick 0's): a servo that is the model measures it.")
       .def_property_readonly("reanchored", &ServoPlanner::Reanchored,
                              "Whether the last measured angle moved the model.")
-      .def_property_readonly("ticks", &ServoPlanner::Ticks, "Requests since the last reset.");
+      .def_property_readonly("ticks", &ServoPlanner::Ticks,
+                             "Ticks since the last reset: requests and holds.");
 }
 
 }  // namespace leglab::python

@@ -43,6 +43,7 @@ struct ServoPlanner::Impl {
   virtual int Preview() const = 0;
   virtual void Reset(double angle_deg) = 0;
   virtual double Request(std::span<const double> window_deg, double measured_deg) = 0;
+  virtual void Hold(std::span<const double> window_deg) = 0;
   virtual double Predicted() const = 0;
   virtual double Expected() const = 0;
   virtual bool Reanchored() const = 0;
@@ -114,27 +115,13 @@ class Planner final : public ServoPlanner::Impl {
   }
 
   double Request(std::span<const double> window_deg, double measured_deg) override {
-    if (window_deg.empty()) {
-      throw std::invalid_argument("servo planner: the window holds no desired angle");
-    }
-    const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
-    for (size_t j = 0; j < used; ++j) {
-      if (const std::string problem = KeyValueProblem(window_deg[j], kServoAngleDoc);
-          !problem.empty()) {
-        throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
-                                    " of the window must be " + problem + ", got " +
-                                    FormatNumber(window_deg[j]));
-      }
-    }
+    CheckWindow(window_deg);
     if (const std::string problem = KeyValueProblem(measured_deg, kServoAngleDoc);
         !problem.empty()) {
       throw std::invalid_argument("servo planner: the measured angle must be " + problem +
                                   ", got " + FormatNumber(measured_deg));
     }
-    if (!started_) Reset(window_deg[0]);
-    // D(t + j) for j = 0..preview, the window's last angle held beyond it.
-    for (size_t j = 0; j < desired_.size(); ++j) desired_[j] = window_deg[std::min(j, used - 1)];
-    if (ticks_ == 0) last_desired_ = desired_[0];
+    TakeWindow(window_deg);
     Anchor(measured_deg);
 
     const double request =
@@ -149,7 +136,60 @@ class Planner final : public ServoPlanner::Impl {
     return request;
   }
 
+  void Hold(std::span<const double> window_deg) override {
+    CheckWindow(window_deg);
+    TakeWindow(window_deg);
+    // The servo kept R(t-1) for this tick: the model copy is driven by it, and optimal's
+    // receding plan gives up its first request, as a Request's would.
+    if (options_.method == PlanMethod::kOptimal) {
+      if (ticks_ == 0) FirstPlan();
+      ShiftPlan();
+    }
+    Stepper::Push(anchored_, previous_);
+    stepper().Advance(anchored_);
+    last_desired_ = desired_[0];
+    has_measured_ = false;  // no measurement this tick: the next one gives no velocity
+    reanchored_ = false;
+    ++ticks_;
+  }
+
  private:
+  // Throws std::invalid_argument, the planner unchanged, on an empty window or a desired angle
+  // beyond its range among those used.
+  void CheckWindow(std::span<const double> window_deg) const {
+    if (window_deg.empty()) {
+      throw std::invalid_argument("servo planner: the window holds no desired angle");
+    }
+    const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
+    for (size_t j = 0; j < used; ++j) {
+      if (const std::string problem = KeyValueProblem(window_deg[j], kServoAngleDoc);
+          !problem.empty()) {
+        throw std::invalid_argument("servo planner: desired angle " + std::to_string(j) +
+                                    " of the window must be " + problem + ", got " +
+                                    FormatNumber(window_deg[j]));
+      }
+    }
+  }
+
+  // D(t + j) for j = 0..preview, the window's last angle held beyond it (a checked window).
+  void TakeWindow(std::span<const double> window_deg) {
+    if (!started_) Reset(window_deg[0]);
+    const size_t used = std::min(window_deg.size(), static_cast<size_t>(preview_) + 1);
+    for (size_t j = 0; j < desired_.size(); ++j) desired_[j] = window_deg[std::min(j, used - 1)];
+    if (ticks_ == 0) last_desired_ = desired_[0];
+  }
+
+  // optimal's plan at tick 0: the first guesses.
+  void FirstPlan() {
+    for (size_t i = 0; i < plan_.size(); ++i) plan_[i] = FirstGuess(static_cast<int>(i));
+  }
+
+  // optimal's plan one tick on: R(t+1..) to the front, a first guess at its new end.
+  void ShiftPlan() {
+    std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
+    plan_.back() = FirstGuess(static_cast<int>(plan_.size()) - 1);
+  }
+
   Stepper stepper() const {
     if constexpr (kExtended) {
       return ExtendedStepper{params_, drive_, tick_s_};
@@ -221,12 +261,10 @@ class Planner final : public ServoPlanner::Impl {
   // kOptimal: the horizon's plan, improved by a few projected gradient steps that each lower
   // its error (as the batch's DescentStep), its first request sent.
   double OptimalRequest() {
-    const auto decisions = static_cast<int>(plan_.size());
     if (ticks_ == 0) {
-      for (int i = 0; i < decisions; ++i) plan_[static_cast<size_t>(i)] = FirstGuess(i);
+      FirstPlan();
     } else {
-      std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
-      plan_.back() = FirstGuess(decisions - 1);
+      ShiftPlan();
     }
     Project(plan_);
     double error = Error(plan_, true);
@@ -354,6 +392,7 @@ void ServoPlanner::Reset(double angle_deg) { impl_->Reset(angle_deg); }
 double ServoPlanner::Request(std::span<const double> window_deg, double measured_deg) {
   return impl_->Request(window_deg, measured_deg);
 }
+void ServoPlanner::Hold(std::span<const double> window_deg) { impl_->Hold(window_deg); }
 double ServoPlanner::PredictedDeg() const { return impl_->Predicted(); }
 double ServoPlanner::ExpectedDeg() const { return impl_->Expected(); }
 bool ServoPlanner::Reanchored() const { return impl_->Reanchored(); }

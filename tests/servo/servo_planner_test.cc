@@ -221,6 +221,45 @@ TEST(ServoPlanner, AHeldServoReanchorsTheModelAndKeepsTheExtendedModelsPlan) {
   EXPECT_NEAR(planner.PredictedDeg(), kept.angles.back(), 2.0);
 }
 
+// A loop that misses ticks: the servo holds its last request through them. Told so by Hold,
+// the planner's model is the model driven by what the servo really got, its requests keep the
+// speed limit from the held one, and model_based's are the batch plan's again once the speed
+// limit has let them catch up (30 ticks covers the 30 deg step at 1.5 deg a tick).
+TEST(ServoPlanner, AHeldTickAdvancesTheModelByTheRequestTheServoKept) {
+  const std::vector<double> d = Desired();
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  const std::vector<size_t> missed{0, 40, 41, 42, 301, 302};
+  const auto caught_up = [&](size_t t) {
+    return std::none_of(missed.begin(), missed.end(), [&](size_t m) { return t > m && t <= m + 30; });
+  };
+  for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
+    ServoPlannerOptions options;
+    options.method = method;
+    ServoPlanner planner(Extended(), kDrive, kTickS, kLimits, options);
+    planner.Reset(d[0]);
+    // The servo, simulated independently: the model stepped with the requests it received.
+    ServoModelState servo = ServoRestState(Extended(), d[0]);
+    double sent = d[0];
+    for (size_t t = 0; t < d.size(); ++t) {
+      const double measured = AdvanceServoModel(Extended(), kDrive, kTickS, servo);
+      ASSERT_EQ(planner.ExpectedDeg(), measured) << t;
+      if (std::find(missed.begin(), missed.end(), t) != missed.end()) {
+        planner.Hold(Window(d, t, 100));
+      } else {
+        const double r = planner.Request(Window(d, t, 100), measured);
+        ASSERT_LE(std::abs(r - sent), kLimits.max_speed_deg_s * kTickS + 1e-12) << t;
+        if (method == PlanMethod::kModelBased && caught_up(t)) {
+          ASSERT_EQ(r, batch.request_deg[t]) << t;
+        }
+        sent = r;
+      }
+      PushServoModelRequest(servo, sent);
+    }
+    EXPECT_EQ(planner.Ticks(), static_cast<long>(d.size()));
+  }
+}
+
 TEST(ServoPlanner, TicksMakeNoAllocation) {
   const std::vector<double> d = Desired();
   for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
@@ -234,7 +273,11 @@ TEST(ServoPlanner, TicksMakeNoAllocation) {
       for (size_t t = 0; t < d.size(); ++t) {
         // Pushed 5 deg off the prediction every 50th tick: the re-anchoring path too.
         const double measured = planner->ExpectedDeg() + (t % 50 == 49 ? 5.0 : 0.0);
-        planner->Request(Window(d, t, 100), measured);
+        if (t % 70 == 69) {
+          planner->Hold(Window(d, t, 100));  // a missed tick
+        } else {
+          planner->Request(Window(d, t, 100), measured);
+        }
       }
       EXPECT_EQ(g_allocations.load() - before, 0) << static_cast<int>(method);
     }

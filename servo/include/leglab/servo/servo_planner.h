@@ -73,7 +73,7 @@ void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
 /// from the (re-anchored) model state, warm-started from the last tick's solution shifted by
 /// one, and sends the first request.
 ///
-/// No heap allocation after construction (Reset and Request). Not thread-safe.
+/// No heap allocation after construction (Reset, Request and Hold). Not thread-safe.
 class ServoPlanner {
  public:
   /// For the extended model with `drive` on ticks of `tick_s` (s), requests within `limits`.
@@ -100,6 +100,11 @@ class ServoPlanner {
   /// finite (those beyond PreviewTicks() + 1 are ignored); `measured_deg`: M(t), finite.
   /// Throws std::invalid_argument otherwise, the planner unchanged.
   double Request(std::span<const double> window_deg, double measured_deg);
+  /// A tick that passed with no request sent (a loop that woke too late): the servo held
+  /// R(t-1). Advances the model copy by that tick as the servo did, so that the next Request is
+  /// tick t + 1 and is never planned as if the loop had been on time. `window_deg` as
+  /// Request's; there is no measurement. Throws std::invalid_argument as Request does.
+  void Hold(std::span<const double> window_deg);
   /// The model's prediction of the last Request's measured angle, before any re-anchoring.
   double PredictedDeg() const;
   /// The model's prediction of the next Request's measured angle M(t) (after Reset, M(0)):
@@ -107,7 +112,7 @@ class ServoPlanner {
   double ExpectedDeg() const;
   /// Whether the last Request's measurement re-anchored the model.
   bool Reanchored() const;
-  /// Requests since the last Reset.
+  /// Ticks since the last Reset: Requests and Holds.
   long Ticks() const;
 
   /// The implementation (servo_planner.cc), not part of the API: public so that the source
