@@ -16,6 +16,9 @@ LEGLAB_PACKAGES=(
   pybind11-dev python3-dev python3-pytest
   # The property-based test of the Python API (tests/python/test_properties.py).
   python3-hypothesis
+  # leglab.bus: servos on a serial port (pyserial), and socat for a pseudo-terminal pair in the
+  # bus tests.
+  python3-serial socat
   # The learned actuator models (scripts/learned_fit.py) and their tests.
   python3-torch
   # The results page's browser check (tests/experiments/scripts/report_test.py) and the

@@ -1,0 +1,386 @@
+"""A serial bus of servos: instructions out, status packets back, items by name.
+
+`Bus` speaks one protocol (`dynamixel`: Protocol 2.0; `feetech`: STS/SMS) on one port, at one
+baud rate. Items are named as the control tables in `leglab.bus.tables` name them and read and
+written in leglab's units (degrees on the servo's own 0-360 scale, seconds, volts, degrees C);
+`read_raw`/`write_raw` take the register's counts. A reply that is missing or corrupt is asked
+for again, at most `retries` times (each counted in `Bus.stats`); after that a `BusError` names
+the port, the servo and the item in one line.
+"""
+
+import errno
+import os
+from dataclasses import dataclass
+
+from . import dynamixel, feetech, tables
+from .errors import ProtocolError
+
+PROTOCOLS = {"dynamixel": dynamixel, "feetech": feetech}
+"""The protocols a Bus speaks, by name."""
+
+MAX_ID = 252
+"""The highest servo id on both protocols (253 and up are reserved, 254 is broadcast)."""
+
+BAUD_RATES = (9600, 19200, 38400, 57600, 115200, 500000, 1000000, 2000000, 3000000, 4000000)
+"""Baud rates a Bus accepts (those both protocols' servos offer, the adapters' common ones)."""
+
+_GARBAGE_BYTES = 64  # bytes skipped while looking for a reply's header before it counts as corrupt
+
+
+class BusError(Exception):
+    """A servo that did not answer, answered with an error, or a port that failed: one line
+    naming the port, the servo id and the item."""
+
+
+class NoReply(BusError):
+    """A servo that gave no valid reply after every retry."""
+
+
+class HardwareError(BusError):
+    """A servo that reports a hardware fault (its status packets' alert or error bits)."""
+
+
+@dataclass
+class BusStats:
+    """What a Bus has sent and retried since it was opened (or since `reset`)."""
+
+    instructions: int = 0  # instruction packets sent, retries included
+    retries: int = 0       # instructions sent again after a missing or corrupt reply
+    missing: int = 0       # replies that did not come within the timeout
+    corrupt: int = 0       # replies with a bad header, length or checksum, or the wrong id
+    errors: int = 0        # instructions that failed after every retry
+
+    def reset(self):
+        """Counts from zero again."""
+        self.instructions = self.retries = self.missing = self.corrupt = self.errors = 0
+
+
+@dataclass(frozen=True)
+class ServoInfo:
+    """A servo found on the bus: its id, model number, firmware and control table (None when
+    leglab has no table for its model number)."""
+
+    id: int
+    model_number: int
+    firmware_version: int
+    table: "tables.ControlTable | None"
+    error: str = ""  # the PING reply's error byte in words ("" when clear)
+
+
+def check_protocol(name):
+    """The protocol module of `name`; ValueError listing the valid names otherwise."""
+    if name not in PROTOCOLS:
+        raise ValueError(f"unknown protocol {name!r} (valid: {', '.join(PROTOCOLS)})")
+    return PROTOCOLS[name]
+
+
+def wire_time_s(byte_count, baud):
+    """Seconds `byte_count` bytes take on a UART at `baud` (10 bits a byte: start, 8, stop)."""
+    return byte_count * 10.0 / baud
+
+
+def _open_serial(port, baud, timeout_s):
+    import serial  # pyserial: imported here so that the emulator and protocols need none
+
+    if not os.path.exists(port):
+        raise BusError(f"port {port}: no such device (is the adapter plugged in? "
+                       "`ls /dev/serial/by-id/` lists the USB ones)")
+    try:
+        return serial.Serial(port, baudrate=baud, timeout=timeout_s, write_timeout=1.0,
+                             exclusive=True)
+    except (serial.SerialException, OSError, ValueError) as e:
+        reason = getattr(e, "strerror", None) or str(e).splitlines()[0]
+        raise BusError(f"port {port}: cannot be opened: {reason}") from None
+
+
+class Bus:
+    """Servos on one serial port, by id and item name. A context manager: the port is closed
+    on leaving it.
+
+    port: a device path (opened with pyserial, exclusively), or an object with pyserial's
+        `write`, `read`, `reset_input_buffer`, `close`, `timeout` and `name` (such as the
+        emulator's VirtualPort).
+    protocol: "dynamixel" or "feetech".
+    baud: the bus's baud rate (the servos' own setting; 1 Mbaud is both makers' default).
+    timeout_s: how long a reply is waited for; on a USB adapter add its latency timer.
+    retries: how many times an instruction is sent again after a missing or corrupt reply.
+    """
+
+    def __init__(self, port, protocol, baud=1_000_000, timeout_s=0.02, retries=2):
+        self.protocol = check_protocol(protocol)
+        if baud not in BAUD_RATES:
+            raise ValueError(f"baud {baud!r} is not one of {', '.join(map(str, BAUD_RATES))}")
+        if not (isinstance(timeout_s, (int, float)) and 0 < timeout_s <= 10):
+            raise ValueError(f"timeout_s must be in (0, 10] s, got {timeout_s!r}")
+        if not (isinstance(retries, int) and 0 <= retries <= 100):
+            raise ValueError(f"retries must be an integer in [0, 100], got {retries!r}")
+        self.baud = baud
+        self.retries = retries
+        self.stats = BusStats()
+        self._tables = {}
+        if isinstance(port, (str, os.PathLike)):
+            self.port_name = os.fspath(port)
+            self._port = _open_serial(self.port_name, baud, timeout_s)
+        else:
+            self.port_name = getattr(port, "name", "port")
+            self._port = port
+            self._port.timeout = timeout_s
+
+    # ---- context and port ----
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self):
+        """Closes the port (again: nothing)."""
+        if self._port is not None:
+            try:
+                self._port.close()
+            finally:
+                self._port = None
+
+    @property
+    def timeout_s(self):
+        """How long a reply is waited for, s."""
+        return self._port.timeout
+
+    @timeout_s.setter
+    def timeout_s(self, value):
+        self._port.timeout = value
+
+    # ---- the servos' tables ----
+
+    def table(self, servo_id):
+        """The control table of `servo_id`, from its model number (asked once, then kept)."""
+        if servo_id not in self._tables:
+            info = self.ping(servo_id)
+            if info.table is None:
+                raise BusError(f"port {self.port_name}: servo {servo_id} is model number "
+                               f"{info.model_number}, which leglab has no control table for "
+                               f"(known: {_known_models(self.protocol.NAME)})")
+            self._tables[servo_id] = info.table
+        return self._tables[servo_id]
+
+    def set_table(self, servo_id, table):
+        """Takes `table` as servo `servo_id`'s without asking it (a servo known in advance)."""
+        self._tables[servo_id] = table
+
+    # ---- instructions ----
+
+    def ping(self, servo_id, retries=None):
+        """The ServoInfo of `servo_id`; NoReply if it does not answer. A servo that reports a
+        hardware error still answers: its ServoInfo.error says what."""
+        _check_id(servo_id)
+        (reply,) = self._transact(self.protocol.ping(servo_id), [servo_id], "PING", retries,
+                                  check=False)
+        error = self.protocol.error_text(reply.error)
+        if self.protocol.NAME == "dynamixel":
+            model = int.from_bytes(reply.params[0:2], "little")
+            firmware = reply.params[2] if len(reply.params) > 2 else 0
+        else:  # Feetech's PING has no parameters: the model is a register
+            model_item = _feetech_item("model_number")
+            firmware_item = _feetech_item("firmware_version")
+            (reply,) = self._transact(
+                self.protocol.read(servo_id, model_item.address, model_item.size), [servo_id],
+                "read model_number", retries, check=False)
+            model = tables.decode(model_item, reply.params)
+            (reply,) = self._transact(
+                self.protocol.read(servo_id, firmware_item.address, firmware_item.size),
+                [servo_id], "read firmware_version", retries, check=False)
+            firmware = tables.decode(firmware_item, reply.params)
+        return ServoInfo(servo_id, model, firmware, tables.table_for(self.protocol.NAME, model),
+                         error)
+
+    def scan(self, ids=range(0, MAX_ID + 1), timeout_s=None):
+        """ServoInfo of every servo in `ids` that answers a PING (each asked once, no retry)."""
+        saved = self.timeout_s
+        if timeout_s is not None:
+            self.timeout_s = timeout_s
+        found = []
+        try:
+            for servo_id in ids:
+                try:
+                    info = self.ping(servo_id, retries=0)
+                except NoReply:
+                    continue
+                found.append(info)
+                if info.table is not None:
+                    self._tables[servo_id] = info.table
+        finally:
+            self.timeout_s = saved
+            self.stats.missing = 0  # absent ids are not a fault of the bus
+        return found
+
+    def read_raw(self, servo_id, item):
+        """Item `item` of servo `servo_id` as the register holds it (an int)."""
+        it = self.table(servo_id).item(item)
+        (reply,) = self._transact(self.protocol.read(servo_id, it.address, it.size), [servo_id],
+                                  f"read {item}")
+        return tables.decode(it, reply.params)
+
+    def read(self, servo_id, item):
+        """Item `item` of servo `servo_id`, in leglab's units (tables.to_units)."""
+        it = self.table(servo_id).item(item)
+        return tables.to_units(it, self.read_raw(servo_id, item))
+
+    def write_raw(self, servo_id, item, raw):
+        """Writes `raw` (register counts) to item `item` of servo `servo_id`."""
+        it = self.table(servo_id).item(item)
+        self._transact(self.protocol.write(servo_id, it.address, tables.encode(it, raw)),
+                       [servo_id], f"write {item}")
+
+    def write(self, servo_id, item, value):
+        """Writes `value` (leglab's units) to item `item` of servo `servo_id`."""
+        it = self.table(servo_id).item(item)
+        self.write_raw(servo_id, item, tables.from_units(it, value))
+
+    def sync_read_raw(self, ids, item):
+        """{id: raw} of `item` on every servo of `ids`, in one SYNC_READ (one reply each)."""
+        ids = list(ids)
+        it = self._common_item(ids, item)
+        replies = self._transact(self.protocol.sync_read(it.address, it.size, ids), ids,
+                                 f"sync read {item}")
+        return {r.id: tables.decode(it, r.params) for r in replies}
+
+    def sync_read(self, ids, item):
+        """{id: value} of `item` (leglab's units) on every servo of `ids`, in one SYNC_READ."""
+        it = self._common_item(list(ids), item)
+        return {i: tables.to_units(it, raw) for i, raw in self.sync_read_raw(ids, item).items()}
+
+    def sync_write_raw(self, item, raw_by_id):
+        """Writes {id: raw} to `item` in one SYNC_WRITE (no reply: the servos answer none)."""
+        it = self._common_item(list(raw_by_id), item)
+        frame = self.protocol.sync_write(
+            it.address, it.size, {i: tables.encode(it, raw) for i, raw in raw_by_id.items()})
+        self._send(frame, f"sync write {item}")
+
+    def sync_write(self, item, value_by_id):
+        """Writes {id: value} (leglab's units) to `item` in one SYNC_WRITE."""
+        it = self._common_item(list(value_by_id), item)
+        self.sync_write_raw(item, {i: tables.from_units(it, v) for i, v in value_by_id.items()})
+
+    # ---- the wire ----
+
+    def _common_item(self, ids, item):
+        """The item `item` of the servos `ids`, which a sync instruction needs at one address."""
+        if not ids:
+            raise ValueError(f"{item}: no servo ids given")
+        found = {self.table(i).item(item) for i in ids}
+        first = self.table(ids[0]).item(item)
+        if any((f.address, f.size) != (first.address, first.size) for f in found):
+            raise BusError(f"port {self.port_name}: {item} is not at one address on servos "
+                           f"{', '.join(map(str, ids))}: read them one at a time")
+        return first
+
+    def _send(self, frame, what):
+        if self._port is None:
+            raise BusError(f"port {self.port_name}: closed ({what})")
+        self.stats.instructions += 1
+        try:
+            self._port.write(frame)
+        except OSError as e:
+            raise BusError(f"port {self.port_name}: lost ({what}): "
+                           f"{e.strerror or errno.errorcode.get(e.errno, e)}") from None
+        except Exception as e:  # pyserial's SerialException / SerialTimeoutException
+            raise BusError(f"port {self.port_name}: lost ({what}): {_first_line(e)}") from None
+
+    def _read_exact(self, count):
+        try:
+            return self._port.read(count)
+        except OSError as e:
+            raise BusError(f"port {self.port_name}: lost: {e.strerror or e}") from None
+        except Exception as e:  # pyserial's SerialException
+            raise BusError(f"port {self.port_name}: lost: {_first_line(e)}") from None
+
+    def _read_status(self):
+        """One status packet from the port, or None (nothing within the timeout), or raises
+        ProtocolError (bytes that are not a valid packet)."""
+        header = self.protocol.HEADER
+        need = self.protocol.PREFIX_BYTES
+        buf = self._read_exact(need)
+        if not buf:
+            return None
+        skipped = 0
+        while not buf.startswith(header):
+            if len(buf) < need:
+                raise ProtocolError("a reply cut short")
+            skipped += 1
+            if skipped > _GARBAGE_BYTES:
+                raise ProtocolError("no packet header in the reply")
+            buf = buf[1:] + self._read_exact(1)
+        total = self.protocol.frame_length(buf)
+        rest = self._read_exact(total - len(buf))
+        if len(rest) != total - len(buf):
+            raise ProtocolError("a reply cut short")
+        return self.protocol.decode(bytes(buf + rest), status=True)
+
+    def _transact(self, frame, ids, what, retries=None, check=True):
+        """Sends `frame` and reads one status packet from each of `ids`, in order. A missing or
+        corrupt reply sends it again (at most `retries` times). With `check`, an instruction
+        the servo refuses raises BusError at once, and a hardware alert HardwareError."""
+        retries = self.retries if retries is None else retries
+        problem = ""
+        for attempt in range(retries + 1):
+            if attempt:
+                self.stats.retries += 1
+            self._port.reset_input_buffer()
+            self._send(frame, what)
+            replies, problem, bad_id = [], "", ids[0]
+            for servo_id in ids:
+                bad_id = servo_id
+                try:
+                    reply = self._read_status()
+                except ProtocolError as e:
+                    self.stats.corrupt += 1
+                    problem = f"gave a corrupt reply ({e})"
+                    break
+                if reply is None:
+                    self.stats.missing += 1
+                    problem = "did not answer"
+                    break
+                if reply.id != servo_id:
+                    self.stats.corrupt += 1
+                    problem = f"was answered by servo {reply.id}"
+                    break
+                replies.append(reply)
+            if not problem:
+                for reply in replies:
+                    if check:
+                        self._check_status(reply, what)
+                return replies
+        self.stats.errors += 1
+        tries = f"{retries + 1} {'try' if retries == 0 else 'tries'}"
+        raise NoReply(f"port {self.port_name}: servo {bad_id} {problem} to {what} ({tries})")
+
+    def _check_status(self, reply, what):
+        if not reply.error:
+            return
+        text = self.protocol.error_text(reply.error)
+        if self.protocol.error_is_hardware(reply.error):
+            raise HardwareError(f"port {self.port_name}: servo {reply.id} reports a hardware "
+                                f"error ({text}) at {what}")
+        raise BusError(f"port {self.port_name}: servo {reply.id} refused to {what}: {text}")
+
+
+def _check_id(servo_id):
+    if isinstance(servo_id, bool) or not isinstance(servo_id, int) or not 0 <= servo_id <= MAX_ID:
+        raise ValueError(f"servo id must be an integer in [0, {MAX_ID}], got {servo_id!r}")
+
+
+def _feetech_item(name):
+    table = next(t for t in tables.TABLES.values() if t.protocol == "feetech")
+    return table.item(name)
+
+
+def _known_models(protocol):
+    return ", ".join(f"{t.model} ({t.model_number})" for t in tables.TABLES.values()
+                     if t.protocol == protocol)
+
+
+def _first_line(error):
+    text = str(error).strip()
+    return text.splitlines()[0] if text else type(error).__name__
+

@@ -1,0 +1,229 @@
+"""`python3 -m leglab.bus VERB`: scan, record, run and emulate, on a serial port or on an
+emulated bus (`--port emulator:MODEL[,key=value...]`, on virtual time).
+
+Bad input is one line on stderr and exit status 2, before anything moves; a session that a
+fault ends (a servo that stops answering, a hardware error, SIGINT or SIGTERM) turns the torque
+off, writes what it recorded, and exits 2 with one line naming the port and the servo.
+"""
+
+import argparse
+import math
+import sys
+
+from . import bus as bus_module
+from . import emulator, physics, session, tables, trajectories
+
+MOTOR_ALIASES = {"xl330": "xl330-m288", "xl430": "xl430-w250"}
+"""Servo models also known by the shorter names the shipped logs give them."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse whose usage errors are one line and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: {message} (--help lists the options)\n")
+
+
+def _ids(text):
+    try:
+        ids = [int(part) for part in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a list of servo ids such as 1,2,3")
+    if not ids or any(not 0 <= i <= bus_module.MAX_ID for i in ids) or len(set(ids)) != len(ids):
+        raise argparse.ArgumentTypeError(
+            f"'{text}': servo ids are distinct integers in [0, {bus_module.MAX_ID}]")
+    return ids
+
+
+def _ranged(low, high, unit="", integer=False):
+    def parse(text):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not {'an integer' if integer else 'a number'}")
+        if not (low <= value <= high):
+            raise argparse.ArgumentTypeError(f"{text} is outside [{low:g}, {high:g}]{unit}")
+        return value
+    return parse
+
+
+def _model(text):
+    key = MOTOR_ALIASES.get(text, text)
+    if key not in tables.TABLES or key not in physics.SPECS:
+        known = ", ".join(k for k in tables.TABLES if k in physics.SPECS)
+        raise argparse.ArgumentTypeError(f"unknown servo model '{text}' (valid: {known})")
+    return key
+
+
+def _name(text):
+    if not text or len(text) > 64 or any(not (c.isalnum() or c in "-_.") for c in text):
+        raise argparse.ArgumentTypeError(
+            f"'{text}': a name of 1-64 letters, digits, '-', '_' or '.'")
+    return text
+
+
+def _trajectories(text):
+    names = text.split(",")
+    for name in names:
+        if name not in trajectories.NAMES:
+            raise argparse.ArgumentTypeError(
+                f"unknown trajectory '{name}' (valid: {', '.join(trajectories.NAMES)})")
+    return names
+
+
+def _common(parser, ids_flag="--id"):
+    parser.add_argument("--port", required=True,
+                        help="the serial port (/dev/ttyUSB0, /dev/serial/by-id/...), or "
+                             "emulator:MODEL[,key=value...] for an emulated bus on virtual time")
+    parser.add_argument("--protocol", choices=sorted(bus_module.PROTOCOLS), default="dynamixel")
+    parser.add_argument("--baud", type=int, default=1_000_000, choices=bus_module.BAUD_RATES,
+                        metavar="B", help="the bus's baud rate (default 1000000)")
+    parser.add_argument("--timeout-ms", type=_ranged(0.1, 10000, " ms"), default=20.0,
+                        help="how long a reply is waited for (default 20 ms)")
+    if ids_flag:
+        parser.add_argument(ids_flag, dest="ids", type=_ids, required=True,
+                            help="the servos' ids, e.g. 1 or 1,2,3")
+
+
+def _drive(parser):
+    parser.add_argument("--kp", type=_ranged(0, 16383, integer=True), required=True,
+                        help="the position P gain, in the servo's own register units")
+    parser.add_argument("--mass-kg", type=_ranged(0, 1000, " kg"), required=True,
+                        help="the load's mass (a point mass on an arm), kg")
+    parser.add_argument("--length-m", type=_ranged(0, 10, " m"), required=True,
+                        help="the load's arm, m (0 deg: hanging straight down)")
+    parser.add_argument("--zero-deg", type=_ranged(0, 360, " deg"),
+                        help="the zero on the servo's own 0-360 deg scale (default: the "
+                             "reading with the torque off and the load hanging still)")
+    parser.add_argument("--no-realtime", action="store_true",
+                        help="do not ask for real-time priority")
+
+
+def parser():
+    """The command line's parser."""
+    top = ArgumentParser(prog="python3 -m leglab.bus",
+                         description="Servos on a serial bus: scan, record, run, emulate.")
+    verbs = top.add_subparsers(dest="verb", required=True, parser_class=ArgumentParser)
+    scan = verbs.add_parser("scan", help="the servos on a port and their settings")
+    _common(scan, ids_flag=None)
+    scan.add_argument("--ids", type=_ids, help="only these ids (default 0-252)")
+
+    record = verbs.add_parser("record", help="logs of the servos following excitations")
+    _common(record)
+    record.add_argument("--motor", type=_name, required=True,
+                        help="the servo type's name in the logs (one model is fitted per name)")
+    _drive(record)
+    record.add_argument("--trajectory", type=_trajectories, required=True,
+                        help=f"one or more of {', '.join(trajectories.NAMES)}, comma-separated")
+    record.add_argument("--tick-s", type=_ranged(0.001, 0.1, " s"), default=0.005,
+                        help="the recording's tick (default 0.005 s)")
+    record.add_argument("--out", required=True, help="the folder the logs go into")
+
+    run = verbs.add_parser("run", help="the servos following a desired motion")
+    _common(run)
+    run.add_argument("--model", required=True, help="identify's log_fit.json")
+    run.add_argument("--desired", required=True,
+                     help="a CSV time_s,desired_deg, or a servo log whose requests are the motion")
+    run.add_argument("--method", choices=("direct", "model_based", "optimal"), required=True)
+    run.add_argument("--online", action="store_true",
+                     help="requests from the online planner, tick by tick (default: the batch plan)")
+    run.add_argument("--preview-ticks", type=_ranged(0, 100000, integer=True),
+                     help="with --online: desired angles ahead (default: the method's own)")
+    run.add_argument("--motor", default="", help="the model file's motor (if it has several)")
+    _drive(run)
+    run.add_argument("--min-deg", type=_ranged(-180, 180, " deg"), default=-180.0)
+    run.add_argument("--max-deg", type=_ranged(-180, 180, " deg"), default=180.0)
+    run.add_argument("--max-speed-deg-s", type=_ranged(1, 100000, " deg/s"),
+                     help="the requests' speed guard (default: the model's top speed)")
+    run.add_argument("--out", required=True, help="the folder run.csv and run.json go into")
+
+    emulate = verbs.add_parser("emulate", help="an emulated bus on a pseudo-terminal")
+    emulate.add_argument("--protocol", choices=sorted(bus_module.PROTOCOLS), required=True)
+    emulate.add_argument("--motor", type=_model, required=True,
+                         help=f"the servo model: {', '.join(tables.TABLES)}")
+    emulate.add_argument("--ids", type=_ids, required=True)
+    emulate.add_argument("--mass-kg", type=_ranged(0, 1000, " kg"), required=True)
+    emulate.add_argument("--length-m", type=_ranged(0, 10, " m"), required=True)
+    emulate.add_argument("--kp", type=_ranged(0, 16383, integer=True),
+                         help="the gain register at power-on (default: the factory's)")
+    emulate.add_argument("--baud", type=int, default=1_000_000, choices=bus_module.BAUD_RATES,
+                         metavar="B")
+    emulate.add_argument("--link", help="also a symbolic link to the terminal at this path")
+    _faults(emulate)
+    return top
+
+
+def _faults(parser):
+    parser.add_argument("--drop-rate", type=_ranged(0, 1), default=0.0,
+                        help="the share of replies not sent")
+    parser.add_argument("--corrupt-rate", type=_ranged(0, 1), default=0.0,
+                        help="the share of replies with a byte changed")
+    parser.add_argument("--silent-after-s", type=_ranged(0, 1e9, " s"), default=math.inf,
+                        help="servos stop answering after this time")
+    parser.add_argument("--silent-ids", type=_ids, default=(),
+                        help="which servos fall silent (default: all)")
+    parser.add_argument("--hardware-error-after-s", type=_ranged(0, 1e9, " s"),
+                        default=math.inf, help="an overload in every servo after this time")
+    parser.add_argument("--seed", type=_ranged(0, 2**31, integer=True), default=0)
+
+
+def emulated_port(spec, protocol, ids, mass_kg, length_m, baud):
+    """A VirtualPort and VirtualClock from `--port emulator:MODEL[,key=value...]`; keys:
+    drop_rate, corrupt_rate, silent_after_s, silent_ids (1+2), hardware_error_after_s, seed,
+    angle_deg (the load's start), kp (the gain at power-on)."""
+    model, *pairs = spec.split(",")
+    model = _model(model)
+    faults, extra = emulator.Faults(), {}
+    for pair in pairs:
+        key, _, value = pair.partition("=")
+        try:
+            if key == "silent_ids":
+                faults.silent_ids = tuple(int(v) for v in value.split("+"))
+            elif key in ("drop_rate", "corrupt_rate", "silent_after_s", "hardware_error_after_s"):
+                setattr(faults, key, float(value))
+            elif key == "seed":
+                faults.seed = int(value)
+            elif key in ("angle_deg", "kp"):
+                extra[key] = float(value) if key == "angle_deg" else int(value)
+            else:
+                raise ValueError(f"unknown key '{key}'")
+        except ValueError as e:
+            raise session.SessionError(f"--port emulator:{spec}: {pair}: {e}") from None
+    emulated = emulator.make_emulator(protocol, model, ids, mass_kg, length_m, baud=baud,
+                                      faults=faults, **extra)
+    clock = emulator.VirtualClock()
+    return emulator.VirtualPort(emulated, clock, name=f"emulator:{model}"), clock
+
+
+def open_bus(args, ids, mass_kg=0.1, length_m=0.1):
+    """(Bus, clock) for the verb's --port."""
+    timeout_s = args.timeout_ms / 1e3
+    if args.port.startswith("emulator:"):
+        port, clock = emulated_port(args.port[len("emulator:"):], args.protocol, ids, mass_kg,
+                                    length_m, args.baud)
+        return bus_module.Bus(port, args.protocol, args.baud, timeout_s), clock
+    return bus_module.Bus(args.port, args.protocol, args.baud, timeout_s), emulator.RealClock()
+
+
+def say(line):
+    """A line of progress, on stdout at once."""
+    print(line, flush=True)
+
+
+def main(argv=None):
+    """The command line; returns the exit status."""
+    args = parser().parse_args(argv)
+    from . import verbs  # the verbs' bodies (run needs the compiled leglab module)
+
+    try:
+        return getattr(verbs, args.verb)(args)
+    except (session.SessionError, bus_module.BusError, session.Stopped) as e:
+        print(f"leglab.bus {args.verb}: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"leglab.bus {args.verb}: interrupted", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,483 @@
+"""An emulated bus of servos that speaks Dynamixel Protocol 2.0 or Feetech STS byte for byte.
+
+Each emulated servo is a control table in memory (`leglab.bus.tables`: the factory defaults,
+the access rules) and a physical servo (`leglab.bus.physics`: a DC motor behind a gearbox with
+friction, driven by the firmware's P law, swinging a pendulum), which leglab's own servo model
+is not: a fit of leglab's model to its logs is a fit to physics it does not share.
+
+The emulator is driven by time given to it: `Emulator.receive(data, now_s)` integrates the
+physics up to `now_s`, answers the instructions in `data` and says when each reply goes out.
+Two ways to run it:
+- `VirtualPort`: in the same process, on a `VirtualClock` that advances by the bus's wire time,
+  the servos' return delay, a reply's timeout and the loop's sleeps only: deterministic, the
+  same bits on every run, as fast as the machine goes (the tests' and CI's way);
+- `serve_pty`: on a pseudo-terminal in real time, for any program that opens a serial port.
+"""
+
+import collections
+import math
+import os
+import random
+import select
+import time
+import tty
+from dataclasses import dataclass, field
+
+from . import physics, tables
+from .bus import PROTOCOLS, wire_time_s
+from .errors import ProtocolError
+
+HANG_COUNT = 2048
+"""The position count at which an emulated load hangs still (180 deg on the servo's scale)."""
+
+_DXL_ERRORS = {"result": 1, "instruction": 2, "crc": 3, "range": 4, "length": 5, "limit": 6,
+               "access": 7}  # Protocol 2.0's error numbers (the status packet's bits 0-6)
+_DXL_ALERT = 0x80
+_OVERLOAD_BIT = 0x20  # hardware_error_status (Dynamixel) and status (Feetech): overload
+
+
+@dataclass
+class Faults:
+    """Faults an emulator makes on demand, for tests. Rates are per reply, drawn from a
+    random generator seeded with `seed` (the same faults on every run)."""
+
+    drop_rate: float = 0.0         # a reply not sent
+    corrupt_rate: float = 0.0      # a reply with one byte changed
+    silent_after_s: float = math.inf  # from this time on, the servos in silent_ids answer nothing
+    silent_ids: tuple = ()         # () with a finite silent_after_s: every servo
+    hardware_error_after_s: float = math.inf  # from then on, an overload in every servo
+    seed: int = 0
+
+    def silent(self, servo_id, now_s):
+        """Whether servo `servo_id` is silent at `now_s`."""
+        return now_s >= self.silent_after_s and (not self.silent_ids or servo_id in self.silent_ids)
+
+
+class EmulatedServo:
+    """One servo: its control table's memory and its physics.
+
+    table, spec: the servo's control table (tables.TABLES) and motor (physics.SPECS).
+    mass_kg, length_m: the pendulum load (a point mass on an arm; 0 deg hanging down).
+    kp: the gain register at power-on (None: the table's factory default).
+    angle_deg: the load's angle from hanging at power-on.
+    """
+
+    def __init__(self, table, spec, servo_id, mass_kg, length_m, kp=None, angle_deg=0.0):
+        self.table = table
+        self.id = servo_id
+        size = max(it.address + it.size for it in table.items.values())
+        self.memory = bytearray(size)
+        for it in table.items.values():
+            self.memory[it.address:it.address + it.size] = tables.encode(it, it.default)
+        self.set("id", servo_id)
+        if kp is not None:
+            self.set("position_p_gain", kp)
+        self.physics = physics.ServoPhysics(spec, mass_kg, length_m, math.radians(angle_deg))
+        self._update_present(hardware_fault=False)
+        # The firmware starts holding where the servo is, as both makers' servos do at power-on.
+        self.set("goal_position", self.get("present_position"))
+        self._profiled_goal = float(self.get("goal_position"))
+        self._last_s = 0.0
+
+    # ---- memory ----
+
+    def get(self, name):
+        """Item `name`'s raw value."""
+        it = self.table.items[name]
+        return tables.decode(it, bytes(self.memory[it.address:it.address + it.size]))
+
+    def set(self, name, raw):
+        """Sets item `name` to `raw`, clamped to what the register holds."""
+        it = self.table.items[name]
+        low, high = _raw_range(it)
+        raw = min(max(int(raw), low), high)
+        self.memory[it.address:it.address + it.size] = tables.encode(it, raw)
+
+    def _set_units(self, name, value):
+        if name in self.table.items:
+            it = self.table.items[name]
+            self.set(name, round(value / it.scale))
+
+    def read(self, address, size):
+        """`size` bytes from `address` (beyond the table: zeros)."""
+        data = bytes(self.memory[address:address + size])
+        return data + bytes(size - len(data))
+
+    def write(self, address, data):
+        """Writes `data` at `address` as the firmware would: the error name of Protocol 2.0
+        ("access", "range") when refused, else "" (written)."""
+        end = address + len(data)
+        touched = [it for it in self.table.items.values()
+                   if it.address < end and address < it.address + it.size]
+        if not touched:
+            return "access"
+        torque_on = self.get("torque_enable") != 0
+        for it in touched:
+            if it.access != "RW":
+                return "access"
+            if it.memory == "EEPROM" and torque_on and self.table.protocol == "dynamixel":
+                return "access"  # Dynamixel X: the EEPROM area is locked while the torque is on
+        new = bytearray(self.memory)
+        new[address:end] = data
+        if "torque_enable" in (it.name for it in touched):
+            it = self.table.items["torque_enable"]
+            if tables.decode(it, bytes(new[it.address:it.address + it.size])) not in (0, 1):
+                return "range"
+        self.memory[:] = new
+        return ""
+
+    # ---- physics ----
+
+    def return_delay_s(self):
+        """The return delay register, s."""
+        it = self.table.items["return_delay_time"]
+        return tables.to_units(it, self.get("return_delay_time"))
+
+    def advance(self, now_s, hardware_fault=False):
+        """Integrates the servo up to `now_s` under its registers, then updates the present
+        values (position quantised to counts)."""
+        dt = max(0.0, now_s - self._last_s)
+        self._last_s = max(self._last_s, now_s)
+        goal = self._goal(dt)
+        on = self.get("torque_enable") != 0 and not hardware_fault
+        self.physics.advance(now_s, goal if on else None, self.get("position_p_gain"), HANG_COUNT)
+        self._update_present(hardware_fault)
+
+    def _goal(self, dt):
+        """The goal the firmware steers to: Goal Position, reached at the profile velocity when
+        that is not 0 (0: at once; the acceleration profile is not emulated)."""
+        goal = float(self.get("goal_position"))
+        if "profile_velocity" not in self.table.items or self.get("profile_velocity") == 0:
+            self._profiled_goal = goal
+        else:
+            it = self.table.items["profile_velocity"]
+            counts_per_s = tables.to_units(it, self.get("profile_velocity")) * 4096 / 360
+            step = counts_per_s * dt
+            self._profiled_goal += max(-step, min(step, goal - self._profiled_goal))
+        return round(self._profiled_goal)
+
+    def _update_present(self, hardware_fault):
+        p = self.physics
+        count = p.position_count(HANG_COUNT)
+        if self.table.protocol == "feetech":
+            count %= 4096  # a single-turn encoder
+        self.set("present_position", count)
+        self._set_units("present_velocity", math.degrees(p.velocity_rad_s))
+        self._set_units("present_current", p.current_a)
+        self._set_units("present_load", 100.0 * p.load_fraction())
+        self._set_units("present_pwm", 100.0 * p.duty)
+        self._set_units("present_input_voltage", p.spec.voltage_v)
+        self._set_units("present_temperature", 32.0)
+        if "moving" in self.table.items:
+            self.set("moving", 1 if abs(p.velocity_rad_s) > 0.02 else 0)
+        self.set("hardware_error_status", _OVERLOAD_BIT if hardware_fault else 0)
+        if hardware_fault:
+            self.set("torque_enable", 0)  # both makers' firmware drops the torque on a fault
+
+
+def _raw_range(item):
+    bits = 8 * item.size
+    if item.encoding == "unsigned":
+        return 0, (1 << bits) - 1
+    if item.encoding == "signed":
+        return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+    magnitude = (1 << item.sign_bit) - 1
+    return -magnitude, magnitude
+
+
+class Emulator:
+    """Servos on one emulated bus, speaking `protocol` at `baud`.
+
+    servos: EmulatedServo objects with distinct ids, each with a table of `protocol`.
+    """
+
+    def __init__(self, protocol, servos, baud=1_000_000, faults=None):
+        self.protocol = PROTOCOLS[protocol]
+        self.baud = baud
+        self.servos = {s.id: s for s in servos}
+        if len(self.servos) != len(servos):
+            raise ValueError("emulator: two servos have the same id")
+        for s in servos:
+            if s.table.protocol != protocol:
+                raise ValueError(f"emulator: servo {s.id} is a {s.table.model}, which speaks "
+                                 f"{s.table.protocol}, not {protocol}")
+        self.faults = faults or Faults()
+        self._random = random.Random(self.faults.seed)
+        self._buffer = bytearray()
+        self.now_s = 0.0
+        self.instructions = 0  # whole instruction packets received
+
+    def advance(self, now_s):
+        """Every servo's physics up to `now_s`."""
+        self.now_s = max(self.now_s, now_s)
+        fault = self.now_s >= self.faults.hardware_error_after_s
+        for servo in self.servos.values():
+            servo.advance(self.now_s, hardware_fault=fault)
+
+    def receive(self, data, now_s):
+        """Takes bytes from the bus at `now_s` (the servos integrated up to then) and returns
+        the replies to the whole instructions among them: [(delay_s, frame)], each delay from
+        the end of the instruction to the start of its reply (return delays and the replies
+        before it on the wire)."""
+        self.advance(now_s)
+        self._buffer += data
+        replies = []
+        for frame in self._frames():
+            replies += self._answer(frame)
+        return replies
+
+    def _frames(self):
+        """Whole frames at the buffer's start; bytes before a header are line noise, dropped."""
+        header, need = self.protocol.HEADER, self.protocol.PREFIX_BYTES
+        while True:
+            start = self._buffer.find(header)
+            if start < 0:
+                del self._buffer[:max(0, len(self._buffer) - len(header) + 1)]
+                return
+            del self._buffer[:start]
+            if len(self._buffer) < need:
+                return
+            try:
+                total = self.protocol.frame_length(bytes(self._buffer[:need]))
+            except ProtocolError:
+                del self._buffer[:1]
+                continue
+            if len(self._buffer) < total:
+                return
+            frame = bytes(self._buffer[:total])
+            del self._buffer[:total]
+            yield frame
+
+    def _answer(self, frame):
+        p = self.protocol
+        try:
+            packet = p.decode(frame, status=False)
+        except ProtocolError:
+            return []  # a servo ignores a packet it cannot trust
+        self.instructions += 1
+        if packet.instruction == p.SYNC_READ:
+            address, size, ids = p.parse_sync_read(packet.params)
+            return self._replies([(i, p.encode_status(i, self._status_error(i),
+                                                      self.servos[i].read(address, size)))
+                                  for i in ids if i in self.servos])
+        if packet.instruction == p.SYNC_WRITE:
+            address, size, data_by_id = p.parse_sync_write(packet.params)
+            for i, data in data_by_id.items():
+                if i in self.servos and not self._silent(i):
+                    self.servos[i].write(address, data)
+            return []
+        targets = (sorted(self.servos) if packet.id == p.BROADCAST_ID
+                   else [packet.id] if packet.id in self.servos else [])
+        answers = [(i, self._single(i, packet)) for i in targets]
+        if packet.id == p.BROADCAST_ID and packet.instruction != p.PING:
+            return []  # only a broadcast PING is answered
+        return self._replies([(i, frame) for i, frame in answers if frame is not None])
+
+    def _single(self, servo_id, packet):
+        """The status frame servo `servo_id` sends for `packet` (None: no reply)."""
+        p, servo = self.protocol, self.servos[servo_id]
+        if packet.instruction == p.PING:
+            params = b""
+            if p.NAME == "dynamixel":
+                params = (servo.table.model_number.to_bytes(2, "little")
+                          + bytes([servo.table.firmware_version]))
+            return p.encode_status(servo_id, self._status_error(servo_id), params)
+        if packet.instruction == p.READ:
+            address, size = _read_params(p.NAME, packet.params)
+            return p.encode_status(servo_id, self._status_error(servo_id),
+                                   servo.read(address, size))
+        if packet.instruction == p.WRITE:
+            address, data = _write_params(p.NAME, packet.params)
+            refused = servo.write(address, data)
+            error = self._status_error(servo_id)
+            if refused and p.NAME == "dynamixel":
+                error |= _DXL_ERRORS[refused]
+            return p.encode_status(servo_id, error, b"")
+        if p.NAME == "dynamixel":
+            return p.encode_status(servo_id, self._status_error(servo_id) | _DXL_ERRORS[
+                "instruction"], b"")
+        return None
+
+    def _status_error(self, servo_id):
+        hardware = self.servos[servo_id].get("hardware_error_status")
+        if not hardware:
+            return 0
+        return _DXL_ALERT if self.protocol.NAME == "dynamixel" else hardware
+
+    def _silent(self, servo_id):
+        return self.faults.silent(servo_id, self.now_s)
+
+    def _replies(self, frames):
+        """[(delay_s, frame)] for replies sent one after another, each after its servo's return
+        delay; faults applied."""
+        out, delay = [], 0.0
+        for servo_id, frame in frames:
+            if self._silent(servo_id):
+                continue
+            delay += self.servos[servo_id].return_delay_s()
+            if self._random.random() < self.faults.drop_rate:
+                continue  # dropped: the next servo still waits its turn (no wire time taken)
+            if self._random.random() < self.faults.corrupt_rate:
+                frame = _corrupted(frame, self._random)
+            out.append((delay, frame))
+            delay += wire_time_s(len(frame), self.baud)
+        return out
+
+
+def _read_params(protocol, params):
+    if protocol == "dynamixel":
+        return int.from_bytes(params[0:2], "little"), int.from_bytes(params[2:4], "little")
+    return params[0], params[1]
+
+
+def _write_params(protocol, params):
+    if protocol == "dynamixel":
+        return int.from_bytes(params[0:2], "little"), bytes(params[2:])
+    return params[0], bytes(params[1:])
+
+
+def _corrupted(frame, rng):
+    """`frame` with one byte after the header changed (a noisy line)."""
+    data = bytearray(frame)
+    at = rng.randrange(2, len(data))
+    data[at] ^= 1 << rng.randrange(8)
+    return bytes(data)
+
+
+def make_emulator(protocol, model, ids, mass_kg, length_m, kp=None, baud=1_000_000,
+                  faults=None, angle_deg=0.0, loads=None):
+    """An Emulator of servos `ids`, each a `model` (a key of tables.TABLES and physics.SPECS)
+    with a pendulum of `mass_kg` at `length_m`; `loads` = {id: (mass_kg, length_m)} gives some
+    servos their own."""
+    if model not in tables.TABLES or model not in physics.SPECS:
+        known = ", ".join(k for k in tables.TABLES if k in physics.SPECS)
+        raise ValueError(f"unknown servo model {model!r} (valid: {known})")
+    loads = loads or {}
+    servos = [EmulatedServo(tables.TABLES[model], physics.SPECS[model], i,
+                            *loads.get(i, (mass_kg, length_m)), kp=kp, angle_deg=angle_deg)
+              for i in ids]
+    return Emulator(protocol, servos, baud, faults)
+
+
+# ---- in the same process, on virtual time ----
+
+class VirtualClock:
+    """Time that passes only when told to: the emulator's wire and delays, the loop's sleeps."""
+
+    def __init__(self, start_s=0.0):
+        self._now = start_s
+
+    def now(self):
+        """Seconds since the clock's start."""
+        return self._now
+
+    def sleep(self, seconds):
+        """Passes `seconds` (nothing when not positive)."""
+        if seconds > 0:
+            self._now += seconds
+
+    def advance_to(self, t_s):
+        """Passes time up to `t_s` (nothing when that is past)."""
+        self._now = max(self._now, t_s)
+
+
+class RealClock:
+    """The machine's monotonic clock; sleep() wakes within tens of microseconds of the time
+    asked (the last 0.3 ms waited in a loop, as a tick needs)."""
+
+    def now(self):
+        """Monotonic seconds."""
+        return time.monotonic()
+
+    def sleep(self, seconds):
+        """Waits `seconds`."""
+        end = time.monotonic() + seconds
+        if seconds > 0.0003:
+            time.sleep(seconds - 0.0003)
+        while time.monotonic() < end:
+            pass
+
+
+@dataclass
+class VirtualPort:
+    """The emulator behind pyserial's calls (write, read, reset_input_buffer, close, timeout),
+    on a VirtualClock: each byte takes its wire time, a missing reply its timeout."""
+
+    emulator: Emulator
+    clock: VirtualClock
+    name: str = "emulator"
+    timeout: float = 0.02
+    _incoming: collections.deque = field(default_factory=collections.deque)
+
+    def write(self, data):
+        """Sends `data`; the emulator answers when the last byte is in."""
+        baud = self.emulator.baud
+        end = self.clock.now() + wire_time_s(len(data), baud)
+        self.clock.advance_to(end)
+        byte_s = wire_time_s(1, baud)
+        for delay, frame in self.emulator.receive(bytes(data), end):
+            start = max(end + delay, self._incoming[-1][0] if self._incoming else 0.0)
+            self._incoming.extend((start + (i + 1) * byte_s, b) for i, b in enumerate(frame))
+        return len(data)
+
+    def read(self, count):
+        """Up to `count` bytes: all of them when they arrive within the timeout (the clock then
+        at the last one's arrival), else those that did (the clock at the timeout)."""
+        deadline = self.clock.now() + self.timeout
+        out = bytearray()
+        last = self.clock.now()
+        while self._incoming and len(out) < count and self._incoming[0][0] <= deadline:
+            last, byte = self._incoming.popleft()
+            out.append(byte)
+        self.clock.advance_to(last if len(out) == count else deadline)
+        return bytes(out)
+
+    def reset_input_buffer(self):
+        """Drops the bytes that have arrived."""
+        now = self.clock.now()
+        while self._incoming and self._incoming[0][0] <= now:
+            self._incoming.popleft()
+
+    def close(self):
+        """Nothing to close."""
+
+
+# ---- on a pseudo-terminal, in real time ----
+
+def serve_pty(emulator, on_ready, should_stop=lambda: False, link=None):
+    """Serves `emulator` on a new pseudo-terminal in real time until `should_stop()` is true:
+    `on_ready(path)` is called with the terminal's path (open it as the servos' port). Replies
+    go out when they would have arrived on a real bus at the emulator's baud (the instruction's
+    and the reply's wire time and the return delays). `link`: a path to make a symbolic link
+    to the terminal (replaced if it is one already)."""
+    master, slave = os.openpty()
+    tty.setraw(slave)  # bytes as they are: no echo, no line editing
+    path = os.ttyname(slave)
+    if link:
+        if os.path.islink(link):
+            os.unlink(link)
+        os.symlink(path, link)
+    on_ready(path)
+    start = time.monotonic()
+    pending = []  # [(send_at_s, frame)], in order
+    try:
+        while not should_stop():
+            now = time.monotonic() - start
+            wait = 0.002 if not pending else max(0.0, min(0.002, pending[0][0] - now))
+            ready, _, _ = select.select([master], [], [], wait)
+            now = time.monotonic() - start
+            if ready:
+                data = os.read(master, 4096)
+                end = now + wire_time_s(len(data), emulator.baud)
+                for delay, frame in emulator.receive(data, now):
+                    at = end + delay + wire_time_s(len(frame), emulator.baud)
+                    pending.append((max(at, pending[-1][0] if pending else 0.0), frame))
+            else:
+                emulator.advance(now)
+            while pending and pending[0][0] <= time.monotonic() - start:
+                os.write(master, pending.pop(0)[1])
+    finally:
+        os.close(master)
+        os.close(slave)
+        if link and os.path.islink(link):
+            os.unlink(link)

@@ -1,0 +1,63 @@
+"""The files a bus session writes, each all at once, into a folder the user names."""
+
+import json
+import math
+import os
+import tempfile
+
+from .session import SessionError
+
+
+def out_folder(path):
+    """`path` as an output folder: made when missing (its parent must exist); SessionError
+    when it is something other than a folder."""
+    path = os.fspath(path)
+    if os.path.lexists(path) and not os.path.isdir(path):
+        raise SessionError(f"--out '{path}': exists and is not a folder")
+    if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+        raise SessionError(f"--out '{path}': its parent folder does not exist")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+def check_writable(path):
+    """SessionError when `path` holds something a session must not replace: anything but a
+    regular file (a link, a device, a pipe, a folder)."""
+    if os.path.lexists(path) and (os.path.islink(path) or not os.path.isfile(path)):
+        raise SessionError(f"'{path}': exists and is not a regular file; leglab replaces only "
+                           "its own files")
+
+
+def write_text(path, text):
+    """Writes `text` to `path` all at once: a failure leaves no file, or the old one as it was."""
+    check_writable(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, staging = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
+            out.write(text)
+        os.replace(staging, path)
+    except BaseException:
+        if os.path.exists(staging):
+            os.unlink(staging)
+        raise
+
+
+def write_json(path, value):
+    """`value` as indented JSON (no NaN or infinity: those are written as null)."""
+    write_text(path, json.dumps(_finite(value), indent=1) + "\n")
+
+
+def _finite(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
+
+
+def number(value):
+    """The shortest text that reads back as the same double."""
+    return repr(float(value))

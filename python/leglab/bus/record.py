@@ -1,0 +1,68 @@
+"""`record`: the servos follow excitation trajectories while their angles are logged, in the
+form `identify` and `leglab.servo.read_log` read with no extra keys (BAM's JSON log: the motor,
+gain, load and trajectory travel in the file)."""
+
+import math
+import os
+
+from . import files, session, trajectories
+
+
+def log_name(trajectory, kp, servo_id):
+    """The log's file name: <trajectory>_kp<kp>_id<id>.json."""
+    return f"{trajectory}_kp{kp:g}_id{servo_id}.json"
+
+
+def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
+    """Servos `ids` through trajectory `name`, one tick of `tick_s` at a time, from its first
+    angle. Returns ({id: [(t_s, measured_deg, request_deg, torque_on)]}, TickStats, the
+    exception that ended it early or None)."""
+    start_deg = trajectories.start_deg(name)
+    session.move_to(bus, clock, ids, zeros, {i: start_deg for i in ids}, tick_s)
+    samples = {i: [] for i in ids}
+    torque = [True]
+
+    def tick(_k, t_s, _skipped):
+        raw = bus.sync_read_raw(ids, "present_position")
+        request_deg, torque_on = trajectories.sample(name, t_s)
+        if torque_on != torque[0]:
+            bus.sync_write_raw("torque_enable", {i: int(torque_on) for i in ids})
+            torque[0] = torque_on
+        goals = {i: session.to_count(request_deg, zeros[i]) for i in ids}
+        if torque_on:
+            bus.sync_write_raw("goal_position", goals)
+        for i in ids:
+            samples[i].append((t_s, session.from_count(raw[i], zeros[i]),
+                               session.from_count(goals[i], zeros[i]), torque_on))
+
+    count = math.ceil(trajectories.duration_s(name) / tick_s) + 1
+    try:
+        stats = session.run_ticks(clock, tick_s, count, tick)
+    except Exception as e:  # a fault or a signal: the samples so far are kept
+        stats = session.TickStats(tick_s)
+        stats.starts_s = [row[0] for row in next(iter(samples.values()))]
+        stats.late = [0] * len(stats.starts_s)
+        return samples, stats, e
+    say(f"{name}: {len(stats.starts_s)} ticks, {sum(stats.late)} late, "
+        f"{stats.skipped} skipped")
+    return samples, stats, None
+
+
+def log_json(samples, meta):
+    """A BAM-style log: `meta` (motor, kp, mass, length, trajectory, ...) and the entries
+    (radians from the zero, as BAM's logs hold them)."""
+    entries = [{"timestamp": t, "position": math.radians(m), "goal_position": math.radians(r),
+                "torque_enable": bool(on)} for t, m, r, on in samples]
+    return {**meta, "entries": entries}
+
+
+def write_logs(out, samples, stats, meta_by_id, bus):
+    """One log per servo into folder `out`; returns the paths."""
+    paths = []
+    for servo_id, rows in samples.items():
+        meta = dict(meta_by_id[servo_id])
+        meta.update(stats.summary(), retries=bus.stats.retries)
+        path = os.path.join(out, log_name(meta["trajectory"], meta["kp"], servo_id))
+        files.write_json(path, log_json(rows, meta))
+        paths.append(path)
+    return paths

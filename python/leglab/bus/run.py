@@ -1,0 +1,128 @@
+"""`run`: servos follow a desired motion with requests from a fitted model (or the desired
+angles sent as they are), tick by tick on the real clock, and what they did is written beside
+what the model predicted."""
+
+import math
+import os
+
+import numpy as np
+
+from .. import servo
+from . import files, session
+
+METHODS = ("direct", "model_based", "optimal")
+"""What run sends: the desired angles as they are, or the model's planned requests."""
+
+RUN_COLUMNS = ("time_s", "desired_deg", "request_deg", "measured_deg", "late")
+"""run.csv's columns: the tick's time from the start (s), the desired angle, the request sent
+and the angle measured at the tick's start (deg from the zero), and 1 when the tick was late."""
+
+
+class Policy:
+    """One servo's requests, tick by tick: the batch plan's, the online planner's, or the
+    desired angles. `request(k, skipped, measured_deg)` is tick k's request (deg), `skipped`
+    the ticks since the last one on which none was sent."""
+
+    def __init__(self, model, desired_deg, method, online, preview_ticks, drive, limits):
+        self.desired = np.ascontiguousarray(desired_deg, dtype=np.float64)
+        self.method = method
+        self.planner = None
+        min_deg, max_deg = limits
+        if method == "direct":
+            self.requests = self.desired
+        elif online:
+            self.planner = servo.ServoPlanner(model, method, preview_ticks=preview_ticks,
+                                              min_deg=min_deg, max_deg=max_deg, **drive)
+            self.planner.reset(float(self.desired[0]))
+            self.window = self.planner.preview_ticks + 1
+        else:
+            self.requests = servo.plan(model, self.desired, method, min_deg=min_deg,
+                                       max_deg=max_deg, **drive).request_deg
+
+    def request(self, k, skipped, measured_deg):
+        """Tick k's request, deg."""
+        if self.planner is None:
+            return float(self.requests[k])
+        for j in range(k - skipped, k):
+            self.planner.hold(self.desired[j:j + self.window])
+        return self.planner.request(self.desired[k:k + self.window], measured_deg)
+
+
+def predicted_mae_deg(model, desired_deg, method, drive, limits):
+    """What `plan` predicts for the run: the model's mean absolute error under the batch
+    plan's requests (method direct: the desired angles sent as they are), deg."""
+    planned = servo.plan(model, desired_deg, "model_based" if method == "direct" else method,
+                         min_deg=limits[0], max_deg=limits[1], **drive)
+    angles = planned.direct_deg if method == "direct" else planned.predicted_deg
+    return float(np.mean(np.abs(angles - desired_deg)))
+
+
+def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s):
+    """The loop: each tick one sync read, each servo's request (clamped to `limits` and to
+    `max_speed_deg_s` from the last one sent), one sync write. Returns ({id: rows}, TickStats,
+    the exception that ended it or None); rows as RUN_COLUMNS without `late`."""
+    rows = {i: [] for i in ids}
+    sent = {i: float(policies[i].desired[0]) for i in ids}
+    low, high = limits
+    goals = {}
+    stopped = []
+
+    def tick(k, t_s, skipped):
+        raw = bus.sync_read_raw(ids, "present_position")
+        for i in ids:
+            measured = session.from_count(raw[i], zeros[i])
+            request = policies[i].request(k, skipped, measured)
+            step = max_speed_deg_s * tick_s * (1 + skipped)
+            request = min(max(request, sent[i] - step, low), sent[i] + step, high)
+            goals[i] = session.to_count(request, zeros[i])
+            sent[i] = session.from_count(goals[i], zeros[i])
+            rows[i].append((t_s, float(policies[i].desired[k]), sent[i], measured))
+        bus.sync_write_raw("goal_position", goals)
+
+    count = len(next(iter(policies.values())).desired)
+    try:
+        stats = session.run_ticks(clock, tick_s, count, tick)
+    except (Exception, session.Stopped) as e:  # noqa: B014 (Stopped is an Exception too)
+        stopped.append(e)
+        stats = _partial_stats(tick_s, rows)
+    return rows, stats, (stopped[0] if stopped else None)
+
+
+def _partial_stats(tick_s, rows):
+    """TickStats of a loop that ended early: the rows' times, work unknown."""
+    stats = session.TickStats(tick_s)
+    first = next(iter(rows.values()))
+    stats.starts_s = [r[0] for r in first]
+    stats.late = [0] * len(first)
+    return stats
+
+
+def errors(rows):
+    """mae_deg, rms_deg and max_abs_deg of measured - desired over `rows`."""
+    if not rows:
+        return {"mae_deg": math.nan, "rms_deg": math.nan, "max_abs_deg": math.nan}
+    e = np.array([r[3] - r[1] for r in rows])
+    return {"mae_deg": float(np.mean(np.abs(e))), "rms_deg": float(np.sqrt(np.mean(e * e))),
+            "max_abs_deg": float(np.max(np.abs(e)))}
+
+
+def csv_text(rows, late):
+    """run.csv's text."""
+    lines = [",".join(RUN_COLUMNS)]
+    for row, is_late in zip(rows, late):
+        lines.append(",".join(files.number(v) for v in row) + f",{is_late}")
+    return "\n".join(lines) + "\n"
+
+
+def write_run(out, rows, stats, summary):
+    """run.csv (one servo) or run_id<N>.csv (several), and run.json; returns the paths."""
+    paths = []
+    late = stats.late + [0] * max(0, max(len(r) for r in rows.values()) - len(stats.late))
+    for servo_id, servo_rows in rows.items():
+        name = "run.csv" if len(rows) == 1 else f"run_id{servo_id}.csv"
+        path = os.path.join(out, name)
+        files.write_text(path, csv_text(servo_rows, late))
+        paths.append(path)
+    path = os.path.join(out, "run.json")
+    files.write_json(path, summary)
+    return paths + [path]

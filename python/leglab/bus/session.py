@@ -1,0 +1,295 @@
+"""What a session on a bus does to its servos: set them up as the model assumes, find the
+load's zero, keep a tick, and the two loops built on them (`record` and `run`, in record.py and
+run.py).
+
+Angles here are degrees from the zero (the load hanging still, the shipped logs' convention)
+unless named `*_servo_deg` (the servo's own 0-360 deg scale over 4096 counts).
+"""
+
+import ctypes
+import gc
+import math
+import os
+import signal
+import statistics
+from dataclasses import dataclass, field
+
+from .bus import BusError
+
+COUNTS_PER_REV = 4096
+DEG_PER_COUNT = 360.0 / COUNTS_PER_REV
+
+
+class SessionError(Exception):
+    """The user's input or the bench refuses the session: one line, exit status 2."""
+
+
+class Stopped(Exception):
+    """SIGINT or SIGTERM arrived: the session ends as on a fault (torque off, log kept)."""
+
+
+# ---- set-up ----
+
+def model_settings(table, kp):
+    """{item: raw} a servo of `table` is set to before it moves, in the order written: the
+    EEPROM items first (with the torque off), then the RAM ones. What the model assumes:
+    position control by the firmware's P law alone at gain `kp` (no I or D term, no profile
+    shaping the request), and a reply at once (return delay 0)."""
+    position_mode = 3 if table.protocol == "dynamixel" else 0  # X series: 3; STS: mode 0
+    wanted = {"operating_mode": position_mode, "return_delay_time": 0,
+              "profile_velocity": 0, "profile_acceleration": 0,
+              "position_p_gain": kp, "position_i_gain": 0, "position_d_gain": 0}
+    present = {k: v for k, v in wanted.items() if k in table.items}
+    eeprom = {k: v for k, v in present.items() if table.items[k].memory == "EEPROM"}
+    ram = {k: v for k, v in present.items() if table.items[k].memory != "EEPROM"}
+    return {**eeprom, **ram}
+
+
+def set_up(bus, ids, kp_by_id, say):
+    """Torque off, then every servo set to model_settings; each register that changed is
+    said (`say(line)`). Returns the changes: [{id, item, before, after, unit}]."""
+    bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
+    changes = []
+    for servo_id in ids:
+        table = bus.table(servo_id)
+        settings = model_settings(table, kp_by_id[servo_id])
+        unlock = table.protocol == "feetech" and "lock" in table.items and any(
+            table.items[k].memory == "EEPROM" for k in settings)
+        if unlock:
+            bus.write_raw(servo_id, "lock", 0)  # Feetech: EEPROM writes kept only unlocked
+        for item, raw in settings.items():
+            before = bus.read_raw(servo_id, item)
+            if before == raw:
+                continue
+            bus.write_raw(servo_id, item, raw)
+            it = table.items[item]
+            change = {"id": servo_id, "item": item, "before": before, "after": raw,
+                      "unit": it.unit}
+            changes.append(change)
+            say(f"servo {servo_id}: {item} {before} -> {raw} ({it.unit})")
+        if unlock:
+            bus.write_raw(servo_id, "lock", 1)
+    if not changes:
+        say("set-up: every servo already as the model assumes")
+    return changes
+
+
+def check_health(bus, ids):
+    """SessionError when a servo is too hot, its supply outside its limits, or it reports a
+    hardware error: what a run must not start with."""
+    for servo_id in ids:
+        table = bus.table(servo_id)
+        if "hardware_error_status" in table.items:
+            error = bus.read_raw(servo_id, "hardware_error_status")
+            if error:
+                raise SessionError(f"port {bus.port_name}: servo {servo_id} reports a hardware "
+                                   f"error ({bus.protocol.error_text(error)}): power it off "
+                                   "and on, and find the cause")
+        volts = bus.read(servo_id, "present_input_voltage")
+        low = bus.read(servo_id, "min_voltage_limit")
+        high = bus.read(servo_id, "max_voltage_limit")
+        if not low <= volts <= high:
+            raise SessionError(f"port {bus.port_name}: servo {servo_id}'s supply is {volts:g} V, "
+                               f"outside its limits [{low:g}, {high:g}] V")
+        temperature = bus.read(servo_id, "present_temperature")
+        limit = bus.read(servo_id, "temperature_limit")
+        if temperature > limit - 5:
+            raise SessionError(f"port {bus.port_name}: servo {servo_id} is at {temperature:g} C, "
+                               f"within 5 C of its limit ({limit:g} C): let it cool")
+
+
+def find_zero(bus, clock, ids, say, settle_s=0.5, timeout_s=15.0):
+    """{id: zero_servo_deg}: with the torque off, the reading once the load hangs still (its
+    readings over `settle_s` within one count), averaged over that time."""
+    bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
+    window = max(2, round(settle_s / 0.02))
+    history = {i: [] for i in ids}
+    start = clock.now()
+    while True:
+        raw = bus.sync_read_raw(ids, "present_position")
+        for i in ids:
+            history[i] = (history[i] + [raw[i]])[-window:]
+        if all(len(h) == window and max(h) - min(h) <= 1 for h in history.values()):
+            zeros = {i: DEG_PER_COUNT * statistics.fmean(h) for i, h in history.items()}
+            say("zero (the load hanging still, torque off): " + ", ".join(
+                f"servo {i} at {z:.2f} deg" for i, z in zeros.items()))
+            return zeros
+        if clock.now() - start > timeout_s:
+            moving = [i for i, h in history.items() if max(h) - min(h) > 1]
+            raise SessionError(f"port {bus.port_name}: servo {moving[0]}'s load did not come to "
+                               f"rest within {timeout_s:g} s with the torque off: steady it, or "
+                               "give --zero-deg")
+        clock.sleep(0.02)
+
+
+def to_count(angle_deg, zero_servo_deg):
+    """The goal count of `angle_deg` from the zero."""
+    return round((angle_deg + zero_servo_deg) / DEG_PER_COUNT)
+
+
+def from_count(count, zero_servo_deg):
+    """The angle from the zero of a position count, deg."""
+    return count * DEG_PER_COUNT - zero_servo_deg
+
+
+def torque_on_where_it_is(bus, ids):
+    """Goal = present position, then torque on: the servos hold where they are."""
+    present = bus.sync_read_raw(ids, "present_position")
+    bus.sync_write_raw("goal_position", present)
+    bus.sync_write_raw("torque_enable", {i: 1 for i in ids})
+    return present
+
+
+def move_to(bus, clock, ids, zeros, target_deg, tick_s, speed_deg_s=60.0, settle_s=1.0):
+    """Torque on where the servos are, then each goal ramped to `target_deg[id]` at
+    `speed_deg_s`, then held `settle_s`."""
+    present = torque_on_where_it_is(bus, ids)
+    start = {i: from_count(present[i], zeros[i]) for i in ids}
+    ramp_s = max(abs(target_deg[i] - start[i]) for i in ids) / speed_deg_s
+    steps = max(1, math.ceil(ramp_s / tick_s))
+    for k in range(1, steps + 1):
+        f = k / steps
+        bus.sync_write_raw("goal_position", {
+            i: to_count(start[i] + f * (target_deg[i] - start[i]), zeros[i]) for i in ids})
+        clock.sleep(tick_s)
+    clock.sleep(settle_s)
+
+
+def torque_off(bus, ids, say):
+    """Torque off on every servo of `ids` that answers; never raises (the way out of a fault).
+    A sync write first (one packet), then each servo alone (a write that is answered)."""
+    try:
+        bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
+    except Exception:  # the port itself may be gone: each is tried below
+        pass
+    for servo_id in ids:
+        try:
+            bus.write_raw(servo_id, "torque_enable", 0)
+        except Exception as e:  # a silent servo: say so and go on to the others
+            say(f"torque off: servo {servo_id}: {e}")
+
+
+# ---- the tick ----
+
+@dataclass
+class TickStats:
+    """How a loop kept its tick."""
+
+    tick_s: float
+    starts_s: list = field(default_factory=list)  # each tick's start, s from the loop's start
+    work_s: list = field(default_factory=list)    # each tick's work (read, plan, write), s
+    late: list = field(default_factory=list)      # 1 when the tick's write ended after the
+    # next tick's start, or ticks were skipped before it
+    skipped: int = 0                               # ticks that passed with no request sent
+
+    def summary(self):
+        """The period's and the work's median, p99 and max (ms), ticks, late and skipped."""
+        periods = [b - a for a, b in zip(self.starts_s, self.starts_s[1:])] or [0.0]
+        return {"ticks": len(self.starts_s), "ticks_late": sum(self.late),
+                "ticks_skipped": self.skipped,
+                "period_ms": _quantiles_ms(periods), "work_ms": _quantiles_ms(self.work_s or [0])}
+
+
+def _quantiles_ms(values):
+    ordered = sorted(values)
+    p99 = ordered[min(len(ordered) - 1, math.ceil(0.99 * len(ordered)) - 1)]
+    return {"median": round(1e3 * statistics.median(ordered), 4), "p99": round(1e3 * p99, 4),
+            "max": round(1e3 * ordered[-1], 4)}
+
+
+def run_ticks(clock, tick_s, count, body):
+    """Calls `body(k, t_s, skipped)` for ticks k = 0..count-1 on the clock, tick k at
+    start + k * tick_s: t_s is the time since the loop's start, `skipped` the ticks that passed
+    since the last call with no call (the loop woke too late; those k are never called).
+    Returns TickStats."""
+    stats = TickStats(tick_s)
+    start = clock.now()
+    k = 0
+    while k < count:
+        now = clock.now()
+        target = start + k * tick_s
+        skipped = 0
+        if now < target:
+            clock.sleep(target - now)
+        else:
+            behind = int((now - start) / tick_s)
+            if behind > k:
+                skipped, k = behind - k, behind
+                if k >= count:
+                    stats.skipped += count - (k - skipped)
+                    break
+        stats.skipped += skipped
+        began = clock.now()
+        body(k, began - start, skipped)
+        ended = clock.now()
+        stats.starts_s.append(began - start)
+        stats.work_s.append(ended - began)
+        stats.late.append(1 if skipped or ended > start + (k + 1) * tick_s else 0)
+        k += 1
+    return stats
+
+
+class RealTime:
+    """The loop's process made fit to keep a tick while it is entered: real-time scheduling
+    (SCHED_FIFO) where the system allows it, its memory locked, the garbage collector paused.
+    `warning` says what could not be had (empty when all was)."""
+
+    def __init__(self, enabled=True):
+        self.enabled = enabled
+        self.warning = ""
+        self._policy = None
+
+    def __enter__(self):
+        gc.collect()
+        gc.disable()
+        if not self.enabled:
+            return self
+        missing = []
+        try:
+            self._policy = (os.sched_getscheduler(0), os.sched_getparam(0))
+            os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(50))
+        except (PermissionError, OSError, AttributeError) as e:
+            self._policy = None
+            missing.append(f"real-time priority ({getattr(e, 'strerror', None) or e})")
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.mlockall(3) != 0:  # MCL_CURRENT | MCL_FUTURE
+            missing.append(f"locked memory ({os.strerror(ctypes.get_errno())})")
+        if missing:
+            self.warning = ("warning: no " + " and no ".join(missing) +
+                            ": ticks may be late when the machine is busy (run as root, or "
+                            "grant rtprio and memlock in /etc/security/limits.conf)")
+        return self
+
+    def __exit__(self, *exc):
+        gc.enable()
+        if self._policy is not None:
+            try:
+                os.sched_setscheduler(0, *self._policy)
+            except OSError:
+                pass
+
+
+class StopOnSignal:
+    """SIGINT and SIGTERM raise Stopped in the loop while entered (the handlers restored on
+    leaving), so that the torque goes off and the log is written on the way out."""
+
+    def __enter__(self):
+        self._saved = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+        for s in self._saved:
+            signal.signal(s, self._raise)
+        return self
+
+    @staticmethod
+    def _raise(signum, _frame):
+        raise Stopped(f"stopped by {signal.Signals(signum).name}")
+
+    def __exit__(self, *exc):
+        for s, handler in self._saved.items():
+            signal.signal(s, handler)
+
+
+def quit_reason(error):
+    """The one line a session ends with on `error`."""
+    if isinstance(error, (BusError, SessionError, Stopped)):
+        return str(error)
+    return f"{type(error).__name__}: {error}"
