@@ -79,7 +79,8 @@ def _common(parser, ids_flag="--id"):
     parser.add_argument("--baud", type=int, default=1_000_000, choices=bus_module.BAUD_RATES,
                         metavar="B", help="the bus's baud rate (default 1000000)")
     parser.add_argument("--timeout-ms", type=_ranged(0.1, 10000, " ms"), default=20.0,
-                        help="how long a reply is waited for (default 20 ms)")
+                        help="how long a reply is waited for (default 20 ms; in the tick "
+                             "loop at most half a tick)")
     if ids_flag:
         parser.add_argument(ids_flag, dest="ids", type=_ids, required=True,
                             help="the servos' ids, e.g. 1 or 1,2,3")

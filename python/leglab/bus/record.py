@@ -37,7 +37,8 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
 
     count = math.ceil(trajectories.duration_s(name) / tick_s) + 1
     try:
-        stats = session.run_ticks(clock, tick_s, count, tick)
+        with session.LoopTimeout(bus, tick_s):
+            stats = session.run_ticks(clock, tick_s, count, tick)
     except Exception as e:  # a fault or a signal: the samples so far are kept
         stats = session.TickStats(tick_s)
         stats.starts_s = [row[0] for row in next(iter(samples.values()))]

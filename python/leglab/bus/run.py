@@ -81,8 +81,9 @@ def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s
 
     count = len(next(iter(policies.values())).desired)
     try:
-        stats = session.run_ticks(clock, tick_s, count, tick)
-    except (Exception, session.Stopped) as e:  # noqa: B014 (Stopped is an Exception too)
+        with session.LoopTimeout(bus, tick_s):
+            stats = session.run_ticks(clock, tick_s, count, tick)
+    except Exception as e:  # a fault or a signal (Stopped): what ran so far is kept
         stopped.append(e)
         stats = _partial_stats(tick_s, rows)
     return rows, stats, (stopped[0] if stopped else None)

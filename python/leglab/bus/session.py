@@ -66,7 +66,7 @@ def set_up(bus, ids, kp_by_id, say):
             change = {"id": servo_id, "item": item, "before": before, "after": raw,
                       "unit": it.unit}
             changes.append(change)
-            say(f"servo {servo_id}: {item} {before} -> {raw} ({it.unit})")
+            say(f"servo {servo_id}: {item} {before} -> {raw}" + (f" ({it.unit})" if it.unit else ""))
         if unlock:
             bus.write_raw(servo_id, "lock", 1)
     if not changes:
@@ -227,6 +227,24 @@ def run_ticks(clock, tick_s, count, body):
         stats.late.append(1 if skipped or ended > start + (k + 1) * tick_s else 0)
         k += 1
     return stats
+
+
+class LoopTimeout:
+    """While entered, the bus waits at most half a tick for a reply (never more than its own
+    timeout, never under 1 ms): a reply lost on the wire costs one retry within the tick, not
+    several ticks."""
+
+    def __init__(self, bus, tick_s):
+        self.bus = bus
+        self.timeout_s = min(bus.timeout_s, max(0.001, tick_s / 2))
+
+    def __enter__(self):
+        self._saved = self.bus.timeout_s
+        self.bus.timeout_s = self.timeout_s
+        return self
+
+    def __exit__(self, *exc):
+        self.bus.timeout_s = self._saved
 
 
 class RealTime:

@@ -1,0 +1,126 @@
+"""The whole path on an emulated servo, as a servo owner runs it: record the excitations, fit
+them with `identify`, and run a motion no log holds (python3 -m leglab.bus, on virtual time:
+the same bits every run). The emulated servo is a DC motor, a gearbox, friction, the firmware's
+P law and a pendulum (leglab.bus.physics): not the model leglab fits."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from conftest import read_csv, run_program
+
+from leglab import servo
+from leglab.bus import cli, trajectories
+
+BAM_FOUR = ("lift_and_drop", "sin_time_square", "up_and_down", "sin_sin")
+
+# (protocol, emulated model, the logs' motor name, kp register, mass_kg, length_m): an XL330 on
+# BAM's pendulum, and an SO-101's STS3215 with a 0.5 kg load at 12 cm.
+BENCHES = {
+    "dynamixel": ("dynamixel", "xl330-m288", "xl330", 400, 0.49, 0.1),
+    "feetech": ("feetech", "sts3215", "sts3215", 32, 0.5, 0.12),
+}
+
+
+def pick_and_place_csv(path, tick_s=0.005):
+    """A motion in no log: hold, then eased moves 0 -> 50 -> -30 -> 0 deg, 0.5 s each, with
+    0.4 s holds; written as plan's desired CSV."""
+    s = np.linspace(0.0, 1.0, round(0.5 / tick_s) + 1)[1:]
+    ease = 3 * s ** 2 - 2 * s ** 3
+    hold = np.ones(round(0.4 / tick_s))
+    poses = (0.0, 50.0, -30.0, 0.0)
+    parts = [poses[0] * hold]
+    for a, b in zip(poses, poses[1:]):
+        parts += [a + (b - a) * ease, b * hold]
+    desired = np.concatenate(parts)
+    with open(path, "w") as f:
+        f.write("time_s,desired_deg\n")
+        for k, d in enumerate(desired):
+            f.write(f"{k * tick_s!r},{d!r}\n")
+    return desired
+
+
+def bus_args(bench, port=None):
+    protocol, model, _, kp, mass, length = bench
+    return ["--port", port or f"emulator:{model}", "--protocol", protocol, "--id", "1",
+            "--kp", str(kp), "--mass-kg", str(mass), "--length-m", str(length)]
+
+
+@pytest.fixture(scope="module", params=sorted(BENCHES))
+def session(request, tmp_path_factory):
+    """Recorded, fitted and run once per protocol: (bench, folder, {method: run.json})."""
+    bench = BENCHES[request.param]
+    folder = tmp_path_factory.mktemp(request.param)
+    assert cli.main(["record", *bus_args(bench), "--motor", bench[2], "--trajectory",
+                     ",".join(BAM_FOUR), "--out", str(folder / "logs")]) == 0
+    fitted = run_program("identify", "--config", "experiments/configs/identify_logs.yaml",
+                         "--out", folder / "fit", "--set", f"logs.train=[{folder / 'logs'}]",
+                         "--set", "logs.cross_validate=none")
+    assert fitted.returncode == 0, fitted.stderr
+    pick_and_place_csv(folder / "pick.csv")
+    runs = {}
+    for method in ("direct", "model_based"):
+        out = folder / f"run_{method}"
+        assert cli.main(["run", *bus_args(bench), "--model", str(folder / "fit" / "log_fit.json"),
+                         "--desired", str(folder / "pick.csv"), "--method", method, "--online",
+                         "--out", str(out)]) == 0
+        with open(out / "run.json") as f:
+            runs[method] = json.load(f)
+    return bench, folder, runs
+
+
+def test_the_logs_carry_what_identify_needs(session):
+    bench, folder, _ = session
+    _, _, motor, kp, mass, length = bench
+    for name in BAM_FOUR:
+        log = servo.read_log(folder / "logs" / f"{name}_kp{kp}_id1.json")  # no extra keys
+        assert (log.motor, log.kp, log.mass_kg, log.length_m, log.trajectory) == (
+            motor, kp, mass, length, name)
+        # One sample a tick of 5 ms, for the trajectory's 6 s; the request is the trajectory's
+        # at the sample's time, to the count it was sent as.
+        assert len(log) == 1201
+        assert np.allclose(np.diff(log.time_s), 0.005, atol=1e-9)
+        expected = [trajectories.sample(name, t) for t in log.time_s]
+        torque = np.array([on for _, on in expected])
+        assert np.array_equal(log.torque_enabled, torque)
+        sent = log.request_deg[torque]
+        assert np.max(np.abs(sent - np.array([r for r, _ in expected])[torque])) <= 360 / 4096
+
+
+def test_online_model_based_halves_directs_error_on_a_motion_no_log_holds(session):
+    _, _, runs = session
+    assert runs["model_based"]["mae_deg"] <= 0.5 * runs["direct"]["mae_deg"]
+    for run in runs.values():
+        assert run["ended"] == "completed" and run["ticks"] == 620 and run["ticks_late"] == 0
+        assert run["retries"] == 0 and run["errors"] == 0
+
+
+def test_run_json_is_run_csvs_errors(session):
+    _, folder, runs = session
+    for method, summary in runs.items():
+        rows = read_csv(folder / f"run_{method}" / "run.csv")
+        assert list(rows) == ["time_s", "desired_deg", "request_deg", "measured_deg", "late"]
+        error = rows["measured_deg"] - rows["desired_deg"]
+        assert summary["mae_deg"] == pytest.approx(np.mean(np.abs(error)), rel=1e-12)
+        assert summary["rms_deg"] == pytest.approx(np.sqrt(np.mean(error ** 2)), rel=1e-12)
+        assert summary["max_abs_deg"] == pytest.approx(np.max(np.abs(error)), rel=1e-12)
+        # Angles are read and sent as whole counts of the servo's 4096 a turn.
+        zero = summary["servos"]["1"]["zero_deg"]
+        for column in ("measured_deg", "request_deg"):
+            counts = (rows[column] + zero) * 4096 / 360
+            assert np.allclose(counts, np.round(counts), atol=1e-6)
+        if method == "direct":  # the desired angles sent as they are, to the count
+            assert np.max(np.abs(rows["request_deg"] - rows["desired_deg"])) <= 360 / 4096 / 2
+
+
+def test_virtual_time_gives_the_same_bits(session, tmp_path):
+    bench = session[0]
+    logs = []
+    for n in range(2):
+        assert cli.main(["record", *bus_args(bench), "--motor", bench[2], "--trajectory",
+                         "steps", "--out", str(tmp_path / str(n))]) == 0
+        with open(tmp_path / str(n) / f"steps_kp{bench[3]}_id1.json", "rb") as f:
+            logs.append(f.read())
+    assert logs[0] == logs[1]
