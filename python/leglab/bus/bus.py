@@ -361,8 +361,21 @@ class Bus:
         text = self.protocol.error_text(reply.error)
         if self.protocol.error_is_hardware(reply.error):
             raise HardwareError(f"port {self.port_name}: servo {reply.id} reports a hardware "
-                                f"error ({text}) at {what}")
+                                f"error ({self._hardware_error(reply.id) or text}) at {what}")
         raise BusError(f"port {self.port_name}: servo {reply.id} refused to {what}: {text}")
+
+    def _hardware_error(self, servo_id):
+        """The servo's hardware error register in words ("" when it cannot be read)."""
+        table = self._tables.get(servo_id)
+        if table is None or "hardware_error_status" not in table.items:
+            return ""
+        it = table.items["hardware_error_status"]
+        try:
+            (reply,) = self._transact(self.protocol.read(servo_id, it.address, it.size),
+                                      [servo_id], "read hardware_error_status", check=False)
+        except BusError:
+            return ""
+        return self.protocol.hardware_error_text(tables.decode(it, reply.params))
 
 
 def _check_id(servo_id):

@@ -83,7 +83,7 @@ def check_health(bus, ids):
             error = bus.read_raw(servo_id, "hardware_error_status")
             if error:
                 raise SessionError(f"port {bus.port_name}: servo {servo_id} reports a hardware "
-                                   f"error ({bus.protocol.error_text(error)}): power it off "
+                                   f"error ({bus.protocol.hardware_error_text(error)}): power it off "
                                    "and on, and find the cause")
         volts = bus.read(servo_id, "present_input_voltage")
         low = bus.read(servo_id, "min_voltage_limit")

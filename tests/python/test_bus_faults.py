@@ -1,0 +1,225 @@
+"""leglab.bus against the faults a real bus has: lost and corrupt replies, a servo that stops
+answering, a hardware error, a port that is missing or is no servo bus, bad input, a signal.
+Each ends as the contract says: a retry that is counted and never a wrong angle, or exit 2
+with one line naming the port and the servo, the torque off and the log kept."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import SOURCE_DIR, read_csv, run_program
+
+from leglab import bus as lb
+from leglab.bus import cli
+from test_bus_loop import BENCHES, bus_args, pick_and_place_csv
+
+PYTHON_ENV = {**os.environ, "PYTHONPATH": os.environ.get("PYTHONPATH", "")}
+
+
+def emulated_bus(protocol="dynamixel", model="xl330-m288", ids=(1,), faults=None, retries=2):
+    emulator = lb.make_emulator(protocol, model, list(ids), 0.49, 0.1, faults=faults)
+    clock = lb.VirtualClock()
+    return lb.Bus(lb.VirtualPort(emulator, clock), protocol, retries=retries), emulator, clock
+
+
+@pytest.mark.parametrize("protocol,model", [("dynamixel", "xl330-m288"), ("feetech", "sts3215")])
+def test_lost_and_corrupt_replies_are_retried_and_never_a_wrong_angle(protocol, model):
+    bus, _, _ = emulated_bus(protocol, model, faults=lb.Faults(drop_rate=0.2, corrupt_rate=0.2,
+                                                               seed=3), retries=20)
+    # Torque off, the load hanging still at its power-on count: every reading is that count.
+    angles = [bus.read(1, "present_position") for _ in range(300)]
+    assert set(angles) == {180.0}  # count 2048 of 4096
+    assert bus.stats.retries > 50 and bus.stats.errors == 0
+    assert bus.stats.retries == bus.stats.missing + bus.stats.corrupt
+    assert bus.stats.corrupt > 0 and bus.stats.missing > 0
+
+
+def test_a_reply_that_never_comes_names_port_servo_and_item():
+    bus, _, _ = emulated_bus(faults=lb.Faults(silent_after_s=0.0))
+    bus.set_table(1, lb.tables.TABLES["xl330-m288"])  # known, so no PING before the read
+    with pytest.raises(lb.NoReply) as error:
+        bus.read_raw(1, "present_position")
+    assert str(error.value) == ("port emulator: servo 1 did not answer to read present_position "
+                                "(3 tries)")
+    assert bus.stats.retries == 2 and bus.stats.errors == 1
+
+
+def test_an_eeprom_write_with_the_torque_on_is_refused_as_the_firmware_does():
+    bus, emulator, _ = emulated_bus()
+    bus.write_raw(1, "torque_enable", 1)
+    with pytest.raises(lb.BusError, match="servo 1 refused to write return_delay_time: "
+                                          "access error"):
+        bus.write_raw(1, "return_delay_time", 0)
+    assert emulator.servos[1].get("return_delay_time") == 250
+    bus.write_raw(1, "torque_enable", 0)
+    bus.write_raw(1, "return_delay_time", 0)
+    assert emulator.servos[1].get("return_delay_time") == 0
+
+
+def run_with(tmp_path, monkeypatch, bench, port_spec, ids="1", method="direct"):
+    """`run` on an emulated bus `port_spec`; returns (status, stderr lines, the emulator)."""
+    made = []
+    real = cli.emulated_port
+
+    def keep(*args, **kwargs):
+        port, clock = real(*args, **kwargs)
+        made.append(port.emulator)
+        return port, clock
+
+    monkeypatch.setattr(cli, "emulated_port", keep)
+    model = str(tmp_path / "fit" / "log_fit.json")
+    args = bus_args(bench, port_spec)
+    args[args.index("--id") + 1] = ids
+    status = cli.main(["run", *args, "--model", model, "--desired", str(tmp_path / "pick.csv"),
+                       "--method", method, "--online", "--out", str(tmp_path / "out")])
+    return status, made[0] if made else None
+
+
+@pytest.fixture(scope="module")
+def fitted(tmp_path_factory):
+    """An XL330 bench recorded and fitted once (the module's runs need a model)."""
+    folder = tmp_path_factory.mktemp("fitted")
+    bench = BENCHES["dynamixel"]
+    assert cli.main(["record", *bus_args(bench), "--motor", "xl330", "--trajectory",
+                     "sin_time_square,up_and_down", "--out", str(folder / "logs")]) == 0
+    assert run_program("identify", "--config", "experiments/configs/identify_logs.yaml", "--out",
+                       folder / "fit", "--set", f"logs.train=[{folder / 'logs'}]", "--set",
+                       "logs.cross_validate=none").returncode == 0
+    pick_and_place_csv(folder / "pick.csv")
+    return folder
+
+
+@pytest.fixture
+def bench_dir(fitted, tmp_path):
+    for name in ("fit", "pick.csv"):
+        os.symlink(fitted / name, tmp_path / name)
+    return tmp_path
+
+
+def test_lost_replies_in_a_run_are_retried_and_counted(bench_dir, monkeypatch, capsys):
+    summaries = []
+    for spec in ("emulator:xl330-m288", "emulator:xl330-m288,drop_rate=0.01,corrupt_rate=0.01"):
+        status, _ = run_with(bench_dir, monkeypatch, BENCHES["dynamixel"], spec,
+                             method="model_based")
+        assert status == 0, capsys.readouterr().err
+        with open(bench_dir / "out" / "run.json") as f:
+            summaries.append(json.load(f))
+    clean, faulty = summaries
+    assert faulty["ended"] == "completed" and faulty["errors"] == 0 and clean["retries"] == 0
+    assert faulty["retries"] > 0 and faulty["retries"] == faulty["missing"] + faulty["corrupt"]
+    # A retry waits half a tick at most, so it fits in the tick: no tick is late, and the run
+    # is near the clean one (a retried tick's request goes out up to half a tick later).
+    rows = read_csv(bench_dir / "out" / "run.csv")
+    assert faulty["ticks_late"] == int(rows["late"].sum()) == 0
+    assert faulty["mae_deg"] <= 1.1 * clean["mae_deg"]
+
+
+def test_a_servo_that_stops_answering_ends_the_run_with_the_others_torque_off(
+        bench_dir, monkeypatch, capsys):
+    status, emulator = run_with(bench_dir, monkeypatch, BENCHES["dynamixel"],
+                                "emulator:xl330-m288,silent_after_s=4,silent_ids=2", ids="1,2")
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2
+    assert len(err) == 1 and "port emulator:xl330-m288: servo 2 did not answer" in err[0], err
+    assert emulator.servos[1].get("torque_enable") == 0
+    for servo_id in (1, 2):  # the log, up to the fault
+        rows = read_csv(bench_dir / "out" / f"run_id{servo_id}.csv")
+        assert 0 < len(rows["time_s"]) < 620
+    with open(bench_dir / "out" / "run.json") as f:
+        assert "servo 2 did not answer" in json.load(f)["ended"]
+
+
+def test_a_hardware_error_stops_the_run(bench_dir, monkeypatch, capsys):
+    status, emulator = run_with(bench_dir, monkeypatch, BENCHES["dynamixel"],
+                                "emulator:xl330-m288,hardware_error_after_s=4")
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1
+    assert "servo 1 reports a hardware error (overload)" in err[0], err
+    assert 0 < len(read_csv(bench_dir / "out" / "run.csv")["time_s"]) < 620
+
+
+def test_a_desired_angle_beyond_the_limits_is_refused_before_the_port_is_opened(bench_dir, capsys):
+    args = bus_args(BENCHES["dynamixel"], "/dev/no-such-port")
+    status = cli.main(["run", *args, "--model", str(bench_dir / "fit" / "log_fit.json"),
+                       "--desired", str(bench_dir / "pick.csv"), "--method", "direct",
+                       "--min-deg", "-20", "--out", str(bench_dir / "out")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1
+    assert "the desired angle -20.0" in err[0] or "outside [--min-deg, --max-deg]" in err[0], err
+    assert not (bench_dir / "out").exists()
+
+
+def python_bus(*args, **kwargs):
+    return subprocess.run([sys.executable, "-m", "leglab.bus", *map(str, args)],
+                          capture_output=True, text=True, env=PYTHON_ENV, cwd=SOURCE_DIR, **kwargs)
+
+
+def test_a_missing_port_is_one_line_and_exit_2():
+    done = python_bus("scan", "--port", "/dev/no-such-port", timeout=60)
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines() == [
+        "leglab.bus scan: port /dev/no-such-port: no such device (is the adapter plugged in? "
+        "`ls /dev/serial/by-id/` lists the USB ones)"]
+
+
+def test_a_port_with_no_servo_on_it_is_one_line_and_exit_2():
+    master, slave = os.openpty()  # a terminal nobody answers on
+    try:
+        path = os.ttyname(slave)
+        done = python_bus("scan", "--port", path, "--ids", "1,2,3", timeout=60)
+        assert done.returncode == 2
+        assert done.stderr.strip().splitlines() == [
+            f"leglab.bus scan: port {path}: no servo answered a PING (ids 1-3, dynamixel at "
+            "1000000 baud): check the power, the protocol and the baud rate"]
+        done = python_bus("record", "--port", path, "--id", "1", "--motor", "x", "--kp", "400",
+                          "--mass-kg", "0.1", "--length-m", "0.1", "--trajectory", "steps",
+                          "--out", "/tmp/never", timeout=60)
+        assert done.returncode == 2
+        assert done.stderr.strip().splitlines() == [
+            f"leglab.bus record: port {path}: servo 1 did not answer to PING (3 tries)"]
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
+def test_usage_errors_are_one_line_and_exit_2():
+    done = python_bus("record", "--port", "x", "--id", "1,1", timeout=60)
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "servo ids are distinct integers" in done.stderr
+
+
+def test_sigterm_on_a_real_port_turns_the_torque_off_and_keeps_the_log(fitted, tmp_path):
+    emulate = subprocess.Popen(
+        [sys.executable, "-m", "leglab.bus", "emulate", "--protocol", "dynamixel", "--motor",
+         "xl330-m288", "--ids", "1", "--mass-kg", "0.49", "--length-m", "0.1"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=PYTHON_ENV)
+    try:
+        port = emulate.stdout.readline().strip()
+        assert port.startswith("/dev/pts/"), port
+        run = subprocess.Popen(
+            [sys.executable, "-m", "leglab.bus", "run", *bus_args(BENCHES["dynamixel"], port),
+             "--model", fitted / "fit" / "log_fit.json", "--desired", fitted / "pick.csv",
+             "--method", "model_based", "--online", "--zero-deg", "180", "--out", tmp_path],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=PYTHON_ENV)
+        # Homing from where the load hangs takes 1 s; the motion 3.1 s: stop in the motion.
+        time.sleep(2.5)
+        run.send_signal(signal.SIGTERM)
+        _, err = run.communicate(timeout=30)
+        assert run.returncode == 2, err
+        assert err.strip().splitlines() == [
+            "leglab.bus run: stopped by SIGTERM; the torque is off and the log is written up "
+            "to there"]
+        rows = read_csv(tmp_path / "run.csv")
+        assert 0 < len(rows["time_s"]) < 620
+        scan = python_bus("scan", "--port", port, "--ids", "1", timeout=60)
+        assert scan.returncode == 0, scan.stderr
+        header, row = scan.stdout.splitlines()[:2]
+        assert row.split()[header.split().index("torque")] == "0"
+    finally:
+        emulate.send_signal(signal.SIGTERM)
+        emulate.wait(timeout=30)
