@@ -4,7 +4,6 @@ the same bits every run). The emulated servo is a DC motor, a gearbox, friction,
 P law and a pendulum (leglab.bus.physics): not the model leglab fits."""
 
 import json
-import os
 
 import numpy as np
 import pytest
