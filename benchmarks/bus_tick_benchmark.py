@@ -102,6 +102,7 @@ def main():
     parser.add_argument("--out", type=pathlib.Path)
     args = parser.parse_args()
     folder = args.out or pathlib.Path(tempfile.mkdtemp(prefix="bus_tick_"))
+    folder.mkdir(parents=True, exist_ok=True)
     model = fit(folder, args.build)
     desired = folder / "desired.csv"
     desired_csv(desired, args.ticks)

@@ -82,16 +82,19 @@ def _common(parser, ids_flag="--id"):
                         help="how long a reply is waited for (default 20 ms; in the tick "
                              "loop at most half a tick)")
     if ids_flag:
-        parser.add_argument(ids_flag, dest="ids", type=_ids, required=True,
-                            help="the servos' ids, e.g. 1 or 1,2,3")
+        parser.add_argument(ids_flag, dest="ids", type=_ids,
+                            help="the servos' ids, e.g. 1 or 1,2,3 (or give --servos)")
 
 
 def _drive(parser):
-    parser.add_argument("--kp", type=_ranged(0, 16383, integer=True), required=True,
+    parser.add_argument("--servos", metavar="FILE",
+                        help="each servo's own settings, a YAML file (leglab.bus.joints); "
+                             "the flags fill what it leaves out")
+    parser.add_argument("--kp", type=_ranged(0, 16383, integer=True),
                         help="the position P gain, in the servo's own register units")
-    parser.add_argument("--mass-kg", type=_ranged(0, 1000, " kg"), required=True,
+    parser.add_argument("--mass-kg", type=_ranged(0, 1000, " kg"),
                         help="the load's mass (a point mass on an arm), kg")
-    parser.add_argument("--length-m", type=_ranged(0, 10, " m"), required=True,
+    parser.add_argument("--length-m", type=_ranged(0, 10, " m"),
                         help="the load's arm, m (0 deg: hanging straight down)")
     parser.add_argument("--zero-deg", type=_ranged(0, 360, " deg"),
                         help="the zero on the servo's own 0-360 deg scale (default: the "
@@ -111,7 +114,7 @@ def parser():
 
     record = verbs.add_parser("record", help="logs of the servos following excitations")
     _common(record)
-    record.add_argument("--motor", type=_name, required=True,
+    record.add_argument("--motor", type=_name,
                         help="the servo type's name in the logs (one model is fitted per name)")
     _drive(record)
     record.add_argument("--trajectory", type=_trajectories, required=True,
@@ -123,7 +126,7 @@ def parser():
     run = verbs.add_parser("run", help="the servos following a desired motion")
     _common(run)
     run.add_argument("--model", required=True, help="identify's log_fit.json")
-    run.add_argument("--desired", required=True,
+    run.add_argument("--desired",
                      help="a CSV time_s,desired_deg, or a servo log whose requests are the motion")
     run.add_argument("--method", choices=("direct", "model_based", "optimal"), required=True)
     run.add_argument("--online", action="store_true",
@@ -132,8 +135,10 @@ def parser():
                      help="with --online: desired angles ahead (default: the method's own)")
     run.add_argument("--motor", default="", help="the model file's motor (if it has several)")
     _drive(run)
-    run.add_argument("--min-deg", type=_ranged(-180, 180, " deg"), default=-180.0)
-    run.add_argument("--max-deg", type=_ranged(-180, 180, " deg"), default=180.0)
+    run.add_argument("--min-deg", type=_ranged(-180, 180, " deg"),
+                     help="the requests' range (default -180 deg)")
+    run.add_argument("--max-deg", type=_ranged(-180, 180, " deg"),
+                     help="(default 180 deg)")
     run.add_argument("--max-speed-deg-s", type=_ranged(1, 100000, " deg/s"),
                      help="the requests' speed guard (default: the model's top speed)")
     run.add_argument("--out", required=True, help="the folder run.csv and run.json go into")
@@ -168,7 +173,7 @@ def _faults(parser):
     parser.add_argument("--seed", type=_ranged(0, 2**31, integer=True), default=0)
 
 
-def emulated_port(spec, protocol, ids, mass_kg, length_m, baud):
+def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
     """A VirtualPort and VirtualClock from `--port emulator:MODEL[,key=value...]`; keys:
     drop_rate, corrupt_rate, silent_after_s, silent_ids (1+2), hardware_error_after_s, seed,
     angle_deg (the load's start), kp (the gain at power-on)."""
@@ -191,17 +196,20 @@ def emulated_port(spec, protocol, ids, mass_kg, length_m, baud):
         except ValueError as e:
             raise session.SessionError(f"--port emulator:{spec}: {pair}: {e}") from None
     emulated = emulator.make_emulator(protocol, model, ids, mass_kg, length_m, baud=baud,
-                                      faults=faults, **extra)
+                                      faults=faults, loads=loads, **extra)
     clock = emulator.VirtualClock()
     return emulator.VirtualPort(emulated, clock, name=f"emulator:{model}"), clock
 
 
-def open_bus(args, ids, mass_kg=0.1, length_m=0.1):
-    """(Bus, clock) for the verb's --port."""
+def open_bus(args, joints=()):
+    """(Bus, clock) for the verb's --port; an emulated bus holds `joints` (ids and loads; by
+    default servo 1 with 0.1 kg at 0.1 m)."""
     timeout_s = args.timeout_ms / 1e3
     if args.port.startswith("emulator:"):
-        port, clock = emulated_port(args.port[len("emulator:"):], args.protocol, ids, mass_kg,
-                                    length_m, args.baud)
+        ids = [j.id for j in joints] or (getattr(args, "ids", None) or [1])
+        loads = {j.id: (j.mass_kg, j.length_m) for j in joints}
+        port, clock = emulated_port(args.port[len("emulator:"):], args.protocol, ids, 0.1, 0.1,
+                                    args.baud, loads)
         return bus_module.Bus(port, args.protocol, args.baud, timeout_s), clock
     return bus_module.Bus(args.port, args.protocol, args.baud, timeout_s), emulator.RealClock()
 

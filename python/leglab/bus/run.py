@@ -58,12 +58,11 @@ def predicted_mae_deg(model, desired_deg, method, drive, limits):
 
 
 def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s):
-    """The loop: each tick one sync read, each servo's request (clamped to `limits` and to
-    `max_speed_deg_s` from the last one sent), one sync write. Returns ({id: rows}, TickStats,
-    the exception that ended it or None); rows as RUN_COLUMNS without `late`."""
+    """The loop: each tick one sync read, each servo's request (clamped to its `limits[id]`
+    and to `max_speed_deg_s[id]` from the last one sent), one sync write. Returns ({id: rows},
+    TickStats, the exception that ended it or None); rows as RUN_COLUMNS without `late`."""
     rows = {i: [] for i in ids}
     sent = {i: float(policies[i].desired[0]) for i in ids}
-    low, high = limits
     goals = {}
     stopped = []
 
@@ -72,7 +71,8 @@ def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s
         for i in ids:
             measured = session.from_count(raw[i], zeros[i])
             request = policies[i].request(k, skipped, measured)
-            step = max_speed_deg_s * tick_s * (1 + skipped)
+            step = max_speed_deg_s[i] * tick_s * (1 + skipped)
+            low, high = limits[i]
             request = min(max(request, sent[i] - step, low), sent[i] + step, high)
             goals[i] = session.to_count(request, zeros[i])
             sent[i] = session.from_count(goals[i], zeros[i])

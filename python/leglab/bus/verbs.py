@@ -1,13 +1,14 @@
 """The bodies of `python3 -m leglab.bus`'s verbs (the flags are cli.py's)."""
 
 import glob
+import math
 import os
 import signal
 import sys
 
 import numpy as np
 
-from . import emulator, files, record as recording, run as running, session
+from . import emulator, files, joints, record as recording, run as running, session
 from .bus import MAX_ID, BusError
 from .cli import open_bus, say
 
@@ -50,7 +51,7 @@ def _scan_row(bus, info):
 
 def scan(args):
     """Prints the servos on the port and their settings; warns of what spoils a tick."""
-    bus, _ = open_bus(args, args.ids or [1])
+    bus, _ = open_bus(args)
     with bus:
         ids = args.ids or range(0, MAX_ID + 1)
         found = bus.scan(ids, timeout_s=min(bus.timeout_s, 0.005))
@@ -86,27 +87,28 @@ def _id_range(ids):
     return f"{ids[0]}-{ids[-1]}" if len(ids) > 1 else str(ids[0])
 
 
-def _prepare(bus, clock, args, say_line):
-    """The servos found and set up as the model assumes; the zeros. Returns {id: zero_deg}."""
-    for servo_id in args.ids:
-        table = bus.table(servo_id)
-        gain = table.item("position_p_gain")
-        if args.kp > (1 << (8 * gain.size)) - 1:
-            raise session.SessionError(f"--kp {args.kp}: servo {servo_id}'s gain register holds "
-                                       f"at most {(1 << (8 * gain.size)) - 1}")
-    session.check_health(bus, args.ids)
-    changes = session.set_up(bus, args.ids, {i: args.kp for i in args.ids}, say_line)
-    if args.zero_deg is not None:
-        zeros = {i: args.zero_deg for i in args.ids}
-    else:
-        zeros = session.find_zero(bus, clock, args.ids, say_line)
+def _prepare(bus, clock, js, say_line):
+    """The servos of `js` (Joints) found and set up as the model assumes; their zeros.
+    Returns ({id: zero_servo_deg}, the set-up's changes)."""
+    ids = [j.id for j in js]
+    for j in js:
+        gain = bus.table(j.id).item("position_p_gain")
+        most = (1 << (8 * gain.size)) - 1
+        if j.kp > most:
+            raise session.SessionError(f"servo {j.id}: kp {j.kp}: its gain register holds at "
+                                       f"most {most}")
+    session.check_health(bus, ids)
+    changes = session.set_up(bus, ids, {j.id: j.kp for j in js}, say_line)
+    zeros = {j.id: j.zero_deg for j in js if not math.isnan(j.zero_deg)}
+    unknown = [i for i in ids if i not in zeros]
+    if unknown:
+        zeros.update(session.find_zero(bus, clock, unknown, say_line))
     return zeros, changes
 
 
-def _session(bus, clock, args, body):
+def _session(bus, clock, args, ids, body):
     """Runs `body()` with the servos' torque turned off however it ends, real time asked for
-    and signals caught; a fault ends it with the one line it raised (exit 2)."""
-    ids = args.ids
+    and signals caught; returns what body returns."""
     try:
         with session.StopOnSignal(), session.RealTime(not args.no_realtime) as rt:
             if rt.warning and not isinstance(clock, emulator.VirtualClock):
@@ -121,43 +123,50 @@ def _session(bus, clock, args, body):
             signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
 
 
+def _ended(verb, ended, what):
+    """The exit status of a session that `ended` (None: completed), its line said."""
+    if ended is None:
+        return 0
+    print(f"leglab.bus {verb}: {session.quit_reason(ended)}; the torque is off and {what} "
+          "written up to there", file=sys.stderr)
+    return 2 if isinstance(ended, (BusError, session.Stopped)) else 1
+
+
 def record(args):
     """Records each trajectory on every servo; one log per servo and trajectory."""
+    js = joints.joints(args, needs=("motor", "kp", "mass_kg", "length_m"))
+    ids = [j.id for j in js]
     out = files.out_folder(args.out)
-    bus, clock = open_bus(args, args.ids, args.mass_kg, args.length_m)
+    bus, clock = open_bus(args, js)
     written = []
     with bus:
-        zeros, changes = _prepare(bus, clock, args, say)
+        zeros, changes = _prepare(bus, clock, js, say)
 
         def body():
             for name in args.trajectory:
                 samples, stats, ended = recording.record_trajectory(
-                    bus, clock, args.ids, name, args.tick_s, zeros, say)
-                meta = {i: _log_meta(args, bus, name, i, zeros[i], changes, ended)
-                        for i in args.ids}
+                    bus, clock, ids, name, args.tick_s, zeros, say)
+                meta = {j.id: _log_meta(args, bus, name, j, zeros[j.id], changes, ended)
+                        for j in js}
                 if any(samples.values()):
                     written.extend(recording.write_logs(out, samples, stats, meta, bus))
                 if ended is not None:
                     return ended
             return None
 
-        ended = _session(bus, clock, args, body)
+        ended = _session(bus, clock, args, ids, body)
     for path in written:
         say(f"wrote {path}")
-    if ended is not None:
-        print(f"leglab.bus record: {session.quit_reason(ended)}; the torque is off and the "
-              "logs are written up to there", file=sys.stderr)
-        return 2 if isinstance(ended, (BusError, session.Stopped)) else 1
-    return 0
+    return _ended("record", ended, "the logs are")
 
 
-def _log_meta(args, bus, trajectory, servo_id, zero_deg, changes, ended):
-    table = bus.table(servo_id)
-    return {"mass": args.mass_kg, "length": args.length_m, "kp": args.kp,
-            "vin": _supply_volts(bus, servo_id, ended), "motor": args.motor,
-            "trajectory": trajectory, "id": servo_id, "model": table.model,
+def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
+    table = bus.table(joint.id)
+    return {"mass": joint.mass_kg, "length": joint.length_m, "kp": joint.kp,
+            "vin": _supply_volts(bus, joint.id, ended), "motor": joint.motor,
+            "trajectory": trajectory, "id": joint.id, "model": table.model,
             "protocol": args.protocol, "port": bus.port_name, "zero_deg": zero_deg,
-            "tick_s": args.tick_s, "setup": [c for c in changes if c["id"] == servo_id],
+            "tick_s": args.tick_s, "setup": [c for c in changes if c["id"] == joint.id],
             "recorded_by": "python3 -m leglab.bus record",
             "ended": "completed" if ended is None else session.quit_reason(ended)}
 
@@ -169,85 +178,105 @@ def _supply_volts(bus, servo_id, ended):
     return bus.read(servo_id, "present_input_voltage")
 
 
-def _load_run_inputs(args):
-    """The model, the desired motion on its tick and the policies' inputs; SessionError
-    (naming the file or flag) before anything opens the port."""
+def _plan_joint(args, fit, joint):
+    """(model, desired on its tick, Policy, predicted MAE) of one joint; SessionError naming
+    the file, servo or flag, before anything opens the port."""
     from .. import servo
 
     try:
-        model = servo.LogFit.load(args.model).model(args.motor or None)
-        desired = servo._leglab._read_desired(args.desired, model.tick_s)["desired_deg"]
+        model = fit.model(joint.motor or None)
+        desired = servo._leglab._read_desired(joint.desired, model.tick_s)["desired_deg"]
     except (ValueError, OSError) as e:
-        raise session.SessionError(str(e).splitlines()[0]) from None
-    if args.min_deg >= args.max_deg:
-        raise session.SessionError(f"--min-deg {args.min_deg:g} is not below --max-deg "
-                                   f"{args.max_deg:g}")
-    low, high = float(np.min(desired)), float(np.max(desired))
-    if low < args.min_deg or high > args.max_deg:
-        at = int(np.argmax((desired < args.min_deg) | (desired > args.max_deg)))
+        raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
+    outside = (desired < joint.min_deg) | (desired > joint.max_deg)
+    if outside.any():
+        at = int(np.argmax(outside))
         raise session.SessionError(
-            f"--desired '{args.desired}': the desired angle {desired[at]:g} deg at tick {at} is "
-            f"outside [--min-deg, --max-deg] = [{args.min_deg:g}, {args.max_deg:g}]: nothing moved")
-    drive = {"kp": args.kp, "mass_kg": args.mass_kg, "length_m": args.length_m}
-    limits = (args.min_deg, args.max_deg)
+            f"servo {joint.id}: --desired '{joint.desired}': the desired angle {desired[at]:g} "
+            f"deg at tick {at} is outside [--min-deg, --max-deg] = [{joint.min_deg:g}, "
+            f"{joint.max_deg:g}]: nothing moved")
+    drive = {"kp": joint.kp, "mass_kg": joint.mass_kg, "length_m": joint.length_m}
+    limits = (joint.min_deg, joint.max_deg)
     try:
         policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
                                 drive, limits)
         predicted = running.predicted_mae_deg(model, desired, args.method, drive, limits)
     except ValueError as e:
-        raise session.SessionError(str(e).splitlines()[0]) from None
-    return model, desired, drive, limits, policy, predicted
+        raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
+    return model, desired, policy, predicted
+
+
+def _load_run_inputs(args):
+    """The joints and, per joint, its model, desired motion, Policy and predicted error; all
+    on one tick and of one length (SessionError otherwise)."""
+    from .. import servo
+
+    js = joints.joints(args, needs=("kp", "mass_kg", "length_m", "desired"))
+    try:
+        fit = servo.LogFit.load(args.model)
+    except (ValueError, OSError) as e:
+        raise session.SessionError(f"--model: {str(e).splitlines()[0]}") from None
+    planned = {j.id: _plan_joint(args, fit, j) for j in js}
+    first = planned[js[0].id]
+    for j in js[1:]:
+        model, desired = planned[j.id][:2]
+        if model.tick_s != first[0].tick_s or len(desired) != len(first[1]):
+            raise session.SessionError(
+                f"servo {j.id}: its model's tick ({model.tick_s:g} s) and motion ({len(desired)} "
+                f"ticks) must be servo {js[0].id}'s ({first[0].tick_s:g} s, {len(first[1])} "
+                "ticks): one loop drives them all")
+    return js, planned
 
 
 def run(args):
-    """Drives the servos along --desired; writes run.csv and run.json."""
-    model, desired, drive, limits, policy, predicted = _load_run_inputs(args)
+    """Drives the servos along their desired motions; writes run.csv and run.json."""
+    js, planned = _load_run_inputs(args)
+    ids = [j.id for j in js]
+    model = planned[ids[0]][0]
     out = files.out_folder(args.out)
-    bus, clock = open_bus(args, args.ids, args.mass_kg, args.length_m)
+    bus, clock = open_bus(args, js)
     with bus:
-        zeros, changes = _prepare(bus, clock, args, say)
-        policies = {i: policy if n == 0 else running.Policy(
-            model, desired, args.method, args.online, args.preview_ticks, drive, limits)
-            for n, i in enumerate(args.ids)}
-        speed = args.max_speed_deg_s or model.top_speed_deg_s
+        zeros, changes = _prepare(bus, clock, js, say)
+        policies = {i: planned[i][2] for i in ids}
+        limits = {j.id: (j.min_deg, j.max_deg) for j in js}
+        speeds = {i: args.max_speed_deg_s or planned[i][0].top_speed_deg_s for i in ids}
 
         def body():
-            session.move_to(bus, clock, args.ids, zeros, {i: float(desired[0]) for i in args.ids},
-                            model.tick_s)
+            session.move_to(bus, clock, ids, zeros,
+                            {i: float(planned[i][1][0]) for i in ids}, model.tick_s)
             bus.stats.reset()
-            return running.run_servos(bus, clock, args.ids, policies, zeros, limits, speed,
+            return running.run_servos(bus, clock, ids, policies, zeros, limits, speeds,
                                       model.tick_s)
 
-        rows, stats, ended = _session(bus, clock, args, body)
-        summary = _run_summary(args, model, rows, stats, ended, bus, zeros, changes, predicted,
-                               policy)
+        rows, stats, ended = _session(bus, clock, args, ids, body)
+        summary = _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes)
         for path in running.write_run(out, rows, stats, summary):
             say(f"wrote {path}")
     say(f"{args.method}{' online' if args.online else ''}: mean abs error "
-        f"{summary['mae_deg']:.3f} deg (the model predicted {predicted:.3f}), "
-        f"{summary['ticks']} ticks, {summary['ticks_late']} late, "
+        f"{summary['mae_deg']:.3f} deg (the model predicted {summary['predicted_mae_deg']:.3f}),"
+        f" {summary['ticks']} ticks, {summary['ticks_late']} late, "
         f"{summary['retries']} retries")
-    if ended is not None:
-        print(f"leglab.bus run: {session.quit_reason(ended)}; the torque is off and the "
-              "log is written up to there", file=sys.stderr)
-        return 2 if isinstance(ended, (BusError, session.Stopped)) else 1
-    return 0
+    return _ended("run", ended, "the log is")
 
 
-def _run_summary(args, model, rows, stats, ended, bus, zeros, changes, predicted, policy):
+def _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes):
     all_rows = [r for servo_rows in rows.values() for r in servo_rows]
-    per_servo = {str(i): {**running.errors(r), "zero_deg": zeros[i]} for i, r in rows.items()}
+    policy = planned[js[0].id][2]
+    per_servo = {str(j.id): {**running.errors(rows[j.id]), "predicted_mae_deg": planned[j.id][3],
+                             "motor": planned[j.id][0].motor, "kp": j.kp, "mass_kg": j.mass_kg,
+                             "length_m": j.length_m, "zero_deg": zeros[j.id],
+                             "limits": {"min_deg": j.min_deg, "max_deg": j.max_deg},
+                             "desired": os.path.abspath(j.desired)} for j in js}
     return {
         "method": args.method, "online": args.online,
         "preview_ticks": policy.planner.preview_ticks if policy.planner else None,
-        **running.errors(all_rows), "predicted_mae_deg": predicted,
-        **stats.summary(), "tick_s": model.tick_s, "retries": bus.stats.retries,
-        "errors": bus.stats.errors, "missing": bus.stats.missing, "corrupt": bus.stats.corrupt,
+        **running.errors(all_rows),
+        "predicted_mae_deg": float(np.mean([planned[j.id][3] for j in js])),
+        **stats.summary(), "tick_s": planned[js[0].id][0].tick_s,
+        "retries": bus.stats.retries, "errors": bus.stats.errors, "missing": bus.stats.missing,
+        "corrupt": bus.stats.corrupt,
         "ended": "completed" if ended is None else session.quit_reason(ended),
-        "model": os.path.abspath(args.model), "motor": model.motor, "kp": args.kp,
-        "mass_kg": args.mass_kg, "length_m": args.length_m,
-        "limits": {"min_deg": args.min_deg, "max_deg": args.max_deg},
-        "servos": per_servo, "setup": changes}
+        "model": os.path.abspath(args.model), "servos": per_servo, "setup": changes}
 
 
 def emulate(args):
