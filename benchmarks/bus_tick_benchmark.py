@@ -36,10 +36,13 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 BENCH = ["--kp", "400", "--mass-kg", "0.49", "--length-m", "0.1"]
 
 
-def bus(*args, **kwargs):
-    """python3 -m leglab.bus ARGS, checked."""
-    return subprocess.run([sys.executable, "-m", "leglab.bus", *map(str, args)], check=True,
-                          capture_output=True, text=True, **kwargs)
+def bus(*args):
+    """python3 -m leglab.bus ARGS; exits with its stderr if it fails."""
+    done = subprocess.run([sys.executable, "-m", "leglab.bus", *map(str, args)],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"bus_tick_benchmark: leglab.bus {args[0]}: {done.stderr.strip()}")
+    return done
 
 
 def fit(folder, build):

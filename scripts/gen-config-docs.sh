@@ -84,6 +84,10 @@ TEXT
     echo
     "$bin/$program" --list-outputs
   done
+  # The Python package's servo bus (python/leglab/bus/outputs.py), from the build's package.
+  echo "## \`python3 -m leglab.bus\`"
+  echo
+  PYTHONPATH="$bin/../python" /usr/bin/python3 -m leglab.bus --list-outputs
 }
 
 # Writes (or with --check compares) `file` from the function `make`.

@@ -25,6 +25,8 @@ BAUD_RATES = (9600, 19200, 38400, 57600, 115200, 500000, 1000000, 2000000, 30000
 """Baud rates a Bus accepts (those both protocols' servos offer, the adapters' common ones)."""
 
 _GARBAGE_BYTES = 64  # bytes skipped while looking for a reply's header before it counts as corrupt
+_STALE_REPLIES = 2 * (MAX_ID + 1)  # other servos' late replies dropped while waiting for one
+_STALE_LIMIT = object()  # _skip_stale's "too many"
 
 
 class BusError(Exception):
@@ -47,12 +49,14 @@ class BusStats:
     instructions: int = 0  # instruction packets sent, retries included
     retries: int = 0       # instructions sent again after a missing or corrupt reply
     missing: int = 0       # replies that did not come within the timeout
-    corrupt: int = 0       # replies with a bad header, length or checksum, or the wrong id
+    corrupt: int = 0       # replies with a bad header, length or checksum
+    stale: int = 0         # late replies to an earlier instruction, dropped
     errors: int = 0        # instructions that failed after every retry
 
     def reset(self):
         """Counts from zero again."""
-        self.instructions = self.retries = self.missing = self.corrupt = self.errors = 0
+        self.instructions = self.retries = self.missing = self.corrupt = self.stale = 0
+        self.errors = 0
 
 
 @dataclass(frozen=True)
@@ -333,6 +337,8 @@ class Bus:
                 bad_id = servo_id
                 try:
                     reply = self._read_status()
+                    if reply is not None and reply.id != servo_id:
+                        reply = self._skip_stale(reply, servo_id)
                 except ProtocolError as e:
                     self.stats.corrupt += 1
                     problem = f"gave a corrupt reply ({e})"
@@ -341,9 +347,9 @@ class Bus:
                     self.stats.missing += 1
                     problem = "did not answer"
                     break
-                if reply.id != servo_id:
+                if reply is _STALE_LIMIT:
                     self.stats.corrupt += 1
-                    problem = f"was answered by servo {reply.id}"
+                    problem = "was drowned by replies of other servos"
                     break
                 replies.append(reply)
             if not problem:
@@ -354,6 +360,18 @@ class Bus:
         self.stats.errors += 1
         tries = f"{retries + 1} {'try' if retries == 0 else 'tries'}"
         raise NoReply(f"port {self.port_name}: servo {bad_id} {problem} to {what} ({tries})")
+
+    def _skip_stale(self, reply, servo_id):
+        """The next reply from `servo_id` after `reply`, another servo's: a reply that came
+        after its instruction's timeout (one master on the bus: no other reply is for us), so
+        dropped and counted. None on a timeout, _STALE_LIMIT after too many; ProtocolError as
+        _read_status."""
+        for _ in range(_STALE_REPLIES):
+            self.stats.stale += 1
+            reply = self._read_status()
+            if reply is None or reply.id == servo_id:
+                return reply
+        return _STALE_LIMIT
 
     def _check_status(self, reply, what):
         if not reply.error:

@@ -128,7 +128,9 @@ def parser():
     run.add_argument("--model", required=True, help="identify's log_fit.json")
     run.add_argument("--desired",
                      help="a CSV time_s,desired_deg, or a servo log whose requests are the motion")
-    run.add_argument("--method", choices=("direct", "model_based", "optimal"), required=True)
+    run.add_argument("--method", choices=("direct", "model_based", "optimal"), required=True,
+                     help="direct: the desired angles as they are; model_based, optimal: "
+                          "the fitted model's requests")
     run.add_argument("--online", action="store_true",
                      help="requests from the online planner, tick by tick (default: the batch plan)")
     run.add_argument("--preview-ticks", type=_ranged(0, 100000, integer=True),
@@ -221,6 +223,11 @@ def say(line):
 
 def main(argv=None):
     """The command line; returns the exit status."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv == ["--list-outputs"]:  # the files each verb writes, as docs/outputs.md shows them
+        from . import outputs
+        print(outputs.markdown(), end="")
+        return 0
     args = parser().parse_args(argv)
     from . import verbs  # the verbs' bodies (run needs the compiled leglab module)
 

@@ -8,14 +8,13 @@ import os
 import numpy as np
 
 from .. import servo
-from . import files, session
+from . import files, outputs, session
 
 METHODS = ("direct", "model_based", "optimal")
 """What run sends: the desired angles as they are, or the model's planned requests."""
 
-RUN_COLUMNS = ("time_s", "desired_deg", "request_deg", "measured_deg", "late")
-"""run.csv's columns: the tick's time from the start (s), the desired angle, the request sent
-and the angle measured at the tick's start (deg from the zero), and 1 when the tick was late."""
+RUN_COLUMNS = outputs.column_names(outputs.RUN_CSV)
+"""run.csv's columns (leglab.bus.outputs.RUN_CSV)."""
 
 
 class Policy:

@@ -274,7 +274,7 @@ def _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes):
         "predicted_mae_deg": float(np.mean([planned[j.id][3] for j in js])),
         **stats.summary(), "tick_s": planned[js[0].id][0].tick_s,
         "retries": bus.stats.retries, "errors": bus.stats.errors, "missing": bus.stats.missing,
-        "corrupt": bus.stats.corrupt,
+        "corrupt": bus.stats.corrupt, "stale": bus.stats.stale,
         "ended": "completed" if ended is None else session.quit_reason(ended),
         "model": os.path.abspath(args.model), "servos": per_servo, "setup": changes}
 

@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""The whole servo loop on an emulated bus, per protocol, as a servo owner runs it: record BAM's
+four excitations at one gain, fit them with `identify`, and run a pick-and-place motion that no
+log holds with each method, on virtual time (the same bits every run).
+
+Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/bus_loop.py OUT [--build DIR]
+
+Writes OUT/bus/<protocol>/: logs/ (record's), fit/ (identify's), inputs/pick.csv (the desired
+motion) and one folder per run: direct, model_based, model_based_online, optimal,
+optimal_online (run.csv, run.json). The emulated servos are an XL330-M288 on BAM's pendulum
+(0.49 kg at 0.1 m, kp 400; Dynamixel 2.0) and an STS3215 with 0.5 kg at 0.12 m (kp 32;
+Feetech), leglab.bus.physics: not the model leglab fits. docs/results.md's bus-loop table is
+read from the run.json files. Bad input: one line, exit status 2.
+"""
+
+import argparse
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+
+SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
+
+# protocol: (emulated model, the logs' motor name, kp register, mass_kg, length_m)
+BENCHES = {"dynamixel": ("xl330-m288", "xl330", 400, 0.49, 0.1),
+           "feetech": ("sts3215", "sts3215", 32, 0.5, 0.12)}
+TRAJECTORIES = ("lift_and_drop", "sin_time_square", "up_and_down", "sin_sin")
+RUNS = (("direct", "direct", False), ("model_based", "model_based", False),
+        ("model_based_online", "model_based", True), ("optimal", "optimal", False),
+        ("optimal_online", "optimal", True))
+"""(folder, --method, --online) of each run."""
+
+
+def pick_and_place(tick_s=0.005):
+    """Desired angles (deg), one a tick: hold, then eased moves 0 -> 50 -> -30 -> 0 deg, 0.5 s
+    each (smoothstep: no speed at either end), with 0.4 s holds between."""
+    s = np.linspace(0.0, 1.0, round(0.5 / tick_s) + 1)[1:]
+    ease = 3 * s ** 2 - 2 * s ** 3
+    hold = np.ones(round(0.4 / tick_s))
+    poses = (0.0, 50.0, -30.0, 0.0)
+    parts = [poses[0] * hold]
+    for a, b in zip(poses, poses[1:]):
+        parts += [a + (b - a) * ease, b * hold]
+    return np.concatenate(parts)
+
+
+def write_desired(path, desired, tick_s=0.005):
+    """`desired` as plan's desired CSV (time_s,desired_deg)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w") as f:
+        f.write("time_s,desired_deg\n")
+        f.writelines(f"{k * tick_s!r},{d!r}\n" for k, d in enumerate(desired))
+
+
+def bus(*args):
+    """python3 -m leglab.bus ARGS; its stderr and exit 2 on failure."""
+    done = subprocess.run([sys.executable, "-m", "leglab.bus", *map(str, args)],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"bus_loop: leglab.bus {args[0]}: {done.stderr.strip()}")
+
+
+def loop(out, protocol, build):
+    """One protocol's record, fit and runs into `out`."""
+    model, motor, kp, mass, length = BENCHES[protocol]
+    servo = ["--port", f"emulator:{model}", "--protocol", protocol, "--id", "1", "--kp", kp,
+             "--mass-kg", mass, "--length-m", length]
+    bus("record", *servo, "--motor", motor, "--trajectory", ",".join(TRAJECTORIES),
+        "--out", out / "logs")
+    fit = subprocess.run([build / "bin" / "identify", "--config",
+                          SOURCE_DIR / "experiments/configs/identify_logs.yaml", "--out",
+                          out / "fit", "--set", f"logs.train=[{out / 'logs'}]", "--set",
+                          "logs.cross_validate=none"], capture_output=True, text=True)
+    if fit.returncode != 0:
+        sys.exit(f"bus_loop: identify: {fit.stderr.strip()}")
+    desired = out / "inputs" / "pick.csv"
+    write_desired(desired, pick_and_place())
+    for folder, method, online in RUNS:
+        bus("run", *servo, "--model", out / "fit" / "log_fit.json", "--desired", desired,
+            "--method", method, *(["--online"] if online else []), "--out", out / folder)
+
+
+def main():
+    """Runs every protocol's loop."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out", type=pathlib.Path)
+    parser.add_argument("--build", type=pathlib.Path, default=SOURCE_DIR / "build")
+    args = parser.parse_args()
+    if not args.out.is_dir():
+        sys.exit(f"bus_loop: {args.out}: not a folder")
+    for protocol in BENCHES:
+        loop(args.out / "bus" / protocol, protocol, args.build)
+    print(f"bus_loop: {len(BENCHES) * len(RUNS)} runs in {args.out / 'bus'}")
+
+
+if __name__ == "__main__":
+    main()
