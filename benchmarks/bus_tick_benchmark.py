@@ -41,7 +41,7 @@ def bus(*args):
     done = subprocess.run([sys.executable, "-m", "leglab.bus", *map(str, args)],
                           capture_output=True, text=True)
     if done.returncode != 0:
-        sys.exit(f"bus_tick_benchmark: leglab.bus {args[0]}: {done.stderr.strip()}")
+        sys.exit(f"bus_tick_benchmark: {done.stderr.strip()}")
     return done
 
 

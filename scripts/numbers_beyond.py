@@ -418,6 +418,28 @@ def online_block(run):
     return header, rows
 
 
+BUS_RUNS = (("direct", "direct"), ("best_lead", "best lead (hindsight)"),
+            ("paper_model_based_online", "paper's model, online"),
+            ("model_based", "model_based"), ("model_based_online", "model_based, online"),
+            ("optimal", "optimal"), ("optimal_online", "optimal, online"))
+BUS_BENCHES = (("dynamixel", "XL330-M288, kp 400, 0.49 kg at 0.10 m"),
+               ("feetech", "STS3215, kp 32, 0.50 kg at 0.12 m"))
+
+
+def bus_block(run):
+    """The emulated servos' measured error (deg) on the pick-and-place run, by method
+    (scripts/bus_loop.py's run.json files)."""
+    def rows():
+        out = []
+        for protocol, bench in BUS_BENCHES:
+            summaries = [run.json(f"bus/{protocol}/{folder}/run.json") for folder, _ in BUS_RUNS]
+            cells = [fixed(s.mae_deg) for s in summaries]
+            cells[1] += f" (lead {summaries[1].lead_ticks})"
+            out.append([f"{bench} ({protocol})", *cells])
+        return out
+    return lambda: ["servo (emulated)", *(label for _, label in BUS_RUNS)], rows
+
+
 def blocks(run):
     """This module's blocks by id."""
     return {
@@ -436,4 +458,5 @@ def blocks(run):
         "probes": probes_block(run),
         "stand-table1": stand_table1_block(run),
         "online": online_block(run),
+        "bus-loop": bus_block(run),
     }

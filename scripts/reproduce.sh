@@ -107,6 +107,11 @@ fi
 if [ -x build/bin/track ] && [ -x build/bin/sweep ]; then
   /usr/bin/python3 scripts/variants.py "$out"
 fi
+# The servo bus end to end on emulated servos, per protocol: record, identify, run each method
+# (scripts/bus_loop.py, virtual time), into results/bus/<protocol>/.
+if [ -x build/bin/identify ] && [ -f build/python/leglab/bus/cli.py ]; then
+  /usr/bin/python3 scripts/bus_loop.py "$out"
+fi
 # The leg in motion (leg.gif) for the default run, the stand and the paper's regime; then a page
 # for every folder of results (index.html, self-contained), the top one linking the others.
 if [ -f scripts/animate.py ] && [ $ran -eq 1 ]; then

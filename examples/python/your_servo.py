@@ -1,20 +1,27 @@
-"""Your own servo: fit its logs, plan a motion it never made, and drive it tick by tick.
+"""Your own servo: fit its logs, plan a motion it never made, and drive it on its bus.
 
 Fits the extended servo model to logs (default: the 12 shipped Dynamixel XL330 logs), makes a
 pick-and-place motion that is in no log, inside the angles the logs reached, and prints the
 model's predicted error of the desired angles sent as they are and of servo.plan's requests.
-Then runs servo.ServoPlanner in the loop a real servo would run, the fitted model standing in
-for the servo, and writes the CSV a recording loop of your own should write (servo.write_log).
+Then drives a servo on its bus tick by tick (leglab.bus), the desired angles sent as they are
+and then servo.ServoPlanner's requests, and prints what the servo did. Without --port the servo
+is leglab.bus's emulated XL330 (a DC motor, gearbox, friction and the firmware's P law, not the
+model fitted here) on virtual time; with --port, yours. Last, it writes the log of the run in
+the CSV form a recording loop of your own should write (servo.write_log).
 
 Run from the repository root after building the package:
 
     PYTHONPATH=build/python /usr/bin/python3 examples/python/your_servo.py
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/your_servo.py \\
+        --port /dev/ttyUSB0 --protocol dynamixel --id 1 --zero-deg 180
     PYTHONPATH=build/python /usr/bin/python3 examples/python/your_servo.py my_logs/*.csv \\
-        --motor my_servo --kp 32 --mass-kg 0.2 --length-m 0.1
+        --motor my_servo --kp 32 --mass-kg 0.2 --length-m 0.1 --port /dev/ttyUSB0 \\
+        --protocol feetech --id 1
 
 A CSV log does not say its motor, gain and load: --motor, --kp, --mass-kg and --length-m give
 them (a BAM .json log has its own). The motion is driven at the first log's kp, mass and length
 unless those flags are given. The fit takes about 5 s on the shipped logs (--iterations 300).
+On a real servo the torque is on while the script runs: mind the load's swing.
 """
 
 import argparse
@@ -26,6 +33,8 @@ import numpy as np
 
 import leglab
 import leglab.servo as servo
+from leglab import bus
+from leglab.bus import session
 
 MOVE_S, HOLD_S = 0.5, 0.4     # each move's duration and each hold's, s
 POSES = (0.5, 0.8, 0.2, 0.5)  # home, pick, place, home: fractions of the logs' angle range
@@ -60,24 +69,67 @@ def mae(angles_deg, desired_deg):
     return np.mean(np.abs(np.asarray(angles_deg) - desired_deg))
 
 
-def run_online(model, method, desired_deg, drive):
-    """Drives a "servo" with a ServoPlanner one tick at a time; here the servo is the model
-    itself, measuring what the planner expects (my_servo: your servo SDK's object). Returns the
-    requests (deg), the measured angles (deg) and planner.request's mean cost a tick (s)."""
-    planner = servo.ServoPlanner(model, method, **drive)
-    planner.reset(desired_deg[0])  # a real servo: planner.reset(my_servo.read_position())
-    requests_deg, measured_deg, cost_s = [], [], 0.0
-    for t in range(len(desired_deg)):
-        # REAL SERVO, read: measured = my_servo.read_position()  (deg, your SDK's read call)
-        measured = planner.expected_deg
-        window_deg = desired_deg[t:t + planner.preview_ticks + 1]
-        start = time.perf_counter()
-        request = planner.request(window_deg, measured)
-        cost_s += time.perf_counter() - start
-        # REAL SERVO, write: my_servo.write_goal_position(request)  (deg); wait for the next tick
-        requests_deg.append(request)
+def open_bus(args, drive):
+    """(Bus, clock): your port, or the emulated XL330 with the drive's load on virtual time."""
+    if args.port:
+        return bus.Bus(args.port, args.protocol), bus.RealClock()
+    emulated = bus.make_emulator("dynamixel", "xl330-m288", [args.id], drive["mass_kg"],
+                                 drive["length_m"])
+    clock = bus.VirtualClock()
+    return bus.Bus(bus.VirtualPort(emulated, clock), "dynamixel"), clock
+
+
+def drive_on_bus(the_bus, clock, servo_id, zero_deg, model, method, desired_deg, drive):
+    """Moves the servo to the motion's start, then one tick of model.tick_s at a time: read
+    its angle, ask for a request (the desired angle for "direct", else a ServoPlanner's), write
+    it. Returns the measured angles and the requests sent (deg from the zero), and how many
+    ticks were late."""
+    session.move_to(the_bus, clock, [servo_id], {servo_id: zero_deg},
+                    {servo_id: desired_deg[0]}, model.tick_s)
+    planner = None
+    if method != "direct":
+        planner = servo.ServoPlanner(model, method, **drive)
+        planner.reset(desired_deg[0])
+    window = (planner.preview_ticks if planner else 0) + 1
+    measured_deg, requests_deg = [], []
+
+    def tick(k, _t_s, skipped):
+        count = the_bus.sync_read_raw([servo_id], "present_position")[servo_id]
+        measured = session.from_count(count, zero_deg)
+        if planner is None:
+            request = desired_deg[k]
+        else:
+            for j in range(k - skipped, k):  # ticks the loop missed: the servo kept its request
+                planner.hold(desired_deg[j:j + window])
+            request = planner.request(desired_deg[k:k + window], measured)
+        count = session.to_count(request, zero_deg)
+        the_bus.sync_write_raw("goal_position", {servo_id: count})
         measured_deg.append(measured)
-    return np.array(requests_deg), np.array(measured_deg), cost_s / len(desired_deg)
+        requests_deg.append(session.from_count(count, zero_deg))  # as sent, to the count
+
+    stats = session.run_ticks(clock, model.tick_s, len(desired_deg), tick)
+    return np.array(measured_deg), np.array(requests_deg), sum(stats.late)
+
+
+def on_the_bus(args, model, desired_deg, drive):
+    """Sets the servo up as the model assumes, finds its zero, drives it with each method;
+    returns {method: (measured, requests)}. The torque goes off however it ends."""
+    the_bus, clock = open_bus(args, drive)
+    with the_bus:
+        try:
+            session.set_up(the_bus, [args.id], {args.id: drive["kp"]}, print)
+            zero_deg = (args.zero_deg if args.zero_deg is not None else
+                        session.find_zero(the_bus, clock, [args.id], print)[args.id])
+            runs = {}
+            for method in ("direct", "model_based"):
+                measured, requests, late = drive_on_bus(the_bus, clock, args.id, zero_deg,
+                                                        model, method, desired_deg, drive)
+                runs[method] = measured, requests
+                print(f"  {method:<12} {mae(measured, desired_deg):6.3f} deg measured "
+                      f"({late} ticks late)")
+            return runs
+        finally:
+            session.torque_off(the_bus, [args.id], print)
 
 
 def main():
@@ -89,6 +141,11 @@ def main():
     parser.add_argument("--mass-kg", type=float, help="the load's mass, kg (CSV logs, motion)")
     parser.add_argument("--length-m", type=float, help="the load's arm, m (CSV logs, motion)")
     parser.add_argument("--iterations", type=int, default=300, help="fit iterations (300)")
+    parser.add_argument("--port", help="your servo's port (default: an emulated XL330)")
+    parser.add_argument("--protocol", default="dynamixel", choices=("dynamixel", "feetech"))
+    parser.add_argument("--id", type=int, default=1, help="your servo's id (1)")
+    parser.add_argument("--zero-deg", type=float,
+                        help="the zero on the servo's 0-360 scale (default: found limp)")
     args = parser.parse_args()
 
     # 1. Read the logs.
@@ -128,18 +185,13 @@ def main():
         print(f"  {method:<12} {mae(planned['predicted_deg'], desired_deg):6.3f} deg "
               f"({planned['beyond_servo'].sum()} ticks beyond the servo)")
 
-    # 5. Online: the loop a real servo runs, one request a tick (run_online).
-    online = {m: run_online(model, m, desired_deg, drive) for m in ("model_based", "optimal")}
-    print(f"online (ServoPlanner, the model as the servo; a tick is {1e6 * model.tick_s:.0f} us):")
-    for method, (_, measured_deg, cost_s) in online.items():
-        print(f"  {method:<12} {mae(measured_deg, desired_deg):6.3f} deg, "
-              f"planner.request {1e6 * cost_s:5.1f} us a tick")
-    requests_deg, measured_deg, _ = online["model_based"]
-    same = np.array_equal(requests_deg, plans["model_based"].request_deg)
-    print(f"  online model_based requests equal servo.plan's: {same}")
-    assert same
+    # 5. On the bus: the loop your servo runs, one read and one write a tick.
+    where = args.port or "the emulated XL330 (virtual time)"
+    print(f"\non the bus, {where}, a tick of {1e3 * model.tick_s:.2f} ms:")
+    runs = on_the_bus(args, model, desired_deg, drive)
 
     # 6. The CSV your own recording loop writes: one row a tick, read back for servo.fit.
+    measured_deg, requests_deg = runs["model_based"]
     log = servo.ServoLog(plans["model_based"].time_s, requests_deg, measured_deg,
                          motor=model.motor, trajectory="pick_and_place", **drive)
     with tempfile.TemporaryDirectory() as folder:

@@ -4,6 +4,7 @@ the same bits every run). The emulated servo is a DC motor, a gearbox, friction,
 P law and a pendulum (leglab.bus.physics): not the model leglab fits."""
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -123,3 +124,47 @@ def test_virtual_time_gives_the_same_bits(session, tmp_path):
         with open(tmp_path / str(n) / f"steps_kp{bench[3]}_id1.json", "rb") as f:
             logs.append(f.read())
     assert logs[0] == logs[1]
+
+
+def test_six_servos_each_with_its_own_load_and_motion_one_read_and_write_a_tick(session,
+                                                                               tmp_path):
+    bench, folder, _ = session
+    protocol, model, motor, kp, _, _ = bench
+    pick = pick_and_place_csv(tmp_path / "pick.csv")
+    with open(tmp_path / "mirror.csv", "w") as f:  # the same motion, mirrored
+        f.write("time_s,desired_deg\n")
+        f.writelines(f"{k * 0.005!r},{-d!r}\n" for k, d in enumerate(pick))
+    loads = {1: 0.1, 2: 0.2, 3: 0.3, 4: 0.4, 5: 0.5, 6: 0.6}
+    lines = ["servos:"] + [
+        f"  {i}: {{kp: {kp}, mass_kg: {m}, length_m: 0.1, desired: "
+        f"{'mirror.csv' if i % 2 == 0 else 'pick.csv'}}}" for i, m in loads.items()]
+    (tmp_path / "servos.yaml").write_text("\n".join(lines) + "\n")
+    assert cli.main(["run", "--port", f"emulator:{model}", "--protocol", protocol, "--servos",
+                     str(tmp_path / "servos.yaml"), "--model", str(folder / "fit" / "log_fit.json"),
+                     "--motor", motor, "--method", "model_based", "--online",
+                     "--out", str(tmp_path / "out")]) == 0
+    with open(tmp_path / "out" / "run.json") as f:
+        summary = json.load(f)
+    assert sorted(summary["servos"]) == [str(i) for i in loads]
+    for i, m in loads.items():
+        rows = read_csv(tmp_path / "out" / f"run_id{i}.csv")
+        assert len(rows["time_s"]) == 620
+        sign = -1 if i % 2 == 0 else 1
+        assert np.allclose(rows["desired_deg"], sign * pick, atol=1e-6)  # on the model tick
+        assert summary["servos"][str(i)]["mass_kg"] == m
+    # One sync read and one sync write a tick (no retry on a clean bus).
+    assert summary["instructions"] == 2 * summary["ticks"] and summary["retries"] == 0
+
+
+def test_the_example_drives_the_emulated_servo_closer_with_the_model(tmp_path):
+    import subprocess
+    import sys
+
+    from conftest import SOURCE_DIR
+    done = subprocess.run([sys.executable, str(SOURCE_DIR / "examples" / "python" /
+                                               "your_servo.py"), "--iterations", "100"],
+                          capture_output=True, text=True, env={**os.environ}, timeout=300)
+    assert done.returncode == 0, done.stderr
+    measured = {line.split()[0]: float(line.split()[1]) for line in done.stdout.splitlines()
+                if line.endswith("ticks late)")}
+    assert measured["model_based"] < 0.5 * measured["direct"], done.stdout

@@ -20,7 +20,7 @@ from leglab.bus.errors import Packet, ProtocolError
 SETTINGS = settings(max_examples=150, deadline=None, derandomize=True)
 
 # ROBOTIS e-Manual, "DYNAMIXEL Protocol 2.0" (emanual.robotis.com/docs/en/dxl/protocol2/; source
-# ROBOTIS-GIT/emanual docs/en/dxl/protocol2.md), section "Instruction Details".
+# ROBOTIS-GIT/emanual/docs/en/dxl/protocol2.md), section "Instruction Details".
 DXL_PING_1 = bytes.fromhex("FF FF FD 00 01 03 00 01 19 4E")  # Ping, Example 1
 DXL_PING_BROADCAST = bytes.fromhex("FF FF FD 00 FE 03 00 01 31 42")  # Ping, Example 2
 DXL_PING_STATUS_1 = bytes.fromhex("FF FF FD 00 01 07 00 55 00 06 04 26 65 5D")  # Ex. 1 and 2
@@ -51,7 +51,7 @@ DXL_DOCUMENTED = [DXL_PING_1, DXL_PING_BROADCAST, DXL_PING_STATUS_1, DXL_PING_ST
                   DXL_BULK_READ_STATUS_2, DXL_BULK_WRITE]
 
 # Feetech, "Servo SCS Communication Protocol" (FT-SCS), as transcribed in the manufacturer's wiki
-# (github.com/ftservo/ftservo-wiki, docs/en/reference/protocol/ft-scs.md), section 4.
+# (github.com/ftservo/ftservo-wiki/docs/en/reference/protocol/ft-scs.md), section 4.
 FT_PING = bytes.fromhex("FF FF 01 02 01 FB")  # 4.1 PING, Example 1
 FT_EMPTY_STATUS = bytes.fromhex("FF FF 01 02 00 FC")  # 4.1 Example 1, 4.3 Example 4
 FT_READ = bytes.fromhex("FF FF 01 04 02 38 02 BE")  # 4.2 READ DATA, Example 2
@@ -420,7 +420,7 @@ def test_feetech_sync_round_trip(address, size, ids, data):
 # (table, item, address, size, sign bit or None, default or None), from the documents:
 # Dynamixel: e-Manual XL330-M288 / XL430-W250 pages, "Control Table of EEPROM/RAM Area".
 # Feetech: STS3215 memory table (Feetech spreadsheet linked from lerobot) and STS memory table
-# (ftservo-wiki docs/en/reference/parameter/memory-sts.md) for the direction bits.
+# (ftservo-wiki/docs/en/reference/parameter/memory-sts.md) for the direction bits.
 DOCUMENTED_ITEMS = [
     ("xl330-m288", "model_number", 0, 2, None, 1200),
     ("xl330-m288", "return_delay_time", 9, 1, None, 250),

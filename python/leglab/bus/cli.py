@@ -131,6 +131,11 @@ def parser():
     run.add_argument("--method", choices=("direct", "model_based", "optimal"), required=True,
                      help="direct: the desired angles as they are; model_based, optimal: "
                           "the fitted model's requests")
+    run.add_argument("--rung", choices=("extended", "paper"), default="extended",
+                     help="the model file's rung planned with (default extended)")
+    run.add_argument("--lead-ticks", type=_ranged(0, 1000, integer=True), default=0,
+                     help="direct: send the desired angle this many ticks early (the paper's "
+                          "time shift; default 0)")
     run.add_argument("--online", action="store_true",
                      help="requests from the online planner, tick by tick (default: the batch plan)")
     run.add_argument("--preview-ticks", type=_ranged(0, 100000, integer=True),

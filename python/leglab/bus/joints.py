@@ -34,7 +34,7 @@ _RANGES = {"kp": (0, 16383), "mass_kg": (0, 1000), "length_m": (0, 10), "zero_de
            "min_deg": (-180, 180), "max_deg": (-180, 180)}
 
 
-def _entry(servo_id, entry, source):
+def _entry(servo_id, entry, source, folder):
     if not isinstance(entry, dict):
         raise SessionError(f"{source}: servo {servo_id}: expected a mapping of settings")
     names = {f.name for f in fields(Joint)} - {"id"}
@@ -47,7 +47,7 @@ def _entry(servo_id, entry, source):
             if not isinstance(value, str) or not value:
                 raise SessionError(f"{where}: expected a name, got {value!r}")
             if key == "desired" and not os.path.isabs(value):
-                value = os.path.join(os.path.dirname(os.path.abspath(source)), value)
+                value = os.path.join(folder, value)
         else:
             integer = key == "kp"
             if isinstance(value, bool) or not isinstance(value, int if integer else (int, float)):
@@ -82,7 +82,8 @@ def read_file(path):
     for servo_id, entry in document["servos"].items():
         if isinstance(servo_id, bool) or not isinstance(servo_id, int) or not 0 <= servo_id <= 252:
             raise SessionError(f"--servos '{path}': {servo_id!r} is not a servo id in [0, 252]")
-        entries[servo_id] = _entry(servo_id, entry, f"--servos '{path}'")
+        entries[servo_id] = _entry(servo_id, entry, f"--servos '{path}'",
+                                   os.path.dirname(os.path.abspath(path)))
     return entries
 
 

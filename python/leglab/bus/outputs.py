@@ -61,6 +61,8 @@ RUN_JSON = File(
     "`run`'s summary: what plan predicts, measured.",
     (Name("method", "", "direct, model_based or optimal"),
      Name("online", "", "true: the online planner's requests; false: the batch plan's"),
+     Name("rung", "", "the model's rung planned with: extended or paper"),
+     Name("lead_ticks", "ticks", "direct: how early each desired angle was sent"),
      Name("preview_ticks", "ticks", "online: the desired ticks each request saw ahead"),
      *(Name(n, "deg", f"the {label} error of the measured angles from the desired ones, "
                       "every servo and tick") for n, label in _ERRORS),
@@ -68,6 +70,7 @@ RUN_JSON = File(
                                       "(plan's prediction; direct: the desired angles sent)"),
      *_TICKS,
      Name("tick_s", "s", "the tick: the model's"),
+     Name("instructions", "", "instruction packets sent in the loop, retries included"),
      Name("retries", "", "instructions sent again after a missing or corrupt reply"),
      Name("errors", "", "instructions that failed after every retry"),
      Name("missing", "", "replies that did not come within the timeout"),

@@ -22,13 +22,16 @@ class Policy:
     desired angles. `request(k, skipped, measured_deg)` is tick k's request (deg), `skipped`
     the ticks since the last one on which none was sent."""
 
-    def __init__(self, model, desired_deg, method, online, preview_ticks, drive, limits):
+    def __init__(self, model, desired_deg, method, online, preview_ticks, drive, limits,
+                 lead_ticks=0):
         self.desired = np.ascontiguousarray(desired_deg, dtype=np.float64)
         self.method = method
         self.planner = None
+        self.limits = {"min_deg": limits[0], "max_deg": limits[1]}
         min_deg, max_deg = limits
-        if method == "direct":
-            self.requests = self.desired
+        if method == "direct":  # D(t + lead), the last angle held: the paper's time shift
+            self.requests = self.desired[np.minimum(np.arange(len(self.desired)) + lead_ticks,
+                                                    len(self.desired) - 1)]
         elif online:
             self.planner = servo.ServoPlanner(model, method, preview_ticks=preview_ticks,
                                               min_deg=min_deg, max_deg=max_deg, **drive)
@@ -47,13 +50,16 @@ class Policy:
         return self.planner.request(self.desired[k:k + self.window], measured_deg)
 
 
-def predicted_mae_deg(model, desired_deg, method, drive, limits):
-    """What `plan` predicts for the run: the model's mean absolute error under the batch
-    plan's requests (method direct: the desired angles sent as they are), deg."""
-    planned = servo.plan(model, desired_deg, "model_based" if method == "direct" else method,
-                         min_deg=limits[0], max_deg=limits[1], **drive)
-    angles = planned.direct_deg if method == "direct" else planned.predicted_deg
-    return float(np.mean(np.abs(angles - desired_deg)))
+def predicted_mae_deg(model, policy, drive):
+    """What the model predicts for the run: its mean absolute error under the policy's batch
+    requests (online: the batch plan of the same method, which online model_based equals when
+    the servo is the model), deg."""
+    if policy.method == "direct":
+        angles = model.simulate(policy.requests, start_deg=float(policy.desired[0]), **drive)
+    else:
+        angles = servo.plan(model, policy.desired, policy.method, **drive, **policy.limits
+                            ).predicted_deg
+    return float(np.mean(np.abs(angles - policy.desired)))
 
 
 def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s):

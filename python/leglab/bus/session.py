@@ -52,7 +52,11 @@ def set_up(bus, ids, kp_by_id, say):
     changes = []
     for servo_id in ids:
         table = bus.table(servo_id)
-        settings = model_settings(table, kp_by_id[servo_id])
+        kp = kp_by_id[servo_id]
+        if kp != int(kp):
+            raise SessionError(f"servo {servo_id}: kp {kp!r}: a gain register holds a whole "
+                               "number")
+        settings = model_settings(table, int(kp))
         unlock = table.protocol == "feetech" and "lock" in table.items and any(
             table.items[k].memory == "EEPROM" for k in settings)
         if unlock:

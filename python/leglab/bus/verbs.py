@@ -75,7 +75,11 @@ def scan(args):
                 say(f"warning: servo {info.id}'s return delay is above 0: each reply waits; "
                     "record and run set it to 0")
         latency = latency_timer_ms(args.port)
-        if latency is not None and latency > 1:
+        if latency is None:
+            say(f"port {bus.port_name}: no latency timer (not a USB serial adapter)")
+        elif latency <= 1:
+            say(f"port {bus.port_name}: USB latency timer {latency} ms")
+        else:
             say(f"warning: the USB adapter's latency timer is {latency} ms (above 1 ms, each "
                 f"reply waits up to it): echo 1 | sudo tee /sys/bus/usb-serial/devices/"
                 f"{os.path.basename(os.path.realpath(args.port))}/latency_timer")
@@ -184,7 +188,7 @@ def _plan_joint(args, fit, joint):
     from .. import servo
 
     try:
-        model = fit.model(joint.motor or None)
+        model = fit.model(joint.motor or None, rung=args.rung)
         desired = servo._leglab._read_desired(joint.desired, model.tick_s)["desired_deg"]
     except (ValueError, OSError) as e:
         raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
@@ -197,10 +201,13 @@ def _plan_joint(args, fit, joint):
             f"{joint.max_deg:g}]: nothing moved")
     drive = {"kp": joint.kp, "mass_kg": joint.mass_kg, "length_m": joint.length_m}
     limits = (joint.min_deg, joint.max_deg)
+    if args.lead_ticks and args.method != "direct":
+        raise session.SessionError(f"--lead-ticks {args.lead_ticks}: only with --method direct "
+                                   "(the planned methods lead by the model's own lag)")
     try:
         policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
-                                drive, limits)
-        predicted = running.predicted_mae_deg(model, desired, args.method, drive, limits)
+                                drive, limits, args.lead_ticks)
+        predicted = running.predicted_mae_deg(model, policy, drive)
     except ValueError as e:
         raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
     return model, desired, policy, predicted
@@ -245,11 +252,14 @@ def run(args):
             session.move_to(bus, clock, ids, zeros,
                             {i: float(planned[i][1][0]) for i in ids}, model.tick_s)
             bus.stats.reset()
-            return running.run_servos(bus, clock, ids, policies, zeros, limits, speeds,
-                                      model.tick_s)
+            result = running.run_servos(bus, clock, ids, policies, zeros, limits, speeds,
+                                        model.tick_s)
+            in_loop.update(vars(bus.stats))  # before the torque goes off
+            return result
 
+        in_loop = {}
         rows, stats, ended = _session(bus, clock, args, ids, body)
-        summary = _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes)
+        summary = _run_summary(args, js, planned, rows, stats, ended, in_loop, zeros, changes)
         for path in running.write_run(out, rows, stats, summary):
             say(f"wrote {path}")
     say(f"{args.method}{' online' if args.online else ''}: mean abs error "
@@ -259,7 +269,7 @@ def run(args):
     return _ended("run", ended, "the log is")
 
 
-def _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes):
+def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
     all_rows = [r for servo_rows in rows.values() for r in servo_rows]
     policy = planned[js[0].id][2]
     per_servo = {str(j.id): {**running.errors(rows[j.id]), "predicted_mae_deg": planned[j.id][3],
@@ -268,13 +278,14 @@ def _run_summary(args, js, planned, rows, stats, ended, bus, zeros, changes):
                              "limits": {"min_deg": j.min_deg, "max_deg": j.max_deg},
                              "desired": os.path.abspath(j.desired)} for j in js}
     return {
-        "method": args.method, "online": args.online,
+        "method": args.method, "online": args.online, "rung": args.rung,
+        "lead_ticks": args.lead_ticks,
         "preview_ticks": policy.planner.preview_ticks if policy.planner else None,
         **running.errors(all_rows),
         "predicted_mae_deg": float(np.mean([planned[j.id][3] for j in js])),
         **stats.summary(), "tick_s": planned[js[0].id][0].tick_s,
-        "retries": bus.stats.retries, "errors": bus.stats.errors, "missing": bus.stats.missing,
-        "corrupt": bus.stats.corrupt, "stale": bus.stats.stale,
+        **{k: counts.get(k, 0) for k in ("instructions", "retries", "errors", "missing",
+                                          "corrupt", "stale")},
         "ended": "completed" if ended is None else session.quit_reason(ended),
         "model": os.path.abspath(args.model), "servos": per_servo, "setup": changes}
 

@@ -39,8 +39,8 @@ def script(name, *args):
 def fresh_run(out):
     """reproduce.sh's runs of the front and hind leg on ODE and DART, of the stand (its walk
     and Table 1 with the foot free and in the air), of the paper's regime and its walk fit, of
-    adaptive, of three sweeps, of the two log fits and the online planner's previews, and
-    scripts/variants.py's runs."""
+    adaptive, of three sweeps, of the two log fits and the online planner's previews,
+    scripts/variants.py's runs and the emulated servos' loop (scripts/bus_loop.py)."""
     configs = os.path.join(SOURCE, "experiments", "configs")
     for folder, robot_set, walk in (("", [], "track.yaml"),
                                     ("hind", ["--set", "robot=ers210a_hind"], "track_hind.yaml")):
@@ -79,6 +79,7 @@ def fresh_run(out):
     script("online_preview_table.py", "--model", os.path.join(logs, "log_fit.json"),
            "--out", os.path.join(logs, "online"), "--build", BUILD)
     script("variants.py", out, "--bin", BIN)
+    script("bus_loop.py", out, "--build", BUILD)
 
 
 def check(results, *args, docs=SOURCE):
