@@ -7,7 +7,8 @@ takes it from there (results_reader's rows, the Python package's dicts), so a re
 leave a reader behind.
 
 A declaring file is one that holds the name as a declaration: a column {"name", "unit", ...}
-or a JSON field {"path.to.name", "unit", ...},
+(in Python, leglab.bus.outputs' Name("name", "unit", ...)) or a JSON field
+{"path.to.name", "unit", ...},
 a config key Key("name", ...) or a declared name, std::string_view field = "name" (a joint
 model's values are its keys, named in joint_model.h). Names without
 an underscore ("tick", "step", "mode", "joint") are words as much as names and are not
@@ -62,7 +63,7 @@ def declares(text, name):
     quoted = re.escape(f'"{name}"')
     dotted = re.escape(name)
     return re.search(rf"\{{\{{?{quoted}, \"|Key\({quoted},|std::string_view \w+ = {quoted};"
-                     rf"|\{{\"[^\"]*\.{dotted}\", \"", text) is not None
+                     rf"|\{{\"[^\"]*\.{dotted}\", \"|Name\({quoted}, \"", text) is not None
 
 
 def findings(source, names):

@@ -281,6 +281,14 @@ def plan(model, desired_deg, method="model_based", *, kp=None, mass_kg=0.0, leng
                                   max_deg))
 
 
+def read_desired(path, tick_s):
+    """The desired motion in `path` on ticks of `tick_s` (s), deg, as `plan --desired` reads
+    it: a CSV time_s,desired_deg interpolated linearly, or a servo log (BAM .json, or the log
+    CSV) whose requests are held from one sample to the next. ValueError naming the file, row
+    and column."""
+    return _leglab._read_desired(path, _number(tick_s, "read_desired: tick_s"))
+
+
 class _Columns(dict):
     """A dict of named arrays whose names are also attributes."""
 
@@ -294,4 +302,4 @@ class _Columns(dict):
 
 
 __all__ = ["ServoLog", "read_log", "write_log", "fit", "LogFit", "ServoModel", "plan",
-           "ServoPlanner"]
+           "ServoPlanner", "read_desired"]

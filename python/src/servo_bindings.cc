@@ -316,26 +316,14 @@ void BindLogs(py::module_& m) {
       "_read_desired",
       [](py::handle path, double tick_s) {
         const std::string file = ToPath(path, "desired");
-        DesiredServoMotion motion;
         std::vector<double> desired;
         {
           py::gil_scoped_release release;
-          motion = ReadDesiredMotion(file);
-          desired = ResampleDesired(motion, tick_s, file);
+          desired = ResampleDesired(ReadDesiredMotion(file), tick_s, file);
         }
-        py::dict d;
-        d["desired_deg"] = DoubleArray(static_cast<py::ssize_t>(desired.size()), desired.data());
-        d["is_log"] = motion.is_log;
-        d["motor"] = motion.motor;
-        if (motion.drive) {
-          d["kp"] = motion.drive->kp;
-          d["mass_kg"] = motion.drive->mass_kg;
-          d["length_m"] = motion.drive->length_m;
-        }
-        return d;
+        return DoubleArray(static_cast<py::ssize_t>(desired.size()), desired.data());
       },
-      "_read_desired(path, tick_s): plan's --desired, read and put on ticks of tick_s (a dict: "
-      "desired_deg, is_log, motor, and a BAM log's kp, mass_kg, length_m)");
+      "_read_desired(path, tick_s): plan's --desired, read and put on ticks of tick_s (deg)");
   m.def(
       "_drive_problem",
       [](double kp, double mass_kg, double length_m) {

@@ -8,11 +8,17 @@ from a small YAML file (`--servos FILE`), the flags filling what an entry leaves
       2: {motor: sts3215, kp: 32, mass_kg: 0.25, length_m: 0.10, desired: elbow.csv}
 """
 
+import dataclasses
 import math
 import os
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field
 
 from .session import SessionError
+
+
+def _setting(default, *, low=None, high=None, needed_by=("record", "run")):
+    """A Joint field: its default, its range (numbers), and the verbs that need it given."""
+    return field(default=default, metadata={"range": (low, high), "needed_by": needed_by})
 
 
 @dataclass
@@ -20,40 +26,43 @@ class Joint:
     """One servo's settings (angles in degrees from its zero)."""
 
     id: int
-    motor: str = ""            # the model's motor name (log_fit.json's), the logs' motor
-    kp: int = -1               # the position P gain, the servo's register units (-1: not given)
-    mass_kg: float = math.nan  # the pendulum load: a point mass on an arm
-    length_m: float = math.nan
-    zero_deg: float = math.nan  # on the servo's own scale; NaN: found with the torque off
-    min_deg: float = -180.0    # run: the requests' range
-    max_deg: float = 180.0
-    desired: str = ""          # run: its desired motion (default: --desired)
+    motor: str = _setting("", needed_by=("record",))  # the model's motor name, the logs' motor
+    kp: int = _setting(-1, low=0, high=16383)  # the position P gain, register units (-1: not given)
+    mass_kg: float = _setting(math.nan, low=0, high=1000)  # the pendulum: a mass on an arm
+    length_m: float = _setting(math.nan, low=0, high=10)
+    zero_deg: float = _setting(math.nan, low=0, high=360, needed_by=())  # NaN: found limp
+    min_deg: float = _setting(-180.0, low=-180, high=180, needed_by=())  # run: requests' range
+    max_deg: float = _setting(180.0, low=-180, high=180, needed_by=())
+    desired: str = _setting("", needed_by=("run",))  # run: its motion (default: --desired)
 
 
-_RANGES = {"kp": (0, 16383), "mass_kg": (0, 1000), "length_m": (0, 10), "zero_deg": (0, 360),
-           "min_deg": (-180, 180), "max_deg": (-180, 180)}
+_SETTINGS = {f.name: f for f in dataclasses.fields(Joint) if f.name != "id"}
+
+
+def _given(value):
+    return value not in ("", -1, None) and not (isinstance(value, float) and math.isnan(value))
 
 
 def _entry(servo_id, entry, source, folder):
     if not isinstance(entry, dict):
         raise SessionError(f"{source}: servo {servo_id}: expected a mapping of settings")
-    names = {f.name for f in fields(Joint)} - {"id"}
     values = {}
     for key, value in entry.items():
         where = f"{source}: servo {servo_id}: {key}"
-        if key not in names:
-            raise SessionError(f"{where}: unknown key (valid: {', '.join(sorted(names))})")
-        if key in ("motor", "desired"):
+        if key not in _SETTINGS:
+            raise SessionError(f"{where}: unknown key (valid: {', '.join(sorted(_SETTINGS))})")
+        kind = _SETTINGS[key].type
+        if kind is str:
             if not isinstance(value, str) or not value:
                 raise SessionError(f"{where}: expected a name, got {value!r}")
-            if key == "desired" and not os.path.isabs(value):
+            if key == "desired":  # relative to the file's folder
                 value = os.path.join(folder, value)
         else:
-            integer = key == "kp"
-            if isinstance(value, bool) or not isinstance(value, int if integer else (int, float)):
-                raise SessionError(f"{where}: expected {'an integer' if integer else 'a number'}"
+            wanted = int if kind is int else (int, float)
+            if isinstance(value, bool) or not isinstance(value, wanted):
+                raise SessionError(f"{where}: expected {'an integer' if kind is int else 'a number'}"
                                    f", got {value!r}")
-            low, high = _RANGES[key]
+            low, high = _SETTINGS[key].metadata["range"]
             if not low <= value <= high:
                 raise SessionError(f"{where}: {value!r} is outside [{low}, {high}]")
         values[key] = value
@@ -87,31 +96,37 @@ def read_file(path):
     return entries
 
 
-def joints(args, needs=("kp", "mass_kg", "length_m")):
-    """[Joint] of the session, in id order: --servos' entries over the flags; SessionError
-    naming the servo and the setting missing from both."""
-    flags = {"motor": getattr(args, "motor", "") or "", "kp": args.kp, "mass_kg": args.mass_kg,
-             "length_m": args.length_m, "zero_deg": args.zero_deg,
-             "min_deg": getattr(args, "min_deg", None), "max_deg": getattr(args, "max_deg", None),
-             "desired": getattr(args, "desired", None)}
-    flags = {k: v for k, v in flags.items() if v not in (None, "")}
+def joints(args, verb):
+    """[Joint] of the session of `verb` ("record" or "run"), in id order: --servos' entries
+    over the flags (the same names, dashes for underscores); SessionError naming the servo and
+    a setting the verb needs that neither gives."""
+    flags = {name: getattr(args, name, None) for name in _SETTINGS}
+    flags = {name: value for name, value in flags.items() if _given(value)}
     entries = read_file(args.servos) if getattr(args, "servos", None) else {}
-    ids = list(entries) if entries else (args.ids or [])
     if entries and args.ids and sorted(args.ids) != sorted(entries):
         raise SessionError(f"--id {','.join(map(str, args.ids))} and --servos' ids "
                            f"{','.join(map(str, entries))} differ (give one of them)")
+    ids = sorted(entries or args.ids or [])
     if not ids:
         raise SessionError("no servo: give --id or --servos")
     out = []
-    for servo_id in sorted(ids):
+    for servo_id in ids:
         joint = Joint(servo_id, **{**flags, **entries.get(servo_id, {})})
-        for key in needs:
-            value = getattr(joint, key)
-            if value == "" or (isinstance(value, float) and math.isnan(value)) or value == -1:
-                raise SessionError(f"servo {servo_id}: no {key} (give --{key.replace('_', '-')}, "
-                                   "or the key in --servos)")
+        for name, setting in _SETTINGS.items():
+            if verb in setting.metadata["needed_by"] and not _given(getattr(joint, name)):
+                raise SessionError(f"servo {servo_id}: no {name} (give "
+                                   f"--{name.replace('_', '-')}, or the key in --servos)")
         if joint.min_deg >= joint.max_deg:
             raise SessionError(f"servo {servo_id}: min_deg {joint.min_deg:g} is not below "
                                f"max_deg {joint.max_deg:g}")
         out.append(joint)
     return out
+
+
+def settings(joint, motor, zero_deg):
+    """`joint` as run.json records it: its settings, its model's motor and the zero it ran at,
+    the desired motion's path made absolute."""
+    values = dataclasses.asdict(joint)
+    values.update(motor=motor, zero_deg=zero_deg, desired=os.path.abspath(joint.desired))
+    del values["id"]
+    return values

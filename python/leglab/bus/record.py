@@ -63,7 +63,7 @@ def write_logs(out, samples, stats, meta_by_id, bus):
     for servo_id, rows in samples.items():
         meta = dict(meta_by_id[servo_id])
         meta.update(stats.summary(), retries=bus.stats.retries)
-        path = os.path.join(out, log_name(meta["trajectory"], meta["kp"], servo_id))
+        path = os.path.join(out, log_name(meta["trajectory"], meta["kp"], servo_id))  # BAM's keys
         files.write_json(path, log_json(rows, meta))
         paths.append(path)
     return paths

@@ -27,7 +27,7 @@ class Policy:
         self.desired = np.ascontiguousarray(desired_deg, dtype=np.float64)
         self.method = method
         self.planner = None
-        self.limits = {"min_deg": limits[0], "max_deg": limits[1]}
+        self.limits = dict(min_deg=limits[0], max_deg=limits[1])
         min_deg, max_deg = limits
         if method == "direct":  # D(t + lead), the last angle held: the paper's time shift
             self.requests = self.desired[np.minimum(np.arange(len(self.desired)) + lead_ticks,

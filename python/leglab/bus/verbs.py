@@ -9,15 +9,15 @@ import sys
 import numpy as np
 
 from . import emulator, files, joints, record as recording, run as running, session
-from .bus import MAX_ID, BusError
+from .bus import MAX_ID, BusError, BusStats
 from .cli import open_bus, say
 
 _SCAN_ITEMS = (  # (column, item, format): what matters to the model, as scan shows it
     ("kp", "position_p_gain", "{:.0f}"), ("ki", "position_i_gain", "{:.0f}"),
     ("kd", "position_d_gain", "{:.0f}"), ("mode", "operating_mode", "{:.0f}"),
     ("delay_us", "return_delay_time", "{:.0f}"), ("prof_vel", "profile_velocity", "{:.0f}"),
-    ("prof_acc", "profile_acceleration", "{:.0f}"), ("min_deg", "min_position_limit", "{:.1f}"),
-    ("max_deg", "max_position_limit", "{:.1f}"), ("volts", "present_input_voltage", "{:.1f}"),
+    ("prof_acc", "profile_acceleration", "{:.0f}"), ("pos_min", "min_position_limit", "{:.1f}"),
+    ("pos_max", "max_position_limit", "{:.1f}"), ("volts", "present_input_voltage", "{:.1f}"),
     ("temp_c", "present_temperature", "{:.0f}"), ("torque", "torque_enable", "{:.0f}"),
     ("pos_deg", "present_position", "{:.1f}"))
 
@@ -138,7 +138,7 @@ def _ended(verb, ended, what):
 
 def record(args):
     """Records each trajectory on every servo; one log per servo and trajectory."""
-    js = joints.joints(args, needs=("motor", "kp", "mass_kg", "length_m"))
+    js = joints.joints(args, verb="record")
     ids = [j.id for j in js]
     out = files.out_folder(args.out)
     bus, clock = open_bus(args, js)
@@ -165,14 +165,15 @@ def record(args):
 
 
 def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
-    table = bus.table(joint.id)
-    return {"mass": joint.mass_kg, "length": joint.length_m, "kp": joint.kp,
-            "vin": _supply_volts(bus, joint.id, ended), "motor": joint.motor,
-            "trajectory": trajectory, "id": joint.id, "model": table.model,
-            "protocol": args.protocol, "port": bus.port_name, "zero_deg": zero_deg,
-            "tick_s": args.tick_s, "setup": [c for c in changes if c["id"] == joint.id],
-            "recorded_by": "python3 -m leglab.bus record",
-            "ended": "completed" if ended is None else session.quit_reason(ended)}
+    """A log's fields beside its entries: BAM's (mass, length, kp, vin, motor, trajectory),
+    which identify reads, and the session's (docs/real-servos.md lists them)."""
+    return dict(mass=joint.mass_kg, length=joint.length_m, kp=joint.kp,
+                vin=_supply_volts(bus, joint.id, ended), motor=joint.motor,
+                trajectory=trajectory, id=joint.id, model=bus.table(joint.id).model,
+                protocol=args.protocol, port=bus.port_name, zero_deg=zero_deg,
+                tick_s=args.tick_s, setup=[c for c in changes if c["id"] == joint.id],
+                recorded_by="python3 -m leglab.bus record",
+                ended="completed" if ended is None else session.quit_reason(ended))
 
 
 def _supply_volts(bus, servo_id, ended):
@@ -189,7 +190,7 @@ def _plan_joint(args, fit, joint):
 
     try:
         model = fit.model(joint.motor or None, rung=args.rung)
-        desired = servo._leglab._read_desired(joint.desired, model.tick_s)["desired_deg"]
+        desired = servo.read_desired(joint.desired, model.tick_s)
     except (ValueError, OSError) as e:
         raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
     outside = (desired < joint.min_deg) | (desired > joint.max_deg)
@@ -199,7 +200,7 @@ def _plan_joint(args, fit, joint):
             f"servo {joint.id}: --desired '{joint.desired}': the desired angle {desired[at]:g} "
             f"deg at tick {at} is outside [--min-deg, --max-deg] = [{joint.min_deg:g}, "
             f"{joint.max_deg:g}]: nothing moved")
-    drive = {"kp": joint.kp, "mass_kg": joint.mass_kg, "length_m": joint.length_m}
+    drive = dict(kp=joint.kp, mass_kg=joint.mass_kg, length_m=joint.length_m)
     limits = (joint.min_deg, joint.max_deg)
     if args.lead_ticks and args.method != "direct":
         raise session.SessionError(f"--lead-ticks {args.lead_ticks}: only with --method direct "
@@ -218,7 +219,7 @@ def _load_run_inputs(args):
     on one tick and of one length (SessionError otherwise)."""
     from .. import servo
 
-    js = joints.joints(args, needs=("kp", "mass_kg", "length_m", "desired"))
+    js = joints.joints(args, verb="run")
     try:
         fit = servo.LogFit.load(args.model)
     except (ValueError, OSError) as e:
@@ -270,24 +271,21 @@ def run(args):
 
 
 def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
+    """run.json's content (docs/real-servos.md lists its fields)."""
     all_rows = [r for servo_rows in rows.values() for r in servo_rows]
     policy = planned[js[0].id][2]
-    per_servo = {str(j.id): {**running.errors(rows[j.id]), "predicted_mae_deg": planned[j.id][3],
-                             "motor": planned[j.id][0].motor, "kp": j.kp, "mass_kg": j.mass_kg,
-                             "length_m": j.length_m, "zero_deg": zeros[j.id],
-                             "limits": {"min_deg": j.min_deg, "max_deg": j.max_deg},
-                             "desired": os.path.abspath(j.desired)} for j in js}
-    return {
-        "method": args.method, "online": args.online, "rung": args.rung,
-        "lead_ticks": args.lead_ticks,
-        "preview_ticks": policy.planner.preview_ticks if policy.planner else None,
+    per_servo = {str(j.id): dict(**running.errors(rows[j.id]), predicted_mae_deg=planned[j.id][3],
+                                 **joints.settings(j, planned[j.id][0].motor, zeros[j.id]))
+                 for j in js}
+    return dict(
+        method=args.method, online=args.online, rung=args.rung, lead_ticks=args.lead_ticks,
+        preview_ticks=policy.planner.preview_ticks if policy.planner else None,
         **running.errors(all_rows),
-        "predicted_mae_deg": float(np.mean([planned[j.id][3] for j in js])),
-        **stats.summary(), "tick_s": planned[js[0].id][0].tick_s,
-        **{k: counts.get(k, 0) for k in ("instructions", "retries", "errors", "missing",
-                                          "corrupt", "stale")},
-        "ended": "completed" if ended is None else session.quit_reason(ended),
-        "model": os.path.abspath(args.model), "servos": per_servo, "setup": changes}
+        predicted_mae_deg=float(np.mean([planned[j.id][3] for j in js])),
+        **stats.summary(), tick_s=planned[js[0].id][0].tick_s,
+        **{k: counts.get(k, 0) for k in vars(BusStats())},
+        ended="completed" if ended is None else session.quit_reason(ended),
+        model=os.path.abspath(args.model), servos=per_servo, setup=changes)
 
 
 def emulate(args):
