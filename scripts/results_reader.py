@@ -75,7 +75,10 @@ def column_problems(name, header, columns):
 def json_fields(value, path=()):
     """The leaf fields of a parsed JSON value, each as its path of keys; the elements of a list of
     objects share one path, the list's key with `[]` appended ("logs[]"); a list of numbers or
-    text is a leaf."""
+    text is a leaf, an empty list none (it holds no field: identify's folds without
+    cross-validation)."""
+    if isinstance(value, list) and not value:
+        return []
     if isinstance(value, dict):
         return [field for key, v in value.items() for field in json_fields(v, path + (key,))]
     if isinstance(value, list) and any(isinstance(v, dict) for v in value):

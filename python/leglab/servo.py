@@ -193,11 +193,20 @@ class LogFit:
         self._text = text
         self._source = source
         self.json = _json.loads(text)
+        if not isinstance(self.json, dict):
+            raise ValueError(f"{source}: expected a JSON object (a log_fit.json), got "
+                             f"{type(self.json).__name__}")
+        for field, kind in (("models", dict), ("folds", list), ("logs", list)):
+            if not isinstance(self.json.get(field, kind()), kind):
+                raise ValueError(f"{source}: {field}: expected a JSON "
+                                 f"{'object' if kind is dict else 'array'}, got "
+                                 f"{type(self.json[field]).__name__}")
         self.markdown = markdown
         self.curves = curves or {}
         self.folds = self.json.get("folds", [])
         self.rows = self.json.get("logs", [])
-        self.motors = sorted(self.json.get("models", {}).get("extended", {}))
+        extended = self.json.get("models", {}).get("extended", {})
+        self.motors = sorted(extended) if isinstance(extended, dict) else []
 
     @classmethod
     def load(cls, path):

@@ -4,6 +4,7 @@ Each ends as the contract says: a retry that is counted and never a wrong angle,
 with one line naming the port and the servo, the torque off and the log kept."""
 
 import json
+import math
 import os
 import signal
 import subprocess
@@ -193,7 +194,8 @@ def test_usage_errors_are_one_line_and_exit_2():
     assert "servo ids are distinct integers" in done.stderr
 
 
-def test_sigterm_on_a_real_port_turns_the_torque_off_and_keeps_the_log(fitted, tmp_path):
+@pytest.mark.parametrize("stop", [signal.SIGTERM, signal.SIGHUP])
+def test_a_signal_on_a_real_port_turns_the_torque_off_and_keeps_the_log(fitted, tmp_path, stop):
     emulate = subprocess.Popen(
         [sys.executable, "-m", "leglab.bus", "emulate", "--protocol", "dynamixel", "--motor",
          "xl330-m288", "--ids", "1", "--mass-kg", "0.49", "--length-m", "0.1"],
@@ -206,14 +208,16 @@ def test_sigterm_on_a_real_port_turns_the_torque_off_and_keeps_the_log(fitted, t
              "--model", fitted / "fit" / "log_fit.json", "--desired", fitted / "pick.csv",
              "--method", "model_based", "--online", "--zero-deg", "180", "--out", tmp_path],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=PYTHON_ENV)
-        # Homing from where the load hangs takes 1 s; the motion 3.1 s: stop in the motion.
+        # After the set-up (its line), homing holds 1 s, then the motion takes 3.1 s: stop in
+        # the motion.
+        assert run.stdout.readline().startswith("servo 1: ")
         time.sleep(2.5)
-        run.send_signal(signal.SIGTERM)
+        run.send_signal(stop)
         _, err = run.communicate(timeout=30)
         assert run.returncode == 2, err
         assert err.strip().splitlines() == [
-            "leglab.bus run: stopped by SIGTERM; the torque is off and the log is written up "
-            "to there"]
+            f"leglab.bus run: stopped by {stop.name}; the torque is off and the log is written "
+            "up to there"]
         rows = read_csv(tmp_path / "run.csv")
         assert 0 < len(rows["time_s"]) < 620
         scan = python_bus("scan", "--port", port, "--ids", "1", timeout=60)
@@ -223,3 +227,112 @@ def test_sigterm_on_a_real_port_turns_the_torque_off_and_keeps_the_log(fitted, t
     finally:
         emulate.send_signal(signal.SIGTERM)
         emulate.wait(timeout=30)
+
+
+def test_a_limit_of_minus_one_is_a_limit(bench_dir, capsys):
+    args = bus_args(BENCHES["dynamixel"], "emulator:xl330-m288")
+    status = cli.main(["run", *args, "--model", str(bench_dir / "fit" / "log_fit.json"),
+                       "--desired", str(bench_dir / "pick.csv"), "--method", "direct",
+                       "--min-deg", "-40", "--max-deg", "-1", "--out", str(bench_dir / "out")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1
+    assert "is outside [--min-deg, --max-deg] = [-40, -1] deg: nothing moved" in err[0], err
+
+
+def test_a_zero_near_the_encoders_seam_reads_across_it_and_limits_the_motion(bench_dir, capsys):
+    """An STS3215 (one turn of 4096 counts, position limits 0 and 4095) whose load hangs at
+    1 deg of its scale: the zero is found there, the readings either side of it are the angles
+    next to it, and a motion below it, past the limit at 0, is refused before anything moves."""
+    desired = bench_dir / "up.csv"
+    with open(desired, "w") as f:  # 0 -> 40 -> 0 deg over 2 s: above the zero only
+        f.write("time_s,desired_deg\n")
+        f.writelines(f"{k * 0.005!r},{40 * math.sin(math.pi * k / 400)!r}\n" for k in range(401))
+    protocol, _, _, kp, mass, length = BENCHES["feetech"]
+    common = ["--protocol", protocol, "--id", "1", "--kp", str(kp), "--mass-kg", str(mass),
+              "--length-m", str(length), "--model", str(bench_dir / "fit" / "log_fit.json"),
+              "--method", "direct", "--out", str(bench_dir / "out")]
+    for hang, motion, status in ((1, desired, 0), (1, bench_dir / "pick.csv", 2)):
+        result = cli.main(["run", "--port", f"emulator:sts3215,hang_deg={hang}", *common,
+                           "--desired", str(motion)])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert result == status, err
+    assert "outside the servo's position limits from its zero = [-0.9" in err[0], err
+    with open(bench_dir / "out" / "run.json") as f:
+        summary = json.load(f)
+    assert summary["servos"]["1"]["zero_deg"] == pytest.approx(1.0, abs=0.1)
+    assert summary["mae_deg"] < 10  # read across the seam, an angle would be 360 deg off
+    # Released 20 deg off a hanging point on the seam itself: it swings across it and comes
+    # to rest within its static friction band, and the zero is found there (not half a turn
+    # away, the mean of readings near 4095 and near 0).
+    from leglab.bus import emulator, session
+    emulated = emulator.make_emulator("feetech", "sts3215", [1], 0.5, 0.12, hang_count=0,
+                                      angle_deg=20.0)
+    clock = lb.VirtualClock()
+    with lb.Bus(lb.VirtualPort(emulated, clock), "feetech") as b:
+        zero = session.find_zero(b, clock, [1], lambda line: None)[1]
+    assert min(zero, 360 - zero) < 10
+    # A reading one count either side of the seam is the angle one count from the zero.
+    assert session.from_count(4095, 0.0) == -360 / 4096
+    assert session.from_count(0, 360 - 360 / 4096) == 360 / 4096
+
+
+@pytest.mark.parametrize("args,words", [
+    (["--port", "emulator:foo"], "unknown servo model 'foo'"),
+    (["--port", "emulator:xl330-m288", "--protocol", "feetech"], "speaks dynamixel, not feetech"),
+    (["--port", "emulator:xl330-m288,angle_deg=nan"], "angle_deg=nan"),
+    (["--port", "emulator:xl330-m288,drop_rate=2"], "drop_rate=2"),
+    (["--port", "emulator:xl330-m288", "--out", ""], "--out: an empty path"),
+])
+def test_bad_emulator_specs_and_paths_are_one_line_and_exit_2(args, words, capsys, tmp_path):
+    base = ["record", "--port", "emulator:xl330-m288", "--id", "1", "--motor", "m", "--kp",
+            "400", "--mass-kg", "0.1", "--length-m", "0.1", "--trajectory", "steps", "--out",
+            str(tmp_path / "logs")]
+    for flag_at in range(0, len(args), 2):  # the case's flags replace or join the base's
+        flag = args[flag_at]
+        if flag in base:
+            base[base.index(flag) + 1] = args[flag_at + 1]
+        else:
+            base += args[flag_at:flag_at + 2]
+    assert cli.main(base) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+
+
+def test_a_model_file_of_the_wrong_shape_is_one_line(bench_dir, capsys, tmp_path):
+    for text in ("[]", '{"models": 5}'):
+        (tmp_path / "bad.json").write_text(text)
+        args = bus_args(BENCHES["dynamixel"], "emulator:xl330-m288")
+        assert cli.main(["run", *args, "--model", str(tmp_path / "bad.json"), "--desired",
+                         str(bench_dir / "pick.csv"), "--method", "direct", "--out",
+                         str(tmp_path / "out")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("leglab.bus run: --model: "), err
+
+
+def test_an_output_that_is_not_a_regular_file_is_refused_before_the_port_is_opened(
+        bench_dir, capsys, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    os.mkfifo(out / "run.csv")
+    args = bus_args(BENCHES["dynamixel"], "/dev/no-such-port")
+    assert cli.main(["run", *args, "--model", str(bench_dir / "fit" / "log_fit.json"),
+                     "--desired", str(bench_dir / "pick.csv"), "--method", "direct",
+                     "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"leglab.bus run: '{out / 'run.csv'}': exists and is not a regular file; "
+                   "leglab replaces only its own files"]
+
+
+def test_a_port_that_fails_is_a_bus_error_naming_it():
+    class Unplugged:
+        name, timeout = "/dev/ttyUSB9", 0.02
+
+        def reset_input_buffer(self):
+            raise OSError(5, "Input/output error")
+
+        def close(self):
+            pass
+
+    with lb.Bus(Unplugged(), "dynamixel") as bus:
+        with pytest.raises(lb.BusError, match=r"^port /dev/ttyUSB9: lost: Input/output error$"):
+            bus.ping(1)

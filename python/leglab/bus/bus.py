@@ -121,6 +121,7 @@ class Bus:
         self.baud = baud
         self.retries = retries
         self.stats = BusStats()
+        self.torque_on = set()  # ids this Bus has turned the torque on in, and not off since
         self._tables = {}
         if isinstance(port, (str, os.PathLike)):
             self.port_name = os.fspath(port)
@@ -153,7 +154,7 @@ class Bus:
 
     @timeout_s.setter
     def timeout_s(self, value):
-        self._port.timeout = value
+        self._port_call("__setattr__", "timeout", value)
 
     # ---- the servos' tables ----
 
@@ -222,7 +223,7 @@ class Bus:
         """Item `item` of servo `servo_id` as the register holds it (an int)."""
         it = self.table(servo_id).item(item)
         (reply,) = self._transact(self.protocol.read(servo_id, it.address, it.size), [servo_id],
-                                  f"read {item}")
+                                  f"read {item}", size=it.size)
         return tables.decode(it, reply.params)
 
     def read(self, servo_id, item):
@@ -230,11 +231,13 @@ class Bus:
         it = self.table(servo_id).item(item)
         return tables.to_units(it, self.read_raw(servo_id, item))
 
-    def write_raw(self, servo_id, item, raw):
-        """Writes `raw` (register counts) to item `item` of servo `servo_id`."""
+    def write_raw(self, servo_id, item, raw, check=True):
+        """Writes `raw` (register counts) to item `item` of servo `servo_id`. check=False: a
+        hardware alert or error in the reply is not raised (the write was answered)."""
         it = self.table(servo_id).item(item)
         self._transact(self.protocol.write(servo_id, it.address, tables.encode(it, raw)),
-                       [servo_id], f"write {item}")
+                       [servo_id], f"write {item}", check=check)
+        self._note_torque(item, {servo_id: raw})
 
     def write(self, servo_id, item, value):
         """Writes `value` (leglab's units) to item `item` of servo `servo_id`."""
@@ -246,7 +249,7 @@ class Bus:
         ids = list(ids)
         it = self._common_item(ids, item)
         replies = self._transact(self.protocol.sync_read(it.address, it.size, ids), ids,
-                                 f"sync read {item}")
+                                 f"sync read {item}", size=it.size)
         return {r.id: tables.decode(it, r.params) for r in replies}
 
     def sync_read(self, ids, item):
@@ -260,11 +263,19 @@ class Bus:
         frame = self.protocol.sync_write(
             it.address, it.size, {i: tables.encode(it, raw) for i, raw in raw_by_id.items()})
         self._send(frame, f"sync write {item}")
+        self._note_torque(item, raw_by_id)
 
     def sync_write(self, item, value_by_id):
         """Writes {id: value} (leglab's units) to `item` in one SYNC_WRITE."""
         it = self._common_item(list(value_by_id), item)
         self.sync_write_raw(item, {i: tables.from_units(it, v) for i, v in value_by_id.items()})
+
+    def _note_torque(self, item, raw_by_id):
+        """Keeps torque_on: the servos whose torque this Bus has turned on (a sync write, which
+        is not answered, counted as done)."""
+        if item == "torque_enable":
+            for servo_id, raw in raw_by_id.items():
+                (self.torque_on.add if raw else self.torque_on.discard)(servo_id)
 
     # ---- the wire ----
 
@@ -279,25 +290,25 @@ class Bus:
                            f"{', '.join(map(str, ids))}: read them one at a time")
         return first
 
-    def _send(self, frame, what):
+    def _port_call(self, method, *args):
+        """The port's `method`(*args); a failure of the port (unplugged, closed, its driver's
+        error) is a BusError naming it."""
         if self._port is None:
-            raise BusError(f"port {self.port_name}: closed ({what})")
-        self.stats.instructions += 1
+            raise BusError(f"port {self.port_name}: closed")
         try:
-            self._port.write(frame)
+            return getattr(self._port, method)(*args)
         except OSError as e:
-            raise BusError(f"port {self.port_name}: lost ({what}): "
+            raise BusError(f"port {self.port_name}: lost: "
                            f"{e.strerror or errno.errorcode.get(e.errno, e)}") from None
-        except Exception as e:  # pyserial's SerialException / SerialTimeoutException
-            raise BusError(f"port {self.port_name}: lost ({what}): {_first_line(e)}") from None
+        except Exception as e:  # pyserial's SerialException, termios.error
+            raise BusError(f"port {self.port_name}: lost: {_first_line(e)}") from None
+
+    def _send(self, frame, what):
+        self.stats.instructions += 1
+        self._port_call("write", frame)
 
     def _read_exact(self, count):
-        try:
-            return self._port.read(count)
-        except OSError as e:
-            raise BusError(f"port {self.port_name}: lost: {e.strerror or e}") from None
-        except Exception as e:  # pyserial's SerialException
-            raise BusError(f"port {self.port_name}: lost: {_first_line(e)}") from None
+        return self._port_call("read", count)
 
     def _read_status(self):
         """One status packet from the port, or None (nothing within the timeout), or raises
@@ -321,16 +332,17 @@ class Bus:
             raise ProtocolError("a reply cut short")
         return self.protocol.decode(bytes(buf + rest), status=True)
 
-    def _transact(self, frame, ids, what, retries=None, check=True):
+    def _transact(self, frame, ids, what, retries=None, check=True, size=None):
         """Sends `frame` and reads one status packet from each of `ids`, in order. A missing or
-        corrupt reply sends it again (at most `retries` times). With `check`, an instruction
-        the servo refuses raises BusError at once, and a hardware alert HardwareError."""
+        corrupt reply (or, with `size`, one whose data is not `size` bytes: an earlier read's,
+        late) sends it again (at most `retries` times). With `check`, an instruction the servo
+        refuses raises BusError at once, and a hardware alert HardwareError."""
         retries = self.retries if retries is None else retries
         problem = ""
         for attempt in range(retries + 1):
             if attempt:
                 self.stats.retries += 1
-            self._port.reset_input_buffer()
+            self._port_call("reset_input_buffer")
             self._send(frame, what)
             replies, problem, bad_id = [], "", ids[0]
             for servo_id in ids:
@@ -350,6 +362,10 @@ class Bus:
                 if reply is _STALE_LIMIT:
                     self.stats.corrupt += 1
                     problem = "was drowned by replies of other servos"
+                    break
+                if size is not None and len(reply.params) != size and not reply.error:
+                    self.stats.corrupt += 1
+                    problem = f"gave {len(reply.params)} bytes where {size} were asked"
                     break
                 replies.append(reply)
             if not problem:

@@ -64,6 +64,8 @@ def _name(text):
 
 def _trajectories(text):
     names = text.split(",")
+    if len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"'{text}' names a trajectory twice")
     for name in names:
         if name not in trajectories.NAMES:
             raise argparse.ArgumentTypeError(
@@ -183,9 +185,13 @@ def _faults(parser):
 def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
     """A VirtualPort and VirtualClock from `--port emulator:MODEL[,key=value...]`; keys:
     drop_rate, corrupt_rate, silent_after_s, silent_ids (1+2), hardware_error_after_s, seed,
-    angle_deg (the load's start), kp (the gain at power-on)."""
+    angle_deg (the load's start), kp (the gain at power-on), hang_deg (where the load hangs on
+    the servo's 0-360 deg scale, default 180)."""
     model, *pairs = spec.split(",")
-    model = _model(model)
+    try:
+        model = _model(model)
+    except argparse.ArgumentTypeError as e:
+        raise session.SessionError(f"--port emulator:{spec}: {e}") from None
     faults, extra = emulator.Faults(), {}
     for pair in pairs:
         key, _, value = pair.partition("=")
@@ -193,17 +199,30 @@ def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
             if key == "silent_ids":
                 faults.silent_ids = tuple(int(v) for v in value.split("+"))
             elif key in ("drop_rate", "corrupt_rate", "silent_after_s", "hardware_error_after_s"):
-                setattr(faults, key, float(value))
+                number = float(value)
+                top = 1.0 if key.endswith("rate") else math.inf
+                if not 0 <= number <= top:
+                    raise ValueError(f"{value} is outside [0, {top:g}]")
+                setattr(faults, key, number)
             elif key == "seed":
                 faults.seed = int(value)
+            elif key == "hang_deg":  # where the load hangs on the servo's 0-360 scale
+                extra["hang_count"] = round(float(value) * 4096 / 360)
+                if not 0 <= extra["hang_count"] < 4096:
+                    raise ValueError(f"{value} is outside [0, 360) deg")
             elif key in ("angle_deg", "kp"):
                 extra[key] = float(value) if key == "angle_deg" else int(value)
+                if not math.isfinite(extra[key]) or abs(extra[key]) > 100000:
+                    raise ValueError(f"{value} is not a finite number up to 100000")
             else:
                 raise ValueError(f"unknown key '{key}'")
         except ValueError as e:
             raise session.SessionError(f"--port emulator:{spec}: {pair}: {e}") from None
-    emulated = emulator.make_emulator(protocol, model, ids, mass_kg, length_m, baud=baud,
-                                      faults=faults, loads=loads, **extra)
+    try:
+        emulated = emulator.make_emulator(protocol, model, ids, mass_kg, length_m, baud=baud,
+                                          faults=faults, loads=loads, **extra)
+    except ValueError as e:
+        raise session.SessionError(f"--port emulator:{spec}: {e}") from None
     clock = emulator.VirtualClock()
     return emulator.VirtualPort(emulated, clock, name=f"emulator:{model}"), clock
 
@@ -239,6 +258,7 @@ def main(argv=None):
     try:
         return getattr(verbs, args.verb)(args)
     except (session.SessionError, bus_module.BusError, session.Stopped) as e:
+        # Before the motion (set-up, zero, a refusal): nothing recorded yet.
         print(f"leglab.bus {args.verb}: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -60,11 +60,14 @@ class EmulatedServo:
     mass_kg, length_m: the pendulum load (a point mass on an arm; 0 deg hanging down).
     kp: the gain register at power-on (None: the table's factory default).
     angle_deg: the load's angle from hanging at power-on.
+    hang_count: the position count at which the load hangs (its encoder's mounting).
     """
 
-    def __init__(self, table, spec, servo_id, mass_kg, length_m, kp=None, angle_deg=0.0):
+    def __init__(self, table, spec, servo_id, mass_kg, length_m, kp=None, angle_deg=0.0,
+                 hang_count=HANG_COUNT):
         self.table = table
         self.id = servo_id
+        self.hang_count = hang_count
         size = max(it.address + it.size for it in table.items.values())
         self.memory = bytearray(size)
         for it in table.items.values():
@@ -119,12 +122,24 @@ class EmulatedServo:
                 return "access"  # Dynamixel X: the EEPROM area is locked while the torque is on
         new = bytearray(self.memory)
         new[address:end] = data
-        if "torque_enable" in (it.name for it in touched):
+        names = [it.name for it in touched]
+        if "goal_position" in names and not self._within_limits(new):
+            return "limit"  # Dynamixel: data limit error; a goal beyond the limits is not taken
+        if "torque_enable" in names:
             it = self.table.items["torque_enable"]
             if tables.decode(it, bytes(new[it.address:it.address + it.size])) not in (0, 1):
                 return "range"
         self.memory[:] = new
         return ""
+
+    def _within_limits(self, memory):
+        """Whether Goal Position in `memory` is within the position limit registers (limits
+        that hold no range, Feetech's multi-turn 0 and 0, take any goal)."""
+        def value(name):
+            it = self.table.items[name]
+            return tables.decode(it, bytes(memory[it.address:it.address + it.size]))
+        low, high = value("min_position_limit"), value("max_position_limit")
+        return high <= low or low <= value("goal_position") <= high
 
     # ---- physics ----
 
@@ -140,7 +155,8 @@ class EmulatedServo:
         self._last_s = max(self._last_s, now_s)
         goal = self._goal(dt)
         on = self.get("torque_enable") != 0 and not hardware_fault
-        self.physics.advance(now_s, goal if on else None, self.get("position_p_gain"), HANG_COUNT)
+        self.physics.advance(now_s, goal if on else None, self.get("position_p_gain"),
+                             self.hang_count)
         self._update_present(hardware_fault)
 
     def _goal(self, dt):
@@ -158,7 +174,7 @@ class EmulatedServo:
 
     def _update_present(self, hardware_fault):
         p = self.physics
-        count = p.position_count(HANG_COUNT)
+        count = p.position_count(self.hang_count)
         if self.table.protocol == "feetech":
             count %= 4096  # a single-turn encoder
         self.set("present_position", count)
@@ -345,7 +361,7 @@ def _corrupted(frame, rng):
 
 
 def make_emulator(protocol, model, ids, mass_kg, length_m, kp=None, baud=1_000_000,
-                  faults=None, angle_deg=0.0, loads=None):
+                  faults=None, angle_deg=0.0, loads=None, hang_count=HANG_COUNT):
     """An Emulator of servos `ids`, each a `model` (a key of tables.TABLES and physics.SPECS)
     with a pendulum of `mass_kg` at `length_m`; `loads` = {id: (mass_kg, length_m)} gives some
     servos their own."""
@@ -354,7 +370,8 @@ def make_emulator(protocol, model, ids, mass_kg, length_m, kp=None, baud=1_000_0
         raise ValueError(f"unknown servo model {model!r} (valid: {known})")
     loads = loads or {}
     servos = [EmulatedServo(tables.TABLES[model], physics.SPECS[model], i,
-                            *loads.get(i, (mass_kg, length_m)), kp=kp, angle_deg=angle_deg)
+                            *loads.get(i, (mass_kg, length_m)), kp=kp, angle_deg=angle_deg,
+                            hang_count=hang_count)
               for i in ids]
     return Emulator(protocol, servos, baud, faults)
 

@@ -10,13 +10,20 @@ from .session import SessionError
 
 def out_folder(path):
     """`path` as an output folder: made when missing (its parent must exist); SessionError
-    when it is something other than a folder."""
+    when it is something other than a folder, or cannot be written."""
     path = os.fspath(path)
+    if not path:
+        raise SessionError("--out: an empty path")
     if os.path.lexists(path) and not os.path.isdir(path):
         raise SessionError(f"--out '{path}': exists and is not a folder")
     if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
         raise SessionError(f"--out '{path}': its parent folder does not exist")
-    os.makedirs(path, exist_ok=True)
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise SessionError(f"--out '{path}': cannot be made: {e.strerror}") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise SessionError(f"--out '{path}': cannot be written")
     return path
 
 
@@ -28,17 +35,33 @@ def check_writable(path):
                            "its own files")
 
 
+def check_writable_all(folder, paths):
+    """check_writable on every path a session will write into `folder`, before it starts:
+    what it records is never lost at the end to a name it may not replace."""
+    for path in paths:
+        check_writable(path)
+
+
 def write_text(path, text):
-    """Writes `text` to `path` all at once: a failure leaves no file, or the old one as it was."""
+    """Writes `text` to `path` all at once, with the permissions the umask gives a new file: a
+    failure leaves no file, or the old one as it was (SessionError naming it)."""
     check_writable(path)
     folder = os.path.dirname(os.path.abspath(path))
-    fd, staging = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=folder)
+    staging = None
     try:
+        fd, staging = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=folder)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as out:
             out.write(text)
         os.replace(staging, path)
+    except OSError as e:
+        if staging and os.path.exists(staging):
+            os.unlink(staging)
+        raise SessionError(f"'{path}': cannot be written: {e.strerror}") from None
     except BaseException:
-        if os.path.exists(staging):
+        if staging and os.path.exists(staging):
             os.unlink(staging)
         raise
 

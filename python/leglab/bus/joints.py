@@ -9,7 +9,6 @@ from a small YAML file (`--servos FILE`), the flags filling what an entry leaves
 """
 
 import dataclasses
-import math
 import os
 from dataclasses import dataclass, field
 
@@ -23,24 +22,24 @@ def _setting(default, *, low=None, high=None, needed_by=("record", "run")):
 
 @dataclass
 class Joint:
-    """One servo's settings (angles in degrees from its zero)."""
+    """One servo's settings (angles in degrees from its zero; None: not given)."""
 
     id: int
-    motor: str = _setting("", needed_by=("record",))  # the model's motor name, the logs' motor
-    kp: int = _setting(-1, low=0, high=16383)  # the position P gain, register units (-1: not given)
-    mass_kg: float = _setting(math.nan, low=0, high=1000)  # the pendulum: a mass on an arm
-    length_m: float = _setting(math.nan, low=0, high=10)
-    zero_deg: float = _setting(math.nan, low=0, high=360, needed_by=())  # NaN: found limp
+    motor: str = _setting(None, needed_by=("record",))  # the model's motor name, the logs' motor
+    kp: int = _setting(None, low=0, high=16383)  # the position P gain, in register units
+    mass_kg: float = _setting(None, low=0, high=1000)  # the pendulum: a mass on an arm
+    length_m: float = _setting(None, low=0, high=10)
+    zero_deg: float = _setting(None, low=0, high=360, needed_by=())  # None: found limp
     min_deg: float = _setting(-180.0, low=-180, high=180, needed_by=())  # run: requests' range
     max_deg: float = _setting(180.0, low=-180, high=180, needed_by=())
-    desired: str = _setting("", needed_by=("run",))  # run: its motion (default: --desired)
+    desired: str = _setting(None, needed_by=("run",))  # run: its motion (default: --desired)
 
 
 _SETTINGS = {f.name: f for f in dataclasses.fields(Joint) if f.name != "id"}
 
 
 def _given(value):
-    return value not in ("", -1, None) and not (isinstance(value, float) and math.isnan(value))
+    return value is not None and value != ""
 
 
 def _entry(servo_id, entry, source, folder):
@@ -127,6 +126,6 @@ def settings(joint, motor, zero_deg):
     """`joint` as run.json records it: its settings, its model's motor and the zero it ran at,
     the desired motion's path made absolute."""
     values = dataclasses.asdict(joint)
-    values.update(motor=motor, zero_deg=zero_deg, desired=os.path.abspath(joint.desired))
+    values.update(motor=motor, zero_deg=zero_deg, desired=os.path.abspath(joint.desired or ""))
     del values["id"]
     return values

@@ -3,7 +3,6 @@ form `identify` and `leglab.servo.read_log` read with no extra keys (BAM's JSON 
 gain, load and trajectory travel in the file)."""
 
 import math
-import os
 
 from . import files, session, trajectories
 
@@ -17,9 +16,12 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
     """Servos `ids` through trajectory `name`, one tick of `tick_s` at a time, from its first
     angle. Returns ({id: [(t_s, measured_deg, request_deg, torque_on)]}, TickStats, the
     exception that ended it early or None)."""
-    start_deg = trajectories.start_deg(name)
-    session.move_to(bus, clock, ids, zeros, {i: start_deg for i in ids}, tick_s)
     samples = {i: [] for i in ids}
+    try:
+        start_deg = trajectories.start_deg(name)
+        session.move_to(bus, clock, ids, zeros, {i: start_deg for i in ids}, tick_s)
+    except (Exception, session.Stopped) as e:  # before the trajectory: no samples
+        return samples, session.TickStats(tick_s), e
     torque = [True]
 
     def tick(_k, t_s, _skipped):
@@ -39,7 +41,7 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
     try:
         with session.LoopTimeout(bus, tick_s):
             stats = session.run_ticks(clock, tick_s, count, tick)
-    except Exception as e:  # a fault or a signal: the samples so far are kept
+    except (Exception, session.Stopped) as e:  # a fault or a signal: the samples are kept
         stats = session.TickStats(tick_s)
         stats.starts_s = [row[0] for row in next(iter(samples.values()))]
         stats.late = [0] * len(stats.starts_s)
@@ -57,13 +59,13 @@ def log_json(samples, meta):
     return {**meta, "entries": entries}
 
 
-def write_logs(out, samples, stats, meta_by_id, bus):
-    """One log per servo into folder `out`; returns the paths."""
-    paths = []
+def write_logs(paths, samples, stats, meta_by_id, bus):
+    """One log per servo, at paths[(trajectory, id)]; returns the paths written."""
+    written = []
     for servo_id, rows in samples.items():
         meta = dict(meta_by_id[servo_id])
         meta.update(stats.summary(), retries=bus.stats.retries)
-        path = os.path.join(out, log_name(meta["trajectory"], meta["kp"], servo_id))  # BAM's keys
+        path = paths[(meta["trajectory"], servo_id)]  # BAM's key
         files.write_json(path, log_json(rows, meta))
-        paths.append(path)
-    return paths
+        written.append(path)
+    return written

@@ -88,7 +88,7 @@ def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s
     try:
         with session.LoopTimeout(bus, tick_s):
             stats = session.run_ticks(clock, tick_s, count, tick)
-    except Exception as e:  # a fault or a signal (Stopped): what ran so far is kept
+    except (Exception, session.Stopped) as e:  # a fault or a signal: what ran is kept
         stopped.append(e)
         stats = _partial_stats(tick_s, rows)
     return rows, stats, (stopped[0] if stopped else None)
@@ -118,6 +118,12 @@ def csv_text(rows, late):
     for row, is_late in zip(rows, late):
         lines.append(",".join(files.number(v) for v in row) + f",{is_late}")
     return "\n".join(lines) + "\n"
+
+
+def output_paths(out, ids):
+    """The files `run` writes into `out` for servos `ids`."""
+    names = ["run.csv"] if len(ids) == 1 else [f"run_id{i}.csv" for i in ids]
+    return [os.path.join(out, name) for name in names + ["run.json"]]
 
 
 def write_run(out, rows, stats, summary):

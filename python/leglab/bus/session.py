@@ -6,6 +6,7 @@ Angles here are degrees from the zero (the load hanging still, the shipped logs'
 unless named `*_servo_deg` (the servo's own 0-360 deg scale over 4096 counts).
 """
 
+import contextlib
 import ctypes
 import gc
 import math
@@ -24,8 +25,10 @@ class SessionError(Exception):
     """The user's input or the bench refuses the session: one line, exit status 2."""
 
 
-class Stopped(Exception):
-    """SIGINT or SIGTERM arrived: the session ends as on a fault (torque off, log kept)."""
+class Stopped(BaseException):
+    """A signal to stop arrived (SIGINT, SIGTERM, SIGHUP, SIGQUIT): the session ends as on a
+    fault, torque off and log kept. A BaseException, as KeyboardInterrupt is, so that no
+    `except Exception` on the way (pyserial's, ours) takes it for a fault of the bus."""
 
 
 # ---- set-up ----
@@ -108,13 +111,16 @@ def find_zero(bus, clock, ids, say, settle_s=0.5, timeout_s=15.0):
     bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
     window = max(2, round(settle_s / 0.02))
     history = {i: [] for i in ids}
+    first = None
     start = clock.now()
     while True:
         raw = bus.sync_read_raw(ids, "present_position")
-        for i in ids:
-            history[i] = (history[i] + [raw[i]])[-window:]
+        first = first or dict(raw)
+        for i in ids:  # counts from the first reading, across the encoder's 0/4096 seam
+            history[i] = (history[i] + [first[i] + wrapped(raw[i] - first[i])])[-window:]
         if all(len(h) == window and max(h) - min(h) <= 1 for h in history.values()):
-            zeros = {i: DEG_PER_COUNT * statistics.fmean(h) for i, h in history.items()}
+            zeros = {i: DEG_PER_COUNT * (statistics.fmean(h) % COUNTS_PER_REV)
+                     for i, h in history.items()}
             say("zero (the load hanging still, torque off): " + ", ".join(
                 f"servo {i} at {z:.2f} deg" for i, z in zeros.items()))
             return zeros
@@ -126,14 +132,34 @@ def find_zero(bus, clock, ids, say, settle_s=0.5, timeout_s=15.0):
         clock.sleep(0.02)
 
 
+def wrapped(counts):
+    """`counts` (a difference of positions) within half a turn: [-2048, 2048)."""
+    return (counts + COUNTS_PER_REV // 2) % COUNTS_PER_REV - COUNTS_PER_REV // 2
+
+
 def to_count(angle_deg, zero_servo_deg):
-    """The goal count of `angle_deg` from the zero."""
+    """The goal count of `angle_deg` from the zero (on the servo's scale: the caller keeps it
+    within the servo's position limits, position_limits_deg)."""
     return round((angle_deg + zero_servo_deg) / DEG_PER_COUNT)
 
 
 def from_count(count, zero_servo_deg):
-    """The angle from the zero of a position count, deg."""
-    return count * DEG_PER_COUNT - zero_servo_deg
+    """The angle from the zero of a position count, deg, within half a turn of it: a reading
+    across the encoder's 0/4096 seam is the angle next to the zero, not a turn away."""
+    offset = count - zero_servo_deg / DEG_PER_COUNT
+    return (offset - COUNTS_PER_REV * math.floor(offset / COUNTS_PER_REV + 0.5)) * DEG_PER_COUNT
+
+
+def position_limits_deg(bus, servo_id, zero_servo_deg):
+    """The servo's own position limits (its min/max position registers), as angles from the
+    zero: the range a goal must stay in. Limits that hold no range (Feetech's 0, 0 of its
+    multi-turn mode) count as one whole turn."""
+    low = bus.read_raw(servo_id, "min_position_limit")
+    high = bus.read_raw(servo_id, "max_position_limit")
+    if high <= low:
+        low, high = 0, COUNTS_PER_REV - 1
+    zero = zero_servo_deg / DEG_PER_COUNT
+    return (low - zero) * DEG_PER_COUNT, (high - zero) * DEG_PER_COUNT
 
 
 def torque_on_where_it_is(bus, ids):
@@ -161,16 +187,22 @@ def move_to(bus, clock, ids, zeros, target_deg, tick_s, speed_deg_s=60.0, settle
 
 def torque_off(bus, ids, say):
     """Torque off on every servo of `ids` that answers; never raises (the way out of a fault).
-    A sync write first (one packet), then each servo alone (a write that is answered)."""
+    A sync write first (one packet), then each servo alone (a write that is answered; a
+    hardware alert in its reply does not mean the write failed). Returns the ids whose torque
+    this session turned on and that it could not reach."""
+    was_on = set(bus.torque_on)
     try:
         bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
     except Exception:  # the port itself may be gone: each is tried below
         pass
+    unreached = []
     for servo_id in ids:
         try:
-            bus.write_raw(servo_id, "torque_enable", 0)
-        except Exception as e:  # a silent servo: say so and go on to the others
-            say(f"torque off: servo {servo_id}: {e}")
+            bus.write_raw(servo_id, "torque_enable", 0, check=False)
+        except Exception:  # a silent servo: go on to the others
+            if servo_id in was_on:
+                unreached.append(servo_id)
+    return unreached
 
 
 # ---- the tick ----
@@ -291,23 +323,67 @@ class RealTime:
                 pass
 
 
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT)
+"""The signals that end a session as a fault does: Ctrl-C, kill, a closed terminal, Ctrl-\\."""
+
+
 class StopOnSignal:
-    """SIGINT and SIGTERM raise Stopped in the loop while entered (the handlers restored on
-    leaving), so that the torque goes off and the log is written on the way out."""
+    """While entered, STOP_SIGNALS end the session as a fault does: the first one raises
+    Stopped where the session is, so that the torque goes off and the log is written on the
+    way out. Inside `held()` (a file being written) a signal waits until the block ends; after
+    `finish()` (the way out under way) signals are noted and ignored. The handlers are restored
+    on leaving."""
+
+    def __init__(self):
+        self._saved = {}
+        self.unreached = []  # set by the session: servos whose torque could not go off
+        self._holding = 0
+        self._pending = None
+        self._finished = False
 
     def __enter__(self):
-        self._saved = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+        self._saved = {s: signal.getsignal(s) for s in STOP_SIGNALS}
         for s in self._saved:
-            signal.signal(s, self._raise)
+            signal.signal(s, self._handle)
         return self
 
-    @staticmethod
-    def _raise(signum, _frame):
+    def _handle(self, signum, _frame):
+        if self._finished:
+            return
+        if self._holding:
+            self._pending = self._pending or signum
+            return
+        self._finished = True
         raise Stopped(f"stopped by {signal.Signals(signum).name}")
+
+    @contextlib.contextmanager
+    def held(self):
+        """A block no signal interrupts: one that arrives in it is raised when it ends."""
+        self._holding += 1
+        try:
+            yield
+        finally:
+            self._holding -= 1
+        if not self._holding and self._pending is not None and not self._finished:
+            self._finished = True
+            raise Stopped(f"stopped by {signal.Signals(self._pending).name}")
+
+    def finish(self):
+        """From now on signals are ignored: the torque is going off and the log being written."""
+        self._finished = True
 
     def __exit__(self, *exc):
         for s, handler in self._saved.items():
             signal.signal(s, handler)
+
+
+def torque_words(unreached):
+    """What became of the torque, for the session's last line."""
+    if not unreached:
+        return "the torque is off"
+    them = ", ".join(map(str, unreached))
+    return (f"the torque is off but in servo(s) {them}, which did not answer: cut their power "
+            "now")
 
 
 def quit_reason(error):

@@ -1,7 +1,6 @@
 """The bodies of `python3 -m leglab.bus`'s verbs (the flags are cli.py's)."""
 
 import glob
-import math
 import os
 import signal
 import sys
@@ -103,37 +102,44 @@ def _prepare(bus, clock, js, say_line):
                                        f"most {most}")
     session.check_health(bus, ids)
     changes = session.set_up(bus, ids, {j.id: j.kp for j in js}, say_line)
-    zeros = {j.id: j.zero_deg for j in js if not math.isnan(j.zero_deg)}
+    zeros = {j.id: j.zero_deg for j in js if j.zero_deg is not None}
     unknown = [i for i in ids if i not in zeros]
     if unknown:
         zeros.update(session.find_zero(bus, clock, unknown, say_line))
     return zeros, changes
 
 
-def _session(bus, clock, args, ids, body):
-    """Runs `body()` with the servos' torque turned off however it ends, real time asked for
-    and signals caught; returns what body returns."""
+def _session(bus, clock, args, ids, body, stop):
+    """Runs `body()` with real time asked for; the torque goes off however it ends (then
+    `stop` ignores further signals, so that the log is written). Returns what body returns;
+    stop.unreached: the servos whose torque could not be turned off."""
     try:
-        with session.StopOnSignal(), session.RealTime(not args.no_realtime) as rt:
+        with session.RealTime(not args.no_realtime) as rt:
             if rt.warning and not isinstance(clock, emulator.VirtualClock):
                 say(rt.warning)
             return body()
     finally:
-        # A second signal must not cut the way out short: held until the torque is off.
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-        try:
-            session.torque_off(bus, ids, say)
-        finally:
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})
+        stop.finish()
+        stop.unreached = session.torque_off(bus, ids, say)
 
 
-def _ended(verb, ended, what):
-    """The exit status of a session that `ended` (None: completed), its line said."""
-    if ended is None:
+def _ended(verb, ended, what, unreached):
+    """The exit status of a session that `ended` (None: completed), its one line said."""
+    if ended is None and not unreached:
         return 0
-    print(f"leglab.bus {verb}: {session.quit_reason(ended)}; the torque is off and {what} "
+    reason = "completed" if ended is None else session.quit_reason(ended)
+    print(f"leglab.bus {verb}: {reason}; {session.torque_words(unreached)} and {what} "
           "written up to there", file=sys.stderr)
-    return 2 if isinstance(ended, (BusError, session.Stopped)) else 1
+    return 2 if ended is None or isinstance(ended, (BusError, session.SessionError,
+                                                     session.Stopped)) else 1
+
+
+def _warn_latency(args):
+    """A USB adapter's latency timer above 1 ms, said before a session (scan explains it)."""
+    latency = latency_timer_ms(args.port)
+    if latency is not None and latency > 1:
+        say(f"warning: the USB adapter's latency timer is {latency} ms: each reply waits up to "
+            "it (python3 -m leglab.bus scan says how to set 1 ms)")
 
 
 def record(args):
@@ -141,27 +147,32 @@ def record(args):
     js = joints.joints(args, verb="record")
     ids = [j.id for j in js]
     out = files.out_folder(args.out)
+    paths = {(name, j.id): os.path.join(out, recording.log_name(name, j.kp, j.id))
+             for name in args.trajectory for j in js}
+    files.check_writable_all(out, paths.values())
     bus, clock = open_bus(args, js)
+    _warn_latency(args)
     written = []
-    with bus:
-        zeros, changes = _prepare(bus, clock, js, say)
+    with bus, session.StopOnSignal() as stop:
 
         def body():
+            zeros, changes = _prepare(bus, clock, js, say)
             for name in args.trajectory:
                 samples, stats, ended = recording.record_trajectory(
                     bus, clock, ids, name, args.tick_s, zeros, say)
-                meta = {j.id: _log_meta(args, bus, name, j, zeros[j.id], changes, ended)
-                        for j in js}
-                if any(samples.values()):
-                    written.extend(recording.write_logs(out, samples, stats, meta, bus))
+                with stop.held():
+                    meta = {j.id: _log_meta(args, bus, name, j, zeros[j.id], changes, ended)
+                            for j in js}
+                    if any(samples.values()):
+                        written.extend(recording.write_logs(paths, samples, stats, meta, bus))
                 if ended is not None:
                     return ended
             return None
 
-        ended = _session(bus, clock, args, ids, body)
+        ended = _session(bus, clock, args, ids, body, stop)
     for path in written:
         say(f"wrote {path}")
-    return _ended("record", ended, "the logs are")
+    return _ended("record", ended, "the logs are", stop.unreached)
 
 
 def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
@@ -183,9 +194,9 @@ def _supply_volts(bus, servo_id, ended):
     return bus.read(servo_id, "present_input_voltage")
 
 
-def _plan_joint(args, fit, joint):
-    """(model, desired on its tick, Policy, predicted MAE) of one joint; SessionError naming
-    the file, servo or flag, before anything opens the port."""
+def _load_joint(args, fit, joint):
+    """(model, desired on its tick) of one joint, the desired motion inside the joint's
+    limits; SessionError naming the file, servo or flag, before anything opens the port."""
     from .. import servo
 
     try:
@@ -193,81 +204,104 @@ def _plan_joint(args, fit, joint):
         desired = servo.read_desired(joint.desired, model.tick_s)
     except (ValueError, OSError) as e:
         raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
-    outside = (desired < joint.min_deg) | (desired > joint.max_deg)
+    _check_inside(joint, desired, joint.min_deg, joint.max_deg, "[--min-deg, --max-deg]")
+    return model, desired
+
+
+def _check_inside(joint, desired, low, high, what):
+    outside = (desired < low) | (desired > high)
     if outside.any():
         at = int(np.argmax(outside))
         raise session.SessionError(
             f"servo {joint.id}: --desired '{joint.desired}': the desired angle {desired[at]:g} "
-            f"deg at tick {at} is outside [--min-deg, --max-deg] = [{joint.min_deg:g}, "
-            f"{joint.max_deg:g}]: nothing moved")
-    drive = dict(kp=joint.kp, mass_kg=joint.mass_kg, length_m=joint.length_m)
-    limits = (joint.min_deg, joint.max_deg)
+            f"deg at tick {at} is outside {what} = [{low:g}, {high:g}] deg: nothing moved")
+
+
+def _load_run_inputs(args):
+    """The joints and, per joint, its model and desired motion; all on one tick and of one
+    length (SessionError otherwise)."""
+    from .. import servo
+
+    js = joints.joints(args, verb="run")
     if args.lead_ticks and args.method != "direct":
         raise session.SessionError(f"--lead-ticks {args.lead_ticks}: only with --method direct "
                                    "(the planned methods lead by the model's own lag)")
     try:
-        policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
-                                drive, limits, args.lead_ticks)
-        predicted = running.predicted_mae_deg(model, policy, drive)
-    except ValueError as e:
-        raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
-    return model, desired, policy, predicted
-
-
-def _load_run_inputs(args):
-    """The joints and, per joint, its model, desired motion, Policy and predicted error; all
-    on one tick and of one length (SessionError otherwise)."""
-    from .. import servo
-
-    js = joints.joints(args, verb="run")
-    try:
         fit = servo.LogFit.load(args.model)
     except (ValueError, OSError) as e:
         raise session.SessionError(f"--model: {str(e).splitlines()[0]}") from None
-    planned = {j.id: _plan_joint(args, fit, j) for j in js}
-    first = planned[js[0].id]
+    loaded = {j.id: _load_joint(args, fit, j) for j in js}
+    first = loaded[js[0].id]
     for j in js[1:]:
-        model, desired = planned[j.id][:2]
+        model, desired = loaded[j.id]
         if model.tick_s != first[0].tick_s or len(desired) != len(first[1]):
             raise session.SessionError(
                 f"servo {j.id}: its model's tick ({model.tick_s:g} s) and motion ({len(desired)} "
                 f"ticks) must be servo {js[0].id}'s ({first[0].tick_s:g} s, {len(first[1])} "
                 "ticks): one loop drives them all")
-    return js, planned
+    return js, loaded
+
+
+def _plan_joints(args, bus, js, loaded, zeros):
+    """{id: (model, desired, Policy, predicted MAE, (low, high))}: each joint's requests kept
+    within its limits and its servo's own position limits (the desired motion refused, before
+    anything moves, where it leaves them)."""
+    planned = {}
+    for j in js:
+        model, desired = loaded[j.id]
+        servo_low, servo_high = session.position_limits_deg(bus, j.id, zeros[j.id])
+        low, high = max(j.min_deg, servo_low), min(j.max_deg, servo_high)
+        _check_inside(j, desired, low, high, "the servo's position limits from its zero")
+        drive = dict(kp=j.kp, mass_kg=j.mass_kg, length_m=j.length_m)
+        try:
+            policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
+                                    drive, (low, high), args.lead_ticks)
+            predicted = running.predicted_mae_deg(model, policy, drive)
+        except ValueError as e:
+            raise session.SessionError(f"servo {j.id}: {str(e).splitlines()[0]}") from None
+        planned[j.id] = model, desired, policy, predicted, (low, high)
+    return planned
 
 
 def run(args):
     """Drives the servos along their desired motions; writes run.csv and run.json."""
-    js, planned = _load_run_inputs(args)
+    js, loaded = _load_run_inputs(args)
     ids = [j.id for j in js]
-    model = planned[ids[0]][0]
+    tick_s = loaded[ids[0]][0].tick_s
     out = files.out_folder(args.out)
+    files.check_writable_all(out, running.output_paths(out, ids))
     bus, clock = open_bus(args, js)
-    with bus:
-        zeros, changes = _prepare(bus, clock, js, say)
-        policies = {i: planned[i][2] for i in ids}
-        limits = {j.id: (j.min_deg, j.max_deg) for j in js}
-        speeds = {i: args.max_speed_deg_s or planned[i][0].top_speed_deg_s for i in ids}
+    _warn_latency(args)
+    with bus, session.StopOnSignal() as stop:
+        context = {}
 
         def body():
-            session.move_to(bus, clock, ids, zeros,
-                            {i: float(planned[i][1][0]) for i in ids}, model.tick_s)
+            context["zeros"], context["changes"] = _prepare(bus, clock, js, say)
+            planned = context["planned"] = _plan_joints(args, bus, js, loaded, context["zeros"])
+            speeds = {i: args.max_speed_deg_s or planned[i][0].top_speed_deg_s for i in ids}
+            try:
+                session.move_to(bus, clock, ids, context["zeros"],
+                                {i: float(planned[i][1][0]) for i in ids}, tick_s,
+                                speed_deg_s=min(60.0, *speeds.values()))
+            except (Exception, session.Stopped) as e:  # before the motion: no rows
+                return {i: [] for i in ids}, session.TickStats(tick_s), e
             bus.stats.reset()
-            result = running.run_servos(bus, clock, ids, policies, zeros, limits, speeds,
-                                        model.tick_s)
-            in_loop.update(vars(bus.stats))  # before the torque goes off
+            result = running.run_servos(bus, clock, ids, {i: planned[i][2] for i in ids},
+                                        context["zeros"], {i: planned[i][4] for i in ids},
+                                        speeds, tick_s)
+            context["counts"] = dict(vars(bus.stats))  # before the torque goes off
             return result
 
-        in_loop = {}
-        rows, stats, ended = _session(bus, clock, args, ids, body)
-        summary = _run_summary(args, js, planned, rows, stats, ended, in_loop, zeros, changes)
+        rows, stats, ended = _session(bus, clock, args, ids, body, stop)
+        summary = _run_summary(args, js, context["planned"], rows, stats, ended,
+                               context.get("counts", {}), context["zeros"], context["changes"])
         for path in running.write_run(out, rows, stats, summary):
             say(f"wrote {path}")
     say(f"{args.method}{' online' if args.online else ''}: mean abs error "
         f"{summary['mae_deg']:.3f} deg (the model predicted {summary['predicted_mae_deg']:.3f}),"
         f" {summary['ticks']} ticks, {summary['ticks_late']} late, "
         f"{summary['retries']} retries")
-    return _ended("run", ended, "the log is")
+    return _ended("run", ended, "the log is", stop.unreached)
 
 
 def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
