@@ -336,3 +336,27 @@ def test_a_port_that_fails_is_a_bus_error_naming_it():
     with lb.Bus(Unplugged(), "dynamixel") as bus:
         with pytest.raises(lb.BusError, match=r"^port /dev/ttyUSB9: lost: Input/output error$"):
             bus.ping(1)
+
+
+def test_a_trajectory_beyond_the_servos_position_limits_is_refused_before_it_moves(
+        tmp_path, capsys):
+    made = []
+    real = cli.emulated_port
+
+    def keep(*args, **kwargs):
+        port, clock = real(*args, **kwargs)
+        made.append(port.emulator)
+        return port, clock
+
+    import unittest.mock
+    with unittest.mock.patch.object(cli, "emulated_port", keep):
+        status = cli.main(["record", "--port", "emulator:sts3215,hang_deg=30", "--protocol",
+                           "feetech", "--id", "1", "--motor", "s", "--kp", "32", "--mass-kg",
+                           "0.5", "--length-m", "0.12", "--trajectory", "sin_sin", "--out",
+                           str(tmp_path / "logs")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1
+    assert "trajectory sin_sin spans [-100.795, 100.795] deg, beyond the servo's position " \
+           "limits from its zero" in err[0], err
+    assert made[0].servos[1].get("torque_enable") == 0  # never turned on
+    assert os.listdir(tmp_path / "logs") == []

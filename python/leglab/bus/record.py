@@ -38,13 +38,11 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
                                session.from_count(goals[i], zeros[i]), torque_on))
 
     count = math.ceil(trajectories.duration_s(name) / tick_s) + 1
+    stats = session.TickStats(tick_s)
     try:
         with session.LoopTimeout(bus, tick_s):
-            stats = session.run_ticks(clock, tick_s, count, tick)
+            session.run_ticks(clock, tick_s, count, tick, stats)
     except (Exception, session.Stopped) as e:  # a fault or a signal: the samples are kept
-        stats = session.TickStats(tick_s)
-        stats.starts_s = [row[0] for row in next(iter(samples.values()))]
-        stats.late = [0] * len(stats.starts_s)
         return samples, stats, e
     say(f"{name}: {len(stats.starts_s)} ticks, {sum(stats.late)} late, "
         f"{stats.skipped} skipped")

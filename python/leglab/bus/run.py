@@ -85,22 +85,13 @@ def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s
         bus.sync_write_raw("goal_position", goals)
 
     count = len(next(iter(policies.values())).desired)
+    stats = session.TickStats(tick_s)
     try:
         with session.LoopTimeout(bus, tick_s):
-            stats = session.run_ticks(clock, tick_s, count, tick)
+            session.run_ticks(clock, tick_s, count, tick, stats)
     except (Exception, session.Stopped) as e:  # a fault or a signal: what ran is kept
         stopped.append(e)
-        stats = _partial_stats(tick_s, rows)
     return rows, stats, (stopped[0] if stopped else None)
-
-
-def _partial_stats(tick_s, rows):
-    """TickStats of a loop that ended early: the rows' times, work unknown."""
-    stats = session.TickStats(tick_s)
-    first = next(iter(rows.values()))
-    stats.starts_s = [r[0] for r in first]
-    stats.late = [0] * len(first)
-    return stats
 
 
 def errors(rows):

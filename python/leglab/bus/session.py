@@ -233,12 +233,13 @@ def _quantiles_ms(values):
             "max": round(1e3 * ordered[-1], 4)}
 
 
-def run_ticks(clock, tick_s, count, body):
+def run_ticks(clock, tick_s, count, body, stats=None):
     """Calls `body(k, t_s, skipped)` for ticks k = 0..count-1 on the clock, tick k at
     start + k * tick_s: t_s is the time since the loop's start, `skipped` the ticks that passed
     since the last call with no call (the loop woke too late; those k are never called).
-    Returns TickStats."""
-    stats = TickStats(tick_s)
+    Returns `stats` (a new TickStats if None), filled tick by tick: when body raises, it holds
+    the ticks before."""
+    stats = TickStats(tick_s) if stats is None else stats
     start = clock.now()
     k = 0
     while k < count:

@@ -157,6 +157,7 @@ def record(args):
 
         def body():
             zeros, changes = _prepare(bus, clock, js, say)
+            _check_reach(bus, js, zeros, args.trajectory)
             for name in args.trajectory:
                 samples, stats, ended = recording.record_trajectory(
                     bus, clock, ids, name, args.tick_s, zeros, say)
@@ -173,6 +174,21 @@ def record(args):
     for path in written:
         say(f"wrote {path}")
     return _ended("record", ended, "the logs are", stop.unreached)
+
+
+def _check_reach(bus, js, zeros, names):
+    """SessionError, before anything moves, when a trajectory leaves a servo's own position
+    limits from its zero."""
+    for j in js:
+        low, high = session.position_limits_deg(bus, j.id, zeros[j.id])
+        for name in names:
+            least, most = recording.trajectories.amplitude_deg(name)
+            if least < low or most > high:
+                raise session.SessionError(
+                    f"servo {j.id}: trajectory {name} spans [{least:g}, {most:g}] deg, beyond "
+                    f"the servo's position limits from its zero, [{low:g}, {high:g}] deg: "
+                    "nothing moved (mount the servo so that the load hangs mid-range, or set "
+                    "its offset)")
 
 
 def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
