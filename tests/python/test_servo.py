@@ -183,6 +183,31 @@ def test_online_model_based_is_the_batch_plan(identified):
         assert np.array_equal(predicted, batch["predicted_deg"]), rung
 
 
+def test_a_held_tick_advances_the_planner_by_the_request_the_servo_kept(identified):
+    """hold(window): the servo kept its last request through a tick the loop missed. The
+    planner's expected angle is then the model simulated on the requests the servo really got,
+    the held one repeated (ServoModel.simulate, independent of the planner)."""
+    _, fit = identified
+    log = servo.read_log(XL330_LOG)
+    desired = np.interp(np.arange(0, 3.0, 0.0053) + log.time_s[0], log.time_s, log.request_deg)
+    model = fit.model("xl330")
+    drive = dict(kp=log.kp, mass_kg=log.mass_kg, length_m=log.length_m)
+    planner = servo.ServoPlanner(model, **drive)
+    planner.reset(desired[0])
+    window = planner.preview_ticks + 1
+    sent, expected, last = [], [], desired[0]
+    for t in range(len(desired)):
+        expected.append(planner.expected_deg)  # M(t), before tick t's request acts
+        if t % 50 == 25:
+            planner.hold(desired[t:t + window])
+        else:
+            last = planner.request(desired[t:t + window], expected[-1])
+        sent.append(last)
+    assert planner.ticks == len(desired)
+    angles = model.simulate(np.array(sent), start_deg=desired[0], **drive)
+    assert np.allclose(expected, angles, rtol=0, atol=1e-9)
+
+
 def test_the_planner_takes_the_reanchor_range_its_declaration_gives(identified):
     # (0, inf]: inf never re-anchors, as the C++ planner allows; 0 and NaN are refused by it.
     _, fit = identified
