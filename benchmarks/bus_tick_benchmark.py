@@ -57,20 +57,11 @@ def fit(folder, build):
     return folder / "fit" / "log_fit.json"
 
 
-def desired_csv(path, ticks, tick_s=0.005):
-    """The pick-and-place motion (0 -> 50 -> -30 -> 0 deg) repeated to `ticks` ticks."""
-    s = np.linspace(0.0, 1.0, round(0.5 / tick_s) + 1)[1:]
-    ease = 3 * s ** 2 - 2 * s ** 3
-    hold = np.zeros(round(0.4 / tick_s))
-    poses = (0.0, 50.0, -30.0, 0.0)
-    cycle = [hold]
-    for a, b in zip(poses, poses[1:]):
-        cycle += [a + (b - a) * ease, b + hold]
-    cycle = np.concatenate(cycle)
-    desired = np.resize(cycle, ticks)
-    with open(path, "w") as f:
-        f.write("time_s,desired_deg\n")
-        f.writelines(f"{k * tick_s!r},{d!r}\n" for k, d in enumerate(desired))
+def desired_csv(path, ticks):
+    """The pick-and-place motion (leglab.bus.trajectories) repeated to `ticks` ticks of 5 ms."""
+    from leglab.bus import trajectories  # pylint: disable=import-outside-toplevel
+    cycle = trajectories.pick_and_place_deg()
+    trajectories.write_desired_csv(path, np.resize(cycle, ticks))
 
 
 def run_on_pty(model, desired, servos, out, load):

@@ -22,8 +22,6 @@ import shutil
 import subprocess
 import sys
 
-import numpy as np
-
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 ENV = dict(os.environ)
 
@@ -42,25 +40,11 @@ LEADS = range(0, 21)
 """The leads (ticks) best_lead tries: the desired angles sent early, the best in hindsight."""
 
 
-def pick_and_place(tick_s=0.005):
-    """Desired angles (deg), one a tick: hold, then eased moves 0 -> 50 -> -30 -> 0 deg, 0.5 s
-    each (smoothstep: no speed at either end), with 0.4 s holds between."""
-    s = np.linspace(0.0, 1.0, round(0.5 / tick_s) + 1)[1:]
-    ease = 3 * s ** 2 - 2 * s ** 3
-    hold = np.ones(round(0.4 / tick_s))
-    poses = (0.0, 50.0, -30.0, 0.0)
-    parts = [poses[0] * hold]
-    for a, b in zip(poses, poses[1:]):
-        parts += [a + (b - a) * ease, b * hold]
-    return np.concatenate(parts)
-
-
-def write_desired(path, desired, tick_s=0.005):
-    """`desired` as plan's desired CSV (time_s,desired_deg)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w") as f:
-        f.write("time_s,desired_deg\n")
-        f.writelines(f"{k * tick_s!r},{d!r}\n" for k, d in enumerate(desired))
+def load_trajectories(build):
+    """leglab.bus.trajectories from --build's package (the motion the runs follow)."""
+    sys.path.insert(0, str(build / "python"))
+    from leglab.bus import trajectories  # pylint: disable=import-outside-toplevel
+    return trajectories
 
 
 def bus(*args):
@@ -86,7 +70,9 @@ def loop(out, protocol, build):
     if fit.returncode != 0:
         sys.exit(f"bus_loop: identify: {fit.stderr.strip()}")
     desired = out / "inputs" / "pick.csv"
-    write_desired(desired, pick_and_place())
+    desired.parent.mkdir(exist_ok=True)
+    trajectories = load_trajectories(build)
+    trajectories.write_desired_csv(desired, trajectories.pick_and_place_deg())
     common = [*servo, "--model", out / "fit" / "log_fit.json", "--desired", desired]
     for folder, flags in RUNS:
         bus("run", *common, *flags, "--out", out / folder)

@@ -24,21 +24,11 @@ BENCHES = {
 }
 
 
-def pick_and_place_csv(path, tick_s=0.005):
-    """A motion in no log: hold, then eased moves 0 -> 50 -> -30 -> 0 deg, 0.5 s each, with
-    0.4 s holds; written as plan's desired CSV."""
-    s = np.linspace(0.0, 1.0, round(0.5 / tick_s) + 1)[1:]
-    ease = 3 * s ** 2 - 2 * s ** 3
-    hold = np.ones(round(0.4 / tick_s))
-    poses = (0.0, 50.0, -30.0, 0.0)
-    parts = [poses[0] * hold]
-    for a, b in zip(poses, poses[1:]):
-        parts += [a + (b - a) * ease, b * hold]
-    desired = np.concatenate(parts)
-    with open(path, "w") as f:
-        f.write("time_s,desired_deg\n")
-        for k, d in enumerate(desired):
-            f.write(f"{k * tick_s!r},{d!r}\n")
+def pick_and_place_csv(path):
+    """The docs' pick-and-place motion (trajectories.pick_and_place_deg), written as a desired
+    CSV; returns its angles."""
+    desired = np.array(trajectories.pick_and_place_deg())
+    trajectories.write_desired_csv(path, desired)
     return desired
 
 

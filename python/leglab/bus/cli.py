@@ -83,6 +83,9 @@ def _common(parser, ids_flag="--id"):
     parser.add_argument("--timeout-ms", type=_ranged(0.1, 10000, " ms"), default=20.0,
                         help="how long a reply is waited for (default 20 ms; in the tick "
                              "loop at most half a tick)")
+    parser.add_argument("--retries", type=_ranged(0, 100, integer=True), default=2,
+                        help="how many times an instruction is sent again after a missing or "
+                             "corrupt reply (default 2)")
     if ids_flag:
         parser.add_argument(ids_flag, dest="ids", type=_ids,
                             help="the servos' ids, e.g. 1 or 1,2,3 (or give --servos)")
@@ -236,8 +239,9 @@ def open_bus(args, joints=()):
         loads = {j.id: (j.mass_kg, j.length_m) for j in joints}
         port, clock = emulated_port(args.port[len("emulator:"):], args.protocol, ids, 0.1, 0.1,
                                     args.baud, loads)
-        return bus_module.Bus(port, args.protocol, args.baud, timeout_s), clock
-    return bus_module.Bus(args.port, args.protocol, args.baud, timeout_s), emulator.RealClock()
+        return bus_module.Bus(port, args.protocol, args.baud, timeout_s, args.retries), clock
+    return (bus_module.Bus(args.port, args.protocol, args.baud, timeout_s, args.retries),
+            emulator.RealClock())
 
 
 def say(line):

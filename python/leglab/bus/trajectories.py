@@ -137,3 +137,25 @@ def amplitude_deg(name):
     ticks = int(round(duration / _AMPLITUDE_TICK_S))
     values = [sample(name, min(k * _AMPLITUDE_TICK_S, duration))[0] for k in range(ticks + 1)]
     return min(values), max(values)
+
+
+def pick_and_place_deg(tick_s=0.005, poses_deg=(0.0, 50.0, -30.0, 0.0), move_s=0.5, hold_s=0.4):
+    """A desired motion, not an excitation: one angle a tick of `tick_s` (deg from the zero):
+    a hold at the first pose, then an eased move to each next pose (smoothstep: no speed at
+    either end) over `move_s`, each followed by a hold of `hold_s`. The motion the docs' and
+    tests' runs follow, which no excitation holds."""
+    moves = round(move_s / tick_s)
+    ease = [3 * s ** 2 - 2 * s ** 3 for s in (k / moves for k in range(1, moves + 1))]
+    hold = round(hold_s / tick_s)
+    out = [poses_deg[0]] * hold
+    for start, end in zip(poses_deg, poses_deg[1:]):
+        out += [start + (end - start) * e for e in ease] + [end] * hold
+    return out
+
+
+def write_desired_csv(path, desired_deg, tick_s=0.005):
+    """`desired_deg` (one a tick) as the desired CSV `plan` and `run` read: time_s,desired_deg,
+    each number the shortest text that reads back as the same double."""
+    with open(path, "w", encoding="ascii") as f:
+        f.write("time_s,desired_deg\n")
+        f.writelines(f"{k * tick_s!r},{float(d)!r}\n" for k, d in enumerate(desired_deg))
