@@ -84,10 +84,11 @@ TEXT
     echo
     "$bin/$program" --list-outputs
   done
-  # The Python package's servo bus (python/leglab/bus/outputs.py), from the build's package.
+  # The Python package's servo bus: its declarations (python/leglab/bus/outputs.py, pure Python
+  # with no import of the package, so that a build without the Python module checks them too).
   echo "## \`python3 -m leglab.bus\`"
   echo
-  PYTHONPATH="$bin/../python" /usr/bin/python3 -m leglab.bus --list-outputs
+  /usr/bin/python3 python/leglab/bus/outputs.py
 }
 
 # Writes (or with --check compares) `file` from the function `make`.

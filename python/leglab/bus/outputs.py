@@ -54,3 +54,7 @@ def markdown():
             out += [f"| `{n.name}` | {n.unit} | {n.description} |" for n in f.names]
             out.append("")
     return "\n".join(out)
+
+
+if __name__ == "__main__":  # scripts/gen-config-docs.sh, which needs no built package
+    print(markdown(), end="")
