@@ -231,7 +231,8 @@ TEST(ServoPlanner, AHeldTickAdvancesTheModelByTheRequestTheServoKept) {
       PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
   const std::vector<size_t> missed{0, 40, 41, 42, 301, 302};
   const auto caught_up = [&](size_t t) {
-    return std::none_of(missed.begin(), missed.end(), [&](size_t m) { return t > m && t <= m + 30; });
+    return std::none_of(missed.begin(), missed.end(),
+                        [&](size_t m) { return t > m && t <= m + 30; });
   };
   for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
     ServoPlannerOptions options;
