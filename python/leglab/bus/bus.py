@@ -10,7 +10,10 @@ the port, the servo and the item in one line.
 
 import errno
 import os
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
 
 from . import dynamixel, feetech, tables
 from .errors import ProtocolError
@@ -53,7 +56,7 @@ class BusStats:
     stale: int = 0         # late replies to an earlier instruction, dropped
     errors: int = 0        # instructions that failed after every retry
 
-    def reset(self):
+    def reset(self) -> None:
         """Counts from zero again."""
         self.instructions = self.retries = self.missing = self.corrupt = self.stale = 0
         self.errors = 0
@@ -71,14 +74,14 @@ class ServoInfo:
     error: str = ""  # the PING reply's error byte in words ("" when clear)
 
 
-def check_protocol(name):
+def check_protocol(name: str) -> ModuleType:
     """The protocol module of `name`; ValueError listing the valid names otherwise."""
     if name not in PROTOCOLS:
         raise ValueError(f"unknown protocol {name!r} (valid: {', '.join(PROTOCOLS)})")
     return PROTOCOLS[name]
 
 
-def wire_time_s(byte_count, baud):
+def wire_time_s(byte_count: int, baud: int) -> float:
     """Seconds `byte_count` bytes take on a UART at `baud` (10 bits a byte: start, 8, stop)."""
     return byte_count * 10.0 / baud
 
@@ -110,7 +113,8 @@ class Bus:
     retries: how many times an instruction is sent again after a missing or corrupt reply.
     """
 
-    def __init__(self, port, protocol, baud=1_000_000, timeout_s=0.02, retries=2):
+    def __init__(self, port: "str | os.PathLike | Any", protocol: str, baud: int = 1_000_000,
+                 timeout_s: float = 0.02, retries: int = 2) -> None:
         self.protocol = check_protocol(protocol)
         if baud not in BAUD_RATES:
             raise ValueError(f"baud {baud!r} is not one of {', '.join(map(str, BAUD_RATES))}")
@@ -133,13 +137,13 @@ class Bus:
 
     # ---- context and port ----
 
-    def __enter__(self):
+    def __enter__(self) -> "Bus":
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def close(self):
+    def close(self) -> None:
         """Closes the port (again: nothing)."""
         if self._port is not None:
             try:
@@ -148,17 +152,17 @@ class Bus:
                 self._port = None
 
     @property
-    def timeout_s(self):
+    def timeout_s(self) -> float:
         """How long a reply is waited for, s."""
         return self._port.timeout
 
     @timeout_s.setter
-    def timeout_s(self, value):
+    def timeout_s(self, value: float) -> None:
         self._port_call("__setattr__", "timeout", value)
 
     # ---- the servos' tables ----
 
-    def table(self, servo_id):
+    def table(self, servo_id: int) -> tables.ControlTable:
         """The control table of `servo_id`, from its model number (asked once, then kept)."""
         if servo_id not in self._tables:
             info = self.ping(servo_id)
@@ -169,13 +173,13 @@ class Bus:
             self._tables[servo_id] = info.table
         return self._tables[servo_id]
 
-    def set_table(self, servo_id, table):
+    def set_table(self, servo_id: int, table: tables.ControlTable) -> None:
         """Takes `table` as servo `servo_id`'s without asking it (a servo known in advance)."""
         self._tables[servo_id] = table
 
     # ---- instructions ----
 
-    def ping(self, servo_id, retries=None):
+    def ping(self, servo_id: int, retries: "int | None" = None) -> ServoInfo:
         """The ServoInfo of `servo_id`; NoReply if it does not answer. A servo that reports a
         hardware error still answers: its ServoInfo.error says what."""
         _check_id(servo_id)
@@ -199,7 +203,8 @@ class Bus:
         return ServoInfo(servo_id, model, firmware, tables.table_for(self.protocol.NAME, model),
                          error)
 
-    def scan(self, ids=range(0, MAX_ID + 1), timeout_s=None):
+    def scan(self, ids: Iterable[int] = range(0, MAX_ID + 1),
+             timeout_s: "float | None" = None) -> list[ServoInfo]:
         """ServoInfo of every servo in `ids` that answers a PING (each asked once, no retry)."""
         saved = self.timeout_s
         if timeout_s is not None:
@@ -219,19 +224,19 @@ class Bus:
             self.stats.missing = 0  # absent ids are not a fault of the bus
         return found
 
-    def read_raw(self, servo_id, item):
+    def read_raw(self, servo_id: int, item: str) -> int:
         """Item `item` of servo `servo_id` as the register holds it (an int)."""
         it = self.table(servo_id).item(item)
         (reply,) = self._transact(self.protocol.read(servo_id, it.address, it.size), [servo_id],
                                   f"read {item}", size=it.size)
         return tables.decode(it, reply.params)
 
-    def read(self, servo_id, item):
+    def read(self, servo_id: int, item: str) -> float:
         """Item `item` of servo `servo_id`, in leglab's units (tables.to_units)."""
         it = self.table(servo_id).item(item)
         return tables.to_units(it, self.read_raw(servo_id, item))
 
-    def write_raw(self, servo_id, item, raw, check=True):
+    def write_raw(self, servo_id: int, item: str, raw: int, check: bool = True) -> None:
         """Writes `raw` (register counts) to item `item` of servo `servo_id`. check=False: a
         hardware alert or error in the reply is not raised (the write was answered)."""
         it = self.table(servo_id).item(item)
@@ -239,12 +244,12 @@ class Bus:
                        [servo_id], f"write {item}", check=check)
         self._note_torque(item, {servo_id: raw})
 
-    def write(self, servo_id, item, value):
+    def write(self, servo_id: int, item: str, value: float) -> None:
         """Writes `value` (leglab's units) to item `item` of servo `servo_id`."""
         it = self.table(servo_id).item(item)
         self.write_raw(servo_id, item, tables.from_units(it, value))
 
-    def sync_read_raw(self, ids, item):
+    def sync_read_raw(self, ids: Iterable[int], item: str) -> dict[int, int]:
         """{id: raw} of `item` on every servo of `ids`, in one SYNC_READ (one reply each)."""
         ids = list(ids)
         it = self._common_item(ids, item)
@@ -252,12 +257,12 @@ class Bus:
                                  f"sync read {item}", size=it.size)
         return {r.id: tables.decode(it, r.params) for r in replies}
 
-    def sync_read(self, ids, item):
+    def sync_read(self, ids: Iterable[int], item: str) -> dict[int, float]:
         """{id: value} of `item` (leglab's units) on every servo of `ids`, in one SYNC_READ."""
         it = self._common_item(list(ids), item)
         return {i: tables.to_units(it, raw) for i, raw in self.sync_read_raw(ids, item).items()}
 
-    def sync_write_raw(self, item, raw_by_id):
+    def sync_write_raw(self, item: str, raw_by_id: Mapping[int, int]) -> None:
         """Writes {id: raw} to `item` in one SYNC_WRITE (no reply: the servos answer none)."""
         it = self._common_item(list(raw_by_id), item)
         frame = self.protocol.sync_write(
@@ -265,7 +270,7 @@ class Bus:
         self._send(frame, f"sync write {item}")
         self._note_torque(item, raw_by_id)
 
-    def sync_write(self, item, value_by_id):
+    def sync_write(self, item: str, value_by_id: Mapping[int, float]) -> None:
         """Writes {id: value} (leglab's units) to `item` in one SYNC_WRITE."""
         it = self._common_item(list(value_by_id), item)
         self.sync_write_raw(item, {i: tables.from_units(it, v) for i, v in value_by_id.items()})

@@ -21,6 +21,7 @@ import random
 import select
 import time
 import tty
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from . import physics, tables
@@ -48,7 +49,7 @@ class Faults:
     hardware_error_after_s: float = math.inf  # from then on, an overload in every servo
     seed: int = 0
 
-    def silent(self, servo_id, now_s):
+    def silent(self, servo_id: int, now_s: float) -> bool:
         """Whether servo `servo_id` is silent at `now_s`."""
         return now_s >= self.silent_after_s and (not self.silent_ids or servo_id in self.silent_ids)
 
@@ -63,8 +64,9 @@ class EmulatedServo:
     hang_count: the position count at which the load hangs (its encoder's mounting).
     """
 
-    def __init__(self, table, spec, servo_id, mass_kg, length_m, kp=None, angle_deg=0.0,
-                 hang_count=HANG_COUNT):
+    def __init__(self, table: tables.ControlTable, spec: physics.MotorSpec, servo_id: int,
+                 mass_kg: float, length_m: float, kp: "int | None" = None,
+                 angle_deg: float = 0.0, hang_count: int = HANG_COUNT) -> None:
         self.table = table
         self.id = servo_id
         self.hang_count = hang_count
@@ -84,12 +86,12 @@ class EmulatedServo:
 
     # ---- memory ----
 
-    def get(self, name):
+    def get(self, name: str) -> int:
         """Item `name`'s raw value."""
         it = self.table.items[name]
         return tables.decode(it, bytes(self.memory[it.address:it.address + it.size]))
 
-    def set(self, name, raw):
+    def set(self, name: str, raw: int) -> None:
         """Sets item `name` to `raw`, clamped to what the register holds."""
         it = self.table.items[name]
         low, high = _raw_range(it)
@@ -101,12 +103,12 @@ class EmulatedServo:
             it = self.table.items[name]
             self.set(name, round(value / it.scale))
 
-    def read(self, address, size):
+    def read(self, address: int, size: int) -> bytes:
         """`size` bytes from `address` (beyond the table: zeros)."""
         data = bytes(self.memory[address:address + size])
         return data + bytes(size - len(data))
 
-    def write(self, address, data):
+    def write(self, address: int, data: bytes) -> str:
         """Writes `data` at `address` as the firmware would: the error name of Protocol 2.0
         ("access", "range") when refused, else "" (written)."""
         end = address + len(data)
@@ -143,12 +145,12 @@ class EmulatedServo:
 
     # ---- physics ----
 
-    def return_delay_s(self):
+    def return_delay_s(self) -> float:
         """The return delay register, s."""
         it = self.table.items["return_delay_time"]
         return tables.to_units(it, self.get("return_delay_time"))
 
-    def advance(self, now_s, hardware_fault=False):
+    def advance(self, now_s: float, hardware_fault: bool = False) -> None:
         """Integrates the servo up to `now_s` under its registers, then updates the present
         values (position quantised to counts)."""
         dt = max(0.0, now_s - self._last_s)
@@ -207,7 +209,8 @@ class Emulator:
     servos: EmulatedServo objects with distinct ids, each with a table of `protocol`.
     """
 
-    def __init__(self, protocol, servos, baud=1_000_000, faults=None):
+    def __init__(self, protocol: str, servos: list[EmulatedServo], baud: int = 1_000_000,
+                 faults: "Faults | None" = None) -> None:
         self.protocol = PROTOCOLS[protocol]
         self.baud = baud
         self.servos = {s.id: s for s in servos}
@@ -223,14 +226,14 @@ class Emulator:
         self.now_s = 0.0
         self.instructions = 0  # whole instruction packets received
 
-    def advance(self, now_s):
+    def advance(self, now_s: float) -> None:
         """Every servo's physics up to `now_s`."""
         self.now_s = max(self.now_s, now_s)
         fault = self.now_s >= self.faults.hardware_error_after_s
         for servo in self.servos.values():
             servo.advance(self.now_s, hardware_fault=fault)
 
-    def receive(self, data, now_s):
+    def receive(self, data: bytes, now_s: float) -> list[tuple[float, bytes]]:
         """Takes bytes from the bus at `now_s` (the servos integrated up to then) and returns
         the replies to the whole instructions among them: [(delay_s, frame)], each delay from
         the end of the instruction to the start of its reply (return delays and the replies
@@ -360,8 +363,11 @@ def _corrupted(frame, rng):
     return bytes(data)
 
 
-def make_emulator(protocol, model, ids, mass_kg, length_m, kp=None, baud=1_000_000,
-                  faults=None, angle_deg=0.0, loads=None, hang_count=HANG_COUNT):
+def make_emulator(protocol: str, model: str, ids: list[int], mass_kg: float, length_m: float,
+                  kp: "int | None" = None, baud: int = 1_000_000,
+                  faults: "Faults | None" = None, angle_deg: float = 0.0,
+                  loads: "dict[int, tuple[float, float]] | None" = None,
+                  hang_count: int = HANG_COUNT) -> Emulator:
     """An Emulator of servos `ids`, each a `model` (a key of tables.TABLES and physics.SPECS)
     with a pendulum of `mass_kg` at `length_m`; `loads` = {id: (mass_kg, length_m)} gives some
     servos their own."""
@@ -381,19 +387,19 @@ def make_emulator(protocol, model, ids, mass_kg, length_m, kp=None, baud=1_000_0
 class VirtualClock:
     """Time that passes only when told to: the emulator's wire and delays, the loop's sleeps."""
 
-    def __init__(self, start_s=0.0):
+    def __init__(self, start_s: float = 0.0) -> None:
         self._now = start_s
 
-    def now(self):
+    def now(self) -> float:
         """Seconds since the clock's start."""
         return self._now
 
-    def sleep(self, seconds):
+    def sleep(self, seconds: float) -> None:
         """Passes `seconds` (nothing when not positive)."""
         if seconds > 0:
             self._now += seconds
 
-    def advance_to(self, t_s):
+    def advance_to(self, t_s: float) -> None:
         """Passes time up to `t_s` (nothing when that is past)."""
         self._now = max(self._now, t_s)
 
@@ -402,11 +408,11 @@ class RealClock:
     """The machine's monotonic clock; sleep() wakes within tens of microseconds of the time
     asked (the last 0.3 ms waited in a loop, as a tick needs)."""
 
-    def now(self):
+    def now(self) -> float:
         """Monotonic seconds."""
         return time.monotonic()
 
-    def sleep(self, seconds):
+    def sleep(self, seconds: float) -> None:
         """Waits `seconds`."""
         end = time.monotonic() + seconds
         if seconds > 0.0003:
@@ -426,7 +432,7 @@ class VirtualPort:
     timeout: float = 0.02
     _incoming: collections.deque = field(default_factory=collections.deque)
 
-    def write(self, data):
+    def write(self, data: bytes) -> int:
         """Sends `data`; the emulator answers when the last byte is in."""
         baud = self.emulator.baud
         end = self.clock.now() + wire_time_s(len(data), baud)
@@ -437,7 +443,7 @@ class VirtualPort:
             self._incoming.extend((start + (i + 1) * byte_s, b) for i, b in enumerate(frame))
         return len(data)
 
-    def read(self, count):
+    def read(self, count: int) -> bytes:
         """Up to `count` bytes: all of them when they arrive within the timeout (the clock then
         at the last one's arrival), else those that did (the clock at the timeout)."""
         deadline = self.clock.now() + self.timeout
@@ -449,19 +455,21 @@ class VirtualPort:
         self.clock.advance_to(last if len(out) == count else deadline)
         return bytes(out)
 
-    def reset_input_buffer(self):
+    def reset_input_buffer(self) -> None:
         """Drops the bytes that have arrived."""
         now = self.clock.now()
         while self._incoming and self._incoming[0][0] <= now:
             self._incoming.popleft()
 
-    def close(self):
+    def close(self) -> None:
         """Nothing to close."""
 
 
 # ---- on a pseudo-terminal, in real time ----
 
-def serve_pty(emulator, on_ready, should_stop=lambda: False, link=None):
+def serve_pty(emulator: Emulator, on_ready: Callable[[str], object],
+              should_stop: Callable[[], bool] = lambda: False,
+              link: "str | None" = None) -> None:
     """Serves `emulator` on a new pseudo-terminal in real time until `should_stop()` is true:
     `on_ready(path)` is called with the terminal's path (open it as the servos' port). Replies
     go out when they would have arrived on a real bus at the emulator's baud (the instruction's

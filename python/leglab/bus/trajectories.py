@@ -33,6 +33,8 @@ Standard library only; no import of the compiled module.
 """
 
 import math
+import os
+from collections.abc import Iterable
 
 NAMES = ("lift_and_drop", "sin_time_square", "up_and_down", "sin_sin", "chirp", "steps")
 
@@ -99,19 +101,19 @@ _TRAJECTORIES = {
 }
 
 
-def check_name(name):
+def check_name(name: str) -> None:
     """Raise ValueError naming the valid trajectories if name is not one of NAMES."""
     if name not in NAMES:
         raise ValueError(f"unknown trajectory {name!r} (valid: {', '.join(NAMES)})")
 
 
-def duration_s(name):
+def duration_s(name: str) -> float:
     """The trajectory's duration (s); after it, sample holds the last value."""
     check_name(name)
     return _TRAJECTORIES[name][1]
 
 
-def sample(name, t_s):
+def sample(name: str, t_s: float) -> tuple[float, bool]:
     """(request_deg, torque_enabled) at t_s seconds from the start.
 
     request_deg is in degrees from the load's hanging zero. t_s must be finite and >= 0
@@ -126,12 +128,12 @@ def sample(name, t_s):
     return float(request(t_s)), torque
 
 
-def start_deg(name):
+def start_deg(name: str) -> float:
     """The request at t = 0 (deg): where to hold the load before the trajectory starts."""
     return sample(name, 0.0)[0]
 
 
-def amplitude_deg(name):
+def amplitude_deg(name: str) -> tuple[float, float]:
     """(least, greatest) request (deg) over [0, duration], sampled every 1 ms and at the end."""
     duration = duration_s(name)
     ticks = int(round(duration / _AMPLITUDE_TICK_S))
@@ -139,7 +141,8 @@ def amplitude_deg(name):
     return min(values), max(values)
 
 
-def pick_and_place_deg(tick_s=0.005, poses_deg=(0.0, 50.0, -30.0, 0.0), move_s=0.5, hold_s=0.4):
+def pick_and_place_deg(tick_s: float = 0.005, poses_deg: tuple = (0.0, 50.0, -30.0, 0.0),
+                       move_s: float = 0.5, hold_s: float = 0.4) -> list[float]:
     """A desired motion, not an excitation: one angle a tick of `tick_s` (deg from the zero):
     a hold at the first pose, then an eased move to each next pose (smoothstep: no speed at
     either end) over `move_s`, each followed by a hold of `hold_s`. The motion the docs' and
@@ -153,7 +156,8 @@ def pick_and_place_deg(tick_s=0.005, poses_deg=(0.0, 50.0, -30.0, 0.0), move_s=0
     return out
 
 
-def write_desired_csv(path, desired_deg, tick_s=0.005):
+def write_desired_csv(path: "str | os.PathLike", desired_deg: Iterable[float],
+                      tick_s: float = 0.005) -> None:
     """`desired_deg` (one a tick) as the desired CSV `plan` and `run` read: time_s,desired_deg,
     each number the shortest text that reads back as the same double."""
     with open(path, "w", encoding="ascii") as f:
