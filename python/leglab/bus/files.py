@@ -9,20 +9,19 @@ from .session import SessionError
 
 
 def out_folder(path):
-    """`path` as an output folder: made when missing (its parent must exist); SessionError
-    when it is something other than a folder, or cannot be written."""
+    """`path` as an output folder, checked before a session starts: a folder that can be
+    written, or a new name in one (made when the first file is written, so that a session
+    refused before it records leaves nothing behind). SessionError otherwise."""
     path = os.fspath(path)
     if not path:
         raise SessionError("--out: an empty path")
     if os.path.lexists(path) and not os.path.isdir(path):
         raise SessionError(f"--out '{path}': exists and is not a folder")
-    if not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+    parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
         raise SessionError(f"--out '{path}': its parent folder does not exist")
-    try:
-        os.makedirs(path, exist_ok=True)
-    except OSError as e:
-        raise SessionError(f"--out '{path}': cannot be made: {e.strerror}") from None
-    if not os.access(path, os.W_OK | os.X_OK):
+    writable = path if os.path.isdir(path) else parent
+    if not os.access(writable, os.W_OK | os.X_OK):
         raise SessionError(f"--out '{path}': cannot be written")
     return path
 
@@ -49,6 +48,7 @@ def write_text(path, text):
     folder = os.path.dirname(os.path.abspath(path))
     staging = None
     try:
+        os.makedirs(folder, exist_ok=True)
         fd, staging = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=folder)
         umask = os.umask(0)
         os.umask(umask)
