@@ -83,7 +83,8 @@ def run_with(tmp_path, monkeypatch, bench, port_spec, ids="1", method="direct"):
     args = bus_args(bench, port_spec)
     args[args.index("--id") + 1] = ids
     status = cli.main(["run", *args, "--model", model, "--desired", str(tmp_path / "pick.csv"),
-                       "--method", method, "--online", "--out", str(tmp_path / "out")])
+                       "--method", method, *(["--online"] if method != "direct" else []),
+                       "--out", str(tmp_path / "out")])
     return status, made[0] if made else None
 
 
@@ -372,3 +373,78 @@ def test_a_trajectory_beyond_the_servos_position_limits_is_refused_before_it_mov
            "limits from its zero" in err[0], err
     assert made[0].servos[1].get("torque_enable") == 0  # never turned on
     assert not (tmp_path / "logs").exists()  # refused before it recorded: nothing left
+
+
+def _hostile_files(folder):
+    """The files the hostile cases below name, made in `folder`."""
+    (folder / "afile").write_text("x")
+    (folder / "realdir").mkdir()
+    os.symlink(folder / "realdir", folder / "linkdir")
+    os.mkfifo(folder / "fifo")
+    (folder / "twice.yaml").write_text("servos:\n  1: {kp: 400}\n  1: {kp: 300}\n")
+    (folder / "deep.yaml").write_text("servos:\n  1: {kp: " + "[" * 3000 + "\n")
+    (folder / "binary.csv").write_bytes(bytes(range(256)) * 4)
+
+
+HOSTILE = [  # (extra arguments of `run` on the XL330 bench, words its one line holds)
+    (["--out", "{d}/afile/"], "exists and is not a folder"),
+    (["--out", "{d}/linkdir"], "is a symbolic link"),
+    (["--out", "/proc"], "cannot be written"),
+    (["--out", "{d}/o", "--desired", "{d}/o/run.csv"], "no such file"),
+    (["--out", "{d}", "--desired", "{d}/run.csv"], "is the input file"),
+    (["--servos", "{d}/twice.yaml"], "the key 1 is given twice"),
+    (["--servos", "{d}/deep.yaml"], "--servos"),
+    (["--servos", "{d}/fifo"], "is not a regular file"),
+    (["--model", "{d}/fifo"], "--model '"),
+    (["--desired", "{d}/fifo"], "is not a regular file"),
+    (["--desired", "{d}/binary.csv"], "--desired"),
+    (["--kp", "0"], "kp must be in"),
+    (["--method", "optimal", "--online", "--preview-ticks", "0"], "too short for the optimal"),
+    (["--preview-ticks", "5"], "--preview-ticks: only with --online"),
+    (["--online"], "--online: only with a planned method"),
+    (["--port", "emulator:xl330-m288,hang_deg=inf"], "hang_deg=inf"),
+    (["--port", "emulator:xl330-m288,kp=99999"], "kp=99999"),
+    (["--port", "emulator:xl330-m288,silent_ids=9"], "silent_ids=9"),
+    (["--port", "emulator:xl330-m288,seed=1,seed=2"], "given twice"),
+]
+
+
+@pytest.mark.parametrize("extra,words", HOSTILE)
+def test_hostile_input_is_one_line_and_exit_2_before_anything_moves(
+        bench_dir, tmp_path, capsys, extra, words):
+    _hostile_files(tmp_path)
+    (tmp_path / "run.csv").write_text("time_s,desired_deg\n0,0\n0.005,0\n")
+    args = dict(zip(*[iter(["--port", "emulator:xl330-m288", "--model",
+                            str(bench_dir / "fit" / "log_fit.json"), "--desired",
+                            str(bench_dir / "pick.csv"), "--method", "direct",
+                            "--out", str(tmp_path / "out")])] * 2))
+    flags = []
+    for i, item in enumerate(extra):
+        item = item.replace("{d}", str(tmp_path))
+        if item.startswith("--") and item in args and i + 1 < len(extra) and \
+                not extra[i + 1].startswith("--"):
+            args[item] = None  # replaced by the case's value, which follows
+        flags.append(item)
+    base = [x for k, v in args.items() if v is not None for x in (k, v)]
+    command = ["run", "--protocol", "dynamixel", "--id", "1", "--kp", "400", "--mass-kg", "0.49",
+               "--length-m", "0.1", *base, *flags]
+    if "--kp" in flags:
+        command = command[:command.index("--kp")] + command[command.index("--kp") + 2:]
+    assert cli.main(command) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+    assert "zero" not in captured.out and "servo 1:" not in captured.out, captured.out
+
+
+def test_emulate_refuses_a_link_that_exists_and_a_protocol_its_servo_does_not_speak(tmp_path):
+    (tmp_path / "taken").write_text("x")
+    base = ["emulate", "--motor", "xl330-m288", "--ids", "1", "--mass-kg", "0.1",
+            "--length-m", "0.1"]
+    for extra, words in ((["--protocol", "dynamixel", "--link", tmp_path / "taken"],
+                          "exists; leglab makes only a new link"),
+                         (["--protocol", "feetech"], "speaks dynamixel, not feetech")):
+        done = python_bus(*base, *extra, timeout=60)
+        assert done.returncode == 2, done.stderr
+        assert len(done.stderr.strip().splitlines()) == 1 and words in done.stderr, done.stderr
+    assert (tmp_path / "taken").read_text() == "x"

@@ -54,7 +54,8 @@ def session(request, tmp_path_factory):
     for method in ("direct", "model_based"):
         out = folder / f"run_{method}"
         assert cli.main(["run", *bus_args(bench), "--model", str(folder / "fit" / "log_fit.json"),
-                         "--desired", str(folder / "pick.csv"), "--method", method, "--online",
+                         "--desired", str(folder / "pick.csv"), "--method", method,
+                         *(["--online"] if method != "direct" else []),
                          "--out", str(out)]) == 0
         with open(out / "run.json") as f:
             runs[method] = json.load(f)

@@ -96,7 +96,7 @@ def _open_serial(port, baud, timeout_s):
         return serial.Serial(port, baudrate=baud, timeout=timeout_s, write_timeout=1.0,
                              exclusive=True)
     except (serial.SerialException, OSError, ValueError) as e:
-        reason = getattr(e, "strerror", None) or str(e).splitlines()[0]
+        reason = getattr(e, "strerror", None) or first_line(e)
         raise BusError(f"port {port}: cannot be opened: {reason}") from None
 
 
@@ -306,7 +306,7 @@ class Bus:
             raise BusError(f"port {self.port_name}: lost: "
                            f"{e.strerror or errno.errorcode.get(e.errno, e)}") from None
         except Exception as e:  # pyserial's SerialException, termios.error
-            raise BusError(f"port {self.port_name}: lost: {_first_line(e)}") from None
+            raise BusError(f"port {self.port_name}: lost: {first_line(e)}") from None
 
     def _send(self, frame, what):
         self.stats.instructions += 1
@@ -432,7 +432,8 @@ def _known_models(protocol):
                      if t.protocol == protocol)
 
 
-def _first_line(error):
+def first_line(error: BaseException) -> str:
+    """An exception's message in one line (its type's name when it has none)."""
     text = str(error).strip()
     return text.splitlines()[0] if text else type(error).__name__
 

@@ -8,6 +8,7 @@ off, writes what it recorded, and exits 2 with one line naming the port and the 
 
 import argparse
 import math
+import os
 import sys
 
 from . import bus as bus_module
@@ -195,30 +196,14 @@ def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
         model = _model(model)
     except argparse.ArgumentTypeError as e:
         raise session.SessionError(f"--port emulator:{spec}: {e}") from None
-    faults, extra = emulator.Faults(), {}
+    faults, extra, seen = emulator.Faults(), {}, set()
     for pair in pairs:
         key, _, value = pair.partition("=")
         try:
-            if key == "silent_ids":
-                faults.silent_ids = tuple(int(v) for v in value.split("+"))
-            elif key in ("drop_rate", "corrupt_rate", "silent_after_s", "hardware_error_after_s"):
-                number = float(value)
-                top = 1.0 if key.endswith("rate") else math.inf
-                if not 0 <= number <= top:
-                    raise ValueError(f"{value} is outside [0, {top:g}]")
-                setattr(faults, key, number)
-            elif key == "seed":
-                faults.seed = int(value)
-            elif key == "hang_deg":  # where the load hangs on the servo's 0-360 scale
-                extra["hang_count"] = round(float(value) * 4096 / 360)
-                if not 0 <= extra["hang_count"] < 4096:
-                    raise ValueError(f"{value} is outside [0, 360) deg")
-            elif key in ("angle_deg", "kp"):
-                extra[key] = float(value) if key == "angle_deg" else int(value)
-                if not math.isfinite(extra[key]) or abs(extra[key]) > 100000:
-                    raise ValueError(f"{value} is not a finite number up to 100000")
-            else:
-                raise ValueError(f"unknown key '{key}'")
+            if key in seen:
+                raise ValueError("given twice")
+            seen.add(key)
+            _emulator_setting(faults, extra, key, value, ids, model)
         except ValueError as e:
             raise session.SessionError(f"--port emulator:{spec}: {pair}: {e}") from None
     try:
@@ -228,6 +213,39 @@ def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
         raise session.SessionError(f"--port emulator:{spec}: {e}") from None
     clock = emulator.VirtualClock()
     return emulator.VirtualPort(emulated, clock, name=f"emulator:{model}"), clock
+
+
+def _number(value, low, high, integer=False):
+    """`value` (text) as a number in [low, high]; ValueError otherwise."""
+    number = int(value) if integer else float(value)
+    if not low <= number <= high:  # NaN is in no range
+        raise ValueError(f"{value} is outside [{low:g}, {high:g}]")
+    return number
+
+
+def _emulator_setting(faults, extra, key, value, ids, model):
+    """One key=value of --port emulator:...: into `faults` or the emulator's `extra`."""
+    if key == "silent_ids":
+        silent = tuple(int(v) for v in value.split("+"))
+        if len(set(silent)) != len(silent) or not set(silent) <= set(ids):
+            raise ValueError(f"expected distinct ids of the bus's servos ({ids})")
+        faults.silent_ids = silent
+    elif key in ("drop_rate", "corrupt_rate"):
+        setattr(faults, key, _number(value, 0, 1))
+    elif key in ("silent_after_s", "hardware_error_after_s"):
+        setattr(faults, key, _number(value, 0, 1e9))
+    elif key == "seed":
+        faults.seed = _number(value, 0, 2**31, integer=True)
+    elif key == "hang_deg":  # where the load hangs on the servo's 0-360 scale
+        extra["hang_count"] = round(_number(value, 0, 360) * 4096 / 360) % 4096
+    elif key == "angle_deg":
+        extra[key] = _number(value, -180, 180)
+    elif key == "kp":
+        extra[key] = _number(value, 0, tables.raw_range(
+            tables.TABLES[model].item("position_p_gain"))[1], integer=True)
+    else:
+        raise ValueError("unknown key (valid: drop_rate, corrupt_rate, silent_after_s, "
+                         "silent_ids, hardware_error_after_s, seed, angle_deg, kp, hang_deg)")
 
 
 def open_bus(args, joints=()):
@@ -245,8 +263,12 @@ def open_bus(args, joints=()):
 
 
 def say(line):
-    """A line of progress, on stdout at once."""
-    print(line, flush=True)
+    """A line of progress, on stdout at once. A reader that has gone (`| head`) is no fault of
+    the session: its lines are dropped, and the session goes on to its end (torque off)."""
+    try:
+        print(line, flush=True)
+    except BrokenPipeError:
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (for the rest of the process)
 
 
 def main(argv=None):

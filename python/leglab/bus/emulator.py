@@ -473,14 +473,12 @@ def serve_pty(emulator: Emulator, on_ready: Callable[[str], object],
     """Serves `emulator` on a new pseudo-terminal in real time until `should_stop()` is true:
     `on_ready(path)` is called with the terminal's path (open it as the servos' port). Replies
     go out when they would have arrived on a real bus at the emulator's baud (the instruction's
-    and the reply's wire time and the return delays). `link`: a path to make a symbolic link
-    to the terminal (replaced if it is one already)."""
+    and the reply's wire time and the return delays). `link`: a new path to make a symbolic
+    link to the terminal at (FileExistsError if something is there), removed at the end."""
     master, slave = os.openpty()
     tty.setraw(slave)  # bytes as they are: no echo, no line editing
     path = os.ttyname(slave)
     if link:
-        if os.path.islink(link):
-            os.unlink(link)
         os.symlink(path, link)
     on_ready(path)
     start = time.monotonic()

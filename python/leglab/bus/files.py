@@ -9,21 +9,50 @@ from .session import SessionError
 
 
 def out_folder(path):
-    """`path` as an output folder, checked before a session starts: a folder that can be
-    written, or a new name in one (made when the first file is written, so that a session
-    refused before it records leaves nothing behind). SessionError otherwise."""
+    """`path` as an output folder, checked before a session starts: a folder (not a link to
+    one) that a file can be made in, or a new name in one (made when the first file is
+    written, so that a session refused before it records leaves nothing behind). The check
+    makes and removes a file there: permission bits do not bind root, and /proc or /sys take
+    no file. SessionError otherwise."""
     path = os.fspath(path)
     if not path:
         raise SessionError("--out: an empty path")
-    if os.path.lexists(path) and not os.path.isdir(path):
+    name = path.rstrip("/") or "/"
+    if os.path.islink(name):
+        raise SessionError(f"--out '{path}': is a symbolic link; give the folder itself")
+    if os.path.lexists(name) and not os.path.isdir(name):
         raise SessionError(f"--out '{path}': exists and is not a folder")
-    parent = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(parent):
+    if not os.path.isdir(os.path.dirname(os.path.abspath(name))):
         raise SessionError(f"--out '{path}': its parent folder does not exist")
-    writable = path if os.path.isdir(path) else parent
-    if not os.access(writable, os.W_OK | os.X_OK):
-        raise SessionError(f"--out '{path}': cannot be written")
-    return path
+    made = not os.path.isdir(name)
+    try:
+        if made:
+            os.mkdir(name)
+        fd, probe = tempfile.mkstemp(prefix=".leglab-probe.", dir=name)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as e:
+        raise SessionError(f"--out '{path}': cannot be written: {e.strerror}") from None
+    finally:
+        if made and os.path.isdir(name):
+            os.rmdir(name)
+    return name
+
+
+def check_inputs_apart(outputs, inputs):
+    """SessionError when an output path is one of the session's input files."""
+    real = {os.path.realpath(p): p for p in inputs if p}
+    for path in outputs:
+        if os.path.realpath(path) in real:
+            raise SessionError(f"'{path}': is the input file '{real[os.path.realpath(path)]}'; "
+                               "write the outputs elsewhere")
+
+
+def check_input_file(path, what):
+    """SessionError unless `path` is a regular file (a pipe would block the session)."""
+    if not os.path.isfile(path):
+        reason = "no such file" if not os.path.lexists(path) else "is not a regular file"
+        raise SessionError(f"{what} '{path}': {reason}")
 
 
 def check_writable(path):

@@ -12,6 +12,8 @@ import dataclasses
 import os
 from dataclasses import dataclass, field
 
+from .bus import first_line
+from .files import check_input_file
 from .session import SessionError
 
 
@@ -53,19 +55,46 @@ def _entry(servo_id, entry, source, folder):
         kind = _SETTINGS[key].type
         if kind is str:
             if not isinstance(value, str) or not value:
-                raise SessionError(f"{where}: expected a name, got {value!r}")
+                raise SessionError(f"{where}: expected a name, got {_shown(value)}")
             if key == "desired":  # relative to the file's folder
                 value = os.path.join(folder, value)
         else:
             wanted = int if kind is int else (int, float)
             if isinstance(value, bool) or not isinstance(value, wanted):
                 raise SessionError(f"{where}: expected {'an integer' if kind is int else 'a number'}"
-                                   f", got {value!r}")
+                                   f", got {_shown(value)}")
             low, high = _SETTINGS[key].metadata["range"]
             if not low <= value <= high:
-                raise SessionError(f"{where}: {value!r} is outside [{low}, {high}]")
+                raise SessionError(f"{where}: {_shown(value)} is outside [{low}, {high}]")
         values[key] = value
     return values
+
+
+_MAX_FILE_BYTES = 1 << 20  # a servos file is a few lines; this is far beyond any
+
+
+def _shown(value):
+    """`value` for a message, at most 60 characters."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _yaml_loader(yaml):
+    """PyYAML's safe loader, refusing a key given twice in one mapping (which it would take
+    the last of)."""
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def mapping(loader, node, deep=False):
+        keys = [loader.construct_object(k, deep=deep) for k, _ in node.value]
+        for key in keys:
+            if keys.count(key) > 1:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"the key {_shown(key)} is given twice", node.start_mark)
+        return yaml.SafeLoader.construct_mapping(loader, node, deep)
+
+    Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, mapping)
+    return Loader
 
 
 def read_file(path):
@@ -74,14 +103,18 @@ def read_file(path):
         import yaml
     except ImportError:
         raise SessionError("--servos needs PyYAML (Debian: python3-yaml)") from None
+    check_input_file(path, "--servos")
+    if os.path.getsize(path) > _MAX_FILE_BYTES:
+        raise SessionError(f"--servos '{path}': over {_MAX_FILE_BYTES} bytes: not a servos file")
     try:
         with open(path, encoding="utf-8") as f:
-            document = yaml.safe_load(f)
+            document = yaml.load(f, Loader=_yaml_loader(yaml))  # noqa: S506 (a safe loader)
     except OSError as e:
         raise SessionError(f"--servos '{path}': {e.strerror}") from None
     except (yaml.YAMLError, UnicodeDecodeError) as e:
-        raise SessionError(f"--servos '{path}': not YAML: "
-                           f"{str(e).splitlines()[0]}") from None
+        raise SessionError(f"--servos '{path}': not YAML: {first_line(e)}") from None
+    except RecursionError:
+        raise SessionError(f"--servos '{path}': nested too deeply to be a servos file") from None
     if not isinstance(document, dict) or set(document) != {"servos"} or not isinstance(
             document["servos"], dict) or not document["servos"]:
         raise SessionError(f"--servos '{path}': expected one key, servos, mapping ids to "
@@ -89,7 +122,8 @@ def read_file(path):
     entries = {}
     for servo_id, entry in document["servos"].items():
         if isinstance(servo_id, bool) or not isinstance(servo_id, int) or not 0 <= servo_id <= 252:
-            raise SessionError(f"--servos '{path}': {servo_id!r} is not a servo id in [0, 252]")
+            raise SessionError(f"--servos '{path}': {_shown(servo_id)} is not a servo id in "
+                               "[0, 252]")
         entries[servo_id] = _entry(servo_id, entry, f"--servos '{path}'",
                                    os.path.dirname(os.path.abspath(path)))
     return entries

@@ -7,8 +7,8 @@ import sys
 
 import numpy as np
 
-from . import emulator, files, joints, record as recording, run as running, session
-from .bus import MAX_ID, BusError, BusStats
+from . import emulator, files, joints, record as recording, run as running, session, tables
+from .bus import MAX_ID, BusError, BusStats, first_line
 from .cli import open_bus, say
 
 _SCAN_ITEMS = (  # (column, item, format): what matters to the model, as scan shows it
@@ -130,8 +130,8 @@ def _ended(verb, ended, what, unreached):
     if ended is None and not unreached:
         return 0
     reason = "completed" if ended is None else session.quit_reason(ended)
-    print(f"leglab.bus {verb}: {reason}; {session.torque_words(unreached)} and {what} "
-          "written up to there", file=sys.stderr)
+    print(f"leglab.bus {verb}: {reason}; {session.torque_words(unreached)} and {what}",
+          file=sys.stderr)
     return 2 if ended is None or isinstance(ended, (BusError, session.SessionError,
                                                      session.Stopped)) else 1
 
@@ -148,6 +148,10 @@ def record(args):
     """Records each trajectory on every servo; one log per servo and trajectory."""
     js = joints.joints(args, verb="record")
     ids = [j.id for j in js]
+    for j in js:
+        if j.kp == 0:
+            raise session.SessionError(f"servo {j.id}: kp 0: the servo would not hold (a log "
+                                       "the model cannot be fitted on)")
     out = files.out_folder(args.out)
     paths = {(name, j.id): os.path.join(out, recording.log_name(name, j.kp, j.id))
              for name in args.trajectory for j in js}
@@ -175,7 +179,8 @@ def record(args):
         ended = _session(bus, clock, args, ids, body, stop)
     for path in written:
         say(f"wrote {path}")
-    return _ended("record", ended, "the logs are", stop.unreached)
+    return _ended("record", ended, "the logs are written up to there" if written else
+                  "no log was written", stop.unreached)
 
 
 def _check_reach(bus, js, zeros, names):
@@ -214,15 +219,29 @@ def _supply_volts(bus, servo_id, ended):
 
 def _load_joint(args, fit, joint):
     """(model, desired on its tick) of one joint, the desired motion inside the joint's
-    limits; SessionError naming the file, servo or flag, before anything opens the port."""
+    limits and its drive and the planner's options valid; SessionError naming the file, servo
+    or flag, before anything opens the port."""
     from .. import servo
 
+    files.check_input_file(joint.desired, f"servo {joint.id}: --desired")
     try:
         model = fit.model(joint.motor or None, rung=args.rung)
         desired = servo.read_desired(joint.desired, model.tick_s)
     except (ValueError, OSError) as e:
-        raise session.SessionError(f"servo {joint.id}: {str(e).splitlines()[0]}") from None
+        reason = first_line(e) if str(e).strip() else (
+            f"--desired '{joint.desired}': not a desired CSV or a servo log")
+        raise session.SessionError(f"servo {joint.id}: {reason}") from None
     _check_inside(joint, desired, joint.min_deg, joint.max_deg, "[--min-deg, --max-deg]")
+    drive = dict(kp=joint.kp, mass_kg=joint.mass_kg, length_m=joint.length_m)
+    problem = servo._leglab._drive_problem(joint.kp, joint.mass_kg, joint.length_m)
+    try:
+        if model.rung == "extended" and problem:
+            raise ValueError(problem)
+        if args.online and args.method != "direct":  # its options checked as it is built
+            servo.ServoPlanner(model, args.method, preview_ticks=args.preview_ticks,
+                               min_deg=joint.min_deg, max_deg=joint.max_deg, **drive)
+    except ValueError as e:
+        raise session.SessionError(f"servo {joint.id}: {first_line(e)}") from None
     return model, desired
 
 
@@ -244,10 +263,16 @@ def _load_run_inputs(args):
     if args.lead_ticks and args.method != "direct":
         raise session.SessionError(f"--lead-ticks {args.lead_ticks}: only with --method direct "
                                    "(the planned methods lead by the model's own lag)")
+    if args.online and args.method == "direct":
+        raise session.SessionError("--online: only with a planned method (direct sends the "
+                                   "desired angles as they are)")
+    if args.preview_ticks is not None and not args.online:
+        raise session.SessionError("--preview-ticks: only with --online")
+    files.check_input_file(args.model, "--model")
     try:
         fit = servo.LogFit.load(args.model)
     except (ValueError, OSError) as e:
-        raise session.SessionError(f"--model: {str(e).splitlines()[0]}") from None
+        raise session.SessionError(f"--model: {first_line(e)}") from None
     loaded = {j.id: _load_joint(args, fit, j) for j in js}
     first = loaded[js[0].id]
     for j in js[1:]:
@@ -276,7 +301,7 @@ def _plan_joints(args, bus, js, loaded, zeros):
                                     drive, (low, high), args.lead_ticks)
             predicted = running.predicted_mae_deg(model, policy, drive)
         except ValueError as e:
-            raise session.SessionError(f"servo {j.id}: {str(e).splitlines()[0]}") from None
+            raise session.SessionError(f"servo {j.id}: {first_line(e)}") from None
         planned[j.id] = model, desired, policy, predicted, (low, high)
     return planned
 
@@ -288,6 +313,8 @@ def run(args):
     tick_s = loaded[ids[0]][0].tick_s
     out = files.out_folder(args.out)
     files.check_writable_all(out, running.output_paths(out, ids))
+    files.check_inputs_apart(running.output_paths(out, ids),
+                             [args.model, args.servos] + [j.desired for j in js])
     bus, clock = open_bus(args, js)
     _warn_latency(args)
     with bus, session.StopOnSignal() as stop:
@@ -319,7 +346,7 @@ def run(args):
         f"{summary['mae_deg']:.3f} deg (the model predicted {summary['predicted_mae_deg']:.3f}),"
         f" {summary['ticks']} ticks, {summary['ticks_late']} late, "
         f"{summary['retries']} retries")
-    return _ended("run", ended, "the log is", stop.unreached)
+    return _ended("run", ended, "the log is written up to there", stop.unreached)
 
 
 def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
@@ -342,12 +369,28 @@ def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
 
 def emulate(args):
     """Serves an emulated bus on a pseudo-terminal until SIGINT or SIGTERM."""
+    if args.link and os.path.lexists(args.link):
+        raise session.SessionError(f"--link '{args.link}': exists; leglab makes only a new link "
+                                   "(remove it, or name another)")
+    if args.link and not os.path.isdir(os.path.dirname(os.path.abspath(args.link))):
+        raise session.SessionError(f"--link '{args.link}': its folder does not exist")
+    if args.silent_ids and not set(args.silent_ids) <= set(args.ids):
+        raise session.SessionError(f"--silent-ids: not all among --ids {args.ids}")
     faults = emulator.Faults(drop_rate=args.drop_rate, corrupt_rate=args.corrupt_rate,
                              silent_after_s=args.silent_after_s,
                              silent_ids=tuple(args.silent_ids),
                              hardware_error_after_s=args.hardware_error_after_s, seed=args.seed)
-    emulated = emulator.make_emulator(args.protocol, args.motor, args.ids, args.mass_kg,
-                                      args.length_m, kp=args.kp, baud=args.baud, faults=faults)
+    try:
+        if args.kp is not None:
+            gain = tables.TABLES[args.motor].item("position_p_gain")
+            if args.kp > tables.raw_range(gain)[1]:
+                raise ValueError(f"--kp {args.kp}: the {tables.TABLES[args.motor].model}'s gain "
+                                 f"register holds at most {tables.raw_range(gain)[1]}")
+        emulated = emulator.make_emulator(args.protocol, args.motor, args.ids, args.mass_kg,
+                                          args.length_m, kp=args.kp, baud=args.baud,
+                                          faults=faults)
+    except ValueError as e:
+        raise session.SessionError(first_line(e)) from None
     stop = []
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, lambda *_: stop.append(True))
@@ -356,4 +399,3 @@ def emulate(args):
             print(rt.warning, file=sys.stderr)
         emulator.serve_pty(emulated, lambda path: say(path), lambda: bool(stop), link=args.link)
     return 0
-
