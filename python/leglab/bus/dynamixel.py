@@ -15,7 +15,8 @@ The same names exist in leglab.bus.feetech, so code above this layer is protocol
 
 from collections.abc import Mapping, Sequence
 
-from .errors import Packet, ProtocolError
+from .errors import (Packet, ProtocolError, check_ids, parse_sync_write_blocks,
+                     sync_write_blocks)
 
 NAME = "dynamixel"
 HEADER = b"\xff\xff\xfd\x00"
@@ -224,20 +225,10 @@ def reboot(id: int) -> bytes:
     return encode_instruction(id, REBOOT)
 
 
-def _check_ids(ids: Sequence[int]) -> None:
-    """ValueError unless `ids` are one or more distinct servo ids."""
-    if not ids:
-        raise ValueError("no ids")
-    for id in ids:
-        _check_id(id, broadcast=False)
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"ids {list(ids)} repeat an id")
-
-
 def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
     """SYNC_READ `size` bytes at `address` from each of `ids`; each answers with its own status
     packet, in the order of `ids`."""
-    _check_ids(ids)
+    check_ids(ids, _check_id)
     if size < 1:
         raise ValueError(f"read size {size} is below 1")
     head = _u16(address, "address") + _u16(size, "size")
@@ -246,19 +237,16 @@ def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
 
 def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> bytes:
     """SYNC_WRITE: `data_by_id[id]` (exactly `size` bytes each) at `address` of each servo."""
-    _check_ids(list(data_by_id))
+    check_ids(list(data_by_id), _check_id)
     params = bytearray(_u16(address, "address") + _u16(size, "size"))
-    for id, data in data_by_id.items():
-        if len(data) != size:
-            raise ValueError(f"id {id}: {len(data)} bytes of data, not {size}")
-        params += bytes([id]) + bytes(data)
+    params += sync_write_blocks(size, data_by_id)
     return encode_instruction(BROADCAST_ID, SYNC_WRITE, bytes(params))
 
 
 def bulk_read(items: Sequence[tuple[int, int, int]]) -> bytes:
     """BULK_READ: for each (id, address, size) in `items`, `size` bytes at `address` of that
     servo; each answers with its own status packet, in the order of `items`."""
-    _check_ids([id for id, _, _ in items])
+    check_ids([id for id, _, _ in items], _check_id)
     params = bytearray()
     for id, address, size in items:
         if size < 1:
@@ -281,10 +269,7 @@ def parse_sync_write(params: bytes) -> tuple[int, int, dict[int, bytes]]:
         raise ProtocolError(f"SYNC_WRITE has {len(params)} params, fewer than 4")
     address, size = int.from_bytes(params[:2], "little"), int.from_bytes(params[2:4], "little")
     rest = params[4:]
-    if size < 1 or not rest or len(rest) % (size + 1):
-        raise ProtocolError(f"SYNC_WRITE data of {len(rest)} bytes is not whole (id + {size})")
-    step = size + 1
-    return address, size, {rest[i]: bytes(rest[i + 1:i + step]) for i in range(0, len(rest), step)}
+    return address, size, parse_sync_write_blocks(rest, size)
 
 
 def parse_bulk_read(params: bytes) -> list[tuple[int, int, int]]:

@@ -1,6 +1,9 @@
 """What the two wire protocols (leglab.bus.dynamixel, leglab.bus.feetech) share: the error a
-bad frame raises and the decoded packet. Standard library only."""
+bad frame raises, the decoded packet, and the id lists and per-servo blocks of their SYNC
+instructions (each protocol frames the address and size its own way around them). Standard
+library only."""
 
+from collections.abc import Callable, Mapping, Sequence
 from typing import NamedTuple
 
 
@@ -23,3 +26,33 @@ class Packet(NamedTuple):
     instruction: int
     error: int
     params: bytes
+
+
+def check_ids(ids: Sequence[int], check_id: Callable[[int, bool], None]) -> None:
+    """ValueError unless `ids` are one or more distinct servo ids, each as `check_id(id,
+    broadcast=False)` (the protocol's own) accepts."""
+    if not ids:
+        raise ValueError("no ids")
+    for id in ids:
+        check_id(id, False)
+    if len(set(ids)) != len(ids):
+        raise ValueError(f"ids {list(ids)} repeat an id")
+
+
+def sync_write_blocks(size: int, data_by_id: Mapping[int, bytes]) -> bytes:
+    """SYNC_WRITE's per-servo blocks: each id, then its `size` bytes of data (ValueError when
+    a servo's data is not `size` bytes)."""
+    blocks = bytearray()
+    for id, data in data_by_id.items():
+        if len(data) != size:
+            raise ValueError(f"id {id}: {len(data)} bytes of data, not {size}")
+        blocks += bytes([id]) + bytes(data)
+    return bytes(blocks)
+
+
+def parse_sync_write_blocks(rest: bytes, size: int) -> dict[int, bytes]:
+    """{id: data} from SYNC_WRITE's per-servo blocks (ProtocolError when they are not whole)."""
+    if size < 1 or not rest or len(rest) % (size + 1):
+        raise ProtocolError(f"SYNC_WRITE data of {len(rest)} bytes is not whole (id + {size})")
+    step = size + 1
+    return {rest[i]: bytes(rest[i + 1:i + step]) for i in range(0, len(rest), step)}

@@ -18,7 +18,8 @@ The same names exist in leglab.bus.dynamixel, so code above this layer is protoc
 
 from collections.abc import Mapping, Sequence
 
-from .errors import Packet, ProtocolError
+from .errors import (Packet, ProtocolError, check_ids, parse_sync_write_blocks,
+                     sync_write_blocks)
 
 NAME = "feetech"
 HEADER = b"\xff\xff"
@@ -174,20 +175,10 @@ def reboot(id: int) -> bytes:
     return encode_instruction(id, REBOOT)
 
 
-def _check_ids(ids: Sequence[int]) -> None:
-    """ValueError unless `ids` are one or more distinct servo ids."""
-    if not ids:
-        raise ValueError("no ids")
-    for id in ids:
-        _check_id(id, broadcast=False)
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"ids {list(ids)} repeat an id")
-
-
 def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
     """SYNC_READ `size` bytes at `address` from each of `ids`; each answers with its own status
     packet, in the order of `ids`."""
-    _check_ids(ids)
+    check_ids(ids, _check_id)
     if size < 1:
         raise ValueError(f"read size {size} is below 1")
     head = bytes([_byte(address, "address"), _byte(size, "size")])
@@ -196,12 +187,9 @@ def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
 
 def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> bytes:
     """SYNC_WRITE: `data_by_id[id]` (exactly `size` bytes each) at `address` of each servo."""
-    _check_ids(list(data_by_id))
+    check_ids(list(data_by_id), _check_id)
     params = bytearray([_byte(address, "address"), _byte(size, "size")])
-    for id, data in data_by_id.items():
-        if len(data) != size:
-            raise ValueError(f"id {id}: {len(data)} bytes of data, not {size}")
-        params += bytes([id]) + bytes(data)
+    params += sync_write_blocks(size, data_by_id)
     return encode_instruction(BROADCAST_ID, SYNC_WRITE, bytes(params))
 
 
@@ -217,10 +205,7 @@ def parse_sync_write(params: bytes) -> tuple[int, int, dict[int, bytes]]:
     if len(params) < 2:
         raise ProtocolError(f"SYNC_WRITE has {len(params)} params, fewer than 2")
     address, size, rest = params[0], params[1], params[2:]
-    if size < 1 or not rest or len(rest) % (size + 1):
-        raise ProtocolError(f"SYNC_WRITE data of {len(rest)} bytes is not whole (id + {size})")
-    step = size + 1
-    return address, size, {rest[i]: bytes(rest[i + 1:i + step]) for i in range(0, len(rest), step)}
+    return address, size, parse_sync_write_blocks(rest, size)
 
 
 # The status byte of a status packet, also the servo status register (address 65): a set bit is
