@@ -65,6 +65,27 @@ void CheckOptions(const PlanOptions& o) {
   if (o.preview_ticks && !o.online) {
     throw InputError("--preview-ticks goes with --online (the batch plan sees the whole motion)");
   }
+  // The online optimal planner's effort, each flag in its option's declared range.
+  const struct {
+    const char* flag;
+    std::optional<double> value;
+    KeyDoc doc;
+  } efforts[] = {
+      {"--budget-ms", o.budget_ms, WithRange(kServoBudgetDoc, -1, kServoBudgetDoc.max * 1000)},
+      {"--hold-ticks", o.hold_ticks, kServoHoldDoc},
+      {"--iterations-per-tick", o.iterations_per_tick, kServoIterationsDoc}};
+  for (const auto& f : efforts) {
+    if (!f.value) continue;
+    if (!o.online || o.method != "optimal") {
+      throw InputError(std::string(f.flag) +
+                       " goes with --online --method optimal (the online optimal planner's "
+                       "effort)");
+    }
+    if (std::string problem = KeyValueProblem(*f.value, f.doc); !problem.empty()) {
+      throw InputError(std::string(f.flag) + " must be " + problem + ", got " +
+                       FormatNumber(*f.value));
+    }
+  }
   if (o.min_deg >= o.max_deg) {
     throw InputError("--min-deg " + FormatNumber(o.min_deg) + " must be below --max-deg " +
                      FormatNumber(o.max_deg));
@@ -90,8 +111,14 @@ PlanResult Plan(const PlanOptions& o) {
   }
   const PlanMethod method = o.method == "optimal" ? PlanMethod::kOptimal : PlanMethod::kModelBased;
   if (o.online) {
-    return PlanDesiredOnline(model, drive, std::move(desired), o.min_deg, o.max_deg, method,
-                             o.preview_ticks.value_or(-1));
+    ServoPlannerOptions options;
+    options.method = method;
+    options.preview_ticks = o.preview_ticks.value_or(-1);
+    if (o.budget_ms) options.budget_s = *o.budget_ms < 0 ? -1.0 : *o.budget_ms / 1000.0;
+    options.hold_ticks = o.hold_ticks.value_or(options.hold_ticks);
+    options.optimal_iterations_per_tick =
+        o.iterations_per_tick.value_or(options.optimal_iterations_per_tick);
+    return PlanDesiredOnline(model, drive, std::move(desired), o.min_deg, o.max_deg, options);
   }
   return PlanDesired(model, drive, std::move(desired), o.min_deg, o.max_deg, method);
 }
@@ -126,6 +153,13 @@ std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
     j["drive"] = {{"kp", r.drive.kp}, {"mass_kg", r.drive.mass_kg}, {"length_m", r.drive.length_m}};
   }
   if (r.preview_ticks) j["online"] = {{"preview_ticks", *r.preview_ticks}};
+  if (r.preview_ticks && o.method == "optimal") {
+    const ServoPlannerOptions defaults;
+    j["online"]["hold_ticks"] = o.hold_ticks.value_or(defaults.hold_ticks);
+    j["online"]["budget_ms"] = o.budget_ms.value_or(defaults.budget_s);
+    j["online"]["iterations_per_tick"] =
+        o.iterations_per_tick.value_or(defaults.optimal_iterations_per_tick);
+  }
   j["model_file"] = o.model_path;
   j["desired_file"] = o.desired_path;
   return j.dump(2) + "\n";
@@ -175,6 +209,10 @@ constexpr ColumnDoc kPlanFields[] = {
     {"drive.mass_kg", "kg", "the load's mass"},
     {"drive.length_m", "m", "the load's arm"},
     {"online.preview_ticks", "ticks", "with --online, the desired ticks each request saw ahead"},
+    {"online.hold_ticks", "ticks", "with --online --method optimal, --hold-ticks"},
+    {"online.budget_ms", "ms",
+     "with --online --method optimal, --budget-ms (-1: half the model's tick; 0: none)"},
+    {"online.iterations_per_tick", "", "with --online --method optimal, --iterations-per-tick"},
     {"model_file", "", "the --model file"},
     {"desired_file", "", "the --desired file"},
 };
@@ -216,6 +254,16 @@ int PlanMain(int argc, char** argv) {
   app.add_option("--preview-ticks", o.preview_ticks,
                  "with --online: desired angles ahead the planner is given (default: the "
                  "method's own)");
+  app.add_option("--budget-ms", o.budget_ms,
+                 "with --online --method optimal: wall-clock time a tick may iterate (ms; "
+                 "default -1, half the model's tick; 0: the iteration cap alone, the same "
+                 "requests on every machine)");
+  app.add_option("--hold-ticks", o.hold_ticks,
+                 "with --online --method optimal: ticks after the preview over which the last "
+                 "desired angle is taken as held (default 0)");
+  app.add_option("--iterations-per-tick", o.iterations_per_tick,
+                 "with --online --method optimal: the most L-BFGS iterations a tick (default " +
+                     std::to_string(kOptimalMaxIterations) + ")");
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 
+#include "horizon_descent.h"
 #include "leglab/core/format.h"
 #include "servo_plan_steps.h"
 
@@ -102,63 +102,6 @@ std::vector<double> ModelBasedRequests(const Stepper& stepper, const Problem& p,
   return requests;
 }
 
-// The requests clamped in time order to the limits and the speed limit from R(-1) = `start`.
-void Project(const Problem& p, std::vector<double>& requests) {
-  double previous = p.desired[0];
-  for (double& r : requests) {
-    r = std::clamp(r, previous - p.max_step_deg, previous + p.max_step_deg);
-    r = std::clamp(r, p.min_deg, p.max_deg);
-    previous = r;
-  }
-}
-
-// d/dR(t) of SquaredError, exactly, by the adjoint of the model's steps (HorizonGradient
-// over the whole plan): one pass forward and one back, O(N).
-template <class Stepper>
-std::vector<double> ErrorGradient(const Stepper& stepper, const Problem& p,
-                                  const std::vector<double>& requests) {
-  const size_t n = requests.size();
-  // As Simulate's state before pushing R(0): M(0) is the first tick's angle, SquaredError's
-  // first term, which no request changes.
-  typename Stepper::State pending = stepper.Rest(p.desired[0]);
-  stepper.Advance(pending);
-  typename Stepper::State scratch = pending;
-  std::vector<double> angles(n);
-  servo_plan::HorizonError(stepper, pending, scratch, requests, p.desired, angles);
-  std::vector<double> gradient(n);
-  servo_plan::HorizonGradient(stepper, pending, requests, p.desired, angles, gradient);
-  return gradient;
-}
-
-// The limited-memory BFGS direction -H g (Nocedal and Wright, algorithm 7.4) from the last
-// steps s and gradient changes y, oldest first; H0 = (s.y / y.y) I from the newest pair.
-std::vector<double> QuasiNewtonDirection(const std::vector<double>& gradient,
-                                         const std::deque<std::vector<double>>& steps,
-                                         const std::deque<std::vector<double>>& changes) {
-  const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
-    double sum = 0.0;
-    for (size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
-    return sum;
-  };
-  std::vector<double> q = gradient;
-  const size_t m = steps.size();
-  std::vector<double> alpha(m);
-  std::vector<double> rho(m);
-  for (size_t k = m; k-- > 0;) {
-    rho[k] = 1.0 / dot(changes[k], steps[k]);
-    alpha[k] = rho[k] * dot(steps[k], q);
-    for (size_t i = 0; i < q.size(); ++i) q[i] -= alpha[k] * changes[k][i];
-  }
-  const double scale = dot(steps.back(), changes.back()) / dot(changes.back(), changes.back());
-  for (double& v : q) v *= scale;
-  for (size_t k = 0; k < m; ++k) {
-    const double beta = rho[k] * dot(changes[k], q);
-    for (size_t i = 0; i < q.size(); ++i) q[i] += (alpha[k] - beta) * steps[k][i];
-  }
-  for (double& v : q) v = -v;
-  return q;
-}
-
 // kModelBased for the extended model, the paper's method carried over: the model inverted
 // along the desired path (DesiredPathTick), R(t) = D(k-1) + u / (gain * kp) for k = t + l + 1.
 // A duty beyond +-1 is saturated (the least request that saturates) and flagged. Open loop
@@ -186,72 +129,18 @@ std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Pr
   return requests;
 }
 
-// kOptimal from the kModelBased requests: never worse than them. Projected limited-memory
-// BFGS on SquaredError with its exact gradient (ErrorGradient): each iteration tries the
-// quasi-Newton step, projected (Project), halving it until the error falls (at most 40
-// times); with no memory yet, or when that fails, the steepest descent step that moves the
-// steepest request by 1 deg, halved likewise; it stops when neither lowers the error, when an
-// iteration gains at most 1e-12 of it, or after kOptimalMaxIterations.
+// kOptimal from the kModelBased requests: never worse than them. HorizonDescent over the whole
+// motion, from rest at D(0): SquaredError less its first term, M(0) - D(0), which no request
+// changes.
 template <class Stepper>
 std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
                                     std::vector<double> requests) {
-  constexpr size_t kMemory = 8;
-  double error = SquaredError(stepper, p, requests);
-  std::vector<double> gradient = ErrorGradient(stepper, p, requests);
-  std::deque<std::vector<double>> steps;
-  std::deque<std::vector<double>> changes;
-  std::vector<double> candidate(requests.size());
-  // Tries requests + alpha direction, projected, halving alpha; true once the error falls.
-  const auto search = [&](const std::vector<double>& direction, double alpha) {
-    for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
-      for (size_t t = 0; t < candidate.size(); ++t) {
-        candidate[t] = requests[t] + alpha * direction[t];
-      }
-      Project(p, candidate);
-      const double candidate_error = SquaredError(stepper, p, candidate);
-      if (candidate_error < error) {
-        error = candidate_error;
-        return true;
-      }
-    }
-    return false;
-  };
-  for (int i = 0; i < kOptimalMaxIterations; ++i) {
-    const double before = error;
-    double largest = 0.0;
-    for (const double g : gradient) largest = std::max(largest, std::abs(g));
-    if (largest == 0.0) break;
-    bool moved = !steps.empty() && search(QuasiNewtonDirection(gradient, steps, changes), 1.0);
-    if (!moved) {
-      steps.clear();
-      changes.clear();
-      std::vector<double> descent(gradient.size());
-      for (size_t t = 0; t < descent.size(); ++t) descent[t] = -gradient[t] / largest;
-      moved = search(descent, 1.0);
-    }
-    if (!moved) break;
-    std::vector<double> next_gradient = ErrorGradient(stepper, p, candidate);
-    std::vector<double> step(requests.size());
-    std::vector<double> change(requests.size());
-    double curvature = 0.0;
-    for (size_t t = 0; t < step.size(); ++t) {
-      step[t] = candidate[t] - requests[t];
-      change[t] = next_gradient[t] - gradient[t];
-      curvature += step[t] * change[t];
-    }
-    requests.swap(candidate);
-    gradient.swap(next_gradient);
-    // Only pairs of positive curvature keep H positive definite.
-    if (curvature > 0.0) {
-      steps.push_back(std::move(step));
-      changes.push_back(std::move(change));
-      if (steps.size() > kMemory) {
-        steps.pop_front();
-        changes.pop_front();
-      }
-    }
-    if (before - error <= 1e-12 * before) break;
-  }
+  typename Stepper::State pending = stepper.Rest(p.desired[0]);
+  stepper.Advance(pending);
+  servo_plan::HorizonDescent<Stepper> descent;
+  descent.Reserve(requests.size(), p.desired.size() - 1, pending);
+  descent.Descend(stepper, pending, p.desired, {p.min_deg, p.max_deg, p.max_step_deg, p.desired[0]},
+                  requests, requests.size(), {.max_iterations = kOptimalMaxIterations});
   return requests;
 }
 

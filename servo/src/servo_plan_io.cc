@@ -303,10 +303,7 @@ PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
 
 PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
                              std::vector<double> desired_deg, double min_deg, double max_deg,
-                             PlanMethod method, int preview_ticks) {
-  ServoPlannerOptions options;
-  options.method = method;
-  options.preview_ticks = preview_ticks;
+                             const ServoPlannerOptions& options) {
   const ServoLimits limits{min_deg, max_deg, model.top_speed_deg_s};
   ServoPlanner planner = model.rung == "paper"
                              ? ServoPlanner(model.paper, model.tick_s, limits, options)

@@ -1,6 +1,7 @@
 #include "leglab/servo/servo_planner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "horizon_descent.h"
 #include "leglab/core/format.h"
 #include "servo_plan_steps.h"
 
@@ -78,15 +80,21 @@ class Planner final : public ServoPlanner::Impl {
                                   "model's lag (" +
                                   std::to_string(params.lag_ticks) + " ticks)");
     }
-    desired_.assign(static_cast<size_t>(std::max(preview_, horizon_)) + 1, 0.0);
+    budget_s_ = options.budget_s < 0.0 ? tick_s / 2.0 : options.budget_s;
+    const int hold = options.method == PlanMethod::kOptimal ? options.hold_ticks : 0;
+    desired_.assign(static_cast<size_t>(std::max(preview_, horizon_) + hold) + 1, 0.0);
     anchored_ = stepper().Rest(0.0);
     scratch_ = anchored_;
     if (options.method == PlanMethod::kOptimal) {
-      const auto decisions = static_cast<size_t>(preview_ - params.lag_ticks);
+      // R(t..t+preview+hold-l-1): the last acts on M(t+preview+hold).
+      const auto decisions = static_cast<size_t>(preview_ + hold - params.lag_ticks);
       plan_.assign(decisions, 0.0);
-      candidate_.assign(decisions, 0.0);
-      gradient_.assign(decisions, 0.0);
-      angles_.assign(static_cast<size_t>(preview_) + 1, 0.0);
+      model_based_.assign(decisions, 0.0);
+      model_based_state_ = anchored_;
+      descent_.Reserve(decisions, static_cast<size_t>(preview_ + hold), anchored_);
+      // The requests that act on the preview's last 2 (l + 1) ticks, and on the held ones, are
+      // model_based's.
+      free_ = decisions - std::min(decisions, static_cast<size_t>(2 * horizon_ + hold));
     }
   }
 
@@ -111,7 +119,6 @@ class Planner final : public ServoPlanner::Impl {
     ticks_ = 0;
     predicted_ = angle_deg;
     reanchored_ = false;
-    alpha_ = 0.0;
   }
 
   double Request(std::span<const double> window_deg, double measured_deg) override {
@@ -179,16 +186,12 @@ class Planner final : public ServoPlanner::Impl {
     if (ticks_ == 0) last_desired_ = desired_[0];
   }
 
-  // optimal's plan at tick 0: the first guesses.
-  void FirstPlan() {
-    for (size_t i = 0; i < plan_.size(); ++i) plan_[i] = FirstGuess(static_cast<int>(i));
-  }
+  // optimal's plan at tick 0: model_based's.
+  void FirstPlan() { ModelBasedPlan(plan_); }
 
-  // optimal's plan one tick on: R(t+1..) to the front, a first guess at its new end.
-  void ShiftPlan() {
-    std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
-    plan_.back() = FirstGuess(static_cast<int>(plan_.size()) - 1);
-  }
+  // optimal's plan one tick on: R(t+1..) to the front, its last request held (the next
+  // Request replaces the plan's end with model_based's).
+  void ShiftPlan() { std::copy(plan_.begin() + 1, plan_.end(), plan_.begin()); }
 
   Stepper stepper() const {
     if constexpr (kExtended) {
@@ -233,68 +236,64 @@ class Planner final : public ServoPlanner::Impl {
   }
 
   // D(t..t+preview).
-  std::span<const double> Desired() const {
-    return std::span<const double>(desired_).first(static_cast<size_t>(preview_) + 1);
-  }
+  // optimal's D(t..t+preview+hold_ticks), the last known angle held beyond the window.
+  std::span<const double> Desired() const { return desired_; }
 
-  double Error(const std::vector<double>& plan, bool record) {
-    return HorizonError(stepper(), anchored_, scratch_, plan, Desired(),
-                        record ? std::span<double>(angles_) : std::span<double>());
-  }
-
-  // The requests clamped in time order to the limits and the speed limit from R(t-1).
-  void Project(std::vector<double>& plan) const {
-    double previous = previous_;
-    for (double& r : plan) previous = r = Clamp(r, previous);
-  }
-
-  // A first guess for R(t + i): the extended model's path request, the paper model's target.
-  double FirstGuess(int i) const {
+  // model_based's requests R(t..t+m-1) for the horizon from the model copy, within the limits:
+  // those online model_based would send, were the servo the model.
+  void ModelBasedPlan(std::vector<double>& plan) {
     const int lag = params_.lag_ticks;
+    double previous = previous_;
     if constexpr (kExtended) {
-      return DesiredPathTick(stepper(), D(i + lag - 1), D(i + lag), D(i + lag + 1)).request_deg;
+      for (size_t i = 0; i < plan.size(); ++i) {
+        const int q = static_cast<int>(i) + lag;
+        plan[i] = previous =
+            Clamp(DesiredPathTick(stepper(), D(q - 1), D(q), D(q + 1)).request_deg, previous);
+      }
     } else {
-      return D(i + lag + 1);
+      model_based_state_ = anchored_;
+      for (size_t i = 0; i < plan.size(); ++i) {
+        const double lo = std::max(limits_.min_deg, previous - max_step_deg_);
+        const double hi = std::min(limits_.max_deg, previous + max_step_deg_);
+        plan[i] = previous = InvertAtPending(stepper(), model_based_state_, scratch_, previous, lo,
+                                             hi, D(static_cast<int>(i) + lag + 1))
+                                 .request_deg;
+        Stepper::Push(model_based_state_, previous);
+        stepper().Advance(model_based_state_);
+      }
     }
   }
 
-  // kOptimal: the horizon's plan, improved by a few projected gradient steps that each lower
-  // its error (as the batch's DescentStep), its first request sent.
+  // kOptimal: HorizonDescent from the better, by the horizon's error, of model_based's plan and
+  // the last tick's shifted by one (its end model_based's); its first request sent. Never worse
+  // than model_based on the horizon: that is where it starts, and it only descends.
   double OptimalRequest() {
+    const auto start = std::chrono::steady_clock::now();
+    ModelBasedPlan(model_based_);
     if (ticks_ == 0) {
-      FirstPlan();
+      std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
     } else {
-      ShiftPlan();
+      const auto free = static_cast<long>(free_);
+      std::copy(plan_.begin() + 1, plan_.begin() + free + 1, plan_.begin());
+      std::copy(model_based_.begin() + free, model_based_.end(), plan_.begin() + free);
+      servo_plan::ProjectRequests(Bounds(), plan_);
+      if (Error(model_based_) <= Error(plan_)) plan_.swap(model_based_);
     }
-    Project(plan_);
-    double error = Error(plan_, true);
-    for (int iteration = 0; iteration < options_.optimal_iterations_per_tick; ++iteration) {
-      HorizonGradient(stepper(), anchored_, plan_, Desired(), angles_, gradient_);
-      double largest = 0.0;
-      for (const double g : gradient_) largest = std::max(largest, std::abs(g));
-      if (largest == 0.0) break;
-      if (alpha_ == 0.0) alpha_ = 1.0 / largest;  // the steepest request moves 1 deg
-      bool lowered = false;
-      for (int tries = 0; tries < 40; ++tries) {
-        for (size_t i = 0; i < plan_.size(); ++i) candidate_[i] = plan_[i] - alpha_ * gradient_[i];
-        Project(candidate_);
-        const double candidate_error = Error(candidate_, false);
-        if (candidate_error < error) {
-          std::swap(plan_, candidate_);
-          error = candidate_error;
-          lowered = true;
-          if (tries == 0) alpha_ *= 2;  // taken at once: try a longer one next time
-          break;
-        }
-        alpha_ /= 2;
-      }
-      if (!lowered) {
-        alpha_ = 0.0;  // no step helped: the next search starts again from 1 deg
-        break;
-      }
-      Error(plan_, true);
+    servo_plan::DescentStop stop{.max_iterations = options_.optimal_iterations_per_tick};
+    if (budget_s_ > 0.0) {
+      stop.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                  std::chrono::duration<double>(budget_s_));
     }
+    descent_.Descend(stepper(), anchored_, Desired(), Bounds(), plan_, free_, stop);
     return plan_[0];
+  }
+
+  servo_plan::RequestBounds Bounds() const {
+    return {limits_.min_deg, limits_.max_deg, max_step_deg_, previous_};
+  }
+
+  double Error(const std::vector<double>& plan) {
+    return HorizonError(stepper(), anchored_, scratch_, plan, Desired(), {});
   }
 
   Params params_;
@@ -318,12 +317,13 @@ class Planner final : public ServoPlanner::Impl {
   double predicted_ = 0.0;
   bool reanchored_ = false;
 
-  // kOptimal's receding horizon: R(t..t+preview-l-1) and its workspace.
+  // kOptimal's receding horizon: R(t..t+preview-l-1), model_based's for it, and the optimiser.
   std::vector<double> plan_;
-  std::vector<double> candidate_;
-  std::vector<double> gradient_;
-  std::vector<double> angles_;  // M(t..t+preview) under plan_
-  double alpha_ = 0.0;
+  std::vector<double> model_based_;
+  State model_based_state_;
+  servo_plan::HorizonDescent<Stepper> descent_;
+  size_t free_ = 0;  // the plan's requests that descend; the rest are model_based's
+  double budget_s_ = 0.0;
 };
 
 }  // namespace
@@ -338,6 +338,8 @@ void VisitKeys(KeyVisitor& v, ServoPlannerOptions& options) {
          .description = "a measurement this far off the model's prediction re-anchors the "
                         "model (inf: never)"});
   v.Key("optimal_iterations_per_tick", options.optimal_iterations_per_tick, kServoIterationsDoc);
+  v.Key("budget_s", options.budget_s, kServoBudgetDoc);
+  v.Key("hold_ticks", options.hold_ticks, kServoHoldDoc);
 }
 
 namespace {
@@ -358,6 +360,11 @@ void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& op
   const std::string problem =
       KeysProblem(options, [](KeyVisitor& v, ServoPlannerOptions& o) { VisitKeys(v, o); });
   if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
+  if (options.budget_s < 0.0 && options.budget_s != -1.0) {
+    throw std::invalid_argument("servo planner: budget_s must be -1 (half the tick) or in [0, " +
+                                FormatNumber(kServoBudgetDoc.max) + "] s, got " +
+                                FormatNumber(options.budget_s));
+  }
 }
 
 }  // namespace

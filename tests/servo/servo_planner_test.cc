@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -14,6 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "horizon_descent.h"   // the receding horizon's optimiser (internal)
 #include "servo_plan_steps.h"  // the receding horizon's error and gradient (internal)
 
 // Every allocation of this test program counted, to show that a planner's ticks make none.
@@ -263,9 +265,12 @@ TEST(ServoPlanner, AHeldTickAdvancesTheModelByTheRequestTheServoKept) {
 
 TEST(ServoPlanner, TicksMakeNoAllocation) {
   const std::vector<double> d = Desired();
-  for (const PlanMethod method : {PlanMethod::kModelBased, PlanMethod::kOptimal}) {
+  for (const int hold : {-1, 0, 20}) {
     ServoPlannerOptions options;
-    options.method = method;
+    options.method = hold < 0 ? PlanMethod::kModelBased : PlanMethod::kOptimal;
+    options.hold_ticks = std::max(hold, 0);
+    options.optimal_iterations_per_tick = 20;
+    const PlanMethod method = options.method;
     ServoPlanner extended(Extended(), kDrive, kTickS, kLimits, options);
     ServoPlanner paper(Paper(), kTickS, kLimits, options);
     for (ServoPlanner* planner : {&extended, &paper}) {
@@ -292,6 +297,7 @@ TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
   const std::vector<double> d = Desired();
   ServoPlannerOptions options;
   options.method = PlanMethod::kOptimal;
+  options.budget_s = 0.0;  // the iteration cap alone: the same requests on every machine
   ServoPlanner planner(Extended(), kDrive, kTickS, kLimits, options);
   EXPECT_EQ(planner.PreviewTicks(), 3 + kOptimalWindowTicks);
   std::vector<double> predicted(d.size());
@@ -318,6 +324,108 @@ TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
               .predicted_deg);
   EXPECT_LT(mae(predicted), based);
   EXPECT_LT(mae(predicted), batch + 0.1);
+}
+
+// Optimal's plan keeps model_based's requests on the preview's last 2 (l + 1) ticks: with a
+// preview of at most 3 l + 2 no request is left to descend, and a budget spent before the first
+// iteration sends the plan it starts from. Both are model_based's requests, bit for bit, for
+// both rungs (with the batch plan's predictions as measurements).
+TEST(ServoPlanner, OptimalWithNoRoomOrNoTimeToDescendIsModelBased) {
+  const std::vector<double> d = Desired();
+  struct Case {
+    int preview_ticks;
+    double budget_s;
+  };
+  for (const Case c : {Case{3, 0.0}, Case{8, 0.0}, Case{62, 1e-12}}) {
+    ServoPlannerOptions options;
+    options.method = PlanMethod::kOptimal;
+    options.preview_ticks = c.preview_ticks;
+    options.budget_s = c.budget_s;
+    const auto window = static_cast<size_t>(c.preview_ticks) + 1;
+    const ServoPlan extended =
+        PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+    ServoPlanner online(Extended(), kDrive, kTickS, kLimits, options);
+    const std::vector<double> requests = OnlineRequests(online, d, extended.predicted_deg, window);
+    for (size_t t = 0; t < d.size(); ++t) {
+      ASSERT_EQ(requests[t], extended.request_deg[t]) << c.preview_ticks << " " << t;
+    }
+    if (c.preview_ticks < 4 + 3 + 2 && c.budget_s == 0.0) continue;  // the paper's lag is 3
+    const ServoPlan paper =
+        PlanJointModelRequests(Paper(), kTickS, d, kLimits, PlanMethod::kModelBased);
+    ServoPlanner paper_online(Paper(), kTickS, kLimits, options);
+    const std::vector<double> paper_requests =
+        OnlineRequests(paper_online, d, paper.predicted_deg, window);
+    for (size_t t = 0; t < d.size(); ++t) {
+      ASSERT_EQ(paper_requests[t], paper.request_deg[t]) << c.preview_ticks << " " << t;
+    }
+  }
+  // One request more to descend, and the plan moves off model_based's.
+  ServoPlannerOptions options;
+  options.method = PlanMethod::kOptimal;
+  options.preview_ticks = 9;
+  options.budget_s = 0.0;
+  const ServoPlan batch =
+      PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+  ServoPlanner online(Extended(), kDrive, kTickS, kLimits, options);
+  EXPECT_NE(OnlineRequests(online, d, batch.predicted_deg, 10), batch.request_deg);
+}
+
+// HorizonDescent from random states and plans: never above the error it starts from (after the
+// projection), within the bounds, its held requests those given (re-projected), and a deadline
+// already passed takes no iteration.
+TEST(ServoPlanner, HorizonDescentOnlyLowersTheErrorAndHoldsItsTail) {
+  const ServoModelParams params = Extended();
+  const servo_plan::ExtendedStepper stepper{params, kDrive, kTickS};
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> angle(-50.0, 50.0);
+  constexpr size_t kPreview = 40;
+  const size_t decisions = kPreview - static_cast<size_t>(params.lag_ticks);
+  servo_plan::HorizonDescent<servo_plan::ExtendedStepper> descent;
+  ServoModelState pending = stepper.Rest(0.0);
+  descent.Reserve(decisions, kPreview, pending);
+  const double step = kLimits.max_speed_deg_s * kTickS;
+  for (int trial = 0; trial < 50; ++trial) {
+    pending = stepper.Rest(angle(random));
+    pending.velocity_deg_s = 10.0 * angle(random);
+    for (double& r : pending.past_requests_deg) r = angle(random);
+    stepper.Advance(pending);
+    std::vector<double> desired(kPreview + 1);
+    for (double& a : desired) a = angle(random);
+    std::vector<double> plan(decisions);
+    for (double& r : plan) r = angle(random);
+    const servo_plan::RequestBounds bounds{kLimits.min_deg, kLimits.max_deg, step,
+                                           pending.past_requests_deg[0]};
+    const size_t free = decisions / 2;
+    const std::vector<double> original = plan;
+    std::vector<double> start = plan;
+    servo_plan::ProjectRequests(bounds, start);
+    ServoModelState scratch = pending;
+    const double before = servo_plan::HorizonError(stepper, pending, scratch, start, desired, {});
+    std::vector<double> spent = plan;
+    const servo_plan::DescentResult none =
+        descent.Descend(stepper, pending, desired, bounds, spent, free,
+                        {.max_iterations = 100, .deadline = std::chrono::steady_clock::now()});
+    EXPECT_EQ(none.iterations, 0);
+    EXPECT_EQ(none.error, before);
+    EXPECT_EQ(spent, start);
+    const servo_plan::DescentResult result =
+        descent.Descend(stepper, pending, desired, bounds, plan, free, {.max_iterations = 100});
+    EXPECT_LE(result.error, before) << trial;
+    EXPECT_EQ(result.error, servo_plan::HorizonError(stepper, pending, scratch, plan, desired, {}));
+    double previous = bounds.previous_deg;
+    for (size_t i = 0; i < plan.size(); ++i) {
+      ASSERT_LE(std::abs(plan[i] - previous), step + 1e-12) << trial << " " << i;
+      ASSERT_GE(plan[i], kLimits.min_deg);
+      ASSERT_LE(plan[i], kLimits.max_deg);
+      previous = plan[i];
+    }
+    // The held requests: those given, clamped from the last free one as ProjectRequests does.
+    std::vector<double> given = plan;
+    std::copy(original.begin() + static_cast<long>(free), original.end(),
+              given.begin() + static_cast<long>(free));
+    servo_plan::ProjectRequests(bounds, given);
+    EXPECT_EQ(plan, given) << trial;
+  }
 }
 
 TEST(ServoPlanner, ARequestBeforeAnyResetStartsAtItsWindow) {

@@ -23,7 +23,7 @@ class Policy:
     the ticks since the last one on which none was sent."""
 
     def __init__(self, model, desired_deg, method, online, preview_ticks, drive, limits,
-                 lead_ticks=0):
+                 lead_ticks=0, budget_s=None):
         self.desired = np.ascontiguousarray(desired_deg, dtype=np.float64)
         self.method = method
         self.planner = None
@@ -34,7 +34,8 @@ class Policy:
                                                     len(self.desired) - 1)]
         elif online:
             self.planner = servo.ServoPlanner(model, method, preview_ticks=preview_ticks,
-                                              min_deg=min_deg, max_deg=max_deg, **drive)
+                                              min_deg=min_deg, max_deg=max_deg,
+                                              budget_s=budget_s, **drive)
             self.planner.reset(float(self.desired[0]))
             self.window = self.planner.preview_ticks + 1
         else:

@@ -239,10 +239,19 @@ def _load_joint(args, fit, joint):
             raise ValueError(problem)
         if args.online and args.method != "direct":  # its options checked as it is built
             servo.ServoPlanner(model, args.method, preview_ticks=args.preview_ticks,
-                               min_deg=joint.min_deg, max_deg=joint.max_deg, **drive)
+                               min_deg=joint.min_deg, max_deg=joint.max_deg,
+                               budget_s=budget_s(args), **drive)
     except ValueError as e:
         raise session.SessionError(f"servo {joint.id}: {first_line(e)}") from None
     return model, desired
+
+
+def budget_s(args):
+    """The online planner's budget_s: --budget-ms; else none on an emulator's virtual time
+    (the iteration cap alone: the same requests every run), half the model's tick on a port."""
+    if args.budget_ms is not None:
+        return args.budget_ms / 1000.0
+    return 0.0 if args.port.startswith("emulator:") else None
 
 
 def _check_inside(joint, desired, low, high, what):
@@ -268,6 +277,8 @@ def _load_run_inputs(args):
                                    "desired angles as they are)")
     if args.preview_ticks is not None and not args.online:
         raise session.SessionError("--preview-ticks: only with --online")
+    if args.budget_ms is not None and not (args.online and args.method == "optimal"):
+        raise session.SessionError("--budget-ms: only with --online --method optimal")
     files.check_input_file(args.model, "--model")
     try:
         fit = servo.LogFit.load(args.model)
@@ -298,7 +309,7 @@ def _plan_joints(args, bus, js, loaded, zeros):
         drive = dict(kp=j.kp, mass_kg=j.mass_kg, length_m=j.length_m)
         try:
             policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
-                                    drive, (low, high), args.lead_ticks)
+                                    drive, (low, high), args.lead_ticks, budget_s(args))
             predicted = running.predicted_mae_deg(model, policy, drive)
         except ValueError as e:
             raise session.SessionError(f"servo {j.id}: {first_line(e)}") from None

@@ -29,6 +29,10 @@ struct PlanOptions {
   /// `preview_ticks` desired angles ahead (unset: the method's own), instead of the batch plan.
   bool online = false;
   std::optional<int> preview_ticks;  ///< --preview-ticks (with --online)
+  /// --budget-ms (with --online --method optimal): ServoPlannerOptions::budget_s in ms.
+  std::optional<double> budget_ms;
+  std::optional<int> hold_ticks;           ///< --hold-ticks (with --online --method optimal)
+  std::optional<int> iterations_per_tick;  ///< --iterations-per-tick (likewise)
 };
 
 /// Runs `plan`: reads the model and the desired motion, plans, writes requests.csv and plan.json

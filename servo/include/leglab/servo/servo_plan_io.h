@@ -7,6 +7,7 @@
 #include "leglab/model/joint_model.h"
 #include "leglab/servo/servo_model.h"
 #include "leglab/servo/servo_plan.h"
+#include "leglab/servo/servo_planner.h"
 
 namespace leglab {
 
@@ -53,13 +54,13 @@ PlanResult PlanDesired(const FittedModel& model, const ServoDrive& drive,
                        std::vector<double> desired_deg, double min_deg, double max_deg,
                        PlanMethod method);
 
-/// PlanDesired online: a ServoPlanner (`preview_ticks` desired angles ahead, -1: the method's
-/// own) run tick by tick on the model itself, each tick measuring what the model predicts.
-/// The requests and predictions are the planner's; beyond_servo is the batch model-based
-/// plan's (a property of the desired motion). Throws std::invalid_argument as ServoPlanner.
+/// PlanDesired online: a ServoPlanner with `options` (its method, preview, budget) run tick by
+/// tick on the model itself, each tick measuring what the model predicts. The requests and
+/// predictions are the planner's; beyond_servo is the batch model-based plan's (a property of
+/// the desired motion). Throws std::invalid_argument as ServoPlanner.
 PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
                              std::vector<double> desired_deg, double min_deg, double max_deg,
-                             PlanMethod method, int preview_ticks);
+                             const ServoPlannerOptions& options);
 
 /// A desired motion read from --desired, before resampling.
 struct DesiredServoMotion {

@@ -28,9 +28,19 @@ struct ServoPlannerOptions {
   /// the last two measurements). Closer ones are taken as the model's own error and ignored,
   /// so that the requests do not chase noise. > 0; infinity: never.
   double reanchor_deg = 2.0;
-  /// kOptimal: projected gradient iterations per tick on the receding horizon, each one
-  /// gradient (adjoint, O(preview)) and a backtracking line search. >= 1.
-  int optimal_iterations_per_tick = 4;
+  /// kOptimal: the most projected L-BFGS iterations a tick (HorizonDescent: each one gradient
+  /// by the adjoint, O(preview + hold_ticks), and a backtracking line search). 1 to 1000.
+  int optimal_iterations_per_tick = kOptimalMaxIterations;
+  /// kOptimal: the wall-clock time (s) a Request may spend iterating, from its start: it stops
+  /// at the first iteration that would start later, or at the iteration cap, whichever comes
+  /// first. -1: half the model's tick; 0: no time budget, the cap alone (the same requests on
+  /// every machine, for tests and tables). -1 or 0 to 10.
+  double budget_s = -1.0;
+  /// kOptimal: ticks after the preview over which the last desired angle given is taken as
+  /// held and the requests are model_based's for it, so that the plan pays for a state it
+  /// leaves behind that the servo cannot leave (a load held by friction or a saturated duty).
+  /// 0 to kMaxServoPreviewTicks.
+  int hold_ticks = 0;
 };
 
 /// The declared range of ServoPlannerOptions::preview_ticks (-1: the method's own), which
@@ -43,7 +53,23 @@ inline constexpr KeyDoc kServoPreviewDoc{
 
 /// The declared range of ServoPlannerOptions::optimal_iterations_per_tick.
 inline constexpr KeyDoc kServoIterationsDoc{
-    .min = 1, .max = 1000, .description = "optimal: gradient iterations per tick"};
+    .min = 1, .max = 1000, .description = "optimal: the most L-BFGS iterations a tick"};
+
+/// The declared range of ServoPlannerOptions::budget_s.
+inline constexpr KeyDoc kServoBudgetDoc{
+    .min = -1,
+    .max = 10,
+    .unit = "s",
+    .description =
+        "optimal: wall-clock time a tick may iterate (-1: half the tick; 0: the "
+        "iteration cap alone)"};
+
+/// The declared range of ServoPlannerOptions::hold_ticks.
+inline constexpr KeyDoc kServoHoldDoc{
+    .min = 0,
+    .max = kMaxServoPreviewTicks,
+    .unit = "ticks",
+    .description = "optimal: ticks after the preview the last desired angle is taken as held"};
 
 /// ServoPlannerOptions' numbers, declared once (see KeyVisitor) with the ranges their comments
 /// give: what the planner checks when it is built (its method is checked by its type).
@@ -69,9 +95,13 @@ void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
 /// (docs/design/servo-planner.md says why it is not steered back through the model).
 /// PredictedDeg() against the measured angle shows a disturbance either way.
 ///
-/// kOptimal is a receding horizon: each tick it minimises the squared error over the preview
-/// from the (re-anchored) model state, warm-started from the last tick's solution shifted by
-/// one, and sends the first request.
+/// kOptimal is a receding horizon: each tick it lowers the squared error over the preview (and
+/// hold_ticks after it) from the (re-anchored) model state by projected L-BFGS, starting from
+/// the better of model_based's plan for the horizon and the last tick's shifted by one, and
+/// sends the first request. The requests acting on the preview's last 2 (l + 1) ticks and on
+/// the held ones stay model_based's, so that the plan hands the motion back to model_based
+/// within what it can see rather than spending its end greedily. It starts from model_based
+/// and only descends: its plan's error over the horizon is never above model_based's.
 ///
 /// No heap allocation after construction (Reset, Request and Hold). Not thread-safe.
 class ServoPlanner {

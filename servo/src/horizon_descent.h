@@ -1,0 +1,211 @@
+#pragma once
+
+// The optimiser of the optimal plans: projected limited-memory BFGS on a plan's squared error
+// from a pending model state (HorizonError), with its exact gradient (HorizonGradient). The
+// batch plan (servo_plan.cc) runs it over blocks of the whole motion, the online planner
+// (servo_planner.cc) over its preview each tick; every buffer is sized once, so that a tick
+// allocates nothing. Internal to leglab::servo.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "servo_plan_steps.h"
+
+namespace leglab::servo_plan {
+
+/// Where a plan's requests must stay: within [min_deg, max_deg], each at most max_step_deg
+/// from the one before it, the first from `previous_deg` (R(t-1)).
+struct RequestBounds {
+  double min_deg = 0.0;
+  double max_deg = 0.0;
+  double max_step_deg = 0.0;
+  double previous_deg = 0.0;
+};
+
+/// The requests clamped in time order to the speed limit, then to the limits.
+inline void ProjectRequests(const RequestBounds& b, std::span<double> plan) {
+  double previous = b.previous_deg;
+  for (double& r : plan) {
+    r = std::clamp(r, previous - b.max_step_deg, previous + b.max_step_deg);
+    r = std::clamp(r, b.min_deg, b.max_deg);
+    previous = r;
+  }
+}
+
+/// When a descent stops, besides when no step lowers the error or an iteration gains at most
+/// 1e-12 of it: after `max_iterations`, or at the first iteration that starts after `deadline`.
+struct DescentStop {
+  int max_iterations = 0;
+  std::optional<std::chrono::steady_clock::time_point> deadline;
+};
+
+struct DescentResult {
+  double error = 0.0;  ///< the plan's HorizonError on return
+  int iterations = 0;  ///< iterations that lowered it
+};
+
+/// Projected L-BFGS (Nocedal and Wright, algorithm 7.4, memory kMemory) on HorizonError: each
+/// iteration tries the quasi-Newton step, projected (ProjectRequests), halving it until the
+/// error falls (at most 40 times); with no memory yet, or when that fails, the steepest
+/// descent step that moves the steepest request by 1 deg, halved likewise. Only steps that
+/// lower the error are taken, so the plan returned is never worse than the one given.
+template <class Stepper>
+class HorizonDescent {
+ public:
+  using State = typename Stepper::State;
+  static constexpr size_t kMemory = 8;
+
+  /// Buffers for plans of up to `decisions` requests over up to `preview` + 1 desired angles,
+  /// from states shaped like `like` (the only allocation).
+  void Reserve(size_t decisions, size_t preview, const State& like) {
+    for (std::vector<double>* v :
+         {&candidate_, &gradient_, &next_gradient_, &direction_, &held_, &full_gradient_}) {
+      v->assign(decisions, 0.0);
+    }
+    steps_.assign(kRows * decisions, 0.0);
+    changes_.assign(kRows * decisions, 0.0);
+    angles_.assign(preview + 1, 0.0);
+    scratch_ = like;
+    decisions_ = decisions;
+  }
+
+  /// Lowers the HorizonError of `plan` (R(t..t+m-1), m <= the reserved decisions) from
+  /// `pending` over `desired` (D(t..t+P), P + 1 <= the reserved preview + 1): its first `free`
+  /// requests move, the others are held at the values they have on entry (re-projected after
+  /// each move of those before them). `plan` is projected on entry.
+  DescentResult Descend(const Stepper& stepper, const State& pending,
+                        std::span<const double> desired, const RequestBounds& bounds,
+                        std::span<double> plan, size_t free, const DescentStop& stop) {
+    const size_t n = plan.size();
+    free = std::min(free, n);
+    std::copy(plan.begin(), plan.end(), held_.begin());
+    ProjectRequests(bounds, plan);
+    const std::span<double> candidate(candidate_.data(), n);
+    const std::span<double> angles(angles_.data(), desired.size());
+    DescentResult result;
+    result.error = HorizonError(stepper, pending, scratch_, plan, desired, angles);
+    if (free == 0) return result;
+    Gradient(stepper, pending, plan, desired, free, gradient_);
+    count_ = 0;
+    // Tries plan + alpha direction, projected, halving alpha; true once the error falls.
+    const auto search = [&](double alpha) {
+      for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
+        for (size_t i = 0; i < free; ++i) candidate[i] = plan[i] + alpha * direction_[i];
+        std::copy(held_.begin() + static_cast<long>(free), held_.begin() + static_cast<long>(n),
+                  candidate.begin() + static_cast<long>(free));
+        ProjectRequests(bounds, candidate);
+        const double error = HorizonError(stepper, pending, scratch_, candidate, desired, {});
+        if (error < result.error) {
+          result.error = error;
+          return true;
+        }
+      }
+      return false;
+    };
+    for (int i = 0; i < stop.max_iterations; ++i) {
+      if (stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) break;
+      const double before = result.error;
+      double largest = 0.0;
+      for (size_t k = 0; k < free; ++k) largest = std::max(largest, std::abs(gradient_[k]));
+      if (largest == 0.0) break;
+      bool moved = false;
+      if (count_ > 0) {
+        QuasiNewtonDirection(free);
+        moved = search(1.0);
+      }
+      if (!moved) {
+        count_ = 0;
+        for (size_t k = 0; k < free; ++k) direction_[k] = -gradient_[k] / largest;
+        moved = search(1.0);
+      }
+      if (!moved) break;
+      ++result.iterations;
+      Gradient(stepper, pending, candidate, desired, free, next_gradient_);
+      // The step and the gradient's change, into the row after the memory's newest pair.
+      const size_t slot = (first_ + count_) % kRows;
+      double* step = &steps_[slot * decisions_];
+      double* change = &changes_[slot * decisions_];
+      double curvature = 0.0;
+      for (size_t k = 0; k < free; ++k) {
+        step[k] = candidate[k] - plan[k];
+        change[k] = next_gradient_[k] - gradient_[k];
+        curvature += step[k] * change[k];
+      }
+      std::copy(candidate.begin(), candidate.end(), plan.begin());
+      gradient_.swap(next_gradient_);
+      // Only pairs of positive curvature keep H positive definite.
+      if (curvature > 0.0) {
+        if (count_ < kMemory) {
+          ++count_;
+        } else {
+          first_ = (first_ + 1) % kRows;
+        }
+      }
+      if (before - result.error <= 1e-12 * before) break;
+    }
+    return result;
+  }
+
+ private:
+  // d HorizonError / d R for the first `free` requests of `plan` into `gradient`.
+  void Gradient(const Stepper& stepper, const State& pending, std::span<const double> plan,
+                std::span<const double> desired, size_t free, std::vector<double>& gradient) {
+    const std::span<double> angles(angles_.data(), desired.size());
+    HorizonError(stepper, pending, scratch_, plan, desired, angles);
+    const std::span<double> full(full_gradient_.data(), plan.size());
+    HorizonGradient(stepper, pending, plan, desired, angles, full);
+    std::copy(full.begin(), full.begin() + static_cast<long>(free), gradient.begin());
+  }
+
+  // The memory's pair k, oldest first.
+  const double* Step(size_t k) const { return &steps_[((first_ + k) % kRows) * decisions_]; }
+  const double* Change(size_t k) const { return &changes_[((first_ + k) % kRows) * decisions_]; }
+
+  // direction_ = -H g over the first `free` requests (the two-loop recursion); H0 = (s.y / y.y) I
+  // from the newest pair.
+  void QuasiNewtonDirection(size_t free) {
+    const auto dot = [free](const double* a, const double* b) {
+      double sum = 0.0;
+      for (size_t i = 0; i < free; ++i) sum += a[i] * b[i];
+      return sum;
+    };
+    double* q = direction_.data();
+    std::copy(gradient_.begin(), gradient_.begin() + static_cast<long>(free), q);
+    for (size_t k = count_; k-- > 0;) {
+      rho_[k] = 1.0 / dot(Change(k), Step(k));
+      alpha_[k] = rho_[k] * dot(Step(k), q);
+      const double* y = Change(k);
+      for (size_t i = 0; i < free; ++i) q[i] -= alpha_[k] * y[i];
+    }
+    const double* s_new = Step(count_ - 1);
+    const double* y_new = Change(count_ - 1);
+    const double scale = dot(s_new, y_new) / dot(y_new, y_new);
+    for (size_t i = 0; i < free; ++i) q[i] *= scale;
+    for (size_t k = 0; k < count_; ++k) {
+      const double beta = rho_[k] * dot(Change(k), q);
+      const double* s = Step(k);
+      for (size_t i = 0; i < free; ++i) q[i] += (alpha_[k] - beta) * s[i];
+    }
+    for (size_t i = 0; i < free; ++i) q[i] = -q[i];
+  }
+
+  size_t decisions_ = 0;
+  std::vector<double> candidate_, gradient_, next_gradient_, direction_, held_, full_gradient_;
+  std::vector<double> angles_;
+  // The memory: kRows rows of decisions_ values, a ring of count_ pairs from row first_, and
+  // one row spare for a new pair that may not be kept.
+  static constexpr size_t kRows = kMemory + 1;
+  std::vector<double> steps_, changes_;
+  size_t first_ = 0;
+  size_t count_ = 0;
+  std::array<double, kMemory> rho_{};
+  std::array<double, kMemory> alpha_{};
+  State scratch_;
+};
+
+}  // namespace leglab::servo_plan
