@@ -245,7 +245,8 @@ py::dict Plan(const FittedModel& m, py::handle desired, const std::string& metho
 ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::handle kp,
                          py::handle mass_kg, py::handle length_m, py::handle preview,
                          py::handle min_value, py::handle max_value, py::handle reanchor,
-                         py::handle iterations, py::handle budget, py::handle hold) {
+                         py::handle iterations, py::handle budget, py::handle hold,
+                         py::handle handover) {
   const ServoDrive drive = ToDrive(m, kp, mass_kg, length_m);
   ServoPlannerOptions options;
   options.method = ToMethod(method);
@@ -263,6 +264,12 @@ ServoPlanner MakePlanner(const FittedModel& m, const std::string& method, py::ha
   // None: half the model's tick (-1); the planner checks a number against its declaration.
   options.budget_s = budget.is_none() ? -1.0 : ToReal(budget, "budget_s");
   options.hold_ticks = static_cast<int>(ToInteger(hold, "hold_ticks", kServoHoldDoc));
+  // None: the model's own (-1).
+  options.handover_ticks =
+      handover.is_none()
+          ? -1
+          : static_cast<int>(ToInteger(handover, "handover_ticks",
+                                       WithRange(kServoHandoverDoc, 0, kServoHandoverDoc.max)));
   const ServoLimits limits{ToReal(min_value, "min_deg"), ToReal(max_value, "max_deg"),
                            m.top_speed_deg_s};
   if (m.rung == "paper") return {m.paper, m.tick_s, limits, options};
@@ -406,7 +413,8 @@ start_deg=desired_deg[0], ...). kp is required for the extended rung.)doc")
   py::class_<ServoPlanner>(m, "ServoPlanner", R"doc(
 ServoPlanner(model, method="model_based", *, kp=None, mass_kg=0.0, length_m=0.0,
              preview_ticks=None, min_deg=-180.0, max_deg=180.0, reanchor_deg=2.0,
-             optimal_iterations_per_tick=200, budget_s=None, hold_ticks=0)
+             optimal_iterations_per_tick=200, budget_s=None, hold_ticks=0,
+             handover_ticks=None)
 
 Requests for a servo one tick at a time (leglab.servo.plan, online). Each tick call
 request(window_deg, measured_deg) with the desired angles from this tick on (as many as you
@@ -418,14 +426,17 @@ docs/real-servos.md, "Online"). optimal is a receding horizon of preview_ticks t
 hold_ticks after them with the last desired angle held), from model_based's plan by projected
 L-BFGS: at most optimal_iterations_per_tick iterations, and none that starts budget_s seconds
 after request() was called (None: half the model's tick; 0: the cap alone, the same requests
-on every machine). Requests stay within [min_deg, max_deg] and change at most at the model's top speed.
+on every machine). The requests acting on the preview's last handover_ticks ticks stay
+model_based's (None: two horizons and the model's settling), so that the planner never spends
+a request whose consequences it cannot see. Requests stay within [min_deg, max_deg] and change at most at the model's top speed.
 )doc")
       .def(py::init(&MakePlanner), py::arg("model"), py::arg("method") = "model_based",
            py::kw_only(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
            py::arg("length_m") = 0.0, py::arg("preview_ticks") = py::none(),
            py::arg("min_deg") = -180.0, py::arg("max_deg") = 180.0, py::arg("reanchor_deg") = 2.0,
            py::arg("optimal_iterations_per_tick") = kOptimalMaxIterations,
-           py::arg("budget_s") = py::none(), py::arg("hold_ticks") = 0)
+           py::arg("budget_s") = py::none(), py::arg("hold_ticks") = 0,
+           py::arg("handover_ticks") = py::none())
       .def_property_readonly("horizon_ticks", &ServoPlanner::HorizonTicks,
                              "l + 1: the desired angles after this tick's a request depends on.")
       .def_property_readonly("preview_ticks", &ServoPlanner::PreviewTicks,

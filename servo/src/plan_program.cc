@@ -73,6 +73,7 @@ void CheckOptions(const PlanOptions& o) {
   } efforts[] = {
       {"--budget-ms", o.budget_ms, WithRange(kServoBudgetDoc, -1, kServoBudgetDoc.max * 1000)},
       {"--hold-ticks", o.hold_ticks, kServoHoldDoc},
+      {"--handover-ticks", o.handover_ticks, kServoHandoverDoc},
       {"--iterations-per-tick", o.iterations_per_tick, kServoIterationsDoc}};
   for (const auto& f : efforts) {
     if (!f.value) continue;
@@ -98,6 +99,13 @@ double MeanAbsoluteError(const std::vector<double>& a, const std::vector<double>
   return sum / static_cast<double>(a.size());
 }
 
+// The root of the mean squared error: the optimal plans' objective, as an angle.
+double RootMeanSquareError(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (size_t t = 0; t < a.size(); ++t) sum += (a[t] - b[t]) * (a[t] - b[t]);
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
 PlanResult Plan(const PlanOptions& o) {
   CheckOptions(o);
   const DesiredServoMotion motion = ReadDesiredMotion(o.desired_path);
@@ -116,6 +124,7 @@ PlanResult Plan(const PlanOptions& o) {
     options.preview_ticks = o.preview_ticks.value_or(-1);
     if (o.budget_ms) options.budget_s = *o.budget_ms < 0 ? -1.0 : *o.budget_ms / 1000.0;
     options.hold_ticks = o.hold_ticks.value_or(options.hold_ticks);
+    options.handover_ticks = o.handover_ticks.value_or(options.handover_ticks);
     options.optimal_iterations_per_tick =
         o.iterations_per_tick.value_or(options.optimal_iterations_per_tick);
     return PlanDesiredOnline(model, drive, std::move(desired), o.min_deg, o.max_deg, options);
@@ -146,6 +155,8 @@ std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
   j["beyond_servo_ticks"] = r.plan.beyond_servo_ticks;
   j["predicted_mae_deg"] = {{"planned", MeanAbsoluteError(r.plan.predicted_deg, r.desired)},
                             {"direct", MeanAbsoluteError(r.direct, r.desired)}};
+  j["predicted_rms_deg"] = {{"planned", RootMeanSquareError(r.plan.predicted_deg, r.desired)},
+                            {"direct", RootMeanSquareError(r.direct, r.desired)}};
   j["limits"] = {{"min_deg", r.limits.min_deg},
                  {"max_deg", r.limits.max_deg},
                  {"max_speed_deg_s", r.limits.max_speed_deg_s}};
@@ -156,6 +167,7 @@ std::string PlanJson(const PlanOptions& o, const PlanResult& r) {
   if (r.preview_ticks && o.method == "optimal") {
     const ServoPlannerOptions defaults;
     j["online"]["hold_ticks"] = o.hold_ticks.value_or(defaults.hold_ticks);
+    j["online"]["handover_ticks"] = o.handover_ticks.value_or(defaults.handover_ticks);
     j["online"]["budget_ms"] = o.budget_ms.value_or(defaults.budget_s);
     j["online"]["iterations_per_tick"] =
         o.iterations_per_tick.value_or(defaults.optimal_iterations_per_tick);
@@ -202,6 +214,10 @@ constexpr ColumnDoc kPlanFields[] = {
     {"predicted_mae_deg.planned", "deg",
      "the model's mean absolute error from the desired angles under the planned requests"},
     {"predicted_mae_deg.direct", "deg", "the same with the desired angles sent as they are"},
+    {"predicted_rms_deg.planned", "deg",
+     "the root mean square of the same errors: the optimal method's objective (its sum of "
+     "squares) as an angle"},
+    {"predicted_rms_deg.direct", "deg", "the same with the desired angles sent as they are"},
     {"limits.min_deg", "deg", "the least request"},
     {"limits.max_deg", "deg", "the greatest request"},
     {"limits.max_speed_deg_s", "deg/s", "the fastest change of the request"},
@@ -210,6 +226,9 @@ constexpr ColumnDoc kPlanFields[] = {
     {"drive.length_m", "m", "the load's arm"},
     {"online.preview_ticks", "ticks", "with --online, the desired ticks each request saw ahead"},
     {"online.hold_ticks", "ticks", "with --online --method optimal, --hold-ticks"},
+    {"online.handover_ticks", "ticks",
+     "with --online --method optimal, --handover-ticks (-1: two horizons and the model's "
+     "settling)"},
     {"online.budget_ms", "ms",
      "with --online --method optimal, --budget-ms (-1: half the model's tick; 0: none)"},
     {"online.iterations_per_tick", "", "with --online --method optimal, --iterations-per-tick"},
@@ -261,6 +280,9 @@ int PlanMain(int argc, char** argv) {
   app.add_option("--hold-ticks", o.hold_ticks,
                  "with --online --method optimal: ticks after the preview over which the last "
                  "desired angle is taken as held (default 0)");
+  app.add_option("--handover-ticks", o.handover_ticks,
+                 "with --online --method optimal: the preview's last ticks whose requests stay "
+                 "model_based's (default -1: two horizons and the model's settling)");
   app.add_option("--iterations-per-tick", o.iterations_per_tick,
                  "with --online --method optimal: the most L-BFGS iterations a tick (default " +
                      std::to_string(kOptimalMaxIterations) + ")");

@@ -71,9 +71,12 @@ class Planner final : public ServoPlanner::Impl {
         max_step_deg_(limits.max_speed_deg_s * tick_s),
         options_(options),
         horizon_(params.lag_ticks + 1) {
-    preview_ = options.preview_ticks >= 0               ? options.preview_ticks
-               : options.method == PlanMethod::kOptimal ? horizon_ + kOptimalWindowTicks
-                                                        : horizon_;
+    handover_ = options.handover_ticks >= 0 ? options.handover_ticks : DefaultHandover();
+    preview_ =
+        options.preview_ticks >= 0 ? options.preview_ticks
+        : options.method == PlanMethod::kOptimal
+            ? std::min(params.lag_ticks + handover_ + kOptimalWindowTicks, kMaxServoPreviewTicks)
+            : horizon_;
     if (options.method == PlanMethod::kOptimal && preview_ <= params.lag_ticks) {
       throw std::invalid_argument("servo planner: preview_ticks " + std::to_string(preview_) +
                                   " is too short for the optimal method: it needs more than the "
@@ -94,7 +97,7 @@ class Planner final : public ServoPlanner::Impl {
       descent_.Reserve(decisions, static_cast<size_t>(preview_ + hold), anchored_);
       // The requests that act on the preview's last 2 (l + 1) ticks, and on the held ones, are
       // model_based's.
-      free_ = decisions - std::min(decisions, static_cast<size_t>(2 * horizon_ + hold));
+      free_ = decisions - std::min(decisions, static_cast<size_t>(handover_ + hold));
     }
   }
 
@@ -192,6 +195,18 @@ class Planner final : public ServoPlanner::Impl {
   // optimal's plan one tick on: R(t+1..) to the front, its last request held (the next
   // Request replaces the plan's end with model_based's).
   void ShiftPlan() { std::copy(plan_.begin() + 1, plan_.end(), plan_.begin()); }
+
+  // ServoPlannerOptions::handover_ticks' default: two horizons and the model's settling, three
+  // velocity time constants (5 % left) for the extended model, the averaging window a (all of
+  // it) for the paper's.
+  int DefaultHandover() const {
+    if constexpr (kExtended) {
+      const double settle = std::ceil(3.0 * params_.velocity_lag_s / tick_s_);
+      return 2 * horizon_ + static_cast<int>(std::min(settle, double{kMaxServoPreviewTicks}));
+    } else {
+      return 2 * horizon_ + params_.accel_ticks;
+    }
+  }
 
   Stepper stepper() const {
     if constexpr (kExtended) {
@@ -322,6 +337,7 @@ class Planner final : public ServoPlanner::Impl {
   std::vector<double> model_based_;
   State model_based_state_;
   servo_plan::HorizonDescent<Stepper> descent_;
+  int handover_ = 0;
   size_t free_ = 0;  // the plan's requests that descend; the rest are model_based's
   double budget_s_ = 0.0;
 };
@@ -340,6 +356,7 @@ void VisitKeys(KeyVisitor& v, ServoPlannerOptions& options) {
   v.Key("optimal_iterations_per_tick", options.optimal_iterations_per_tick, kServoIterationsDoc);
   v.Key("budget_s", options.budget_s, kServoBudgetDoc);
   v.Key("hold_ticks", options.hold_ticks, kServoHoldDoc);
+  v.Key("handover_ticks", options.handover_ticks, kServoHandoverDoc);
 }
 
 namespace {

@@ -299,7 +299,7 @@ TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
   options.method = PlanMethod::kOptimal;
   options.budget_s = 0.0;  // the iteration cap alone: the same requests on every machine
   ServoPlanner planner(Extended(), kDrive, kTickS, kLimits, options);
-  EXPECT_EQ(planner.PreviewTicks(), 3 + kOptimalWindowTicks);
+  EXPECT_EQ(planner.PreviewTicks(), 2 + 18 + kOptimalWindowTicks);
   std::vector<double> predicted(d.size());
   double previous = d[0];
   planner.Reset(d[0]);
@@ -326,48 +326,53 @@ TEST(ServoPlanner, OptimalOnlineImprovesOnModelBasedWithinTheLimits) {
   EXPECT_LT(mae(predicted), batch + 0.1);
 }
 
-// Optimal's plan keeps model_based's requests on the preview's last 2 (l + 1) ticks: with a
-// preview of at most 3 l + 2 no request is left to descend, and a budget spent before the first
-// iteration sends the plan it starts from. Both are model_based's requests, bit for bit, for
-// both rungs (with the batch plan's predictions as measurements).
+// Optimal's plan keeps model_based's requests on the preview's last handover_ticks ticks (by
+// default 2 (l + 1) and three velocity lags, 6 + 12 here; 8 + a = 12 for the paper's model):
+// with a preview of at most l + handover no request is left to descend, and a budget spent
+// before the first iteration sends the plan it starts from. Both are model_based's requests,
+// bit for bit, for both rungs (with the batch plan's predictions as measurements).
 TEST(ServoPlanner, OptimalWithNoRoomOrNoTimeToDescendIsModelBased) {
   const std::vector<double> d = Desired();
   struct Case {
+    bool paper;
     int preview_ticks;
     double budget_s;
   };
-  for (const Case c : {Case{3, 0.0}, Case{8, 0.0}, Case{62, 1e-12}}) {
+  for (const Case c : {Case{false, 3, 0.0}, Case{false, 2 + 18, 0.0}, Case{false, 62, 1e-12},
+                       Case{true, 4, 0.0}, Case{true, 3 + 12, 0.0}, Case{true, 62, 1e-12}}) {
     ServoPlannerOptions options;
     options.method = PlanMethod::kOptimal;
     options.preview_ticks = c.preview_ticks;
     options.budget_s = c.budget_s;
     const auto window = static_cast<size_t>(c.preview_ticks) + 1;
-    const ServoPlan extended =
-        PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
-    ServoPlanner online(Extended(), kDrive, kTickS, kLimits, options);
-    const std::vector<double> requests = OnlineRequests(online, d, extended.predicted_deg, window);
+    const ServoPlan batch =
+        c.paper
+            ? PlanJointModelRequests(Paper(), kTickS, d, kLimits, PlanMethod::kModelBased)
+            : PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
+    ServoPlanner online = c.paper ? ServoPlanner(Paper(), kTickS, kLimits, options)
+                                  : ServoPlanner(Extended(), kDrive, kTickS, kLimits, options);
+    const std::vector<double> requests = OnlineRequests(online, d, batch.predicted_deg, window);
     for (size_t t = 0; t < d.size(); ++t) {
-      ASSERT_EQ(requests[t], extended.request_deg[t]) << c.preview_ticks << " " << t;
-    }
-    if (c.preview_ticks < 4 + 3 + 2 && c.budget_s == 0.0) continue;  // the paper's lag is 3
-    const ServoPlan paper =
-        PlanJointModelRequests(Paper(), kTickS, d, kLimits, PlanMethod::kModelBased);
-    ServoPlanner paper_online(Paper(), kTickS, kLimits, options);
-    const std::vector<double> paper_requests =
-        OnlineRequests(paper_online, d, paper.predicted_deg, window);
-    for (size_t t = 0; t < d.size(); ++t) {
-      ASSERT_EQ(paper_requests[t], paper.request_deg[t]) << c.preview_ticks << " " << t;
+      ASSERT_EQ(requests[t], batch.request_deg[t]) << c.paper << " " << c.preview_ticks << " " << t;
     }
   }
   // One request more to descend, and the plan moves off model_based's.
   ServoPlannerOptions options;
   options.method = PlanMethod::kOptimal;
-  options.preview_ticks = 9;
+  options.preview_ticks = 2 + 18 + 1;
   options.budget_s = 0.0;
   const ServoPlan batch =
       PlanServoRequests(Extended(), kDrive, kTickS, d, kLimits, PlanMethod::kModelBased);
   ServoPlanner online(Extended(), kDrive, kTickS, kLimits, options);
-  EXPECT_NE(OnlineRequests(online, d, batch.predicted_deg, 10), batch.request_deg);
+  EXPECT_NE(OnlineRequests(online, d, batch.predicted_deg, 22), batch.request_deg);
+  // An explicit hand-over: 2 (l + 1) alone leaves room at a preview of 9.
+  options.preview_ticks = 9;
+  options.handover_ticks = 6;
+  ServoPlanner short_handover(Extended(), kDrive, kTickS, kLimits, options);
+  EXPECT_NE(OnlineRequests(short_handover, d, batch.predicted_deg, 10), batch.request_deg);
+  options.preview_ticks = 8;
+  ServoPlanner no_room(Extended(), kDrive, kTickS, kLimits, options);
+  EXPECT_EQ(OnlineRequests(no_room, d, batch.predicted_deg, 9), batch.request_deg);
 }
 
 // HorizonDescent from random states and plans: never above the error it starts from (after the

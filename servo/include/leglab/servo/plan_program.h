@@ -32,6 +32,7 @@ struct PlanOptions {
   /// --budget-ms (with --online --method optimal): ServoPlannerOptions::budget_s in ms.
   std::optional<double> budget_ms;
   std::optional<int> hold_ticks;           ///< --hold-ticks (with --online --method optimal)
+  std::optional<int> handover_ticks;       ///< --handover-ticks (likewise)
   std::optional<int> iterations_per_tick;  ///< --iterations-per-tick (likewise)
 };
 

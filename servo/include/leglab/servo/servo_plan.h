@@ -34,8 +34,8 @@ enum class PlanMethod {
   kOptimal,
 };
 
-/// The online planner's look-ahead beyond its horizon for kOptimal (ServoPlanner), ticks after
-/// R(t) first acts.
+/// The requests that descend each tick in the online kOptimal planner's default preview
+/// (ServoPlanner): the preview is the model's lag, the hand-over and these.
 inline constexpr int kOptimalWindowTicks = 60;
 /// kOptimal's most iterations (each one gradient and a backtracking line search).
 inline constexpr int kOptimalMaxIterations = 200;

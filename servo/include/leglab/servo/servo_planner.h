@@ -19,7 +19,7 @@ struct ServoPlannerOptions {
   PlanMethod method = PlanMethod::kModelBased;  ///< as PlanServoRequests's (below)
   /// Desired angles after this tick's that Request is given (and uses) each tick. -1: the
   /// method's own, HorizonTicks() for kModelBased (all it needs: more is ignored) and
-  /// HorizonTicks() + kOptimalWindowTicks for kOptimal.
+  /// l + handover + kOptimalWindowTicks for kOptimal (so that that many requests descend).
   /// kOptimal needs more than the model's lag l (at least HorizonTicks()); at most
   /// kMaxServoPreviewTicks.
   int preview_ticks = -1;
@@ -41,6 +41,15 @@ struct ServoPlannerOptions {
   /// leaves behind that the servo cannot leave (a load held by friction or a saturated duty).
   /// 0 to kMaxServoPreviewTicks.
   int hold_ticks = 0;
+  /// kOptimal: the requests acting on the preview's last handover_ticks ticks are model_based's
+  /// and do not descend, so that the preview shows the plan handing the motion back to
+  /// model_based and the joint settling after it: a receding horizon that cannot see the
+  /// consequences of its last requests spends them greedily, and can do worse than
+  /// model_based. A preview of at most l + handover_ticks is model_based, bit for bit. -1:
+  /// 2 (l + 1) plus the model's settling (three velocity time constants, ceil(3
+  /// velocity_lag_s / tick_s) ticks, for the extended model; its averaging window a for the
+  /// paper's). 0 to kMaxServoPreviewTicks.
+  int handover_ticks = -1;
 };
 
 /// The declared range of ServoPlannerOptions::preview_ticks (-1: the method's own), which
@@ -63,6 +72,15 @@ inline constexpr KeyDoc kServoBudgetDoc{
     .description =
         "optimal: wall-clock time a tick may iterate (-1: half the tick; 0: the "
         "iteration cap alone)"};
+
+/// The declared range of ServoPlannerOptions::handover_ticks.
+inline constexpr KeyDoc kServoHandoverDoc{
+    .min = -1,
+    .max = kMaxServoPreviewTicks,
+    .unit = "ticks",
+    .description =
+        "optimal: the preview's last ticks whose requests stay model_based's (-1: two "
+        "horizons and the model's settling)"};
 
 /// The declared range of ServoPlannerOptions::hold_ticks.
 inline constexpr KeyDoc kServoHoldDoc{
@@ -98,8 +116,8 @@ void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
 /// kOptimal is a receding horizon: each tick it lowers the squared error over the preview (and
 /// hold_ticks after it) from the (re-anchored) model state by projected L-BFGS, starting from
 /// the better of model_based's plan for the horizon and the last tick's shifted by one, and
-/// sends the first request. The requests acting on the preview's last 2 (l + 1) ticks and on
-/// the held ones stay model_based's, so that the plan hands the motion back to model_based
+/// sends the first request. The requests acting on the preview's last handover_ticks ticks and
+/// on the held ones stay model_based's, so that the plan hands the motion back to model_based
 /// within what it can see rather than spending its end greedily. It starts from model_based
 /// and only descends: its plan's error over the horizon is never above model_based's.
 ///
