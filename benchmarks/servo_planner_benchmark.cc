@@ -6,6 +6,11 @@
 //   BM_PlannerTick/optimal         one Request, the receding horizon (its default preview);
 //   BM_PaperPlannerTick            one Request, the paper's model, model-based.
 //
+// After them, optimal's Requests one by one (median, 99th percentile and largest, and the
+// ticks that reached the budget) at its default budget (half the tick) and on its iteration
+// cap alone, with its default preview and with a preview of 250 ticks, 250 held after it and a
+// hand-over of 2 (l + 1), the setting nearest the batch optimum (docs/results.md).
+//
 // Each planner case runs along the desired motion, measuring what the model predicts, and
 // starts over at its end. Then the four side by side in interleaved rounds (the machine is
 // shared and noisy): each one's time per tick, as a share of the servo's tick and as a
@@ -55,9 +60,8 @@ const Case& TheCase() {
   return c;
 }
 
-ServoPlanner MakePlanner(PlanMethod method, bool paper) {
+ServoPlanner MakePlanner(PlanMethod method, bool paper, ServoPlannerOptions options = {}) {
   const Case& c = TheCase();
-  ServoPlannerOptions options;
   options.method = method;
   if (paper) {
     return {kPaper, kTickS, {c.limits.min_deg, c.limits.max_deg, 565.3989375207187}, options};
@@ -171,8 +175,67 @@ void ReportSideBySide(int rounds) {
   line("model_based (paper)", paper_us);
 }
 
+// The p-th quantile (0..1) of `xs` (nearest rank), which it sorts.
+double Quantile(std::vector<double>& xs, double p) {
+  std::sort(xs.begin(), xs.end());
+  const auto rank = static_cast<size_t>(p * static_cast<double>(xs.size() - 1) + 0.5);
+  return xs[std::min(rank, xs.size() - 1)];
+}
+
+// Each optimal Request timed on its own, `passes` times along the motion.
+void ReportOptimalTicks(int passes) {
+  struct Setting {
+    const char* what;
+    int preview_ticks, hold_ticks, handover_ticks;
+    double budget_s;
+  };
+  const int handover = 2 * (kExtended.lag_ticks + 1);
+  const Setting settings[] = {
+      {"default preview, budget half the tick", -1, 0, -1, -1.0},
+      {"default preview, the cap alone", -1, 0, -1, 0.0},
+      {"preview 250, hold 250, budget half the tick", 250, 250, handover, -1.0},
+      {"preview 250, hold 250, the cap alone", 250, 250, handover, 0.0}};
+  const std::span<const double> desired(TheCase().desired);
+  const double budget_us = kTickS / 2.0 * 1e6;
+  std::printf("optimal's Requests one by one, %d passes of %zu ticks (budget %.0f us):\n", passes,
+              desired.size(), budget_us);
+  for (const Setting& s : settings) {
+    ServoPlannerOptions options;
+    options.preview_ticks = s.preview_ticks;
+    options.hold_ticks = s.hold_ticks;
+    options.handover_ticks = s.handover_ticks;
+    options.budget_s = s.budget_s;
+    ServoPlanner planner = MakePlanner(PlanMethod::kOptimal, false, options);
+    const auto window = static_cast<size_t>(planner.PreviewTicks()) + 1;
+    std::vector<double> us;
+    us.reserve(desired.size() * static_cast<size_t>(passes));
+    for (int pass = 0; pass < passes; ++pass) {
+      planner.Reset(desired[0]);
+      for (size_t t = 0; t < desired.size(); ++t) {
+        const auto span = desired.subspan(t, std::min(window, desired.size() - t));
+        const double measured = planner.ExpectedDeg();
+        const auto start = std::chrono::steady_clock::now();
+        benchmark::DoNotOptimize(planner.Request(span, measured));
+        us.push_back(
+            std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+                .count());
+      }
+    }
+    const auto reached =
+        std::count_if(us.begin(), us.end(), [&](double x) { return x >= budget_us; });
+    std::printf(
+        "  %-44s preview %3d: median %7.1f us, p99 %7.1f, max %7.1f; %5.1f %% of ticks at "
+        "or over the budget\n",
+        s.what, planner.PreviewTicks(), Quantile(us, 0.5), Quantile(us, 0.99), Quantile(us, 1.0),
+        100.0 * static_cast<double>(reached) / static_cast<double>(us.size()));
+  }
+}
+
+void Report(int rounds) {
+  ReportSideBySide(rounds);
+  ReportOptimalTicks(3);
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
-  return leglab::benchmarks::RunThenReport(argc, argv, 9, ReportSideBySide);
-}
+int main(int argc, char** argv) { return leglab::benchmarks::RunThenReport(argc, argv, 9, Report); }

@@ -38,7 +38,8 @@ inline void ProjectRequests(const RequestBounds& b, std::span<double> plan) {
 }
 
 /// When a descent stops, besides when no step lowers the error or an iteration gains at most
-/// 1e-12 of it: after `max_iterations`, or at the first iteration that starts after `deadline`.
+/// 1e-12 of it: after `max_iterations`, or once `deadline` has passed (checked before each
+/// iteration and each try of its line search).
 struct DescentStop {
   int max_iterations = 0;
   std::optional<std::chrono::steady_clock::time_point> deadline;
@@ -70,8 +71,33 @@ class HorizonDescent {
     steps_.assign(kRows * decisions, 0.0);
     changes_.assign(kRows * decisions, 0.0);
     angles_.assign(preview + 1, 0.0);
+    candidate_angles_.assign(preview + 1, 0.0);
     scratch_ = like;
     decisions_ = decisions;
+  }
+
+  /// Forgets the curvature pairs (a new problem).
+  void ForgetMemory() { count_ = 0; }
+
+  /// The curvature pairs moved one request earlier (each pair's first dropped, a 0 after its
+  /// last), for a receding horizon's next tick: its plan is the last one shifted likewise.
+  /// Forgotten if a shifted pair's curvature is no longer positive.
+  void ShiftMemory(size_t free) {
+    if (free == 0) count_ = 0;
+    for (size_t k = 0; k < count_; ++k) {
+      double* step = &steps_[((first_ + k) % kRows) * decisions_];
+      double* change = &changes_[((first_ + k) % kRows) * decisions_];
+      double curvature = 0.0;
+      for (double* row : {step, change}) {
+        std::copy(row + 1, row + free, row);
+        row[free - 1] = 0.0;
+      }
+      for (size_t i = 0; i < free; ++i) curvature += step[i] * change[i];
+      if (!(curvature > 0.0)) {
+        count_ = 0;
+        return;
+      }
+    }
   }
 
   /// Lowers the HorizonError of `plan` (R(t..t+m-1), m <= the reserved decisions) from
@@ -86,20 +112,25 @@ class HorizonDescent {
     std::copy(plan.begin(), plan.end(), held_.begin());
     ProjectRequests(bounds, plan);
     const std::span<double> candidate(candidate_.data(), n);
-    const std::span<double> angles(angles_.data(), desired.size());
+    const size_t p = desired.size();
     DescentResult result;
-    result.error = HorizonError(stepper, pending, scratch_, plan, desired, angles);
+    result.error = HorizonError(stepper, pending, scratch_, plan, desired, {angles_.data(), p});
     if (free == 0) return result;
     Gradient(stepper, pending, plan, desired, free, gradient_);
-    count_ = 0;
     // Tries plan + alpha direction, projected, halving alpha; true once the error falls.
+    // A deadline passed mid-search abandons it, so that an iteration overruns the budget by at
+    // most one evaluation.
     const auto search = [&](double alpha) {
       for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
+        if (tries > 0 && stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) {
+          return false;
+        }
         for (size_t i = 0; i < free; ++i) candidate[i] = plan[i] + alpha * direction_[i];
         std::copy(held_.begin() + static_cast<long>(free), held_.begin() + static_cast<long>(n),
                   candidate.begin() + static_cast<long>(free));
         ProjectRequests(bounds, candidate);
-        const double error = HorizonError(stepper, pending, scratch_, candidate, desired, {});
+        const double error = HorizonError(stepper, pending, scratch_, candidate, desired,
+                                          {candidate_angles_.data(), p}, result.error);
         if (error < result.error) {
           result.error = error;
           return true;
@@ -125,6 +156,7 @@ class HorizonDescent {
       }
       if (!moved) break;
       ++result.iterations;
+      angles_.swap(candidate_angles_);  // the accepted candidate's angles, for its gradient
       Gradient(stepper, pending, candidate, desired, free, next_gradient_);
       // The step and the gradient's change, into the row after the memory's newest pair.
       const size_t slot = (first_ + count_) % kRows;
@@ -152,11 +184,11 @@ class HorizonDescent {
   }
 
  private:
-  // d HorizonError / d R for the first `free` requests of `plan` into `gradient`.
+  // d HorizonError / d R for the first `free` requests of `plan` into `gradient`, from the
+  // angles its HorizonError recorded in angles_.
   void Gradient(const Stepper& stepper, const State& pending, std::span<const double> plan,
                 std::span<const double> desired, size_t free, std::vector<double>& gradient) {
-    const std::span<double> angles(angles_.data(), desired.size());
-    HorizonError(stepper, pending, scratch_, plan, desired, angles);
+    const std::span<const double> angles(angles_.data(), desired.size());
     const std::span<double> full(full_gradient_.data(), plan.size());
     HorizonGradient(stepper, pending, plan, desired, angles, full);
     std::copy(full.begin(), full.begin() + static_cast<long>(free), gradient.begin());
@@ -196,7 +228,7 @@ class HorizonDescent {
 
   size_t decisions_ = 0;
   std::vector<double> candidate_, gradient_, next_gradient_, direction_, held_, full_gradient_;
-  std::vector<double> angles_;
+  std::vector<double> angles_, candidate_angles_;  // M(t..t+P) under the plan, the candidate
   // The memory: kRows rows of decisions_ values, a ring of count_ pairs from row first_, and
   // one row spare for a new pair that may not be kept.
   static constexpr size_t kRows = kMemory + 1;

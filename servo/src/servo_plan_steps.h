@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <span>
 
@@ -179,7 +180,8 @@ double HorizonRequest(const State& pending, std::span<const double> plan, int q)
 template <class Stepper>
 double HorizonError(const Stepper& stepper, const typename Stepper::State& pending,
                     typename Stepper::State& scratch, std::span<const double> plan,
-                    std::span<const double> desired, std::span<double> angles) {
+                    std::span<const double> desired, std::span<double> angles,
+                    double bound = std::numeric_limits<double>::infinity()) {
   scratch = pending;
   if (!angles.empty()) angles[0] = scratch.angle_deg;
   double sum = 0.0;
@@ -188,6 +190,33 @@ double HorizonError(const Stepper& stepper, const typename Stepper::State& pendi
     const double angle = stepper.Advance(scratch);
     if (!angles.empty()) angles[j] = angle;
     sum += (angle - desired[j]) * (angle - desired[j]);
+    if (sum >= bound) return sum;
+  }
+  return sum;
+}
+
+// HorizonError for the extended model, the same arithmetic in the same order (so the same
+// bits) without its per-tick costs: the model's coefficients and velocity blend computed once,
+// the acting request read from the plan instead of pushed through the state's memory. The
+// optimal plans' inner loop. `scratch` is not used. With a `bound`, it stops once the sum
+// reaches it (a sum of squares only grows): a line search's rejected candidates cost less.
+inline double HorizonError(const ExtendedStepper& stepper, const ServoModelState& pending,
+                           ServoModelState& /*scratch*/, std::span<const double> plan,
+                           std::span<const double> desired, std::span<double> angles,
+                           double bound = std::numeric_limits<double>::infinity()) {
+  const servo_tick::Coefficients c = servo_tick::CoefficientsOf(stepper.params, stepper.drive);
+  const double blend = servo_tick::VelocityBlend(stepper.params, stepper.tick_s);
+  const int lag = stepper.params.lag_ticks;
+  double angle = pending.angle_deg;
+  double velocity = pending.velocity_deg_s;
+  if (!angles.empty()) angles[0] = angle;
+  double sum = 0.0;
+  for (size_t j = 1; j < desired.size(); ++j) {
+    const double acting = HorizonRequest(pending, plan, static_cast<int>(j) - 1 - lag);
+    servo_tick::Advance(c, stepper.tick_s, blend, acting, angle, velocity);
+    if (!angles.empty()) angles[j] = angle;
+    sum += (angle - desired[j]) * (angle - desired[j]);
+    if (sum >= bound) return sum;
   }
   return sum;
 }
@@ -199,11 +228,12 @@ struct TargetSpeedSlopes {
   double per_angle = 0.0;
   double per_request = 0.0;
 };
-inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p, const ServoDrive& drive,
-                                                double angle_deg, double request_deg) {
+// `c`: servo_tick::CoefficientsOf(p, drive), the model's own coefficients and load, so that the
+// band is judged on w*'s bits.
+inline TargetSpeedSlopes TargetSpeedDerivatives(const ServoModelParams& p,
+                                                const servo_tick::Coefficients& c, double angle_deg,
+                                                double request_deg) {
   constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-  // The model's own coefficients and load (servo_tick), so that the band is judged on w*'s bits.
-  const servo_tick::Coefficients c = servo_tick::CoefficientsOf(p, drive);
   const double duty_raw = c.duty_per_deg * (request_deg - angle_deg);
   const double duty_slope = std::abs(duty_raw) < 1.0 ? c.duty_per_deg : 0.0;
   const double load = servo_tick::LoadDuty(c, angle_deg);
@@ -227,6 +257,7 @@ inline void HorizonGradient(const ExtendedStepper& stepper, const ServoModelStat
                             std::span<const double> angles, std::span<double> gradient) {
   std::fill(gradient.begin(), gradient.end(), 0.0);
   const ServoModelParams& params = stepper.params;
+  const servo_tick::Coefficients coefficients = servo_tick::CoefficientsOf(params, stepper.drive);
   const double blend = servo_tick::VelocityBlend(params, stepper.tick_s);
   const auto decisions = static_cast<int>(gradient.size());
   double angle_adjoint = 0.0;     // dE/dM(t+j+1) through the ticks after it
@@ -237,7 +268,7 @@ inline void HorizonGradient(const ExtendedStepper& stepper, const ServoModelStat
     const double angle_total = 2.0 * (angles[k] - desired[k]) + angle_adjoint;
     const double velocity_total = angle_total * stepper.tick_s + velocity_adjoint;
     const int q = j - params.lag_ticks;
-    const TargetSpeedSlopes slopes = TargetSpeedDerivatives(params, stepper.drive, angles[k - 1],
+    const TargetSpeedSlopes slopes = TargetSpeedDerivatives(params, coefficients, angles[k - 1],
                                                             HorizonRequest(pending, plan, q));
     angle_adjoint = angle_total + velocity_total * blend * slopes.per_angle;
     velocity_adjoint = velocity_total * (1.0 - blend);

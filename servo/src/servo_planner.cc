@@ -280,19 +280,27 @@ class Planner final : public ServoPlanner::Impl {
   }
 
   // kOptimal: HorizonDescent from the better, by the horizon's error, of model_based's plan and
-  // the last tick's shifted by one (its end model_based's); its first request sent. Never worse
+  // the last tick's shifted by one (its end model_based's), with the last tick's curvature
+  // pairs shifted likewise; its first request sent. Never worse
   // than model_based on the horizon: that is where it starts, and it only descends.
   double OptimalRequest() {
     const auto start = std::chrono::steady_clock::now();
     ModelBasedPlan(model_based_);
     if (ticks_ == 0) {
       std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
+      descent_.ForgetMemory();
     } else {
       const auto free = static_cast<long>(free_);
       std::copy(plan_.begin() + 1, plan_.begin() + free + 1, plan_.begin());
       std::copy(model_based_.begin() + free, model_based_.end(), plan_.begin() + free);
       servo_plan::ProjectRequests(Bounds(), plan_);
-      if (Error(model_based_) <= Error(plan_)) plan_.swap(model_based_);
+      // The curvature learnt last tick carries over with the plan it was learnt on.
+      if (Error(model_based_) <= Error(plan_)) {
+        plan_.swap(model_based_);
+        descent_.ForgetMemory();
+      } else {
+        descent_.ShiftMemory(free_);
+      }
     }
     servo_plan::DescentStop stop{.max_iterations = options_.optimal_iterations_per_tick};
     if (budget_s_ > 0.0) {
