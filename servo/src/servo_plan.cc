@@ -129,18 +129,45 @@ std::vector<double> DesiredPathRequests(const ExtendedStepper& stepper, const Pr
   return requests;
 }
 
-// kOptimal from the kModelBased requests: never worse than them. HorizonDescent over the whole
-// motion, from rest at D(0): SquaredError less its first term, M(0) - D(0), which no request
-// changes.
+// kOptimal from the kModelBased requests, by HorizonDescent from rest at D(0) (its error is
+// SquaredError less the first term, M(0) - D(0), which no request changes). A motion of at
+// most kOptimalBlockTicks + kOptimalOverlapTicks ticks is one problem, solved in at most
+// kOptimalMaxIterations. A longer one is planned block by block, so that its cost per tick does
+// not grow with its length: each block's requests are optimised together with the next
+// kOptimalOverlapTicks ticks' (the start of the next block's, and its model-based requests
+// beyond), in at most kOptimalBlockIterations, from the state the committed requests leave,
+// and only the block's are kept. Never worse than the kModelBased requests over the whole
+// motion: where the blocks' plan would be, those are returned.
 template <class Stepper>
 std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
                                     std::vector<double> requests) {
+  const size_t n = requests.size();
   typename Stepper::State pending = stepper.Rest(p.desired[0]);
   stepper.Advance(pending);
+  const size_t window = std::min(n, kOptimalBlockTicks + kOptimalOverlapTicks);
+  // One problem, solved as far as the cap; blocks, each to its share of the effort.
+  const int iterations = n > window ? kOptimalBlockIterations : kOptimalMaxIterations;
   servo_plan::HorizonDescent<Stepper> descent;
-  descent.Reserve(requests.size(), p.desired.size() - 1, pending);
-  descent.Descend(stepper, pending, p.desired, {p.min_deg, p.max_deg, p.max_step_deg, p.desired[0]},
-                  requests, requests.size(), {.max_iterations = kOptimalMaxIterations});
+  descent.Reserve(window, window - 1, pending);
+  const std::vector<double> model_based = requests;
+  double previous = p.desired[0];
+  for (size_t start = 0; start < n; start += kOptimalBlockTicks) {
+    const size_t size = std::min(window, n - start);
+    const std::span<double> block = std::span<double>(requests).subspan(start, size);
+    descent.ForgetMemory();
+    descent.Descend(stepper, pending, p.desired.subspan(start, size),
+                    {p.min_deg, p.max_deg, p.max_step_deg, previous}, block, size,
+                    {.max_iterations = iterations});
+    if (start + size == n) break;
+    for (size_t t = start; t < start + kOptimalBlockTicks; ++t) {
+      Stepper::Push(pending, requests[t]);
+      stepper.Advance(pending);
+    }
+    previous = requests[start + kOptimalBlockTicks - 1];
+  }
+  if (n > window && SquaredError(stepper, p, requests) > SquaredError(stepper, p, model_based)) {
+    return model_based;
+  }
   return requests;
 }
 

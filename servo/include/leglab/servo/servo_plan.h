@@ -30,15 +30,25 @@ enum class PlanMethod {
   /// never worse than kModelBased; a local optimum). The gradient is exact, by the adjoint of
   /// the model's steps (one pass forward and one back); the projection clamps the requests in
   /// time order to the limits and the speed limit. Cost per iteration: about 3 N model steps
-  /// for the gradient and N per tried step, so O(N); at most kOptimalMaxIterations iterations.
+  /// for the gradient and N per tried step, so O(N); at most kOptimalMaxIterations iterations,
+  /// and a long motion block by block (kOptimalBlockTicks), so that its cost per tick is
+  /// bounded.
   kOptimal,
 };
 
 /// The requests that descend each tick in the online kOptimal planner's default preview
 /// (ServoPlanner): the preview is the model's lag, the hand-over and these.
 inline constexpr int kOptimalWindowTicks = 60;
-/// kOptimal's most iterations (each one gradient and a backtracking line search).
+/// kOptimal's most iterations (each one gradient and a backtracking line search) on a motion
+/// of one block, and the online planner's default cap a tick.
 inline constexpr int kOptimalMaxIterations = 200;
+/// The batch kOptimal plan of a motion longer than kOptimalBlockTicks + kOptimalOverlapTicks
+/// ticks keeps kOptimalBlockTicks requests of each problem it solves, each solved with the
+/// next kOptimalOverlapTicks ticks in at most kOptimalBlockIterations (PlanMethod::kOptimal),
+/// so that its cost per tick does not grow with the motion's length.
+inline constexpr size_t kOptimalBlockTicks = 1000;
+inline constexpr size_t kOptimalOverlapTicks = 250;
+inline constexpr int kOptimalBlockIterations = 60;
 /// A desired angle missed by more than this (deg) under the best request counts as beyond
 /// the servo: the bisection itself is exact to about 1e-10 deg.
 inline constexpr double kBeyondServoToleranceDeg = 1e-6;
