@@ -406,14 +406,17 @@ def stand_table1_block(run):
 
 
 def online_block(run):
-    """The servo planner's predicted error (deg) by plan and preview, on the XL330's logs."""
+    """The servo planner's predicted error (deg) by plan and preview, on the XL330's logs: the
+    mean absolute error and, in brackets, the root mean square (the optimal plans' objective)."""
     rel = "servo_logs/online/preview.json"
+    rms_rel = "servo_logs/online/preview_rms.json"
 
     def header():
-        return ["plan (xl330, kp 400)", *next(iter(run.json(rel).values()))]
+        return ["plan (xl330, kp 400), MAE (RMS)", *next(iter(run.json(rel).values()))]
 
     def rows():
-        return [[plan] + [fixed(v) for v in by_log.values()]
+        rms = run.json(rms_rel)
+        return [[plan] + [f"{fixed(v)} ({fixed(rms[plan][log])})" for log, v in by_log.items()]
                 for plan, by_log in run.json(rel).items()]
     return header, rows
 

@@ -41,7 +41,7 @@ def planned_errors(plan, args, log, method, out, preview=None, extra=()):
         sys.exit(f"online_preview_table: {' '.join(command)} failed: {done.stderr.strip()}")
     summary = read_json(out / "plan.json")
     if preview == DEFAULT:
-        return summary["online"]["preview_ticks"]
+        return summary.online.preview_ticks
     return summary["predicted_mae_deg"]["planned"], summary["predicted_rms_deg"]["planned"]
 
 
@@ -62,7 +62,7 @@ def main():
         sys.exit(f"online_preview_table: no {args.motor} log at kp {args.kp}")
     out = pathlib.Path(args.out)
     runs = pathlib.Path(tempfile.mkdtemp(prefix="online_preview_"))
-    lag = read_json(pathlib.Path(args.model))["models"]["extended"][args.motor]["lag_ticks"]
+    lag = read_json(pathlib.Path(args.model)).models.extended[args.motor].lag_ticks
     horizon = lag + 1
     rows = [("batch model_based", "model_based", None, ()),
             ("batch optimal", "optimal", None, ())]
