@@ -385,11 +385,6 @@ void CheckPlannerInputs(const ServoLimits& limits, const ServoPlannerOptions& op
   const std::string problem =
       KeysProblem(options, [](KeyVisitor& v, ServoPlannerOptions& o) { VisitKeys(v, o); });
   if (!problem.empty()) throw std::invalid_argument("servo planner: " + problem);
-  if (options.budget_s < 0.0 && options.budget_s != -1.0) {
-    throw std::invalid_argument("servo planner: budget_s must be -1 (half the tick) or in [0, " +
-                                FormatNumber(kServoBudgetDoc.max) + "] s, got " +
-                                FormatNumber(options.budget_s));
-  }
 }
 
 }  // namespace
