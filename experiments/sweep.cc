@@ -159,6 +159,7 @@ int Run(int argc, char** argv) {
   merge->add_option("--config", merge_config,
                     "the sweep file: checks the point count, names it in the rerun command");
   app.require_subcommand(0, 1);
+  RefuseEmptyValues(app);
   try {
     app.parse(argc, argv);
     if (!merge->parsed() && (config_path.empty() || out_dir.empty())) {

@@ -15,6 +15,21 @@
 
 namespace leglab {
 
+void RefuseEmptyValues(CLI::App& app) {
+  const CLI::Validator non_empty(
+      [](const std::string& value) {
+        return value.empty() ? std::string("an empty value (give one, or leave the option out)")
+                             : std::string();
+      },
+      "NOT EMPTY");
+  for (CLI::Option* option : app.get_options()) {
+    if (option->get_type_size_max() > 0) option->check(non_empty);
+  }
+  for (CLI::App* subcommand : app.get_subcommands([](CLI::App*) { return true; })) {
+    RefuseEmptyValues(*subcommand);
+  }
+}
+
 void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table) {
   app.add_flag_callback(
       "--list-keys",

@@ -35,6 +35,7 @@ int RunProgram(const std::string& program, const std::string& description, const
                  "override a config key, e.g. --set servo.delay_ms=48 (YAML value; repeatable)");
   AddListKeysFlag(app, [&scope] { return KeyTableMarkdown(ExperimentKeys(scope)); });
   if (!outputs.empty()) AddListOutputsFlag(app, outputs);
+  RefuseEmptyValues(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -209,6 +209,17 @@ void Resample(Log& log, double tick_s, const LogFitConfig& config) {
                " ticks, over the limit of " +
                FormatNumber(kMaxResampledTicks, NumberStyle::kReadable));
   }
+  if (config.tick_s > 0.0 && l.samples.size() >= 2) {
+    const double interval = MedianSampleInterval(std::span<const ServoLogSample>(l.samples));
+    if (tick_s < kMinTickPerSampleInterval * interval) {
+      FailConfig("logs.tick_s = " + FormatNumber(tick_s) + " s is under " +
+                 FormatNumber(kMinTickPerSampleInterval) + " of the log '" + l.file +
+                 "''s median sample interval, " + FormatNumber(interval, NumberStyle::kReadable) +
+                 " s: its samples hold nothing at that tick; use at least " +
+                 FormatNumber(kMinTickPerSampleInterval * interval, NumberStyle::kReadable) +
+                 " s, or 0 for the motor's median interval");
+    }
+  }
   ServoRecording& r = log.recording;
   r.drive = {l.kp, l.mass_kg, l.length_m};
   const double first = l.samples.front().time_s;
@@ -270,11 +281,29 @@ ServoFitOptions ExtendedOptions(double tick_s, const std::string& motor,
   return extended;
 }
 
+// `sampled`: FitSample cut the training logs to logs.fit_ticks, so that a fit its chunks are
+// too short for is that key's doing, and the message says so.
 JointModelParams FitPaper(std::span<const ServoRecording> train, double tick_s,
-                          const std::string& motor, const LogFitConfig& config) {
+                          const std::string& motor, const LogFitConfig& config, bool sampled) {
   try {
-    return FitJointModelToRecordings(train, PaperOptions(tick_s, config)).params;
+    const JointModelParams params =
+        FitJointModelToRecordings(train, PaperOptions(tick_s, config)).params;
+    // A fit the logs do not bound (a step far beyond what the motor's ticks resolve) can end
+    // outside the model's range; said here, naming the motor and the tick, rather than by the
+    // first prediction that meets it.
+    if (const std::string problem = JointModelParamsProblem(params); !problem.empty()) {
+      FailConfig("logs: the paper's model fitted to motor '" + motor +
+                 "' at logs.tick_s = " + FormatNumber(tick_s) + " s is outside its range (" +
+                 problem + "): its logs do not bound it at that tick");
+    }
+    return params;
   } catch (const std::invalid_argument& e) {
+    if (sampled) {
+      FailConfig("logs.fit_ticks " + std::to_string(config.fit_ticks) +
+                 ": the chunks of the logs it leaves are too short to fit the paper's model to "
+                 "motor '" +
+                 motor + "' (" + e.what() + "); raise it, or 0 for every tick");
+    }
     FailConfig("logs: the paper's model cannot be fitted to motor '" + motor + "': " + e.what());
   }
 }
@@ -371,7 +400,8 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
     FitJob& job = jobs[task.job];
     const MotorGroup& g = groups[job.group];
     if (task.lag < 0) {
-      job.models.paper = FitPaper(train[task.job], g.tick_s, g.motor, config);
+      job.models.paper = FitPaper(train[task.job], g.tick_s, g.motor, config,
+                                  job.fitted_ticks < job.training_ticks);
     } else {
       lag_fits[static_cast<size_t>(k)] = FitServoModelAtLag(
           train[task.job], g.tick_s, ExtendedOptions(g.tick_s, g.motor, config), task.lag);

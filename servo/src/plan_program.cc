@@ -1,16 +1,19 @@
 #include "leglab/servo/plan_program.h"
 
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "leglab/app/input_error.h"
 #include "leglab/app/output.h"
 #include "leglab/app/program.h"
+#include "leglab/app/progress.h"
 #include "leglab/core/format.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_planner.h"
@@ -27,6 +30,10 @@ ServoDrive ChooseDrive(const PlanOptions& o, const DesiredServoMotion& motion,
     if (o.kp || o.mass_kg || o.length_m) {
       throw InputError("--kp, --mass-kg and --length-m: the log '" + o.desired_path +
                        "' gives its own kp, mass and length; leave them out");
+    }
+    if (const std::string problem = ServoDriveProblem(*motion.drive);
+        model.rung == "extended" && !problem.empty()) {
+      throw InputError("--desired '" + o.desired_path + "': the log's " + problem);
     }
     return *motion.drive;
   }
@@ -119,6 +126,10 @@ PlanResult Plan(const PlanOptions& o) {
   }
   const PlanMethod method = o.method == "optimal" ? PlanMethod::kOptimal : PlanMethod::kModelBased;
   if (o.online) {
+    // Online, the planner runs tick by tick (optimal up to its budget a tick): the display
+    // counts them.
+    ReplanProgress(static_cast<long long>(desired.size()), "ticks");
+    SetProgressPhase("planning online, tick by tick");
     ServoPlannerOptions options;
     options.method = method;
     options.preview_ticks = o.preview_ticks.value_or(-1);
@@ -195,7 +206,14 @@ std::string Summary(const PlanOptions& o, const PlanResult& r) {
 
 std::string RunPlan(const PlanOptions& options) {
   OutputDir out(options.out_dir, {"requests.", "plan."});
+  const ProgressStyle style = options.quiet || !options.online ? ProgressStyle::kOff
+                              : options.progress               ? ProgressStyle::kLines
+                              : ::isatty(STDERR_FILENO) != 0   ? ProgressStyle::kBar
+                                                               : ProgressStyle::kOff;
+  std::optional<ProgressDisplay> display;
+  if (style != ProgressStyle::kOff) display.emplace("plan", style, 1);
   const PlanResult result = Plan(options);
+  FinishProgress();
   WriteRequests(result, out.Path("requests.csv"));
   WriteTextFile(out.Path("plan.json"), PlanJson(options, result));
   out.Commit();
@@ -269,6 +287,10 @@ int PlanMain(int argc, char** argv) {
   app.add_flag("--online", o.online,
                "the online planner's requests, tick by tick on the model, instead of the batch "
                "plan's");
+  CLI::Option* progress =
+      app.add_flag("--progress", o.progress,
+                   "with --online: plain progress lines on stderr (default: a bar on a terminal)");
+  app.add_flag("--quiet", o.quiet, "no progress on stderr")->excludes(progress);
   AddListOutputsFlag(app, PlanOutputs());
   app.add_option("--preview-ticks", o.preview_ticks,
                  "with --online: desired angles ahead the planner is given (default: the "
@@ -286,6 +308,7 @@ int PlanMain(int argc, char** argv) {
   app.add_option("--iterations-per-tick", o.iterations_per_tick,
                  "with --online --method optimal: the most L-BFGS iterations a tick (default " +
                      std::to_string(kOptimalMaxIterations) + ")");
+  RefuseEmptyValues(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -11,6 +11,7 @@
 
 #include "leglab/app/input_error.h"
 #include "leglab/app/output.h"
+#include "leglab/app/progress.h"
 #include "leglab/core/format.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_planner.h"
@@ -315,6 +316,7 @@ PlanResult PlanDesiredOnline(const FittedModel& model, const ServoDrive& drive,
   const auto window = static_cast<size_t>(planner.PreviewTicks()) + 1;
   planner.Reset(desired[0]);
   for (size_t t = 0; t < desired.size(); ++t) {
+    CountProgressTicks(1);  // the display's count, and where a stop request ends the run
     r.plan.predicted_deg[t] = planner.ExpectedDeg();
     r.plan.request_deg[t] = planner.Request(
         desired.subspan(t, std::min(window, desired.size() - t)), r.plan.predicted_deg[t]);

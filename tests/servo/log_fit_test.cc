@@ -214,6 +214,19 @@ TEST_F(LogFitTest, ATickTooShortForALogIsRefusedNamingTheKeyAndTheLog) {
   EXPECT_NE(err_.find("over the limit of 4000000"), std::string::npos) << err_;
 }
 
+// A tick far finer than the samples (the STS3250's, about 15 ms apart, at 0.1 ms: 150 ticks
+// between samples) is refused before any fit, naming the key, the log and both figures; and a
+// logs.fit_ticks whose chunks are too short for the paper's model names that key, not the logs.
+TEST_F(LogFitTest, ATickFinerThanTheSamplesAndAFitTooSmallNameTheirKeys) {
+  ExpectBadInput("--set 'logs.train=[" + kSts + "]' --set logs.tick_s=1e-4",
+                 "logs.tick_s = 1e-04 s is under 0.1 of the log '");
+  EXPECT_NE(err_.find("median sample interval, 0.0152"), std::string::npos) << err_;
+  ExpectBadInput("--set 'logs.train=[" + kSts +
+                     "]' --set logs.cross_validate=none "
+                     "--set logs.fit_ticks=10",
+                 "logs.fit_ticks 10: the chunks of the logs it leaves are too short");
+}
+
 // A servo whose angles run 130..270 deg (a 0..360 servo): its log fits and its plan is scored,
 // the plan's range widened from -180..180 to the log's requests.
 TEST_F(LogFitTest, ALogBeyond180DegreesIsFittedAndPlanned) {

@@ -133,6 +133,13 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
   Write("bad_header.csv", "time,desired_deg\n0,1\n1,2\n");
   Write("bad_cell.csv", "time_s,desired_deg\n0,1\n1,+2\n");
   Write("backwards.csv", "time_s,desired_deg\n0,1\n1,2\n0.5,3\n");
+  {
+    // A BAM log whose kp is 0.
+    std::string bam = ReadText(
+        LEGLAB_SOURCE_DIR "/data/servo_logs/feetech-sts3250/sin_sin_kp32_2024-10-26_12h23m27.json");
+    bam.replace(bam.find("\"kp\": 32"), std::string("\"kp\": 32").size(), "\"kp\": 0");
+    Write("kp0.json", bam);
+  }
   const std::string models = "--model '" + dir_.string() + "/";
   const std::string desired = " --desired '" + dir_.string() + "/";
   const std::string ok = " " + Desired() + " " + Out() + " --kp 40";
@@ -167,6 +174,19 @@ TEST_F(PlanProgramTest, BadInputIsOneLineStatus2AndNothingWritten) {
       {Model() + " " + Desired() + " " + Out() + " --kp 1e300", "--kp must be in (0, 1000000]"},
       {Model() + " " + Out() + " --kp 40" + desired + "far.csv'",
        "desired angle 1 must be in [-100000, 100000] deg"},
+      // An empty value is not 0 or the default.
+      {Model() + ok + " --min-deg ''", "--min-deg: an empty value"},
+      {Model() + ok + " --mass-kg ''", "--mass-kg: an empty value"},
+      {Model() + ok + " --online --preview-ticks ''", "--preview-ticks: an empty value"},
+      // The online optimal planner's effort: with it only, each in its declared range.
+      {Model() + ok + " --budget-ms 5", "--budget-ms goes with --online --method optimal"},
+      {Model() + ok + " --online --hold-ticks 5", "--hold-ticks goes with --online --method"},
+      {Model() + ok + " --online --method optimal --hold-ticks -1",
+       "--hold-ticks must be in [0, 100000] ticks"},
+      {Model() + ok + " --online --method optimal --iterations-per-tick 0",
+       "--iterations-per-tick must be in [1, 1000]"},
+      {Model() + ok + " --online --method optimal --budget-ms 1e9", "--budget-ms must be in"},
+      {Model() + " " + Out() + desired + "kp0.json'", "kp0.json': the log's kp must be in"},
   };
   for (const auto& [args, named] : cases) {
     SCOPED_TRACE(args);

@@ -15,6 +15,11 @@ namespace leglab {
 /// reads) on stdout and exits with status 0 before any other flag is checked.
 void AddListKeysFlag(CLI::App& app, const std::function<std::string()>& table);
 
+/// Makes every option of `app` and of its subcommands that takes a value refuse an empty one
+/// (`--mass-kg ''`), which CLI11 would otherwise read as 0 or the default: a parse error that
+/// names the option. Call it once all options are added, before parsing.
+void RefuseEmptyValues(CLI::App& app);
+
 /// What every experiment program takes: `--config FILE`, `--out DIR`, `--threads N`,
 /// `--progress` or `--quiet`, `--list-keys`, and any number of `--set key=value` applied
 /// last.

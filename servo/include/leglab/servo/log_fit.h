@@ -77,6 +77,11 @@ inline constexpr KeyDoc kFitTicksDoc{
 /// ReadLogFitStructured.
 void VisitKeys(KeyVisitor& v, LogFitConfig& c);
 
+/// The finest logs.tick_s a log is resampled to, as a share of its median sample interval:
+/// ten ticks between samples interpolate what the samples hold, and a finer tick only
+/// multiplies the fit's cost.
+inline constexpr double kMinTickPerSampleInterval = 0.1;
+
 /// The longest chunk FitSample cuts (ticks): 5.3 s at the XL330's tick, long against the
 /// servos' settling, so that the restart at each chunk's start weighs little.
 inline constexpr int kFitChunkTicks = 1000;

@@ -34,6 +34,8 @@ struct PlanOptions {
   std::optional<int> hold_ticks;           ///< --hold-ticks (with --online --method optimal)
   std::optional<int> handover_ticks;       ///< --handover-ticks (likewise)
   std::optional<int> iterations_per_tick;  ///< --iterations-per-tick (likewise)
+  bool progress = false;  ///< --progress: plain progress lines on stderr (with --online)
+  bool quiet = false;     ///< --quiet: no progress
 };
 
 /// Runs `plan`: reads the model and the desired motion, plans, writes requests.csv and plan.json
