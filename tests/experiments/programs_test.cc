@@ -665,7 +665,7 @@ TEST_F(ProgramsTest, OutProblemsAreFoundBeforeTheRun) {
   };
   const std::string file = Write("results.txt", "mine");
   expect(file, "exists and is not a folder");
-  expect("", "--out must name a folder");
+  expect("", "--out: an empty value");
   expect(file + "/sub", "a file");
   // An unwritable parent: a folder without write permission, or (as root, who may write
   // anywhere) one where no folder can be created at all.
