@@ -30,10 +30,13 @@ from ._leglab import (  # noqa: E402  (after the data folder is known)
     Reading,
     Robot,
     Walk,
-    floor,
-    identify,
 )
 from . import _leglab  # noqa: E402
+from . import _one_line  # noqa: E402
+
+# A call the compiled module cannot match raises one line naming the argument.
+_one_line.wrap_module(_leglab, [n for n in dir(_leglab) if not n.startswith("__")])
+from ._leglab import floor, identify  # noqa: E402  (the wrapped functions)
 
 # help() and repr() name the classes as users import them.
 for _cls in (ControllerContext, Identification, JointModel, Plant, Reading, Robot, Walk):

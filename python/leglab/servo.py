@@ -131,6 +131,9 @@ def read_log(path, format="auto", **meta):
     """The servo log at `path`: BAM's JSON (`.json`) or leglab's CSV (`.csv`), as identify reads
     it. format: "auto" (by extension), "csv" or "bam_json". A CSV log does not say its motor, kp,
     mass_kg and length_m: give them as keywords (a BAM log's own are used, and these ignored)."""
+    if not isinstance(format, str):
+        raise TypeError(f"read_log(): format: expected str ('auto', 'csv' or 'bam_json'), got "
+                        f"{type(format).__name__}")
     unknown = sorted(set(meta) - set(_META_KEYS))
     if unknown:
         raise ValueError(f"read_log: unknown keyword {unknown[0]!r} (expected one of "
@@ -154,13 +157,22 @@ def read_log(path, format="auto", **meta):
 def write_log(log, path):
     """Writes `log` in leglab's CSV form (time_s,request_deg,measured_deg,torque_enabled; every
     number as the shortest text that reads back as the same double), all at once: a failed write
-    leaves no file behind and an existing one as it was. read_log(path, motor=..., kp=...,
-    mass_kg=..., length_m=...) reads it back to the same samples."""
+    leaves no file behind and an existing one as it was. `path` must be a new name or a regular
+    file (ValueError otherwise: a link, folder, FIFO or device there is not replaced).
+    read_log(path, motor=..., kp=..., mass_kg=..., length_m=...) reads it back to the same
+    samples."""
     if not isinstance(log, ServoLog):
         raise ValueError(f"write_log: expected a ServoLog, got {type(log).__name__}")
     text = _leglab._log_csv_text(log._fields)
     path = _os.fspath(path)
+    # A new name or a regular file only: a link, a folder, a FIFO or a device at the path is
+    # the user's and is not replaced (as the programs' --out refuses them).
+    if _os.path.lexists(path) and (_os.path.islink(path) or not _os.path.isfile(path)):
+        raise ValueError(f"write_log '{path}': not a regular file (a link, a folder, a FIFO or a "
+                         f"device); it is left as it is")
     folder = _os.path.dirname(_os.path.abspath(path))
+    if not _os.path.isdir(folder):
+        raise FileNotFoundError(f"write_log '{path}': the folder '{folder}' does not exist")
     fd, staging = _tempfile.mkstemp(prefix="." + _os.path.basename(path) + ".", dir=folder)
     try:
         with _os.fdopen(fd, "w", encoding="ascii", newline="") as out:
@@ -286,6 +298,9 @@ def plan(model, desired_deg, method="model_based", *, kp=None, mass_kg=0.0, leng
     """
     if not isinstance(model, ServoModel):
         raise ValueError(f"plan: expected a ServoModel (LogFit.model), got {type(model).__name__}")
+    if not isinstance(method, str):
+        raise TypeError(f"plan(): method: expected str ('model_based' or 'optimal'), got "
+                        f"{type(method).__name__}")
     return _Columns(_leglab._plan(model, desired_deg, method, kp, mass_kg, length_m, min_deg,
                                   max_deg))
 

@@ -4,6 +4,8 @@ planner against the batch plan, and bad input."""
 import json
 import os
 import pathlib
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -317,3 +319,65 @@ def test_a_value_of_the_wrong_type_is_a_one_line_type_error(identified):
         with pytest.raises(TypeError, match=words) as error:
             call()
         assert "\n" not in str(error.value)
+
+
+def test_a_call_the_module_cannot_match_is_one_line_naming_the_argument(identified):
+    """What pybind11 refuses (an unknown keyword, a missing argument, a wrong type for a typed
+    one) is a TypeError of one line that names the argument, not its list of signatures."""
+    _, fit = identified
+    model = fit.model("xl330")
+    planner = servo.ServoPlanner(model, kp=400)
+    cases = [
+        (lambda: servo.plan(model, [0.0] * 10, method=None, kp=400), "method"),
+        (lambda: planner.reset("x"), "angle_deg"),
+        (lambda: servo.ServoPlanner(model, kp=400, bogus=1), "'bogus'"),
+        (lambda: servo.ServoPlanner(model, None, kp=400), "method"),
+        (lambda: servo.read_log(XL330_LOG, format=None), "format"),
+        (lambda: leglab.JointModel(bogus=1), "'bogus'"),
+        (lambda: leglab.PAPER_MODEL.simulate([0.0, 1.0]), "start_deg"),
+    ]
+    for call, named in cases:
+        with pytest.raises(TypeError) as caught:
+            call()
+        message = str(caught.value)
+        assert "\n" not in message and named in message, message
+
+
+def test_out_of_memory_names_the_argument_with_the_most_items(tmp_path):
+    """Where an argument fits but what the call makes of it does not (the address space held
+    to 500 MB, 2 * 10^7 requests of 160 MB), the MemoryError names that argument."""
+    script = tmp_path / "oom.py"
+    script.write_text(
+        "import resource, sys\n"
+        "import numpy as np\n"
+        "import leglab\n"
+        "requests = np.zeros(20_000_000)\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (500_000_000, 500_000_000))\n"
+        "try:\n"
+        "    leglab.PAPER_MODEL.simulate(requests, 0.0)\n"
+        "except MemoryError as e:\n"
+        "    print(e)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)),
+                          check=False)
+    assert done.stdout.strip() == "simulate(): not enough memory for requests of 20000000 items", \
+        done.stdout + done.stderr
+
+
+def test_write_log_replaces_only_a_regular_file(tmp_path):
+    """A link, a folder or a FIFO at write_log's path is refused and left as it is; a regular
+    file is replaced."""
+    t = np.arange(5) * 0.01
+    log = servo.ServoLog(t, t, t, motor="m", kp=1.0)
+    target = tmp_path / "target.csv"
+    target.write_text("mine")
+    (tmp_path / "link.csv").symlink_to(target)
+    (tmp_path / "folder.csv").mkdir()
+    os.mkfifo(tmp_path / "fifo.csv")
+    for name in ("link.csv", "folder.csv", "fifo.csv"):
+        with pytest.raises(ValueError, match="not a regular file"):
+            servo.write_log(log, tmp_path / name)
+    assert target.read_text() == "mine"
+    assert (tmp_path / "link.csv").is_symlink()
+    servo.write_log(log, target)
+    assert target.read_text().startswith("time_s,")
