@@ -227,6 +227,21 @@ TEST_F(LogFitTest, ATickFinerThanTheSamplesAndAFitTooSmallNameTheirKeys) {
                  "logs.fit_ticks 10: the chunks of the logs it leaves are too short");
 }
 
+// A log whose reading jumps 1000 deg under a constant request, fitted at 1 s a tick: no
+// paper's model within its range explains it (the fit's theta_0 runs off to 1e302), which is
+// said naming the motor and the tick, not by the first prediction that meets the model.
+TEST_F(LogFitTest, APapersModelTheLogsDoNotBoundNamesTheMotorAndTheTick) {
+  std::ofstream csv(dir_ / "jump.csv");
+  csv << "time_s,request_deg,measured_deg\n";
+  for (int i = 0; i < 400; ++i) csv << 0.01 * i << ",0," << (i < 200 ? 0 : 1000) << "\n";
+  csv.close();
+  ExpectBadInput("--set 'logs.train=[" + (dir_ / "jump.csv").string() +
+                     "]' --set logs.cross_validate=none --set logs.tick_s=1 --set logs.kp=100 "
+                     "--set logs.motor=m",
+                 "the paper's model fitted to motor 'm' at logs.tick_s = 1 s is outside its range "
+                 "(theta0_deg must be in (0, 1000000] deg");
+}
+
 // A servo whose angles run 130..270 deg (a 0..360 servo): its log fits and its plan is scored,
 // the plan's range widened from -180..180 to the log's requests.
 TEST_F(LogFitTest, ALogBeyond180DegreesIsFittedAndPlanned) {
