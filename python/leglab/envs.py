@@ -34,6 +34,12 @@ MAX_STEPS = 10_000
 MAX_WINDOW = 10_000
 
 
+def _shown(value):
+    """`value` as a message shows it: its repr when short and on one line, else its type."""
+    text = repr(value)
+    return text if "\n" not in text and len(text) <= 60 else type(value).__name__
+
+
 class Box:
     """A box of float64 vectors, low <= x <= high elementwise (gymnasium.spaces.Box's shape).
 
@@ -110,11 +116,11 @@ class Box:
 def _episode_seed(seed):
     """`seed` as the plant's `seed` key takes it: an int in [0, SEED_MAX]."""
     if isinstance(seed, bool):
-        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {seed!r}")
+        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {_shown(seed)}")
     try:
         value = _operator.index(seed)
     except TypeError:
-        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {seed!r}") from None
+        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {_shown(seed)}") from None
     if not 0 <= value <= SEED_MAX:
         raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {value}")
     return int(value)
@@ -210,7 +216,7 @@ class LegTrackingEnv:
             raise ValueError(
                 f"history, preview: expected >= 1 together, got {history}, {preview}")
         if action not in ACTIONS:
-            raise ValueError(f"action: expected one of {', '.join(ACTIONS)}, got {action!r}")
+            raise ValueError(f"action: expected one of {', '.join(ACTIONS)}, got {_shown(action)}")
 
         self._config = config
         self._overrides = dict(overrides)

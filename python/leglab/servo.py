@@ -55,9 +55,11 @@ def _real_vector(values, what):
 
 
 def _number(value, what):
+    """`value` as a float; a TypeError naming `what` and the type given for anything that is not
+    a real number (bool included), as the compiled module's own arguments."""
     if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer,
                                                                      _np.floating)):
-        raise ValueError(f"{what}: expected a number, got {value!r}")
+        raise TypeError(f"{what}: expected a number, got {type(value).__name__}")
     return float(value)
 
 
@@ -97,7 +99,7 @@ class ServoLog:
             torque_enabled = _np.array(torque, dtype=bool, order="C", copy=True)
         for name, value in (("motor", motor), ("trajectory", trajectory), ("file", file)):
             if not isinstance(value, str):
-                raise ValueError(f"{name}: expected a str, got {value!r}")
+                raise TypeError(f"{name}: expected a str, got {type(value).__name__}")
         self._fields = {
             "file": file or trajectory or "log", "motor": motor, "trajectory": trajectory,
             "kp": _number(kp, "kp"), "mass_kg": _number(mass_kg, "mass_kg"),
@@ -140,7 +142,7 @@ def read_log(path, format="auto", **meta):
                          f"{', '.join(_META_KEYS)})")
     motor = meta.get("motor", "")
     if not isinstance(motor, str):
-        raise ValueError(f"motor: expected a str, got {motor!r}")
+        raise TypeError(f"motor: expected a str, got {type(motor).__name__}")
     numbers = [_number(meta.get(key, 0.0), key) for key in _META_KEYS[1:]]
     fields = _leglab._read_log(path, format, motor, *numbers)
     # A CSV log names neither its motor nor its gain: without them it could be read but not

@@ -2,7 +2,6 @@
 servos whose behaviour is written here, scored as identify scores, reproducibly."""
 
 import importlib.util
-import json
 import pathlib
 import subprocess
 import sys

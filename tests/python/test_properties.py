@@ -113,3 +113,84 @@ def test_env_calls(env, action, steps):
         env.reset(seed=1)
     documented_or_returns(env.step, action)
     documented_or_returns(LegTrackingEnv, steps=steps, history=steps)
+
+
+# The XL330's fitted models (identify's fit of the shipped logs), as a log_fit.json holds them.
+LOG_FIT = ('{"models": {"extended": {"xl330": {"tick_s": 0.0053, "gain_per_deg_kp": 6.16e-05, '
+           '"v_max_deg_s": 856.3, "v_max_given": false, "stall_torque_nm": 0.505, '
+           '"friction_duty": 0.0, "friction_load_ratio": 0.376, "velocity_lag_s": 0.1437, '
+           '"lag_ticks": 1}}, "paper": {"xl330": {"tick_s": 0.0053, "v_max_deg_per_tick": 2.99, '
+           '"theta0_deg": 12.0, "lag_ticks": 0, "accel_ticks": 1, "v_max_deg_s": 565.4}}}}')
+JSON = st.recursive(st.none() | st.booleans() | NUMBERS | st.text(max_size=5),
+                    lambda inner: st.lists(inner, max_size=3) |
+                    st.dictionaries(st.sampled_from(["models", "extended", "paper", "xl330",
+                                                     "logs", "folds", "tick_s", "lag_ticks"]),
+                                    inner, max_size=3),
+                    max_leaves=8)
+
+
+@pytest.fixture(scope="module")
+def servo_model():
+    import leglab.servo as servo
+    return servo.LogFit(LOG_FIT).model("xl330")
+
+
+@SETTINGS
+@given(desired=ANYTHING, method=ANYTHING, kp=ANYTHING, limit=ANYTHING)
+def test_servo_plan_and_model_calls(servo_model, desired, method, kp, limit):
+    import leglab.servo as servo
+    documented_or_returns(servo.plan, servo_model, desired, method, kp=kp)
+    documented_or_returns(servo.plan, servo_model, desired, kp=400, min_deg=limit)
+    documented_or_returns(servo_model.simulate, desired, kp=kp, start_deg=limit)
+    documented_or_returns(servo.read_desired, method, kp)
+
+
+@SETTINGS
+@given(method=ANYTHING, option=ANYTHING, window=ANYTHING, measured=ANYTHING)
+def test_servo_planner_calls(servo_model, method, option, window, measured):
+    import leglab.servo as servo
+    for keyword in ("preview_ticks", "budget_s", "hold_ticks", "handover_ticks",
+                    "optimal_iterations_per_tick", "reanchor_deg"):
+        documented_or_returns(servo.ServoPlanner, servo_model, "optimal", kp=400,
+                              **{keyword: option})
+    documented_or_returns(servo.ServoPlanner, servo_model, method, kp=option)
+    planner = servo.ServoPlanner(servo_model, "optimal", kp=400, preview_ticks=20, budget_s=0,
+                                 optimal_iterations_per_tick=2)
+    documented_or_returns(planner.reset, measured)
+    documented_or_returns(planner.request, window, measured)
+    documented_or_returns(planner.hold, window)
+
+
+@SETTINGS
+@given(document=JSON, motor=ANYTHING, rung=ANYTHING)
+def test_log_fit_of_any_json(document, motor, rung):
+    import json
+
+    import leglab.servo as servo
+    try:
+        fit = servo.LogFit(json.dumps(document))
+    except ValueError as error:
+        assert "\n" not in str(error)
+        return
+    repr(fit)
+    documented_or_returns(fit.model, motor, rung)
+    documented_or_returns(fit.model)
+
+
+@SETTINGS
+@given(path=ANYTHING, form=ANYTHING, meta=ANYTHING)
+def test_read_and_write_log_calls(tmp_path_factory, path, form, meta):
+    import leglab.servo as servo
+    for call in (lambda: servo.read_log(path), lambda: servo.read_log(path, form),
+                 lambda: servo.read_log(servo_log_path(), motor=meta, kp=meta),
+                 lambda: servo.write_log(path, tmp_path_factory.getbasetemp() / "log.csv")):
+        try:
+            call()
+        except (ValueError, TypeError, MemoryError, OSError) as error:
+            assert "\n" not in str(error), repr(str(error))
+
+
+def servo_log_path():
+    from conftest import SOURCE_DIR
+    return SOURCE_DIR / "data" / "servo_logs" / "feetech-sts3250" / \
+        "sin_sin_kp32_2024-10-26_12h23m27.json"

@@ -3,7 +3,6 @@ planner against the batch plan, and bad input."""
 
 import json
 import os
-import pathlib
 import subprocess
 import sys
 
