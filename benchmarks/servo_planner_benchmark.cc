@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <span>
 #include <string>
@@ -178,7 +179,7 @@ void ReportSideBySide(int rounds) {
 // The p-th quantile (0..1) of `xs` (nearest rank), which it sorts.
 double Quantile(std::vector<double>& xs, double p) {
   std::sort(xs.begin(), xs.end());
-  const auto rank = static_cast<size_t>(p * static_cast<double>(xs.size() - 1) + 0.5);
+  const auto rank = static_cast<size_t>(std::lround(p * static_cast<double>(xs.size() - 1)));
   return xs[std::min(rank, xs.size() - 1)];
 }
 

@@ -149,7 +149,7 @@ std::vector<double> OptimalRequests(const Stepper& stepper, const Problem& p,
   const int iterations = n > window ? kOptimalBlockIterations : kOptimalMaxIterations;
   servo_plan::HorizonDescent<Stepper> descent;
   descent.Reserve(window, window - 1, pending);
-  const std::vector<double> model_based = requests;
+  std::vector<double> model_based = requests;
   double previous = p.desired[0];
   for (size_t start = 0; start < n; start += kOptimalBlockTicks) {
     const size_t size = std::min(window, n - start);

@@ -94,7 +94,8 @@ class Planner final : public ServoPlanner::Impl {
       plan_.assign(decisions, 0.0);
       model_based_.assign(decisions, 0.0);
       model_based_state_ = anchored_;
-      descent_.Reserve(decisions, static_cast<size_t>(preview_ + hold), anchored_);
+      descent_.Reserve(decisions, static_cast<size_t>(preview_) + static_cast<size_t>(hold),
+                       anchored_);
       // The requests that act on the preview's last 2 (l + 1) ticks, and on the held ones, are
       // model_based's.
       free_ = decisions - std::min(decisions, static_cast<size_t>(handover_ + hold));
