@@ -14,13 +14,14 @@ Feetech), leglab.bus.physics: not the model leglab fits. docs/results.md's bus-l
 read from the run.json files. Bad input: one line, exit status 2.
 """
 
-import argparse
 import json
 import os
 import pathlib
 import shutil
 import subprocess
 import sys
+
+from results_reader import ArgumentParser
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 ENV = dict(os.environ)
@@ -97,7 +98,7 @@ def best_lead(out, common):
 
 def main():
     """Runs every protocol's loop."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", type=pathlib.Path)
     parser.add_argument("--build", type=pathlib.Path, default=SOURCE_DIR / "build")
     args = parser.parse_args()

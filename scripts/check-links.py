@@ -22,6 +22,8 @@ import re
 import subprocess
 import sys
 
+from results_reader import ArgumentParser
+
 TOP = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python", "tests",
        "benchmarks", "scripts", "docs", "robots", "data", "examples", "cmake")
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
@@ -122,8 +124,10 @@ def problems(root):
 
 
 def main():
-    root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else
-                        pathlib.Path(__file__).resolve().parents[1]).resolve()
+    parser = ArgumentParser(prog="check-links.py", description=__doc__.splitlines()[0])
+    parser.add_argument("root", nargs="?", default=pathlib.Path(__file__).resolve().parents[1],
+                        metavar="ROOT", help="the repository (default: this one)")
+    root = pathlib.Path(parser.parse_args().root).resolve()
     found = problems(root)
     for line in found:
         print(line)

@@ -19,11 +19,11 @@ and so does an entry no longer found.
 Usage: /usr/bin/python3 scripts/check-output-names.py [SOURCE_DIR] [--list FILE] [--update]
 Exit 0: nothing new; 1: a name spelled in one more place, or a stale entry, each on stderr.
 """
-import argparse
 import os
 import re
 import sys
 
+from results_reader import ArgumentParser
 from shrinking_list import compare, read_entries, write_entries
 
 FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python",
@@ -94,7 +94,7 @@ HEADER = """\
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(prog="check-output-names.py")
+    parser = ArgumentParser(prog="check-output-names.py")
     parser.add_argument("source", nargs="?",
                         default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     parser.add_argument("--list", help="the known ones (default: scripts/output_names.txt)")

@@ -17,12 +17,12 @@ dotted path, `<...>` any one key, `[]` a list's elements; a field the run did no
 absent); other JSON files (a script's, learned_fit.json) are not checked. Each difference is named on stderr, exit status 1; bad input (no RESULTS folder, no docs file):
 one line, exit status 2.
 """
-import argparse
 import json
 import pathlib
 import sys
 
-from results_reader import column_problems, declared_pattern, declared_tables, field_problems
+from results_reader import (ArgumentParser, column_problems, declared_pattern, declared_tables,
+                            field_problems)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 
@@ -36,7 +36,7 @@ def header_of(path):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("results")
     parser.add_argument("--docs", default=str(SOURCE_DIR / "docs" / "outputs.md"))
     args = parser.parse_args(argv)

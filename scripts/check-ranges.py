@@ -13,11 +13,11 @@ Usage: /usr/bin/python3 scripts/check-ranges.py [SOURCE_DIR] [--list FILE] [--up
   --update rewrites the list with what is found now (for taking entries out).
 Exit 0: nothing new; 1: a new hand-written range or a stale entry, each named on stderr.
 """
-import argparse
 import os
 import re
 import sys
 
+from results_reader import ArgumentParser
 from shrinking_list import compare, read_entries, write_entries
 
 FOLDERS = ("core", "model", "servo", "sim", "controller", "app", "experiments", "python/src")
@@ -62,7 +62,7 @@ HEADER = """\
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(prog="check-ranges.py")
+    parser = ArgumentParser(prog="check-ranges.py")
     parser.add_argument("source", nargs="?",
                         default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     parser.add_argument("--list", help="the list of known ones (default: scripts/hand_ranges.txt)")

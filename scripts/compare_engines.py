@@ -8,10 +8,10 @@ Usage: /usr/bin/python3 scripts/compare_engines.py ODE_RUN DART_RUN [--out DIR]
   ODE_RUN, DART_RUN  folders identify and/or track wrote (table1.json, step_*.csv,
                      table2.json); what both hold is compared
   --out DIR          where engines.md goes (default: DART_RUN)
-Bad input (a folder that is missing or holds neither table, a file that does not parse): one
-line on stderr, exit status 2, nothing written. Plain python3 (no numpy needed).
+Bad input (a folder that is missing or holds neither table, a file that does not parse, a
+number that is not finite): one line on stderr, exit status 2, nothing written. Plain python3
+(no numpy needed).
 """
-import argparse
 import csv
 import os
 import sys
@@ -32,6 +32,9 @@ def read_json(path):
         raise BadInput(f"'{path}' cannot be read as JSON: {e}") from None
     if not isinstance(data, dict):
         raise BadInput(f"'{path}' is not a JSON object")
+    field = results_reader.non_finite_field(data)
+    if field is not None:
+        raise BadInput(f"'{path}': {field} is not a finite number")
     return data
 
 
@@ -41,11 +44,20 @@ def number(value, path, field):
     return float(value)
 
 
+def whole(value, path, field):
+    """A whole number of ticks as identify writes it (shown as it is)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise BadInput(f"'{path}': {field} is not a whole number of ticks")
+    return value
+
+
 def read_steps(path):
     """A step test's actual angle per tick (the step_<joint>_<height>.csv identify writes)."""
     try:
-        rows = results_reader.read_rows(path)
-        return [float(row.actual_deg) for row in rows]
+        header, rows = results_reader.read_csv(path)
+        results_reader.check_row_lengths(path, header, rows)
+        return [results_reader.finite_number(row.actual_deg, f"row {number}")
+                for number, row in enumerate(rows, 1)]
     except (OSError, UnicodeDecodeError, AttributeError, TypeError, ValueError, csv.Error) as e:
         raise BadInput(f"'{path}' is not a step test's CSV (tick,...,actual_deg): {e}") from None
 
@@ -73,8 +85,10 @@ def table1_section(ode_path, dart_path):
                      fmt(number(d.v_max_deg_per_tick, dart_path, "v_max"), 4),
                      fmt(number(o.theta0_deg, ode_path, "theta_0")),
                      fmt(number(d.theta0_deg, dart_path, "theta_0")),
-                     f"{o.lag_ticks}, {d.lag_ticks}",
-                     f"{o.accel_ticks}, {d.accel_ticks}",
+                     f"{whole(o.lag_ticks, ode_path, 'l')}, "
+                     f"{whole(d.lag_ticks, dart_path, 'l')}",
+                     f"{whole(o.accel_ticks, ode_path, 'a')}, "
+                     f"{whole(d.accel_ticks, dart_path, 'a')}",
                      fmt(number(o.fit_rms_deg, ode_path, "the fit's RMS")),
                      fmt(number(d.fit_rms_deg, dart_path, "the fit's RMS"))]
         except (KeyError, AttributeError, TypeError) as e:
@@ -159,14 +173,12 @@ def compare(ode_run, dart_run):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = results_reader.ArgumentParser(prog="compare_engines.py",
+                                           description=__doc__.split("\n")[0])
     parser.add_argument("ode_run")
     parser.add_argument("dart_run")
     parser.add_argument("--out")
-    try:
-        args = parser.parse_args(argv)
-    except SystemExit as e:
-        sys.exit(2 if e.code else 0)
+    args = parser.parse_args(argv)
     try:
         text = compare(args.ode_run, args.dart_run)
         out = args.out or args.dart_run

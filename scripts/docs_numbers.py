@@ -25,7 +25,6 @@ Bad input (no RESULTS folder, a file of it that is not what a program writes, a 
 no block, an --only block whose files are missing): one line on stderr, exit status 2, nothing
 written.
 """
-import argparse
 import os
 import pathlib
 import re
@@ -35,7 +34,7 @@ import log_fit_results
 import numbers_beyond
 from numbers_run import (JOINTS, UNKNOWN, Missing, Run, UserError, cell, fixed, joint_norm,
                          paper_value, with_paper)
-from results_reader import split_row
+from results_reader import ArgumentParser, split_row
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
@@ -543,7 +542,7 @@ def write_blocks(root, docs, placed, rendered):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(
+    parser = ArgumentParser(
         prog="docs_numbers.py", description="Fill or check the docs' measured tables from a run.")
     parser.add_argument("results", help="a folder as scripts/reproduce.sh writes it")
     parser.add_argument("--write", action="store_true",

@@ -14,11 +14,10 @@ joint limits (Newton from a grid of starts: whether the IK's branch is a choice 
 """
 import itertools
 import math
-import sys
 
 import numpy as np
 
-from results_reader import read_rows
+from results_reader import ArgumentParser, read_rows
 
 SHOULDER = np.array([59.5, 59.2, 0.0])
 UPPER = np.array([12.8, 0.5, -64.0])
@@ -160,4 +159,6 @@ def main(runs):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+", metavar="RUN_DIR", help="folders track wrote")
+    main(parser.parse_args().runs)

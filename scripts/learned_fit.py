@@ -29,9 +29,15 @@ Writes learned_fit.json (the folds and each log's MAEs beside identify's rungs) 
 learned_fit.md into each RUN (or --out, with one RUN); --learning-curve MOTOR adds the mlp
 trained on every subset of the motor's other groups, for each held-out group. Needs PyTorch
 (Debian: python3-torch) and the leglab package (from --build's python/) for each log's load.
+
+Bad input (a run that is not identify's: a field it reads missing or of another type, a number
+or a cell that is not finite, a log with nothing to train on or score; an --out it cannot write)
+is refused before any training: one line, exit status 2. A result that is not finite is a bug:
+one line, exit status 1. Either way nothing is written.
 """
 
-import argparse
+import csv
+import importlib
 import itertools
 import json
 import math
@@ -42,7 +48,8 @@ import sys
 
 import numpy as np
 
-from results_reader import read_columns
+from results_reader import (ArgumentParser, non_finite_field, one_line, read_finite_columns,
+                            read_json)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parents[1]
 GRAVITY = 9.81  # m/s^2, as the extended model's
@@ -61,6 +68,11 @@ LOAD_SCALE_NM = 0.5  # the loads' torques divided by this before they go in
 
 class UserError(Exception):
     """Bad input: one line, exit status 2."""
+
+
+class Bug(Exception):
+    """A result this script never writes (a number that is not finite, from valid input): one
+    line, exit status 1."""
 
 
 # --- the logs, as identify resampled them ---------------------------------------------------
@@ -82,26 +94,81 @@ def _load_torque_nm(row):
     return log.mass_kg * GRAVITY * log.length_m
 
 
+def expect(value, kinds, where):
+    """`value` when it is one of `kinds` (a bool is no number); UserError naming `where`
+    otherwise."""
+    if isinstance(value, bool) and bool not in kinds or not isinstance(value, kinds):
+        raise UserError(f"{where}: expected {' or '.join(k.__name__ for k in kinds)}, got "
+                        f"{type(value).__name__}")
+    return value
+
+
+NUMBER = (int, float)
+RUNGS = ("direct", "best_shift", "paper", "extended")  # identify's, in its ladder's order
+
+
+def check_fit(path, fit):
+    """identify's log fit at `path` as this script reads it: every number finite, and each
+    field it reads there and of its type; UserError naming the file and the field otherwise."""
+    where = f"{path}:"
+    field = non_finite_field(fit)
+    if field is not None:
+        raise UserError(f"{where} {field} is not a finite number")
+    models = expect(expect(fit.get("models"), (dict,), f"{where} models").get("extended"),
+                    (dict,), f"{where} models.extended")
+    for motor, model in models.items():
+        expect(expect(model, (dict,), f"{where} models.extended.{motor}").get("tick_s"),
+               NUMBER, f"{where} models.extended.{motor}: its tick")
+    expect(fit.get("cross_validate"), (str,), f"{where} cross_validate")
+    for i, fold in enumerate(expect(fit.get("folds"), (list,), f"{where} folds")):
+        expect(expect(fold, (dict,), f"{where} folds[{i}]").get("motor"), (str,),
+               f"{where} folds[{i}].motor")
+        expect(fold.get("held_out"), (str,) + NUMBER, f"{where} folds[{i}].held_out")
+    logs = expect(fit.get("logs"), (list,), f"{where} logs")
+    for i, row in enumerate(logs):
+        at = f"{where} logs[{i}]"
+        expect(row, (dict,), at)
+        for name, kinds in (("file", (str,)), ("role", (str,)), ("held_out_by", (str,)),
+                            ("motor", (str,)), ("trajectory", (str,)), ("kp", NUMBER),
+                            ("ticks_scored", NUMBER), ("mae_deg", (dict,))):
+            expect(row.get(name), kinds, f"{at}.{name}")
+        for rung in RUNGS:
+            expect(row["mae_deg"].get(rung), NUMBER, f"{at}.mae_deg.{rung}")
+        if row["motor"] not in models:
+            raise UserError(f"{at}.motor: '{row['motor']}' has no model in models.extended")
+    if not any(row["role"] == "train" for row in logs):
+        raise UserError(f"{where} logs: no log with the role train")
+
+
 def read_run(run):
     """identify's run in folder `run`: (log_fit.json as a dict, {file: log}) where a log holds
-    its resampled request, measured and driven columns, kp, load and tick."""
+    its resampled request, measured and driven columns, kp, load and tick. UserError, before
+    any training, when it is not one."""
     run = pathlib.Path(run)
+    path = run / "log_fit.json"
     try:
-        fit = json.loads((run / "log_fit.json").read_text(encoding="utf-8"))
-        rows, models = fit["logs"], fit["models"]["extended"]
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise UserError(f"{run / 'log_fit.json'}: not identify's log fit ({e})") from None
+        fit = read_json(path)  # checked against its declared fields
+        if not isinstance(fit, dict):
+            raise ValueError(f"expected a JSON object, got {type(fit).__name__}")
+    except OSError as e:
+        raise UserError(f"{path}: cannot be read ({e.strerror or e})") from None
+    except (UnicodeDecodeError, ValueError, RecursionError) as e:
+        raise UserError(f"{path}: not identify's log fit ({e})") from None
+    check_fit(path, fit)
+    rows, models = fit["logs"], fit["models"]["extended"]
     logs = {}
     for row in rows:
         if row["file"] in logs:
             continue
         name = f"log_{row['motor']}_{pathlib.Path(row['file']).stem}.csv"
         try:
-            table = read_columns(run / name)  # checked against its declared columns
+            table = read_finite_columns(run / name)  # its declared columns, finite numbers
             request, measured = np.array(table.request_deg), np.array(table.measured_deg)
             driven = np.array(table.torque_enabled) == 1
-        except (OSError, ValueError, AttributeError) as e:
-            raise UserError(f"{run / name}: cannot read its columns ({e})") from None
+        except (OSError, UnicodeDecodeError, ValueError, AttributeError, csv.Error) as e:
+            text = str(e)
+            raise UserError(text if text.startswith(str(run / name)) else
+                            f"{run / name}: cannot read its columns ({text})") from None
         logs[row["file"]] = {
             "request": request, "measured": measured, "driven": driven,
             "kp": float(row["kp"]), "load_nm": _load_torque_nm(row),
@@ -109,6 +176,26 @@ def read_run(run):
             "cross_validate": fit.get("cross_validate", "none"),
         }
     return fit, logs
+
+
+def trainable(log):
+    """Whether `log` holds a run of 2 driven ticks or more in its first 75 % (what fit_form's
+    grid trains on)."""
+    first = log["driven"][:int(len(log["driven"]) * 0.75)]
+    return any(end - start >= 2 for start, end in runs_of(first))
+
+
+def check_jobs(run, jobs, logs):
+    """Refuses, before any training, a model whose training logs hold no run of 2 driven ticks
+    in their first 75 % (nothing to train on) or a scored log without a driven tick (nothing to
+    score)."""
+    for motor, held_out, train_files, scored_files in jobs:
+        model = f"{run}: {motor}'s model" + (f" holding out {held_out}" if held_out else "")
+        if not any(trainable(logs[f]) for f in train_files):
+            raise UserError(f"{model}: no run of 2 driven ticks in its training logs")
+        for f in scored_files:
+            if not logs[f]["driven"].any():
+                raise UserError(f"{model}: {f} has no driven tick to score")
 
 
 def fold_key(row, cross_validate):
@@ -438,7 +525,7 @@ def rows_of(fit, results):
 
 
 def markdown(fit, rows, folds):
-    rungs = ["direct", "best_shift", "paper", "extended", "mlp", "lstm"]
+    rungs = [*RUNGS, "mlp", "lstm"]
     lines = ["# Servo logs: the learned rungs beside identify's (mean absolute error, deg)", "",
              f"Cross-validation: {fit['cross_validate']}. mlp: Hwangbo et al.'s actuator "
              "network; lstm: Rudin et al.'s; both rolled out open loop as the other rungs. "
@@ -484,7 +571,9 @@ def curve_points(curve):
     return points, "\n".join(lines) + "\n"
 
 
-def write_outputs(out, fit, results, curve):
+def outputs(out, fit, results, curve):
+    """{path: text} of learned_fit.json and learned_fit.md in `out`; Bug when a number in them
+    is not finite (training on checked input never gives one)."""
     folds = [{"motor": r["motor"], "held_out": r["held_out"],
               "training_ticks": r["training_ticks"]} | r["forms"] for r in results]
     rows = rows_of(fit, results)
@@ -494,35 +583,46 @@ def write_outputs(out, fit, results, curve):
     if curve:
         document["learning_curve"], table = curve_points(curve)
         text += "\n" + table
-    staged = {out / "learned_fit.json": json.dumps(document, indent=2) + "\n",
-              out / "learned_fit.md": text}
+    field = non_finite_field(document)
+    if field is not None:
+        raise Bug(f"{out}: the result {field} is not a finite number; nothing written")
+    return {out / "learned_fit.json": json.dumps(document, indent=2) + "\n",
+            out / "learned_fit.md": text}
+
+
+def write_outputs(texts):
+    """Writes {path: text}, each beside its place first and renamed into place once all are
+    written: an error leaves none written."""
+    staged = {path: path.with_name(path.name + ".partial") for path in texts}
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        for path, content in staged.items():
-            path.with_name(path.name + ".partial").write_text(content, encoding="utf-8")
+        for path, partial in staged.items():
+            path.parent.mkdir(parents=True, exist_ok=True)
+            partial.write_text(texts[path], encoding="utf-8")
+        for path, partial in staged.items():
+            os.replace(partial, path)
     except OSError as e:
-        for path in staged:
-            try:
-                path.with_name(path.name + ".partial").unlink(missing_ok=True)
-            except OSError:
-                pass
-        raise UserError(f"--out '{out}': cannot write ({e.strerror})") from None
-    for path in staged:
-        os.replace(path.with_name(path.name + ".partial"), path)
+        raise UserError(f"--out '{e.filename}': cannot write ({e.strerror})") from None
+    finally:
+        for partial in staged.values():
+            if partial.exists() and partial.is_file():
+                partial.unlink()
 
 
 def check_out(out):
     """Refuses, before any training, an --out that could not be written: its nearest existing
-    folder must be a writable folder."""
+    folder must be a writable folder, and no folder in the place of an output."""
     existing = out
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
     if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
         raise UserError(f"--out '{out}': '{existing}' is not a folder it can write in")
+    for name in ("learned_fit.json", "learned_fit.md"):
+        if (out / name).is_dir() or (out / (name + ".partial")).is_dir():
+            raise UserError(f"--out '{out}': {name} is a folder")
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = ArgumentParser(prog="learned_fit", description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="+", metavar="RUN",
                         help="folders identify wrote with a logs section")
     parser.add_argument("--out", help="where learned_fit.json and .md go (default: the RUN; "
@@ -535,10 +635,6 @@ def main(argv=None):
     parser.add_argument("--learning-curve", metavar="MOTOR",
                         help="also the mlp's held-out error by the number of groups trained on")
     args = parser.parse_args(argv)
-    try:
-        import torch  # noqa: F401
-    except ImportError:
-        raise UserError("learned_fit: PyTorch is not installed (Debian: python3-torch)") from None
     sys.path.insert(0, str(pathlib.Path(args.build) / "python"))
     if args.jobs < 0:
         raise UserError(f"--jobs must be >= 0, got {args.jobs}")
@@ -554,24 +650,37 @@ def main(argv=None):
         models = [(job, logs, size, ("mlp", "lstm")) for job in model_jobs(fit)]
         curve = [] if args.learning_curve is None else [
             (job, logs, fixed, ("mlp",)) for job in curve_jobs(fit, args.learning_curve)]
+        check_jobs(run, [job for job, *_ in models + curve], logs)
         runs.append((out, fit, models, curve))
+    try:
+        importlib.import_module("torch")
+    except ImportError:
+        raise UserError("learned_fit: PyTorch is not installed (Debian: python3-torch)") from None
     jobs = [job for _, _, models, curve in runs for job in models + curve]
-    processes = args.jobs or os.cpu_count() or 1
+    processes = max(1, min(args.jobs or os.cpu_count() or 1, len(jobs)))
     if processes == 1:
         results = [run_job(j) for j in jobs]
     else:
         with multiprocessing.get_context("fork").Pool(processes) as pool:
             results = pool.map(run_job, jobs, chunksize=1)
+    texts = {}
     for out, fit, models, curve in runs:
-        write_outputs(out, fit, results[:len(models)],
-                      results[len(models):len(models) + len(curve)])
+        texts |= outputs(out, fit, results[:len(models)],
+                         results[len(models):len(models) + len(curve)])
         results = results[len(models) + len(curve):]
+    write_outputs(texts)
+
+
+def cli(argv=None):
+    """main, its bad input and its bugs each one line on stderr: the exit status (0, 2, 1)."""
+    try:
+        main(argv)
+    except (UserError, Bug) as e:
+        text = one_line(e)
+        print(text if text.startswith("learned_fit") else f"learned_fit: {text}", file=sys.stderr)
+        return 2 if isinstance(e, UserError) else 1
+    return 0
 
 
 if __name__ == "__main__":
-    try:
-        main()
-    except UserError as e:
-        print(f"learned_fit: {e}" if not str(e).startswith("learned_fit") else str(e),
-              file=sys.stderr)
-        sys.exit(2)
+    sys.exit(cli())

@@ -10,59 +10,143 @@ predicted_mae_deg.planned) and preview_rms.json (the root mean square of the sam
 predicted_rms_deg.planned: the optimal plans' objective as an angle) into --out; each run's own
 files go to a temporary folder. Online optimal runs with --budget-ms 0 (its iteration cap
 alone), so that the table is the same on every machine.
+
+Bad input (a flag, the model file, a log plan refuses) prints one line naming it and exits 2; a
+plan run that fails otherwise is a bug, exit 1. Either way nothing is written: the three files
+are written once every run has succeeded.
 """
 
-import argparse
 import json
+import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
 import tempfile
 
-from results_reader import read_json
+from results_reader import ArgumentParser, non_finite_field, one_line, read_json
 
 MODEL_BASED_PREVIEWS = (0, 1, 2)
 OPTIMAL_PREVIEWS = (2, 5, 10, 20, 40, 62, 120, 250)
 DEFAULT = "default"  # plan's own preview for online optimal
+OUTPUTS = ("preview.md", "preview.json", "preview_rms.json")
+
+
+class BadInput(Exception):
+    """Bad input (a flag, the model file, a log plan refuses): one line, exit status 2."""
+
+
+class PlanFailed(Exception):
+    """plan failed other than on bad input, or wrote what it never writes: a bug, exit 1."""
 
 
 def planned_errors(plan, args, log, method, out, preview=None, extra=()):
     """Runs plan on `log` and returns its predicted mean absolute and root mean square errors
-    (deg)."""
+    (deg); plan's refusal is BadInput, its failure PlanFailed, each its first error line
+    prefixed with the log and the run."""
     command = [str(plan), "--model", args.model, "--motor", args.motor, "--method", method,
                "--desired", str(log), "--out", str(out)]
     if preview is not None:
         command += ["--online"] + (["--preview-ticks", str(preview)] if preview != DEFAULT else [])
         if method == "optimal":
             command += ["--budget-ms", "0", *extra]
+    run = f"{log.name}, {method} {'batch' if preview is None else f'online, preview {preview}'}"
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     if done.returncode != 0:
-        sys.exit(f"online_preview_table: {' '.join(command)} failed: {done.stderr.strip()}")
-    summary = read_json(out / "plan.json")
-    if preview == DEFAULT:
-        return summary.online.preview_ticks
-    return summary["predicted_mae_deg"]["planned"], summary["predicted_rms_deg"]["planned"]
+        first = next((line for line in done.stderr.splitlines() if line.strip()),
+                     "nothing on stderr")
+        if done.returncode == 2:
+            raise BadInput(f"{run}: {first}")
+        raise PlanFailed(f"{run}: plan failed (exit {done.returncode}): {first}")
+    try:
+        summary = read_json(out / "plan.json")
+        if preview == DEFAULT:
+            return int(summary.online.preview_ticks)
+        errors = summary["predicted_mae_deg"]["planned"], summary["predicted_rms_deg"]["planned"]
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+        raise PlanFailed(f"{run}: plan.json is not plan's ({e})") from None
+    if non_finite_field(list(errors)) is not None:
+        raise PlanFailed(f"{run}: plan predicted a non-finite error {errors}")
+    return errors
 
 
-def main():
-    """Parses the flags, runs every plan and writes the table."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--model", required=True, help="identify's log_fit.json")
-    parser.add_argument("--out", required=True, help="folder for preview.md and preview.json")
-    parser.add_argument("--motor", default="xl330", help="the motor (default xl330)")
-    parser.add_argument("--kp", default="400", help="the gain setting of the logs (default 400)")
-    parser.add_argument("--build", default="build", help="the build folder (default build)")
-    args = parser.parse_args()
-    plan = pathlib.Path(args.build) / "bin" / "plan"
-    folders = {"xl330": "dynamixel-xl330", "sts3250": "feetech-sts3250"}
-    logs = sorted((pathlib.Path("data/servo_logs") / folders.get(args.motor, args.motor))
-                  .glob(f"*_kp{args.kp}_*.json"))
-    if not logs:
-        sys.exit(f"online_preview_table: no {args.motor} log at kp {args.kp}")
-    out = pathlib.Path(args.out)
-    runs = pathlib.Path(tempfile.mkdtemp(prefix="online_preview_"))
-    lag = read_json(pathlib.Path(args.model)).models.extended[args.motor].lag_ticks
+def plan_program(build):
+    """bin/plan of the build folder `build`; BadInput when it is not there."""
+    plan = pathlib.Path(build) / "bin" / "plan"
+    if not plan.is_file() or not os.access(plan, os.X_OK):
+        raise BadInput(f"--build {build}: no program bin/plan (build it first)")
+    return plan
+
+
+def model_lag(path, motor):
+    """The lag (ticks) of `motor`'s extended model in identify's log fit at `path`; BadInput
+    naming the file and the field when it is not one, or lacks the motor."""
+    where = f"--model {path}"
+    if not os.path.isfile(path):
+        raise BadInput(f"{where}: {'not a file' if os.path.exists(path) else 'no such file'}")
+    try:
+        fit = read_json(path)
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
+        raise BadInput(f"{where}: not identify's log fit ({e})") from None
+    field = non_finite_field(fit)
+    if field is not None:
+        raise BadInput(f"{where}: {field} is not a finite number")
+    try:
+        motors = fit.models.extended
+        if not isinstance(motors, dict):
+            raise TypeError("not an object")
+    except (AttributeError, TypeError) as e:
+        raise BadInput(f"{where}: no models.extended as identify writes it ({e})") from None
+    if not isinstance(motors.get(motor), dict):
+        raise BadInput(f"--motor {motor}: not in {where} (its motors: "
+                       f"{', '.join(map(str, motors)) or 'none'})")
+    try:
+        lag = motors[motor].lag_ticks
+    except AttributeError as e:
+        raise BadInput(f"{where}: models.extended.{motor}: {e}") from None
+    if isinstance(lag, bool) or not isinstance(lag, int) or lag < 0:
+        raise BadInput(f"{where}: models.extended.{motor}: its lag {lag!r} is not a whole "
+                       "number of ticks")
+    return lag
+
+
+def output_folder(out):
+    """`out` (a path), refused before any run when its outputs could not be written there: it,
+    or the nearest folder above it that exists, is not a folder, or a folder takes an output's
+    place."""
+    existing = out
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise BadInput(f"--out {out}: {existing} is not a folder")
+    taken = [name for name in OUTPUTS if (out / name).is_dir()]
+    if taken:
+        raise BadInput(f"--out {out}: {taken[0]} is a folder")
+    return out
+
+
+def write_outputs(out, texts):
+    """Writes {name: text} into `out`, each beside its place first and renamed into place once
+    all are written: an error leaves none written."""
+    staged = {out / name: out / f".{name}.{os.getpid()}" for name in texts}
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        for path, partial in staged.items():
+            partial.write_text(texts[path.name])
+        for path, partial in staged.items():
+            os.replace(partial, path)
+    except OSError as e:
+        raise BadInput(f"--out {out}: cannot be written ({e.strerror or e})") from None
+    finally:
+        for partial in staged.values():
+            if partial.exists():
+                partial.unlink()
+
+
+def run_table(args, plan, logs, names, lag, runs):
+    """Every plan of the table, run in folders under `runs`: ({label: {name: MAE}}, the same
+    for RMS)."""
     horizon = lag + 1
     rows = [("batch model_based", "model_based", None, ()),
             ("batch optimal", "optimal", None, ())]
@@ -77,28 +161,65 @@ def main():
     rows.append((f"online optimal, preview {longest}, hold {longest}, hand-over {2 * horizon}",
                  "optimal", longest,
                  ("--hold-ticks", str(longest), "--handover-ticks", str(2 * horizon))))
-    names = [log.name.split(f"_kp{args.kp}_")[0] for log in logs]
     table, rms = {}, {}
-    try:
-        for label, method, preview, extra in rows:
-            table[label], rms[label] = {}, {}
-            for name, log in zip(names, logs):
-                folder = runs / f"{name}_{method}_{'batch' if preview is None else preview}"
-                table[label][name], rms[label][name] = planned_errors(
-                    plan, args, log, method, folder, preview, extra)
-    finally:
-        shutil.rmtree(runs)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "preview.json").write_text(json.dumps(table, indent=2) + "\n")
-    (out / "preview_rms.json").write_text(json.dumps(rms, indent=2) + "\n")
+    for label, method, preview, extra in rows:
+        table[label], rms[label] = {}, {}
+        for name, log in zip(names, logs):
+            folder = runs / f"{name}_{method}_{'batch' if preview is None else preview}"
+            table[label][name], rms[label][name] = planned_errors(
+                plan, args, log, method, folder, preview, extra)
+    return table, rms
+
+
+def texts_of(args, names, table, rms, horizon):
+    """preview.md's lines and the three files' texts."""
     lines = [f"| plan ({args.motor}, kp {args.kp}), MAE (RMS) | " + " | ".join(names) + " |",
              "|---" * (len(names) + 1) + "|"]
     for label, row in table.items():
         lines.append(f"| {label} | " + " | ".join(f"{row[n]:.2f} ({rms[label][n]:.2f})"
                                                   for n in names) + " |")
     lines += ["", above_model_based(rms, names, horizon)]
-    (out / "preview.md").write_text("\n".join(lines) + "\n")
+    return lines, {"preview.json": json.dumps(table, indent=2, allow_nan=False) + "\n",
+                   "preview_rms.json": json.dumps(rms, indent=2, allow_nan=False) + "\n",
+                   "preview.md": "\n".join(lines) + "\n"}
+
+
+def main():
+    """Parses the flags, checks them, runs every plan and writes the table."""
+    parser = ArgumentParser(prog="online_preview_table", description=__doc__.splitlines()[0])
+    parser.add_argument("--model", required=True, help="identify's log_fit.json")
+    parser.add_argument("--out", required=True, help="folder for preview.md and preview.json")
+    parser.add_argument("--motor", default="xl330", help="the motor (default xl330)")
+    parser.add_argument("--kp", default="400", help="the gain setting of the logs (default 400)")
+    parser.add_argument("--build", default="build", help="the build folder (default build)")
+    args = parser.parse_args()
+    try:
+        plan = plan_program(args.build)
+        lag = model_lag(args.model, args.motor)
+        if not re.fullmatch(r"[0-9]+(\.[0-9]+)?", args.kp):
+            raise BadInput(f"--kp {args.kp}: expected a gain setting (a number)")
+        folders = {"xl330": "dynamixel-xl330", "sts3250": "feetech-sts3250"}
+        folder = pathlib.Path("data/servo_logs") / folders.get(args.motor, args.motor)
+        logs = sorted(folder.glob(f"*_kp{args.kp}_*.json"))
+        if not logs:
+            raise BadInput(f"--kp {args.kp}: no {args.motor} log at kp {args.kp} in {folder}")
+        out = output_folder(pathlib.Path(args.out))
+        names = [log.name.split(f"_kp{args.kp}_")[0] for log in logs]
+        runs = pathlib.Path(tempfile.mkdtemp(prefix="online_preview_"))
+        try:
+            table, rms = run_table(args, plan, logs, names, lag, runs)
+        finally:
+            shutil.rmtree(runs)
+        lines, texts = texts_of(args, names, table, rms, lag + 1)
+        write_outputs(out, texts)
+    except BadInput as e:
+        print(f"online_preview_table: {one_line(e)}", file=sys.stderr)
+        return 2
+    except PlanFailed as e:
+        print(f"online_preview_table: {one_line(e)}", file=sys.stderr)
+        return 1
     print("\n".join(lines))
+    return 0
 
 
 def above_model_based(rms, names, horizon):
@@ -116,4 +237,4 @@ def above_model_based(rms, names, horizon):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

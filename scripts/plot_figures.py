@@ -7,7 +7,6 @@ Usage: /usr/bin/python3 scripts/plot_figures.py RESULTS_DIR
 Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
 """
 import os
-import sys
 
 import matplotlib
 
@@ -16,7 +15,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 import figures  # noqa: E402
-from results_reader import declared_columns, read_json, read_rows, select  # noqa: E402
+from results_reader import (ArgumentParser, declared_columns, read_json, read_rows,  # noqa: E402
+                            select)
 
 
 def square_wave_period(request):
@@ -306,6 +306,6 @@ def main(out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_figures.py RESULTS_DIR")
-    main(sys.argv[1])
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results_dir", metavar="RESULTS_DIR")
+    main(parser.parse_args().results_dir)

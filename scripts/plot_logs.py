@@ -5,8 +5,13 @@ cross-validated; ticks with the torque off greyed), and the plan figure of a fol
 (requests.csv: the desired motion, the planned requests and the model's predicted angle).
 
 Usage: /usr/bin/python3 scripts/plot_logs.py DIR [DIR ...]
-Writes log_<motor>_<name>.png and plan.png beside the CSV files.
+Writes log_<motor>_<name>.png and plan.png beside the CSV files. Bad input (a folder that is
+missing or holds neither table, a table that is not the declared one or holds a cell that is not
+a finite number, a figure's place taken by a folder) prints one line naming the item and exits
+2, having written nothing: every table is read and every figure drawn before any is put in
+place.
 """
+import csv
 import os
 import sys
 
@@ -16,7 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import figures  # noqa: E402
-from results_reader import read_columns  # noqa: E402
+from results_reader import ArgumentParser, one_line, read_finite_columns  # noqa: E402
 
 # The rungs' prediction columns follow the log's own four (time, request, measured, torque), in
 # the ladder's order: direct, best shift, the paper's model, the extended model.
@@ -26,12 +31,40 @@ RUNG_LABELS = {"direct": "direct (angle = request)", "best_shift": "best shift (
                "paper": "paper's model", "extended": "extended model"}
 
 
-def save(fig, path):
+class BadInput(Exception):
+    """Bad input: one line naming the item, exit status 2."""
+
+
+def read_table(path):
+    """A table of numbers (read_finite_columns), its problems as BadInput."""
+    try:
+        return read_finite_columns(path)
+    except OSError as e:
+        raise BadInput(f"{path}: cannot be read ({e.strerror or e})") from None
+    except (UnicodeDecodeError, ValueError, csv.Error) as e:
+        text = str(e)
+        raise BadInput(text if text.startswith(str(path)) else f"{path}: {text}") from None
+
+
+def target(path):
+    """`path`, a figure's place, refused when anything but a file is there."""
+    if os.path.lexists(path) and not os.path.isfile(path):
+        raise BadInput(f"{path}: in the way of the figure (not a file)")
+    return path
+
+
+def save(fig, path, staged):
+    """Draws `fig` into a hidden file beside `path`, put in place once every figure is drawn."""
     figures.require(os.path.basename(path))
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    print("figure:", path)
+    partial = os.path.join(os.path.dirname(path), f".{os.path.basename(path)}.{os.getpid()}")
+    staged.append((partial, path))
+    try:
+        fig.savefig(partial, dpi=110, format="png")
+    except OSError as e:
+        raise BadInput(f"{path}: cannot be written ({e.strerror or e})") from None
+    finally:
+        plt.close(fig)
 
 
 def grey_torque_off(ax, time, enabled):
@@ -47,10 +80,7 @@ def grey_torque_off(ax, time, enabled):
             start = None
 
 
-def log_figure(path):
-    c = read_columns(path)
-    if not c:
-        return
+def log_figure(path, c, figure, staged):
     fig, ax = plt.subplots(figsize=(10, 4))
     t = c.time_s
     grey_torque_off(ax, t, c.torque_enabled)
@@ -65,13 +95,10 @@ def log_figure(path):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("angle (deg)")
     ax.legend(fontsize=8, ncol=3, loc="best")
-    save(fig, path[:-len(".csv")] + ".png")
+    save(fig, figure, staged)
 
 
-def plan_figure(folder):
-    c = read_columns(os.path.join(folder, "requests.csv"))
-    if not c:
-        return
+def plan_figure(path, c, figure, staged):
     fig, ax = plt.subplots(figsize=(10, 4))
     t = c.time_s
     ax.plot(t, c.desired_deg, color="k", lw=2.0, label="desired")
@@ -85,19 +112,52 @@ def plan_figure(folder):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("angle (deg)")
     ax.legend(fontsize=8, loc="best")
-    save(fig, os.path.join(folder, "plan.png"))
+    save(fig, figure, staged)
+
+
+def figures_of(folder):
+    """[(draw, table's path, table, figure's path)] for every table `folder` holds, each read
+    and checked; BadInput when it is not a folder or holds no table to draw."""
+    if not os.path.isdir(folder):
+        raise BadInput(f"{folder}: no such folder" if not os.path.lexists(folder) else
+                       f"{folder}: not a folder")
+    try:
+        names = sorted(os.listdir(folder))
+    except OSError as e:
+        raise BadInput(f"{folder}: cannot be read ({e.strerror})") from None
+    found = [(log_figure, name, name[:-len(".csv")] + ".png") for name in names
+             if name.startswith("log_") and name.endswith(".csv")]
+    if "requests.csv" in names:
+        found.append((plan_figure, "requests.csv", "plan.png"))
+    if not found:
+        raise BadInput(f"{folder}: no log_<motor>_<name>.csv or requests.csv to draw")
+    return [(draw, os.path.join(folder, table), read_table(os.path.join(folder, table)),
+             target(os.path.join(folder, figure))) for draw, table, figure in found]
 
 
 def main(folders):
-    for folder in folders:
-        for name in sorted(os.listdir(folder)):
-            if name.startswith("log_") and name.endswith(".csv"):
-                log_figure(os.path.join(folder, name))
-        if os.path.exists(os.path.join(folder, "requests.csv")):
-            plan_figure(folder)
+    """Reads and checks every table, draws every figure, then puts them all in place."""
+    staged = []  # (drawn file, its place)
+    try:
+        jobs = [job for folder in folders for job in figures_of(folder)]
+        for draw, path, table, figure in jobs:
+            if table:  # a table without rows draws nothing
+                draw(path, table, figure, staged)
+        for partial, figure in staged:
+            os.replace(partial, figure)
+            print("figure:", figure)
+    except BadInput as e:
+        print(f"plot_logs: {one_line(e)}", file=sys.stderr)
+        return 2
+    finally:
+        for partial, _ in staged:
+            if os.path.exists(partial):
+                os.remove(partial)
+    return 0
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
-        sys.exit(__doc__)
-    main(sys.argv[1:])
+    parser = ArgumentParser(prog="plot_logs", description=__doc__.splitlines()[0])
+    parser.add_argument("folders", nargs="+", metavar="DIR",
+                        help="folders identify (logs) or plan wrote")
+    sys.exit(main(parser.parse_args().folders))

@@ -15,6 +15,7 @@ Usage: /usr/bin/python3 scripts/report.py RUN_DIR
 Bad input (no such folder, or a folder holding nothing a program wrote): one line on stderr,
 exit status 2, nothing written. Plain python3 (no numpy or matplotlib needed).
 """
+import csv
 import html
 import json
 import os
@@ -320,9 +321,25 @@ def sweep_keys(rows, header):
         header[:header.index("status")]
     pairs = []
     for key in keys:
-        values = list(dict.fromkeys(r.get(key, "") for r in rows))
+        values = list(dict.fromkeys(r.get(key) or "" for r in rows))
         pairs.append((key, ", ".join(values)))
     return pairs
+
+
+def read_sweep(folder):
+    """The folder's sweep.csv as (header, rows), or the reason it cannot be read (a str): a file
+    whose columns are not the declared ones is shown as not read, never a traceback."""
+    path = os.path.join(folder, "sweep.csv")
+    try:
+        return read_csv(path)
+    except (OSError, UnicodeDecodeError, ValueError, csv.Error) as error:
+        return (str(error) or type(error).__name__).replace(path, "sweep.csv")
+
+
+def not_read(name, why):
+    """A note: the file `name` is shown as not read, and why."""
+    return (f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not read '
+            f"({html.escape(why)}).</p>")
 
 
 def merged_config_parts(folder, names):
@@ -334,8 +351,7 @@ def merged_config_parts(folder, names):
             with open(os.path.join(folder, name)) as f:
                 text = f.read()
         except OSError as error:
-            out.append(f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not '
-                       f"read ({html.escape(str(error))}).</p>")
+            out.append(not_read(name, str(error)))
             continue
         program = name[:-len("_config.yaml")]
         out.append(f'<h4>The keys {html.escape(program)} ran with (<a href="{href(name)}">'
@@ -365,8 +381,7 @@ def config_section(folder, names):
             parts = config_parts(name, data)
         except (OSError, ValueError, RecursionError) as error:
             # Not JSON, or JSON nested too deeply to walk: shown as not read, never a traceback.
-            out.append(f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not '
-                       f"read ({html.escape(str(error) or type(error).__name__)}).</p>")
+            out.append(not_read(name, str(error) or type(error).__name__))
             continue
         for title, pairs in parts:
             if pairs:
@@ -375,8 +390,9 @@ def config_section(folder, names):
                 out.append(matrix_table(pairs) if isinstance(pairs, dict)
                            else key_value_table(pairs))
                 shown = True
-    if "sweep.csv" in names:
-        header, rows = read_csv(os.path.join(folder, "sweep.csv"))
+    sweep = read_sweep(folder) if "sweep.csv" in names else None
+    if isinstance(sweep, tuple):
+        header, rows = sweep
         pairs = sweep_keys(rows, header)
         if pairs:
             out.append('<h4>sweep: the swept keys and their values (<a href="sweep.csv">'
@@ -462,8 +478,11 @@ def tables_section(folder, tables, sweep):
             text = f.read()
         out.append(f'<section class="md"><p class="note">From <a href="{href(name)}">'
                    f"{html.escape(name)}</a>:</p>{markdown_to_html(text)}</section>")
-    if sweep:
-        header, rows = read_csv(os.path.join(folder, "sweep.csv"))
+    sweep = read_sweep(folder) if sweep else None
+    if isinstance(sweep, str):
+        out.append(not_read("sweep.csv", sweep))
+    elif sweep:
+        header, rows = sweep
         shown = rows[:SWEEP_TABLE_ROWS]
         note = (f" (the first {len(shown)} of its {len(rows)} points)"
                 if len(rows) > len(shown) else f" ({len(rows)} points)")

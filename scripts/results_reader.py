@@ -11,13 +11,20 @@ reads them from. A row gives a column's cell as an attribute, row.carriage_z_mm,
 script names a column only by using it, and a name the declaration lacks fails there, naming
 the table's columns.
 
+The checks a script's bad input needs beyond the declarations are here too: every number of a
+JSON file finite, every cell of a numeric CSV table a finite number, and a command line's usage
+error one line (ArgumentParser).
+
 Imported from the scripts' folder (Python puts a script's own folder first on its path).
 """
+import argparse
 import csv
 import functools
 import json
+import math
 import pathlib
 import re
+import sys
 
 OUTPUTS_MD = pathlib.Path(__file__).resolve().parent.parent / "docs" / "outputs.md"
 _HEADING = re.compile(r"^### `([^`]+)`$")
@@ -219,3 +226,71 @@ def split_row(line):
         line = line[:-1]
     cells = re.split(r"(?<!\\)\|", line)
     return [c.strip().replace("\\|", "|") for c in cells]
+
+
+def one_line(text):
+    """`text` with control and undecodable characters escaped: a message stays one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse, with a usage error reported as every other bad input: `<prog>: error:
+    <message>`, one line on stderr, exit status 2 (not argparse's usage block)."""
+
+    def error(self, message):
+        print(f"{self.prog}: error: {one_line(message)}", file=sys.stderr)
+        sys.exit(2)
+
+
+def non_finite_field(value):
+    """The dotted path of the first number in a parsed JSON value that is NaN, infinite or an
+    integer beyond a double's range (a list's element as [i]), or None when every number is
+    finite. Walked without recursion: any depth json parsed is fine."""
+    pending = [("", value)]
+    while pending:
+        path, item = pending.pop()
+        if (isinstance(item, float) and not math.isfinite(item) or isinstance(item, int)
+                and not isinstance(item, bool) and abs(item) > sys.float_info.max):
+            return path or "the value"
+        if isinstance(item, dict):
+            pending += [(f"{path}.{k}" if path else str(k), v) for k, v in reversed(item.items())]
+        elif isinstance(item, list):
+            pending += [(f"{path}[{i}]", v) for i, v in reversed(list(enumerate(item)))]
+    return None
+
+
+def finite_number(text, where):
+    """A CSV cell's text as a finite float; ValueError naming `where` (the file, row and column)
+    when it is empty, not a number, NaN or infinite."""
+    shown = repr(text if text is None or len(text) <= 40 else text[:40] + "...")
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: {shown} is not a number" if text else
+                         f"{where}: empty, expected a number") from None
+    if not math.isfinite(value):
+        raise ValueError(f"{where}: {shown} is not a finite number")
+    return value
+
+
+def check_row_lengths(path, header, rows):
+    """ValueError naming the file and the row (1: the first below the header) of the first row
+    with fewer or more cells than the header has columns."""
+    for number, row in enumerate(rows, 1):
+        if None in row or None in row.values():  # csv.DictReader's marks of a long, short row
+            cells = sum(row.get(name) is not None for name in header) + len(row.get(None) or ())
+            raise ValueError(f"{path}: row {number}: {cells} cells, the header has "
+                             f"{len(header)} columns")
+
+
+def read_finite_columns(path, docs=OUTPUTS_MD):
+    """read_columns for a table of numbers, every cell checked: ValueError naming the file, the
+    row (1: the first below the header) and the column of a missing, extra, empty, non-numeric,
+    NaN or infinite cell."""
+    header, rows = read_csv(path, docs)
+    check_row_lengths(path, header, rows)
+    columns = Row({name: [] for name in header} if rows else {})
+    for number, row in enumerate(rows, 1):
+        for name in header:
+            columns[name].append(finite_number(row[name], f"{path}: row {number}, column {name}"))
+    return columns

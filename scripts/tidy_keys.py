@@ -17,9 +17,15 @@ import shlex
 import subprocess
 import sys
 
+from results_reader import ArgumentParser
+
 
 def main():
-    build, files = sys.argv[1], sys.argv[2:]
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("build", metavar="BUILD_DIR")
+    parser.add_argument("files", nargs="*", metavar="FILE")
+    args = parser.parse_args()
+    build, files = args.build, args.files
     salt = sys.stdin.buffer.read()
     with open(os.path.join(build, "compile_commands.json")) as f:
         commands = json.load(f)

@@ -16,7 +16,6 @@ walks they need). --list: each variant's command, one a line, and nothing run.
 Bad input (an unknown --only name, no program in --bin): one line on stderr, exit status 2.
 A program that fails: its command and its last line of stderr, exit status 1.
 """
-import argparse
 import concurrent.futures
 import math
 import os
@@ -26,6 +25,8 @@ import subprocess
 import sys
 
 import yaml
+
+from results_reader import ArgumentParser
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 CONFIGS = pathlib.Path("experiments") / "configs"
@@ -163,7 +164,7 @@ def run(variant, bin_dir, results):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("results", type=pathlib.Path, help="the results folder (results/)")
     parser.add_argument("--bin", type=pathlib.Path, default=SOURCE_DIR / "build" / "bin",
                         help="the folder of the built programs (build/bin)")
