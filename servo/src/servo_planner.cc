@@ -96,7 +96,7 @@ class Planner final : public ServoPlanner::Impl {
       model_based_state_ = anchored_;
       descent_.Reserve(decisions, static_cast<size_t>(preview_) + static_cast<size_t>(hold),
                        anchored_);
-      // The requests that act on the preview's last 2 (l + 1) ticks, and on the held ones, are
+      // The requests that act on the preview's last handover_ ticks, and on the held ones, are
       // model_based's.
       free_ = decisions - std::min(decisions, static_cast<size_t>(handover_ + hold));
     }
