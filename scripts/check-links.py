@@ -8,6 +8,9 @@ Checked:
 - every relative Markdown link `[text](target)` in a .md file (README.md, CHANGELOG.md, docs/,
   every folder's README.md): the target file or folder exists, and an `#anchor` into a .md file
   names one of its headings (GitHub's slug: lower case, punctuation dropped, spaces to '-');
+- every `find_package(leglab X.Y` written anywhere (docs, comments, CMake code) asks for the
+  version the top-level CMakeLists.txt's project() declares (its major.minor): the package
+  accepts only that (SameMinorVersion);
 - every repository path written in a .md file, or in a comment of a source file (C++, Python,
   shell, CMake, YAML): a word starting with one of the top-level folders (`model/src/floor.cc`,
   `docs/design/floor.md`) must exist. Paths with a placeholder (`<name>`, `*`, `...`, `{`), the
@@ -29,6 +32,10 @@ TOP = ("core", "model", "servo", "sim", "controller", "app", "experiments", "pyt
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
 PATH = re.compile(r"(?<![\w./-])((?:" + "|".join(TOP) + r")/[\w./+-]*[\w/])")
 HEADING = re.compile(r"^#{1,6}\s+(.*?)\s*#*\s*$")
+FIND_PACKAGE = re.compile(r"find_package\(leglab (\d+\.\d+)")
+PROJECT_VERSION = re.compile(r"project\(leglab VERSION (\d+\.\d+)")
+# Where another version is written on purpose: history, and the check's own test.
+HISTORY_AND_TESTS = {"CHANGELOG.md", "check_links_test.py"}
 # Words that look like paths and are not: the sim benchmark's ratio label.
 NOT_PATHS = {"sim/ode"}
 SOURCE_SUFFIXES = {".h", ".cc", ".py", ".sh", ".yaml", ".yml", ".txt", ".cmake", ".in"}
@@ -92,8 +99,16 @@ def check_path(root, word):
     return f"names '{word}', which does not exist"
 
 
+def project_version(root):
+    """The major.minor of the top-level CMakeLists.txt's project(leglab VERSION ...), or None."""
+    cmake = root / "CMakeLists.txt"
+    match = PROJECT_VERSION.search(cmake.read_text(encoding="utf-8")) if cmake.is_file() else None
+    return match.group(1) if match else None
+
+
 def problems(root):
     found = []
+    version = project_version(root)
     for file in tracked_files(root):
         if file.suffix != ".md" and file.suffix not in SOURCE_SUFFIXES:
             continue
@@ -105,6 +120,10 @@ def problems(root):
             continue
         for number, line in enumerate(lines, 1):
             where = f"{file.relative_to(root)}:{number}"
+            for asked in FIND_PACKAGE.findall(line):
+                if version and asked != version and file.name not in HISTORY_AND_TESTS:
+                    found.append(f"{where}: find_package(leglab {asked}), but this is leglab "
+                                 f"{version}, which refuses it")
             if file.suffix == ".md":
                 for target in LINK.findall(line):
                     problem = check_link(root, file, target)

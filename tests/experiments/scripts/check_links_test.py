@@ -47,6 +47,17 @@ def main():
         status, lines = check(root)
         assert status == 1 and lines == [
             "model/src/floor.cc:1: names 'docs/design/floors.md', which does not exist"], lines
+
+        (root / "model" / "src" / "floor.cc").write_text("// See docs/design/floor.md.\n")
+        (root / "CMakeLists.txt").write_text("project(leglab VERSION 0.2.0 LANGUAGES CXX)\n"
+                                             "# find_package(leglab 0.2) gives leglab::model\n")
+        status, lines = check(root)
+        assert status == 0 and not lines, lines
+        (root / "docs" / "install.md").write_text("find_package(leglab 0.1 REQUIRED)\n")
+        status, lines = check(root)
+        assert status == 1 and lines == [
+            "docs/install.md:1: find_package(leglab 0.1), but this is leglab 0.2, which refuses "
+            "it"], lines
     print("check-links: every hand-made break found")
 
 
