@@ -10,6 +10,8 @@ LEGLAB_PACKAGES=(
   libdart-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   python3 python3-matplotlib python3-numpy python3-pil clang-format clang-tidy parallel pmccabe
+  # The Python sources' static check (ctest Checks.PythonHasNoPyflakesFindings).
+  pyflakes3
   # scripts/animate.py reads the robot files with a YAML parser.
   python3-yaml
   # The Python package (python/, docs/python.md) and its tests.
