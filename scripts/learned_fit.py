@@ -49,7 +49,7 @@ import sys
 import numpy as np
 
 from results_reader import (ArgumentParser, non_finite_field, one_line, read_finite_columns,
-                            read_json)
+                            read_json, write_all_or_nothing)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parents[1]
 GRAVITY = 9.81  # m/s^2, as the extended model's
@@ -591,21 +591,11 @@ def outputs(out, fit, results, curve):
 
 
 def write_outputs(texts):
-    """Writes {path: text}, each beside its place first and renamed into place once all are
-    written: an error leaves none written."""
-    staged = {path: path.with_name(path.name + ".partial") for path in texts}
+    """Writes {path: text}, all or none (write_all_or_nothing)."""
     try:
-        for path, partial in staged.items():
-            path.parent.mkdir(parents=True, exist_ok=True)
-            partial.write_text(texts[path], encoding="utf-8")
-        for path, partial in staged.items():
-            os.replace(partial, path)
+        write_all_or_nothing(texts)
     except OSError as e:
         raise UserError(f"--out '{e.filename}': cannot write ({e.strerror})") from None
-    finally:
-        for partial in staged.values():
-            if partial.exists() and partial.is_file():
-                partial.unlink()
 
 
 def check_out(out):

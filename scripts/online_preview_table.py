@@ -25,7 +25,8 @@ import subprocess
 import sys
 import tempfile
 
-from results_reader import ArgumentParser, non_finite_field, one_line, read_json
+from results_reader import (ArgumentParser, non_finite_field, one_line, read_json,
+                            write_all_or_nothing)
 
 MODEL_BASED_PREVIEWS = (0, 1, 2)
 OPTIMAL_PREVIEWS = (2, 5, 10, 20, 40, 62, 120, 250)
@@ -127,21 +128,11 @@ def output_folder(out):
 
 
 def write_outputs(out, texts):
-    """Writes {name: text} into `out`, each beside its place first and renamed into place once
-    all are written: an error leaves none written."""
-    staged = {out / name: out / f".{name}.{os.getpid()}" for name in texts}
+    """Writes {name: text} into `out`, all or none (write_all_or_nothing)."""
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        for path, partial in staged.items():
-            partial.write_text(texts[path.name])
-        for path, partial in staged.items():
-            os.replace(partial, path)
+        write_all_or_nothing({out / name: text for name, text in texts.items()})
     except OSError as e:
         raise BadInput(f"--out {out}: cannot be written ({e.strerror or e})") from None
-    finally:
-        for partial in staged.values():
-            if partial.exists():
-                partial.unlink()
 
 
 def run_table(args, plan, logs, names, lag, runs):

@@ -22,6 +22,7 @@ import csv
 import functools
 import json
 import math
+import os
 import pathlib
 import re
 import sys
@@ -294,3 +295,21 @@ def read_finite_columns(path, docs=OUTPUTS_MD):
         for name in header:
             columns[name].append(finite_number(row[name], f"{path}: row {number}, column {name}"))
     return columns
+
+
+def write_all_or_nothing(texts):
+    """Writes {path: text} (UTF-8), each beside its place first (a hidden name with this
+    process's id) and renamed into place once all are written, making the folders it needs: an
+    OSError leaves none written and no partial file behind."""
+    staged = {pathlib.Path(path): pathlib.Path(path).with_name(
+        f".{pathlib.Path(path).name}.{os.getpid()}") for path in texts}
+    try:
+        for path, partial in staged.items():
+            path.parent.mkdir(parents=True, exist_ok=True)
+            partial.write_text(texts[path], encoding="utf-8")
+        for path, partial in staged.items():
+            os.replace(partial, path)
+    finally:
+        for partial in staged.values():
+            if partial.is_file():
+                partial.unlink()
