@@ -87,8 +87,8 @@ def modes_present(out):
     return order + [m for m in present if m not in order]
 
 
-def main(out):
-    have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
+def draw_direct(out, have):
+    """Figures 1 and 2: the direct method's foot path and rotator angles."""
     # Figure 1: desired and actual foot path under the direct method (x forward, z up).
     if have("foot_direct.csv"):
         foot_figure(out, "fig1_foot_direct.png", "Fig. 1: foot trajectory",
@@ -106,6 +106,9 @@ def main(out):
         ax.legend()
         save(fig, out, "fig2_rotator_direct.png")
 
+
+def draw_step_tests(out, have):
+    """Figures 3 and 4: the step tests with the identified model's prediction."""
     # Figures 3 and 4: the paper's two step tests (40 and 110 deg; a run with other
     # identify.theta_test_deg has no such files) with the identified model's prediction, over
     # the square wave's first period.
@@ -124,6 +127,9 @@ def main(out):
         ax.legend()
         save(fig, out, f"fig{number}_step_rotator_{theta}.png")
 
+
+def draw_f(out, have):
+    """Figure 5: the function f of eq. 2."""
     # Figure 5: the function f of eq. 2 with the rotator's identified parameters.
     if have("table1.json"):
         p = read_json(os.path.join(out, "table1.json"))["joints"]["rotator"]
@@ -138,6 +144,9 @@ def main(out):
                title=f"Fig. 5: f, v_max = {v:.2f}, theta_0 = {t0:.2f}")
         save(fig, out, "fig5_f.png")
 
+
+def draw_model_based(out, have):
+    """Figures 6, 7 and 8: the model-based method's approximation, requests and foot path."""
     if have("trace_model_based.csv"):
         rotator = select(read_rows(os.path.join(out, "trace_model_based.csv")), step=0,
                          joint="rotator")
@@ -165,6 +174,9 @@ def main(out):
         foot_figure(out, "fig8_foot_old_new.png", "Fig. 8: foot trajectories",
                     [("direct", "old (direct)", "r--"), ("model_based", "new (model-based)", "b-")])
 
+
+def draw_shift_search(out, have):
+    """Figure 9: the time-shift baseline's search."""
     # The time-shift search behind the best k.
     if have("shift_search.csv"):
         search = select(read_rows(os.path.join(out, "shift_search.csv")))
@@ -174,6 +186,9 @@ def main(out):
                title="Time-shift baseline: foot error for every k")
         save(fig, out, "fig9_shift_search.png")
 
+
+def draw_ilc_learning(out, have):
+    """Figure 10: the ILC learning curve against the floor."""
     # Figure 10: the ILC learning curve (every step, warm-up negative) against the floor.
     if have("ilc_learning.csv") and have("table2.json"):
         rows = read_rows(os.path.join(out, "ilc_learning.csv"))
@@ -204,11 +219,17 @@ def main(out):
         foot_ax.legend()
         save(fig, out, "fig10_ilc_learning.png")
 
+
+def draw_every_mode(out):
+    """Figure 11: every mode's foot path."""
     # Figure 11: the foot path of every mode that ran (its foot_<mode>.csv), in table 2's order.
     modes = [(m, m, mode_style(m)) for m in modes_present(out)]
     if len(modes) > 1:
         foot_figure(out, "fig11_foot_every_mode.png", "Foot trajectories, every mode", modes)
 
+
+def draw_estimates(out, have):
+    """Figure 12: the adaptive mode's estimates; returns the steps where the plant changed."""
     # Figures 12, 13 (adaptive mode): its estimates every step against what identify finds on
     # the plant before and after each change; every mode's foot error per step.
     changes = []
@@ -240,6 +261,11 @@ def main(out):
         axes[0][0].legend(fontsize=8)
         fig.suptitle("adaptive: estimates per step (dashed: identify on the plant as it is)")
         save(fig, out, "fig12_model_estimates.png")
+    return changes
+
+
+def draw_foot_per_step(out, have, changes):
+    """Figure 13: every mode's foot error per step, the plant's `changes` marked."""
     if have("per_step.csv") and have("model_estimates.csv"):
         rows = read_rows(os.path.join(out, "per_step.csv"))
         fig, ax = plt.subplots(figsize=(8, 4))
@@ -261,6 +287,9 @@ def main(out):
         ax.legend(fontsize=8)
         save(fig, out, "fig13_foot_per_step.png")
 
+
+def draw_stand(out, have):
+    """Figures 14, 15 and 16: the test stand's force, carriage and foot path."""
     # Figures 14-16 (the single-leg test stand): drawn when the foot CSVs carry the
     # stand's instruments (a run on robots/ers210a_stand; zeros in the air).
     stand_modes = [(m, label, st) for m, label, st in
@@ -303,6 +332,20 @@ def main(out):
         # Figure 16: the foot path on the stand against the desired one.
         foot_figure(out, "fig16_stand_foot.png", "Foot trajectory on the stand",
                     [(m, f"actual ({label})", st) for m, label, st in stand_modes])
+
+
+def main(out):
+    """Every figure whose inputs are in `out`."""
+    have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
+    draw_direct(out, have)
+    draw_step_tests(out, have)
+    draw_f(out, have)
+    draw_model_based(out, have)
+    draw_shift_search(out, have)
+    draw_ilc_learning(out, have)
+    draw_every_mode(out)
+    draw_foot_per_step(out, have, draw_estimates(out, have))
+    draw_stand(out, have)
 
 
 if __name__ == "__main__":
