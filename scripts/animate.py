@@ -288,6 +288,75 @@ def limits(anim):
     return list(zip(low, high))
 
 
+def draw_panel(fig, shape, k, anim, box):
+    """Mode k's 3-D axes at place k of `shape` (rows, columns): its limits, view and labels,
+    the desired path and, on the stand, the floor and the rail, drawn once; and its moving
+    artists (trail, leg, carriage on the stand), empty, as a dict with the axes."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    mode, stand = anim.modes[k], anim.run.stand
+    ax = fig.add_subplot(*shape, k + 1, projection="3d")
+    ax.set_xlim(*box[0])
+    ax.set_ylim(*box[1])
+    ax.set_zlim(*box[2])
+    ax.set_box_aspect([high - low for low, high in box])  # one scale on every axis
+    ax.view_init(elev=15, azim=-65)
+    ax.set_title(mode, fontsize=9, pad=0)
+    ax.tick_params(labelsize=6, pad=0)
+    ax.set_xlabel("x (cm)", fontsize=7, labelpad=-6)
+    ax.set_ylabel("y (cm)", fontsize=7, labelpad=-6)
+    ax.set_zlabel("z (cm)", fontsize=7, labelpad=-6)
+    path = np.vstack([anim.desired_cm, anim.desired_cm[:1]])
+    ax.plot(path[:, 0], path[:, 1], path[:, 2], "k--", lw=0.8)
+    carriage = None
+    if stand is not None:
+        z = floor_z_cm(stand)
+        (x0, x1), (y0, y1) = box[0], box[1]
+        ax.add_collection3d(Poly3DCollection(
+            [[(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]], color="tan", alpha=0.3))
+        # The rail through the root link's origin; the carriage a plate on it.
+        ax.plot([0, 0], [0, 0], list(box[2]), color="grey", lw=0.8)
+        carriage = Poly3DCollection([[(0, 0, 0)] * 4], color="grey", alpha=0.6,
+                                    animated=True)
+        ax.add_collection3d(carriage)
+    trail, = ax.plot([], [], [], color=f"C{k % 10}", lw=1.8, animated=True)
+    leg, = ax.plot([], [], [], "-o", color="k", lw=2, ms=3, animated=True)
+    return {"ax": ax, "trail": trail, "leg": leg, "carriage": carriage}
+
+
+def draw_moving(anim, i, mode, a):
+    """Frame i's moving artists of `mode`'s panel `a` (draw_panel's): the trail, the leg, the
+    carriage and the floor's force arrow on the stand, each drawn on its axes."""
+    stand, ax = anim.run.stand, a["ax"]
+    lift = anim.carriage_cm[mode]
+    points = anim.legs[mode][i] + np.array([0.0, 0.0, lift[i]])
+    feet = anim.legs[mode][: i + 1, -1, :] + np.outer(lift[: i + 1], [0, 0, 1])
+    a["trail"].set_data_3d(feet[:, 0], feet[:, 1], feet[:, 2])
+    a["leg"].set_data_3d(points[:, 0], points[:, 1], points[:, 2])
+    moving = [a["trail"], a["leg"]]
+    if a["carriage"] is not None:
+        z, half = lift[i], 1.5
+        a["carriage"].set_verts(
+            [[(-half, -half, z), (half, -half, z), (half, half, z), (-half, half, z)]])
+        moving.insert(0, a["carriage"])
+    force = anim.force_n[mode][i]
+    arrow = None
+    if stand is not None and np.linalg.norm(force) > 0:
+        # From where the ball of the foot meets the floor.
+        contact = points[-1] - np.array([0.0, 0.0, stand["foot_radius_mm"] / 10.0])
+        tip = force * FORCE_CM_PER_N
+        arrow = ax.quiver(*contact, *tip, color="red", lw=1.5,
+                          arrow_length_ratio=0.25, animated=True)
+        moving.append(arrow)
+    for artist in moving:
+        # A collection is projected by its axes' draw, which the frames skip.
+        if hasattr(artist, "do_3d_projection") and not hasattr(artist, "set_data_3d"):
+            artist.do_3d_projection()
+        ax.draw_artist(artist)
+    if arrow is not None:
+        arrow.remove()
+
+
 def render_frames(anim):
     """Yields each frame as an RGB array (rows, columns, 3). The axes, the floor and the desired
     path are drawn once; each frame restores that picture and draws only what moves (the
@@ -296,47 +365,17 @@ def render_frames(anim):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     columns = min(3, len(anim.modes))
     rows = math.ceil(len(anim.modes) / columns)
     fig = plt.figure(figsize=(3.2 * columns, 3.0 * rows + 0.3), dpi=80)
     box = limits(anim)
-    stand = anim.run.stand
     counter = fig.text(0.01, 0.99, "", va="top", fontsize=9, family="monospace", animated=True)
     robot = os.path.basename(os.path.dirname(os.path.abspath(anim.run.robot_yaml)))
     fig.text(0.99, 0.99, f"{robot}; dashed: desired foot path" +
-             (f"; arrow: floor force, 1 cm = {1 / FORCE_CM_PER_N:g} N" if stand else ""),
+             (f"; arrow: floor force, 1 cm = {1 / FORCE_CM_PER_N:g} N" if anim.run.stand else ""),
              va="top", ha="right", fontsize=7)
-    artists = []
-    for k, mode in enumerate(anim.modes):
-        ax = fig.add_subplot(rows, columns, k + 1, projection="3d")
-        ax.set_xlim(*box[0])
-        ax.set_ylim(*box[1])
-        ax.set_zlim(*box[2])
-        ax.set_box_aspect([high - low for low, high in box])  # one scale on every axis
-        ax.view_init(elev=15, azim=-65)
-        ax.set_title(mode, fontsize=9, pad=0)
-        ax.tick_params(labelsize=6, pad=0)
-        ax.set_xlabel("x (cm)", fontsize=7, labelpad=-6)
-        ax.set_ylabel("y (cm)", fontsize=7, labelpad=-6)
-        ax.set_zlabel("z (cm)", fontsize=7, labelpad=-6)
-        path = np.vstack([anim.desired_cm, anim.desired_cm[:1]])
-        ax.plot(path[:, 0], path[:, 1], path[:, 2], "k--", lw=0.8)
-        carriage = None
-        if stand is not None:
-            z = floor_z_cm(stand)
-            (x0, x1), (y0, y1) = box[0], box[1]
-            ax.add_collection3d(Poly3DCollection(
-                [[(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]], color="tan", alpha=0.3))
-            # The rail through the root link's origin; the carriage a plate on it.
-            ax.plot([0, 0], [0, 0], list(box[2]), color="grey", lw=0.8)
-            carriage = Poly3DCollection([[(0, 0, 0)] * 4], color="grey", alpha=0.6,
-                                        animated=True)
-            ax.add_collection3d(carriage)
-        trail, = ax.plot([], [], [], color=f"C{k % 10}", lw=1.8, animated=True)
-        leg, = ax.plot([], [], [], "-o", color="k", lw=2, ms=3, animated=True)
-        artists.append({"ax": ax, "trail": trail, "leg": leg, "carriage": carriage})
+    artists = [draw_panel(fig, (rows, columns), k, anim, box) for k in range(len(anim.modes))]
     fig.subplots_adjust(left=0, right=1, bottom=0, top=0.93, wspace=0, hspace=0.08)
     fig.canvas.draw()  # everything but the animated artists
     background = fig.canvas.copy_from_bbox(fig.bbox)
@@ -347,34 +386,7 @@ def render_frames(anim):
                              f"t = {(step * anim.period + tick) * TICK_S:5.3f} s")
             fig.draw_artist(counter)
             for mode, a in zip(anim.modes, artists):
-                ax = a["ax"]
-                lift = anim.carriage_cm[mode]
-                points = anim.legs[mode][i] + np.array([0.0, 0.0, lift[i]])
-                feet = anim.legs[mode][: i + 1, -1, :] + np.outer(lift[: i + 1], [0, 0, 1])
-                a["trail"].set_data_3d(feet[:, 0], feet[:, 1], feet[:, 2])
-                a["leg"].set_data_3d(points[:, 0], points[:, 1], points[:, 2])
-                moving = [a["trail"], a["leg"]]
-                if a["carriage"] is not None:
-                    z, half = lift[i], 1.5
-                    a["carriage"].set_verts(
-                        [[(-half, -half, z), (half, -half, z), (half, half, z), (-half, half, z)]])
-                    moving.insert(0, a["carriage"])
-                force = anim.force_n[mode][i]
-                arrow = None
-                if stand is not None and np.linalg.norm(force) > 0:
-                    # From where the ball of the foot meets the floor.
-                    contact = points[-1] - np.array([0.0, 0.0, stand["foot_radius_mm"] / 10.0])
-                    tip = force * FORCE_CM_PER_N
-                    arrow = ax.quiver(*contact, *tip, color="red", lw=1.5,
-                                      arrow_length_ratio=0.25, animated=True)
-                    moving.append(arrow)
-                for artist in moving:
-                    # A collection is projected by its axes' draw, which the frames skip.
-                    if hasattr(artist, "do_3d_projection") and not hasattr(artist, "set_data_3d"):
-                        artist.do_3d_projection()
-                    ax.draw_artist(artist)
-                if arrow is not None:
-                    arrow.remove()
+                draw_moving(anim, i, mode, a)
             yield np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy()
     finally:
         plt.close(fig)
