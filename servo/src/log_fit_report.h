@@ -1,8 +1,8 @@
 #pragma once
 
-// The log fit's state shared by its two halves, internal to leglab::experiments: log_fit.cc
-// reads, resamples, fits and scores the logs into a Report; log_fit_report.cc writes it as
-// log_fit.json, log_fit.md and each log's CSV.
+// The log fit's state shared by its three parts, internal to leglab::servo_io:
+// log_preprocess.cc reads and resamples the logs, log_fit.cc fits and scores them into a Report,
+// log_fit_report.cc writes it as log_fit.json, log_fit.md and each log's CSV.
 
 #include <array>
 #include <optional>
