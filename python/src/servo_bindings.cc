@@ -95,13 +95,12 @@ py::dict CurvesToDict(const LogFitCurves& c) {
   for (size_t t = 0; t < c.torque_enabled.size(); ++t) {
     torque.mutable_at(t) = c.torque_enabled[t] != 0;
   }
-  // The columns of log_<name>.csv, named as declared (kLogCurveColumns).
-  std::array<py::object, kLogCurveColumns.size()> columns = {
+  // The columns of log_<name>.csv, named as it names them: the log's, then <rung>_deg.
+  const std::array<py::object, kServoLogColumnList.size()> log = {
       ToArray(c.time_s), ToArray(c.request_deg), ToArray(c.measured_deg), torque};
-  for (size_t k = 0; k < kLogFitRungs.size(); ++k) columns[4 + k] = ToArray(c.predicted_deg[k]);
-  for (size_t i = 0; i < columns.size(); ++i) {
-    d[py::str(std::string(kLogCurveColumns[i].name))] = columns[i];
-  }
+  for (size_t i = 0; i < log.size(); ++i) d[py::str(std::string(kServoLogColumnList[i]))] = log[i];
+  for (size_t k = 0; k < c.rungs.size(); ++k)
+    d[py::str(c.rungs[k] + "_deg")] = ToArray(c.predicted_deg[k]);
   return d;
 }
 

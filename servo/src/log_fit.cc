@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <span>
@@ -110,15 +112,32 @@ JointModelParams FitPaper(std::span<const ServoRecording> train, double tick_s,
   }
 }
 
-Predictions Predict(const Models& models, const ServoRecording& r, double tick_s,
-                    const LogFitConfig& config) {
+// Every rung's prediction of `r` by `models`, in `report.rungs`' order.
+Predictions Predict(const Report& report, const Models& models, const ServoRecording& r,
+                    double tick_s, const LogFitConfig& config) {
   Predictions p;
-  p.angle_deg[0] = r.request_deg;
-  ShiftPrediction shift = BestShiftPrediction(r, Ticks(config.shift_max_s, tick_s));
-  p.shift_ticks = shift.shift_ticks;
-  p.angle_deg[1] = std::move(shift.angle_deg);
-  p.angle_deg[2] = PredictWithJointModel(models.paper, r);
-  p.angle_deg[3] = PredictServoRecording(models.extended, r, tick_s);
+  size_t further = 0;
+  for (const ServoRung& rung : report.rungs) {
+    if (rung.name == "direct") {
+      p.angle_deg.push_back(r.request_deg);
+    } else if (rung.name == "best_shift") {
+      ShiftPrediction shift = BestShiftPrediction(r, Ticks(config.shift_max_s, tick_s));
+      p.shift_ticks = shift.shift_ticks;
+      p.angle_deg.push_back(std::move(shift.angle_deg));
+    } else if (rung.name == "paper") {
+      p.angle_deg.push_back(PredictWithJointModel(models.paper, r));
+    } else if (rung.name == "extended") {
+      p.angle_deg.push_back(PredictServoRecording(models.extended, r, tick_s));
+    } else {
+      p.angle_deg.push_back(report.further[further].predict(models.further[further], r, tick_s));
+      if (p.angle_deg.back().size() != r.request_deg.size()) {
+        throw InputError("the rung '" + rung.name + "' predicted " +
+                         std::to_string(p.angle_deg.back().size()) + " angles for a log of " +
+                         std::to_string(r.request_deg.size()) + " ticks");
+      }
+      ++further;
+    }
+  }
   return p;
 }
 
@@ -127,7 +146,9 @@ Row Score(size_t log, const ServoRecording& r, const Predictions& p, double tick
   row.log = log;
   row.tick_s = tick_s;
   row.shift_ticks = p.shift_ticks;
-  for (size_t k = 0; k < kRungs.size(); ++k) row.scores[k] = ScorePrediction(p.angle_deg[k], r);
+  for (const std::vector<double>& angles : p.angle_deg) {
+    row.scores.push_back(ScorePrediction(angles, r));
+  }
   return row;
 }
 
@@ -139,6 +160,18 @@ std::vector<FitJob> Jobs(const std::vector<MotorGroup>& groups, const LogFitConf
     for (const std::string& fold : groups[g].folds) jobs.push_back({g, fold, {}});
   }
   return jobs;
+}
+
+// A further model rung's parameters for one motor, a fit it refuses said as bad input naming
+// the rung and the motor.
+RungParameters FitFurther(const ModelRung& rung, std::span<const ServoRecording> train,
+                          double tick_s, const std::string& motor) {
+  try {
+    return rung.fit(train, tick_s);
+  } catch (const std::invalid_argument& e) {
+    FailConfig("logs: the rung '" + rung.rung.name + "' cannot be fitted to motor '" + motor +
+               "': " + e.what());
+  }
 }
 
 // Ticks [begin, end) of `from` onto the end of `to`, the first `undriven` of them scored 0.
@@ -154,11 +187,14 @@ void AppendTicks(const ServoRecording& from, size_t begin, size_t end, size_t un
 // Every job's fits, as tasks run in parallel: each job's paper model, and its extended model
 // lag by lag (FitServoModelAtLag), the lag of least error kept as FitServoModel keeps it.
 void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
-             const std::vector<Log>& logs, const LogFitConfig& config, int threads) {
+             const std::vector<Log>& logs, std::span<const ModelRung> further,
+             const LogFitConfig& config, int threads) {
   std::vector<std::vector<ServoRecording>> train(jobs.size());
   struct Task {
     size_t job = 0;
-    int lag = -1;  // -1: the paper model's fit
+    int lag = -1;  // the extended model's fit at this lag; -1: another rung's
+    int further =
+        -1;  // the further model rung's fit (Report::further); -1 with lag -1: the paper's
   };
   std::vector<Task> tasks;
   for (size_t j = 0; j < jobs.size(); ++j) {
@@ -178,9 +214,11 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
     for (const ServoRecording& r : train[j]) {
       for (const uint8_t on : r.scored) jobs[j].fitted_ticks += on;
     }
-    tasks.push_back({j, -1});
+    tasks.push_back({j, -1, -1});
+    jobs[j].models.further.resize(further.size());
+    for (size_t m = 0; m < further.size(); ++m) tasks.push_back({j, -1, static_cast<int>(m)});
     const int lags = ExtendedOptions(g.tick_s, g.motor, config).lag_max_ticks;
-    for (int lag = 0; lag <= lags; ++lag) tasks.push_back({j, lag});
+    for (int lag = 0; lag <= lags; ++lag) tasks.push_back({j, lag, -1});
   }
   // Progress: each task counts its training ticks when it ends.
   std::vector<long> task_ticks(tasks.size());
@@ -201,7 +239,11 @@ void RunJobs(std::vector<FitJob>& jobs, const std::vector<MotorGroup>& groups,
     const Task& task = tasks[static_cast<size_t>(k)];
     FitJob& job = jobs[task.job];
     const MotorGroup& g = groups[job.group];
-    if (task.lag < 0) {
+    if (task.further >= 0) {
+      const ModelRung& rung = further[static_cast<size_t>(task.further)];
+      job.models.further[static_cast<size_t>(task.further)] =
+          FitFurther(rung, train[task.job], g.tick_s, g.motor);
+    } else if (task.lag < 0) {
       job.models.paper = FitPaper(train[task.job], g.tick_s, g.motor, config,
                                   job.fitted_ticks < job.training_ticks);
     } else {
@@ -277,7 +319,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
     for (size_t i : g.train) {
       const Log& log = report.logs[i];
       if (job.held_out && FoldKey(log.log, config.cross_validate) != *job.held_out) continue;
-      Predictions p = Predict(job.models, log.recording, g.tick_s, config);
+      Predictions p = Predict(report, job.models, log.recording, g.tick_s, config);
       Row row = Score(i, log.recording, p, g.tick_s);
       row.train_role = !job.held_out;
       row.held_out = job.held_out;
@@ -292,7 +334,7 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
     }
     if (job.held_out) continue;
     for (size_t i : g.validate) {
-      Predictions p = Predict(job.models, report.logs[i].recording, g.tick_s, config);
+      Predictions p = Predict(report, job.models, report.logs[i].recording, g.tick_s, config);
       report.rows.push_back(Score(i, report.logs[i].recording, p, g.tick_s));
       report.rows.back().plan = PlanLog(job.models.extended, report.logs[i].recording, g.tick_s);
       CountLimits(job.models.extended, g.tick_s, report.logs[i]);
@@ -307,6 +349,56 @@ void ScoreAll(Report& report, const LogFitConfig& config) {
 }
 
 }  // namespace
+
+std::vector<ServoRung> LogFitRungs(std::span<const ModelRung> extra) {
+  std::vector<ServoRung> rungs;
+  for (const ServoRung& rung : ServoLadder()) {
+    if (rung.kind != RungKind::kLearned) rungs.push_back(rung);
+  }
+  for (const ModelRung& m : extra) {
+    const std::string& name = m.rung.name;
+    const bool identifier = !name.empty() &&
+                            std::islower(static_cast<unsigned char>(name[0])) != 0 &&
+                            std::all_of(name.begin(), name.end(), [](unsigned char c) {
+                              return std::islower(c) != 0 || std::isdigit(c) != 0 || c == '_';
+                            });
+    if (!identifier) {
+      throw InputError("rung '" + name + "': a rung's name must be a lower-case identifier " +
+                       "(a-z, 0-9, _; a letter first): it names a JSON key and a CSV column");
+    }
+    for (const ServoRung& rung : ServoLadder()) {
+      if (rung.name == name)
+        throw InputError("rung '" + name + "': the ladder has a rung of that name");
+    }
+    for (const ServoRung& rung : rungs) {
+      if (rung.name == name) throw InputError("rung '" + name + "': given twice");
+    }
+    if (!m.fit || !m.predict) throw InputError("rung '" + name + "': it needs a fit and a predict");
+    rungs.push_back(m.rung);
+    rungs.back().kind = RungKind::kModel;
+  }
+  return rungs;
+}
+
+std::vector<ColumnDoc> LogCurveColumns(std::span<const ServoRung> rungs) {
+  // The rungs' column names live as long as the program: one per name ever asked for.
+  static std::mutex mutex;
+  static std::set<std::string> names;
+  static_assert(kServoLogColumnList.size() == kLogColumnCount);
+  std::vector<ColumnDoc> columns{
+      {kServoLogColumns.time_s, "s", "the tick's time from the log's start"},
+      {kServoLogColumns.request_deg, "deg", "the request in force (held between samples)"},
+      {kServoLogColumns.measured_deg, "deg", "the measured angle (interpolated between samples)"},
+      {kServoLogColumns.torque_enabled, "",
+       "1 when the servo drove the joint, 0 when it was limp (not scored)"},
+  };
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (const ServoRung& rung : rungs) {
+    const std::string& name = *names.insert(rung.name + "_deg").first;
+    columns.push_back({name, "deg", rung.column});
+  }
+  return columns;
+}
 
 std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
                                       int lead_ticks) {
@@ -343,8 +435,12 @@ std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, lon
 }
 
 LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
-                          const std::vector<GivenServoLog>& given) {
+                          const std::vector<GivenServoLog>& given,
+                          std::span<const ModelRung> extra) {
   Report report;
+  report.rungs = LogFitRungs(extra);
+  report.further.assign(LadderModelRungs().begin(), LadderModelRungs().end());
+  report.further.insert(report.further.end(), extra.begin(), extra.end());
   SetProgressPhase("reading the logs");
   report.logs = ReadLogs(config, given);
   report.groups = GroupByMotor(report.logs, config);
@@ -354,7 +450,7 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
     }
   }
   report.jobs = Jobs(report.groups, config);
-  RunJobs(report.jobs, report.groups, report.logs, config, threads);
+  RunJobs(report.jobs, report.groups, report.logs, report.further, config, threads);
   ScoreAll(report, config);
   LogFitResult result;
   result.markdown = ReportMarkdown(report);
@@ -369,6 +465,7 @@ LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
         c.request_deg = std::move(log.recording.request_deg);
         c.measured_deg = std::move(log.recording.measured_deg);
         c.torque_enabled = std::move(log.recording.scored);
+        for (const ServoRung& rung : report.rungs) c.rungs.push_back(rung.name);
         c.predicted_deg = std::move(report.figures[i].angle_deg);
         result.curves.push_back(std::move(c));
       }
@@ -434,19 +531,25 @@ constexpr ColumnDoc kLogFitFields[] = {
 };
 
 std::span<const OutputDoc> LogFitOutputs() {
+  static const std::vector<ServoRung> rungs = LogFitRungs();
+  static const std::vector<ColumnDoc> columns = LogCurveColumns(rungs);
+  static const std::string json = [] {
+    std::string names;
+    for (const ServoRung& rung : rungs) names += (names.empty() ? "" : ", ") + rung.name;
+    return "With a logs section: every servo type's fitted models (as plan reads them), each "
+           "log's scores by rung (" +
+           names +
+           "), training and held out, the logs' quality, and the planned requests' predicted "
+           "errors.";
+  }();
   static const OutputDoc outputs[] = {
-      {"log_fit.json",
-       "With a logs section: every servo type's fitted models (as plan reads them), each log's "
-       "scores by rung (direct, best_shift, paper, extended), training and held out, the logs' "
-       "quality, and the planned requests' predicted errors.",
-       kLogFitFields},
+      {"log_fit.json", json, kLogFitFields},
       {"log_fit.md",
        "With a logs section: log_fit.json as Markdown tables, one section per servo "
        "type.",
        {}},
       {"log_<motor>_<name>.csv",
-       "With a logs section: one log as the fit saw it, beside every rung's prediction.",
-       kLogCurveColumns},
+       "With a logs section: one log as the fit saw it, beside every rung's prediction.", columns},
   };
   return outputs;
 }

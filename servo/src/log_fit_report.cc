@@ -45,12 +45,19 @@ std::string HeldOutBy(const Row& row, const LogFitConfig& config) {
   return row.train_role ? "none" : "validate";
 }
 
-Json ScoresJson(const Row& row, bool rms) {
+Json ScoresJson(const Report& report, const Row& row, bool rms) {
   Json j;
-  for (size_t k = 0; k < kRungs.size(); ++k) {
-    j[std::string(kRungs[k])] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
+  for (size_t k = 0; k < report.rungs.size(); ++k) {
+    j[report.rungs[k].name] = rms ? row.scores[k].rms_deg : row.scores[k].mae_deg;
   }
   return j;
+}
+
+// A further model rung's parameters in its motor's tick.
+Json FurtherJson(const RungParameters& parameters, double tick_s) {
+  Json json = {{"tick_s", tick_s}};
+  for (const auto& [name, value] : parameters) json[name] = value;
+  return json;
 }
 
 // The median absolute deviation of the sample intervals from their median (s): how unevenly
@@ -93,6 +100,10 @@ std::string ReportJson(const Report& report, const LogFitConfig& config) {
                                    {"fitted_ticks", job.fitted_ticks}};
     json["models"]["extended"][g.motor] =
         ExtendedJson(job.models.extended, g.tick_s, config.v_max_deg_s.count(g.motor) > 0);
+    for (size_t m = 0; m < report.further.size(); ++m) {
+      json["models"][report.further[m].rung.name][g.motor] =
+          FurtherJson(job.models.further[m], g.tick_s);
+    }
   }
   json["cross_validate"] =
       std::string(kCrossValidationNames[static_cast<size_t>(config.cross_validate)]);
@@ -107,6 +118,10 @@ std::string ReportJson(const Report& report, const LogFitConfig& config) {
                              {"paper", PaperJson(job.models.paper, g.tick_s)},
                              {"extended", ExtendedJson(job.models.extended, g.tick_s,
                                                        config.v_max_deg_s.count(g.motor) > 0)}});
+    for (size_t m = 0; m < report.further.size(); ++m) {
+      json["folds"].back()[report.further[m].rung.name] =
+          FurtherJson(job.models.further[m], g.tick_s);
+    }
   }
   json["logs"] = Json::array();
   for (const Row& row : report.rows) {
@@ -119,8 +134,8 @@ std::string ReportJson(const Report& report, const LogFitConfig& config) {
                             {"kp", log.kp},
                             {"ticks_scored", row.scores[0].ticks_scored},
                             {"best_shift_s", row.shift_ticks * row.tick_s},
-                            {"mae_deg", ScoresJson(row, false)},
-                            {"rms_deg", ScoresJson(row, true)}});
+                            {"mae_deg", ScoresJson(report, row, false)},
+                            {"rms_deg", ScoresJson(report, row, true)}});
     json["logs"].back()["data"] = DataJson(report.logs[row.log]);
     if (row.plan) {
       json["logs"].back()["plan"] = {{"direct_mae_deg", row.plan->direct_mae_deg},
@@ -188,19 +203,19 @@ void PlanMarkdown(const Report& report, const MotorGroup& g, std::ostringstream&
 
 std::string ReportMarkdown(const Report& report) {
   std::ostringstream md;
-  md << "# Servo logs: open-loop prediction error (mean absolute, deg)\n\n"
-     << "direct: the angle predicted to equal the request. best shift: the request delayed by "
-        "the one fixed time shift that fits the scored log best, chosen on that log itself (an "
-        "oracle in hindsight, not a model). paper: the paper's four-parameter model. extended: "
-        "the paper's model with the load's torque, the servo's gain, a friction band and a "
-        "velocity lag. validate rows are held out: the models never saw the log.\n";
+  md << "# Servo logs: open-loop prediction error (mean absolute, deg)\n\n";
+  for (const ServoRung& rung : report.rungs) md << rung.label << ": " << rung.description << ". ";
+  md << "validate rows are held out: the models never saw the log.\n";
   for (const MotorGroup& g : report.groups) {
     char tick[32];
     std::snprintf(tick, sizeof tick, "%.3f", g.tick_s * 1000.0);
     md << "\n## " << MarkdownText(g.motor) << " (tick " << tick << " ms)\n\n"
-       << "| log | role | trajectory | kp | ticks | direct | best shift | paper | extended |\n"
-       << "|---|---|---|---|---|---|---|---|---|\n";
-    std::array<double, kRungs.size()> sums{};
+       << "| log | role | trajectory | kp | ticks |";
+    for (const ServoRung& rung : report.rungs) md << " " << rung.label << " |";
+    md << "\n|---|---|---|---|---|";
+    for (size_t k = 0; k < report.rungs.size(); ++k) md << "---|";
+    md << "\n";
+    std::vector<double> sums(report.rungs.size());
     int held = 0;
     for (const Row& row : report.rows) {
       const ServoLog& log = report.logs[row.log].log;
@@ -211,15 +226,15 @@ std::string ReportMarkdown(const Report& report) {
                             : "validate")
          << " | " << MarkdownText(log.trajectory) << " | " << FormatNumber(log.kp) << " | "
          << row.scores[0].ticks_scored;
-      for (size_t k = 0; k < kRungs.size(); ++k) md << " | " << Fixed2(row.scores[k].mae_deg);
+      for (const PredictionScore& score : row.scores) md << " | " << Fixed2(score.mae_deg);
       md << " |\n";
       if (row.train_role) continue;
       ++held;
-      for (size_t k = 0; k < kRungs.size(); ++k) sums[k] += row.scores[k].mae_deg;
+      for (size_t k = 0; k < sums.size(); ++k) sums[k] += row.scores[k].mae_deg;
     }
     if (held > 0) {
       md << "| **mean held out** | | | | ";
-      for (size_t k = 0; k < kRungs.size(); ++k) md << " | **" << Fixed2(sums[k] / held) << "**";
+      for (const double sum : sums) md << " | **" << Fixed2(sum / held) << "**";
       md << " |\n";
     }
     DataMarkdown(report, g, md);
@@ -239,11 +254,9 @@ std::string ReportMarkdown(const Report& report) {
 
 void WriteLogCsv(const LogFitCurves& c, const OutputDir& out) {
   std::string text;
-  for (const ColumnDoc& column : kLogCurveColumns) {
-    if (!text.empty()) text += ',';
-    text += column.name;
-  }
-  text += '\n';
+  for (const std::string_view column : kServoLogColumnList) text += std::string(column) + ',';
+  for (const std::string& rung : c.rungs) text += rung + "_deg,";
+  text.back() = '\n';
   for (size_t t = 0; t < c.request_deg.size(); ++t) {
     text += FormatNumber(c.time_s[t]) + ',' + FormatNumber(c.request_deg[t]) + ',' +
             FormatNumber(c.measured_deg[t]) + ',' + (c.torque_enabled[t] != 0 ? "1" : "0");

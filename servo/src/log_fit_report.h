@@ -12,13 +12,12 @@
 #include "leglab/app/output.h"
 #include "leglab/core/format.h"
 #include "leglab/model/joint_model.h"
+#include "leglab/servo/ladder.h"
 #include "leglab/servo/log_fit.h"
 #include "leglab/servo/servo_ladder.h"
 #include "leglab/servo/servo_model.h"
 
 namespace leglab::log_fit {
-
-inline constexpr const std::array<std::string_view, 4>& kRungs = kLogFitRungs;
 
 // A log as identify uses it: read, resampled at its motor's tick, and named for its outputs.
 struct Log {
@@ -43,10 +42,11 @@ struct MotorGroup {
   std::vector<std::string> folds;  // the training logs' fold keys (FoldKey), sorted
 };
 
-// Both rungs' models of one motor, fitted on some of its training logs.
+// The model rungs' models of one motor, fitted on some of its training logs.
 struct Models {
   JointModelParams paper;
   ServoModelParams extended;
+  std::vector<RungParameters> further;  // each further model rung's (Report::further)
 };
 
 // What a log is held out by under cross-validation: its trajectory or its gain setting.
@@ -63,9 +63,9 @@ struct FitJob {
   long fitted_ticks = 0;    // of those, the ones its fits saw (FitSample)
 };
 
-// Every rung's prediction of one log, and the oracle's shift.
+// Every rung's prediction of one log (Report::rungs' order), and the oracle's shift.
 struct Predictions {
-  std::array<std::vector<double>, kRungs.size()> angle_deg;
+  std::vector<std::vector<double>> angle_deg;
   int shift_ticks = 0;
 };
 
@@ -83,7 +83,7 @@ struct Row {
   size_t log = 0;
   bool train_role = false;              // scored by the models fitted on it
   std::optional<std::string> held_out;  // the fold's key (cross-validation)
-  std::array<PredictionScore, kRungs.size()> scores;
+  std::vector<PredictionScore> scores;  // each rung's (Report::rungs' order)
   int shift_ticks = 0;
   double tick_s = 0.0;
   std::optional<PlanGain> plan;  // for the rows scored by the final models
@@ -91,6 +91,8 @@ struct Row {
 
 // Everything identify reports of a log fit.
 struct Report {
+  std::vector<ServoRung> rungs;    // scored, in order (LogFitRungs)
+  std::vector<ModelRung> further;  // the model rungs beyond the built-in two, in rungs' order
   std::vector<Log> logs;
   std::vector<MotorGroup> groups;
   std::vector<FitJob> jobs;

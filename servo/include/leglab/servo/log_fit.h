@@ -11,6 +11,7 @@
 #include "leglab/app/output.h"
 #include "leglab/app/output_docs.h"
 #include "leglab/core/config_keys.h"
+#include "leglab/servo/ladder.h"
 #include "leglab/servo/servo_log.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_model.h"
@@ -97,10 +98,11 @@ inline constexpr int kFitChunkTicks = 1000;
 std::vector<ServoRecording> FitSample(std::span<const ServoRecording> train, long budget,
                                       int lead_ticks);
 
-/// The rungs of the model ladder, in the order tables show them: the request as the
-/// prediction, the best time shift in hindsight, the paper's model, the extended model.
-inline constexpr std::array<std::string_view, 4> kLogFitRungs{"direct", "best_shift", "paper",
-                                                              "extended"};
+/// The rungs a log fit scores, in the order its tables and CSV columns show them: the ladder's
+/// baselines and models (ServoLadder: direct, best_shift, paper, extended, then each rung of
+/// LadderModelRungs), then `extra`'s. Throws InputError when an extra rung's name is not a
+/// lower-case identifier, or is a rung's already.
+std::vector<ServoRung> LogFitRungs(std::span<const ModelRung> extra = {});
 
 /// One log as a log fit saw it and predicted it: the columns of log_<name>.csv.
 struct LogFitCurves {
@@ -115,8 +117,9 @@ struct LogFitCurves {
   std::vector<double> request_deg;      ///< on that tick
   std::vector<double> measured_deg;     ///< ...
   std::vector<uint8_t> torque_enabled;  ///< ...
-  /// Each rung's prediction (kLogFitRungs), held out where cross-validated (deg).
-  std::array<std::vector<double>, kLogFitRungs.size()> predicted_deg;
+  std::vector<std::string> rungs;       ///< the rungs predicting it (LogFitRungs' names), in order
+  /// Each rung's prediction (in `rungs`' order), held out where cross-validated (deg).
+  std::vector<std::vector<double>> predicted_deg;
 };
 
 /// What a log fit computed, as values: what identify writes in its log mode.
@@ -133,9 +136,11 @@ struct GivenServoLog {
 };
 
 /// RunLogFit's work without the files: the models fitted and scored on the configured logs and
-/// `given` (after them; config.train may then be empty). Throws as RunLogFit.
+/// `given` (after them; config.train may then be empty), with `extra`'s model rungs fitted and
+/// scored beside the ladder's (LogFitRungs). Throws as RunLogFit and LogFitRungs.
 LogFitResult FitServoLogs(const LogFitConfig& config, int threads,
-                          const std::vector<GivenServoLog>& given = {});
+                          const std::vector<GivenServoLog>& given = {},
+                          std::span<const ModelRung> extra = {});
 
 /// `logs.*` from `overrides` alone ("logs.cross_validate=none", "logs.iterations=500", as
 /// --set writes them; any key outside `logs` is refused) over the defaults, as the config
@@ -153,27 +158,10 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
 inline const std::vector<std::string> kLogFitOutputPrefixes{"log_fit.", "log_"};
 
 /// The columns of log_<motor>_<name>.csv (LogFitCurves), one row per tick of the log's tick:
-/// the log resampled, then each rung's prediction (kLogFitRungs, in order).
-inline constexpr std::array<ColumnDoc, 4 + kLogFitRungs.size()> kLogCurveColumns{{
-    {kServoLogColumns.time_s, "s", "the tick's time from the log's start"},
-    {kServoLogColumns.request_deg, "deg", "the request in force (held between samples)"},
-    {kServoLogColumns.measured_deg, "deg", "the measured angle (interpolated between samples)"},
-    {kServoLogColumns.torque_enabled, "",
-     "1 when the servo drove the joint, 0 when it was limp (not scored)"},
-    {"direct_deg", "deg", "direct: the request as the prediction"},
-    {"best_shift_deg", "deg", "the request delayed by the best fixed time shift in hindsight"},
-    {"paper_deg", "deg", "the paper's model's prediction (held out where cross-validated)"},
-    {"extended_deg", "deg", "the extended model's prediction (held out where cross-validated)"},
-}};
-
-// The rungs' columns are kLogFitRungs' names with "_deg", in their order.
-static_assert([] {
-  for (size_t k = 0; k < kLogFitRungs.size(); ++k) {
-    const std::string_view name = kLogCurveColumns[4 + k].name, rung = kLogFitRungs[k];
-    if (name.substr(0, rung.size()) != rung || name.substr(rung.size()) != "_deg") return false;
-  }
-  return true;
-}());
+/// the log resampled (kLogColumnCount of them), then each rung's prediction, <rung>_deg, in
+/// LogFitRungs' order, described by the ladder's `column`.
+std::vector<ColumnDoc> LogCurveColumns(std::span<const ServoRung> rungs);
+inline constexpr size_t kLogColumnCount = 4;
 
 /// What identify writes in its log mode (FitServoLogs' files; its config file aside).
 std::span<const OutputDoc> LogFitOutputs();
