@@ -48,6 +48,23 @@ def test_fit_is_identify_to_the_bit(identified):
             assert np.array_equal(np.asarray(curves[column], dtype=float), values), (name, column)
 
 
+def test_the_ladder_names_the_fits_rungs_in_order(identified):
+    """leglab.ladder (servo/ladder.json read in Python) against what the compiled fit wrote:
+    the rungs it scores are the ladder's baselines and models, in the ladder's order, as each
+    row's keys and each curve's columns."""
+    from leglab.ladder import KINDS, LADDER, label
+    assert len({r.name for r in LADDER}) == len(LADDER)
+    assert all(r.kind in KINDS for r in LADDER)
+    scored = [r.name for r in LADDER if r.kind != "learned"]
+    fit = identified[1]
+    for row in fit.rows:
+        assert list(row["mae_deg"]) == scored, row["file"]
+        assert list(row["rms_deg"]) == scored, row["file"]
+    for columns in fit.curves.values():
+        assert list(columns)[-len(scored):] == [f"{name}_deg" for name in scored]
+    assert label("best_shift") == "best shift" and label("my_rung") == "my rung"
+
+
 def test_a_fit_loaded_back_gives_the_same_models(identified):
     out, fit = identified
     loaded = servo.LogFit.load(out / "log_fit.json")
