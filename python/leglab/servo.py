@@ -251,7 +251,47 @@ class LogFit:
                 f", logs={len(self.rows)})")
 
 
-def fit(config, overrides=None, *, validate=(), threads=0):
+class ModelRung:
+    """A model rung of your own, fitted and scored beside the ladder's (``fit(..., rungs=)``).
+
+    Args:
+        name: its key in log_fit.json (mae_deg.<name>, models.<name>) and its CSV column
+            (<name>_deg): a lower-case identifier no rung of the ladder has.
+        fit: fit(recordings, tick_s) -> dict of float parameters by name: the model fitted to
+            one motor's training logs (per fold when cross-validated). Each recording is a dict
+            of arrays on the motor's tick (request_deg, measured_deg, driven) and its drive
+            (kp, mass_kg, length_m).
+        predict: predict(parameters, recording, tick_s) -> the angle at every tick of the
+            recording (deg), open loop from its requests and, where a driven run begins, its
+            measured angle.
+        label, description, column: its table heading (default: the name with spaces), the
+            phrase log_fit.md explains it by, its CSV column's description.
+
+    Both functions are called from the fit's worker threads, one at a time (each holds the GIL).
+    """
+
+    def __init__(self, name, fit, predict, *, label=None, description=None, column=None):
+        for what, value in (("name", name), ("label", label), ("description", description),
+                            ("column", column)):
+            if value is not None and not isinstance(value, str):
+                raise TypeError(f"ModelRung: {what}: expected str, got {type(value).__name__}")
+        for what, value in (("fit", fit), ("predict", predict)):
+            if not callable(value):
+                raise TypeError(f"ModelRung: {what}: expected a function, got "
+                                f"{type(value).__name__}")
+        self.name, self.fit, self.predict = name, fit, predict
+        self.label = label or name.replace("_", " ")
+        self.description = description or f"the rung {name}"
+        self.column = column or f"the rung {name}'s prediction"
+
+    def _fields(self):
+        return (self.name, self.label, self.description, self.column, self.fit, self.predict)
+
+    def __repr__(self):
+        return f"ModelRung({self.name!r})"
+
+
+def fit(config, overrides=None, *, validate=(), threads=0, rungs=()):
     """Fits and scores the model ladder on servo logs, as `identify` does with a `logs` section.
 
     Args:
@@ -261,10 +301,16 @@ def fit(config, overrides=None, *, validate=(), threads=0):
             "none", "logs.iterations": 500}. With a list of logs, only logs.* keys.
         validate: ServoLogs to score the fitted models on, unchanged (with a list of logs).
         threads: worker threads, 0 for one per core; the numbers do not depend on it.
+        rungs: ModelRungs of your own, fitted and scored after the ladder's, written as theirs.
 
     Returns a LogFit. Raises ValueError with identify's one-line message for a bad config,
     key or log.
     """
+    extra = []
+    for rung in rungs:
+        if not isinstance(rung, ModelRung):
+            raise TypeError(f"fit: rungs: expected ModelRung objects, got {type(rung).__name__}")
+        extra.append(rung._fields())
     if isinstance(config, ServoLog):
         config = [config]
     if isinstance(config, (list, tuple)):
@@ -274,12 +320,12 @@ def fit(config, overrides=None, *, validate=(), threads=0):
                 if not isinstance(log, ServoLog):
                     raise ValueError(f"fit: expected ServoLog objects, got {type(log).__name__}")
                 given.append((log._fields, role))
-        parts = _leglab._fit(None, overrides, given, threads)
+        parts = _leglab._fit(None, overrides, given, threads, extra)
     else:
         if validate:
             raise ValueError("fit: validate= goes with a list of logs; a config names its "
                              "validation logs in logs.validate")
-        parts = _leglab._fit(config, overrides, [], threads)
+        parts = _leglab._fit(config, overrides, [], threads, extra)
     curves = {c.pop("name"): c for c in parts["curves"]}
     return LogFit(parts["json"], parts["markdown"], curves)
 
@@ -327,5 +373,5 @@ class _Columns(dict):
             raise AttributeError(f"no '{name}' here (there are {', '.join(self)})") from None
 
 
-__all__ = ["ServoLog", "read_log", "write_log", "fit", "LogFit", "ServoModel", "plan",
+__all__ = ["ServoLog", "read_log", "write_log", "fit", "ModelRung", "LogFit", "ServoModel", "plan",
            "ServoPlanner", "read_desired"]

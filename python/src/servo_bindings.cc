@@ -1,9 +1,11 @@
 // leglab.servo's compiled part: servo logs, the log fit, fitted servo models, plans and the
 // online planner, on numpy arrays. python/leglab/servo.py holds the Python classes around it.
+
 #include <pybind11/stl.h>
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -104,8 +106,65 @@ py::dict CurvesToDict(const LogFitCurves& c) {
   return d;
 }
 
+// A recording as a rung's Python functions see it: its arrays and its drive.
+py::dict RecordingToDict(const ServoRecording& r) {
+  py::dict d;
+  d["request_deg"] = ToArray(r.request_deg);
+  d["measured_deg"] = ToArray(r.measured_deg);
+  py::array_t<bool> driven(static_cast<py::ssize_t>(r.scored.size()));
+  for (size_t t = 0; t < r.scored.size(); ++t) driven.mutable_at(t) = r.scored[t] != 0;
+  d["driven"] = driven;
+  d["kp"] = r.drive.kp;
+  d["mass_kg"] = r.drive.mass_kg;
+  d["length_m"] = r.drive.length_m;
+  return d;
+}
+
+// A model rung given in Python: (name, label, description, column, fit, predict). Its
+// functions are called on the fit's worker threads, each call holding the GIL; they are held
+// through shared pointers, so that copies made without the GIL touch no reference count.
+ModelRung ToModelRung(py::handle item) {
+  const auto t = item.cast<py::tuple>();
+  ModelRung m;
+  m.rung = {.name = t[0].cast<std::string>(),
+            .kind = RungKind::kModel,
+            .label = t[1].cast<std::string>(),
+            .description = t[2].cast<std::string>(),
+            .column = t[3].cast<std::string>()};
+  const auto fit = std::make_shared<py::function>(t[4].cast<py::function>());
+  const auto predict = std::make_shared<py::function>(t[5].cast<py::function>());
+  const std::string name = m.rung.name;
+  m.fit = [fit, name](std::span<const ServoRecording> train, double tick_s) {
+    const py::gil_scoped_acquire gil;
+    py::list recordings;
+    for (const ServoRecording& r : train) recordings.append(RecordingToDict(r));
+    const py::object result = (*fit)(recordings, tick_s);
+    if (!py::isinstance<py::dict>(result)) {
+      ThrowTypeError("rung '" + name + "': fit returned " +
+                     std::string(py::str(result.get_type().attr("__name__"))) +
+                     ", expected a dict of parameters by name");
+    }
+    RungParameters parameters;
+    for (const auto& [key, value] : result.cast<py::dict>()) {
+      const std::string parameter = py::str(key);
+      parameters[parameter] =
+          ToReal(value, "rung '" + name + "': fit's parameter '" + parameter + "'");
+    }
+    return parameters;
+  };
+  m.predict = [predict, name](const RungParameters& parameters, const ServoRecording& r,
+                              double tick_s) {
+    const py::gil_scoped_acquire gil;
+    py::dict p;
+    for (const auto& [key, value] : parameters) p[py::str(key)] = value;
+    return ToFiniteVector((*predict)(p, RecordingToDict(r), tick_s),
+                          "rung '" + name + "': predict's angles");
+  };
+  return m;
+}
+
 py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
-             py::handle threads_value) {
+             py::handle threads_value, const py::list& rungs) {
   const auto threads = static_cast<int>(ToInteger(threads_value, "threads", kThreadsDoc));
   LogFitConfig logs;
   if (config.is_none()) {
@@ -127,10 +186,12 @@ py::dict Fit(py::handle config, py::handle overrides, const py::list& given,
     logs_given.push_back({DictToLog(pair[0].cast<py::dict>()), pair[1].cast<bool>()});
   }
   if (threads < 0) ThrowValueError("threads: expected 0 (one per core) or more");
+  std::vector<ModelRung> extra;
+  for (const py::handle item : rungs) extra.push_back(ToModelRung(item));
   LogFitResult result;
   {
     py::gil_scoped_release release;
-    result = FitServoLogs(logs, threads, logs_given);
+    result = FitServoLogs(logs, threads, logs_given, extra);
   }
   py::dict d;
   d["json"] = result.json;
@@ -362,7 +423,9 @@ void BindLogs(py::module_& m) {
 void BindServo(py::module_& m) {
   BindLogs(m);
   m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
-        "_fit(config, overrides, given, threads): identify's log fit");
+        py::arg("rungs") = py::list(),
+        "_fit(config, overrides, given, threads, rungs=[]): identify's log fit, with rungs "
+        "(name, label, description, column, fit, predict) added to the ladder's");
   m.def(
       "_model_from_json",
       [](const std::string& text, const std::string& rung, const std::string& motor,

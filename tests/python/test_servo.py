@@ -65,6 +65,88 @@ def test_the_ladder_names_the_fits_rungs_in_order(identified):
     assert label("best_shift") == "best shift" and label("my_rung") == "my rung"
 
 
+def first_order_log(trajectory, frequency_hz, gain=0.3):
+    """A servo that closes `gain` of its error to the request of the tick before, every 10 ms:
+    m(t) = m(t-1) + gain (R(t-1) - m(t-1))."""
+    t = 0.01 * np.arange(600)
+    request = 40.0 * np.sin(2.0 * np.pi * frequency_hz * t) + 10.0 * (np.arange(600) // 150 % 2)
+    measured = np.zeros(600)
+    for k in range(1, 600):
+        measured[k] = measured[k - 1] + gain * (request[k - 1] - measured[k - 1])
+    return servo.ServoLog(t, request, measured, motor="m", kp=32, trajectory=trajectory,
+                          file=f"{trajectory}.csv")
+
+
+def first_order_fit(recordings, tick_s):
+    """The gain by least squares on the steps from one measured angle to the next."""
+    num = den = 0.0
+    for r in recordings:
+        m, R, on = r["measured_deg"], r["request_deg"], r["driven"]
+        both = on[1:] & on[:-1]
+        error = (R[:-1] - m[:-1])[both]
+        num += float(np.dot(np.diff(m)[both], error))
+        den += float(np.dot(error, error))
+    return {"gain": num / den}
+
+
+def first_order_predict(parameters, r, tick_s):
+    m, R, on = r["measured_deg"], r["request_deg"], r["driven"]
+    angle = m.copy()
+    for k in range(1, len(angle)):
+        if on[k] and on[k - 1]:
+            angle[k] = angle[k - 1] + parameters["gain"] * (R[k - 1] - angle[k - 1])
+    return angle
+
+
+def test_a_rung_added_in_python_is_fitted_scored_written_and_read(tmp_path):
+    """A first-order lag rung, given as two Python functions, on two logs a first-order servo
+    made: fitted to the servo's gain in the final model and both folds, predicting it exactly
+    on every row after the ladder's own rungs, in the curves, and read back from the file."""
+    rung = servo.ModelRung("first_order", first_order_fit, first_order_predict,
+                           description="a first-order lag")
+    done = servo.fit([first_order_log("slow", 0.5), first_order_log("fast", 1.5)],
+                     {"logs.iterations": 20, "logs.tick_s": 0.01,
+                      "logs.cross_validate": "leave_one_trajectory_out"}, threads=2, rungs=[rung])
+    assert done.json["models"]["first_order"]["m"]["gain"] == pytest.approx(0.3, abs=1e-9)
+    assert [f["first_order"]["gain"] for f in done.folds] == pytest.approx([0.3, 0.3], abs=1e-9)
+    assert len(done.rows) == 4
+    for row in done.rows:
+        assert list(row["mae_deg"])[-1] == "first_order"
+        assert row["mae_deg"]["first_order"] < 1e-9 < 1.0 < row["mae_deg"]["direct"]
+    for columns in done.curves.values():
+        assert abs(columns["first_order_deg"] - columns["measured_deg"]).max() < 1e-9
+    assert "| extended | first order |" in done.markdown
+    (tmp_path / "log_fit.json").write_text(done.to_json())
+    loaded = servo.LogFit.load(tmp_path / "log_fit.json")
+    assert [row["mae_deg"]["first_order"] for row in loaded.rows] == \
+        [row["mae_deg"]["first_order"] for row in done.rows]
+
+
+def test_a_rung_added_badly_is_one_line_naming_it():
+    logs = [first_order_log("slow", 0.5)]
+    keys = {"logs.cross_validate": "none", "logs.tick_s": 0.01, "logs.iterations": 20}
+    for rung, kind, needle in (
+            (servo.ModelRung("Bad Name", first_order_fit, first_order_predict), ValueError,
+             "rung 'Bad Name': a rung's name must be a lower-case identifier"),
+            (servo.ModelRung("paper", first_order_fit, first_order_predict), ValueError,
+             "rung 'paper': the ladder has a rung of that name"),
+            (servo.ModelRung("r", lambda recordings, tick_s: [1.0], first_order_predict),
+             TypeError, "rung 'r': fit returned list, expected a dict"),
+            (servo.ModelRung("r", lambda recordings, tick_s: {"g": "x"}, first_order_predict),
+             TypeError, "rung 'r': fit's parameter 'g'"),
+            (servo.ModelRung("r", first_order_fit, lambda p, r, tick_s: [0.0]), ValueError,
+             "rung 'r' predicted 1 angles for a log of 600 ticks"),
+            (servo.ModelRung("r", first_order_fit, lambda p, r, tick_s: r["request_deg"] * np.nan),
+             ValueError, "rung 'r': predict's angles")):
+        with pytest.raises(kind) as e:
+            servo.fit(logs, keys, rungs=[rung])
+        assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
+    with pytest.raises(TypeError, match="rungs: expected ModelRung objects, got str"):
+        servo.fit(logs, keys, rungs=["first_order"])
+    with pytest.raises(TypeError, match="ModelRung: fit: expected a function, got int"):
+        servo.ModelRung("r", 3, first_order_predict)
+
+
 def test_a_fit_loaded_back_gives_the_same_models(identified):
     out, fit = identified
     loaded = servo.LogFit.load(out / "log_fit.json")
