@@ -3,7 +3,7 @@
 four excitations at one gain, fit them with `identify`, and run a pick-and-place motion that no
 log holds with each method, on virtual time (the same bits every run).
 
-Usage: /usr/bin/python3 scripts/bus_loop.py OUT [--build DIR]   (the package: DIR/python)
+Usage: PYTHONPATH=DIR/python /usr/bin/python3 scripts/bus_loop.py OUT [--build DIR]   (DIR: build)
 
 Writes OUT/bus/<protocol>/: logs/ (record's), fit/ (identify's), inputs/pick.csv (the desired
 motion) and one folder per run (run.csv, run.json): direct; best_lead (the desired angles sent
@@ -21,7 +21,12 @@ import shutil
 import subprocess
 import sys
 
-from results_reader import ArgumentParser
+try:
+    from leglab.bus import trajectories
+    from leglab.results.reader import ArgumentParser
+except ImportError as _error:  # leglab is found through PYTHONPATH
+    print(f"bus_loop.py: {_error}: set PYTHONPATH=<build>/python", file=sys.stderr)
+    sys.exit(2)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 ENV = dict(os.environ)
@@ -41,11 +46,6 @@ LEADS = range(0, 21)
 """The leads (ticks) best_lead tries: the desired angles sent early, the best in hindsight."""
 
 
-def load_trajectories(build):
-    """leglab.bus.trajectories from --build's package (the motion the runs follow)."""
-    sys.path.insert(0, str(build / "python"))
-    from leglab.bus import trajectories  # pylint: disable=import-outside-toplevel
-    return trajectories
 
 
 def bus(*args):
@@ -72,7 +72,6 @@ def loop(out, protocol, build):
         sys.exit(f"bus_loop: identify: {fit.stderr.strip()}")
     desired = out / "inputs" / "pick.csv"
     desired.parent.mkdir(exist_ok=True)
-    trajectories = load_trajectories(build)
     trajectories.write_desired_csv(desired, trajectories.pick_and_place_deg())
     common = [*servo, "--model", out / "fit" / "log_fit.json", "--desired", desired]
     for folder, flags in RUNS:

@@ -2,8 +2,8 @@
 """The measured tables of README.md and docs/results.md, filled from a run's files or checked
 against them, so that no number in them is copied by hand.
 
-Usage: /usr/bin/python3 scripts/docs_numbers.py RESULTS [--write] [--only ID ...]
-                                                [--docs DIR] [--build DIR]
+Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/docs_numbers.py RESULTS [--write]
+                                        [--only ID ...] [--docs DIR] [--build DIR]
 
 RESULTS is a folder as scripts/reproduce.sh writes it (results/). In the docs a generated table
 follows the marker naming its block (the table's lines, those starting with '|', are the block):
@@ -13,13 +13,13 @@ follows the marker naming its block (the table's lines, those starting with '|',
 
 and blocks() below says what each block shows and which of RESULTS' files it reads. Check (the
 default): every block is rendered from RESULTS and compared with the docs cell by cell; a cell
-whose file RESULTS lacks (the learned models' columns after a run without learned_fit.py) is not
-compared, a block none of whose files RESULTS has is skipped (named on stderr). Any difference:
-each one named on stderr, exit status 1. --write: every block RESULTS has all the files of is
-replaced in the docs (the others are left as they are, and named). --only: just these blocks,
+whose file RESULTS lacks (the learned models' columns after a run without leglab.servo.learned)
+is not compared, a block none of whose files RESULTS has is skipped (named on stderr). Any
+difference: each one named on stderr, exit status 1. --write: every block RESULTS has all the
+files of is replaced in the docs (the others are left as they are, and named). --only: just these blocks,
 each of which must be checked in full (its files all there). The paper's values come from the
-leglab package (--build's python/, as learned_fit.py finds it), which has them from
-model/include/leglab/model/paper.h.
+leglab package's compiled module (found through PYTHONPATH: --build's python/, which the message
+names when it is missing), which has them from model/include/leglab/model/paper.h.
 
 Bad input (no RESULTS folder, a file of it that is not what a program writes, a marker naming
 no block, an --only block whose files are missing): one line on stderr, exit status 2, nothing
@@ -30,11 +30,16 @@ import pathlib
 import re
 import sys
 
-import log_fit_results
-import numbers_beyond
-from numbers_run import (JOINTS, UNKNOWN, Missing, Run, UserError, cell, fixed, joint_norm,
-                         paper_value, with_paper)
-from results_reader import ArgumentParser, split_row
+try:
+    from leglab.results import log_fit_results
+    from leglab.results.reader import ArgumentParser, split_row
+except ImportError as _error:  # leglab is found through PYTHONPATH
+    print(f"docs_numbers: {_error}: set PYTHONPATH=<build>/python", file=sys.stderr)
+    sys.exit(2)
+
+import numbers_beyond  # noqa: E402  (the scripts' folder, after leglab is found)
+from numbers_run import (JOINTS, UNKNOWN, Missing, Run, UserError, cell, fixed,  # noqa: E402
+                         joint_norm, paper_value, with_paper)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ("README.md", "docs/results.md")
@@ -454,12 +459,13 @@ def find_blocks(text, path, known):
 
 
 def load_leglab(build):
-    sys.path.insert(0, str(pathlib.Path(build) / "python"))
+    """The leglab package with its compiled module (the paper's values), found on PYTHONPATH."""
+    import leglab  # pylint: disable=import-outside-toplevel
     try:
-        import leglab  # pylint: disable=import-outside-toplevel
+        leglab.PAPER_MODEL  # pylint: disable=pointless-statement
     except ImportError:
-        raise UserError("the leglab package is not built in --build's python/ (run "
-                        "scripts/test.sh, or give --build)") from None
+        raise UserError(f"the leglab package's compiled module is not on PYTHONPATH: set "
+                        f"PYTHONPATH={build}/python (scripts/test.sh builds it)") from None
     return leglab
 
 
@@ -552,7 +558,8 @@ def main(argv):
     parser.add_argument("--docs", default=str(SOURCE_DIR),
                         help="the folder holding README.md and docs/ (default: this repository)")
     parser.add_argument("--build", default=str(SOURCE_DIR / "build"),
-                        help="the build folder whose python/ holds the leglab package")
+                        help="the build folder whose python/ holds the leglab package (to be "
+                             "on PYTHONPATH)")
     try:
         args = parser.parse_args(argv)
     except SystemExit as e:

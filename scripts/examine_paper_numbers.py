@@ -14,10 +14,15 @@ joint limits (Newton from a grid of starts: whether the IK's branch is a choice 
 """
 import itertools
 import math
+import sys
 
 import numpy as np
 
-from results_reader import ArgumentParser, read_rows
+try:
+    from leglab.results.reader import ArgumentParser, read_rows
+except ImportError as _error:  # leglab is found through PYTHONPATH
+    print(f"examine_paper_numbers.py: {_error}: set PYTHONPATH=<build>/python", file=sys.stderr)
+    sys.exit(2)
 
 SHOULDER = np.array([59.5, 59.2, 0.0])
 UPPER = np.array([12.8, 0.5, -64.0])

@@ -9,7 +9,7 @@ import os
 
 import yaml
 
-from results_reader import read_json, read_rows
+from leglab.results.reader import read_json, read_rows
 
 
 JOINTS = ("rotator", "abductor", "knee")

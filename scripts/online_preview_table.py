@@ -25,8 +25,12 @@ import subprocess
 import sys
 import tempfile
 
-from results_reader import (ArgumentParser, non_finite_field, one_line, read_json,
-                            write_all_or_nothing)
+try:
+    from leglab.results.reader import (ArgumentParser, non_finite_field, one_line, read_json,
+                                       write_all_or_nothing)
+except ImportError as _error:  # leglab is found through PYTHONPATH
+    print(f"online_preview_table.py: {_error}: set PYTHONPATH=<build>/python", file=sys.stderr)
+    sys.exit(2)
 
 MODEL_BASED_PREVIEWS = (0, 1, 2)
 OPTIMAL_PREVIEWS = (2, 5, 10, 20, 40, 62, 120, 250)

@@ -5,6 +5,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
 cmake --build --preset release
+# The leglab package: the build's (with its compiled module) when built, else the source tree's
+# pure-Python parts (leglab.results: the figures, the animation and the results page).
+export PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}"
 out="${1:-results}"
 mkdir -p "$out"
 
@@ -33,8 +36,8 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
     --set sim.engine=dart --out "$out/hind/dart"
   build/bin/track --config experiments/configs/track_hind.yaml --set sim.engine=dart \
     --out "$out/hind/dart"
-  /usr/bin/python3 scripts/compare_engines.py "$out" "$out/dart"
-  /usr/bin/python3 scripts/compare_engines.py "$out/hind" "$out/hind/dart"
+  /usr/bin/python3 -m leglab.results.compare_engines "$out" "$out/dart"
+  /usr/bin/python3 -m leglab.results.compare_engines "$out/hind" "$out/hind/dart"
 fi
 # Table 2 in the paper's regime: the walk fitted to the paper's direct-method row
 # (walk_fit.json, walk_fit.md), then every mode on it (track_paper_regime.yaml: that walk).
@@ -64,13 +67,13 @@ if [ -x build/bin/track ]; then
     --set 'plant_changes=[]' --set servo.max_speed_deg_s=250 --set servo.delay_ms=56 \
     --set 'controller.modes=[model_based]'
 fi
-if [ -f scripts/plot_figures.py ] && [ $ran -eq 1 ]; then
-  /usr/bin/python3 scripts/plot_figures.py "$out"
-  /usr/bin/python3 scripts/plot_figures.py "$out/hind"
-  /usr/bin/python3 scripts/plot_figures.py "$out/track_paper_regime"
-  /usr/bin/python3 scripts/plot_figures.py "$out/stand"
-  /usr/bin/python3 scripts/plot_figures.py "$out/adapt_cold_start"
-  /usr/bin/python3 scripts/plot_figures.py "$out/adapt_wear"
+if [ $ran -eq 1 ]; then
+  /usr/bin/python3 -m leglab.results.plot_figures "$out"
+  /usr/bin/python3 -m leglab.results.plot_figures "$out/hind"
+  /usr/bin/python3 -m leglab.results.plot_figures "$out/track_paper_regime"
+  /usr/bin/python3 -m leglab.results.plot_figures "$out/stand"
+  /usr/bin/python3 -m leglab.results.plot_figures "$out/adapt_cold_start"
+  /usr/bin/python3 -m leglab.results.plot_figures "$out/adapt_wear"
 fi
 # Real servos: the model ladder on the shipped logs of two hobby servos (data/servo_logs/), one
 # parameter set per servo type, each trajectory held out in turn (servo_logs/); the XL330 with
@@ -86,19 +89,19 @@ if [ -x build/bin/identify ] && [ -x build/bin/plan ]; then
     --out "$out/servo_logs/plan"
   # The learned rungs (an MLP and an LSTM, PyTorch) trained on each fold's training logs and
   # scored beside the others (learned_fit.json and .md in both folders).
-  /usr/bin/python3 scripts/learned_fit.py "$out/servo_logs" "$out/servo_logs/by_kp" \
+  /usr/bin/python3 -m leglab.servo.learned "$out/servo_logs" "$out/servo_logs/by_kp" \
     --learning-curve xl330
   # The online planner against the batch plan, by preview length (servo_logs/online/).
   /usr/bin/python3 scripts/online_preview_table.py --model "$out/servo_logs/log_fit.json" \
     --out "$out/servo_logs/online" > /dev/null
-  /usr/bin/python3 scripts/plot_logs.py "$out/servo_logs" "$out/servo_logs/by_kp" \
+  /usr/bin/python3 -m leglab.results.plot_logs "$out/servo_logs" "$out/servo_logs/by_kp" \
     "$out/servo_logs/plan"
 fi
 # The shipped sweeps, each with its figure, into results/sweeps/<name>/.
 if [ -x build/bin/sweep ]; then
   for sweep in model_mismatch walk_speed stand_load servo_firmware; do
     build/bin/sweep --config "experiments/sweeps/$sweep.yaml" --out "$out/sweeps/$sweep"
-    /usr/bin/python3 scripts/plot_sweep.py "$out/sweeps/$sweep/sweep.csv"
+    /usr/bin/python3 -m leglab.results.plot_sweep "$out/sweeps/$sweep/sweep.csv"
   done
 fi
 # The variants the results page quotes (scripts/variants.py: closed-form C_m, the modes' options,
@@ -114,20 +117,20 @@ if [ -x build/bin/identify ] && [ -f build/python/leglab/bus/cli.py ]; then
 fi
 # The leg in motion (leg.gif) for the default run, the stand and the paper's regime; then a page
 # for every folder of results (index.html, self-contained), the top one linking the others.
-if [ -f scripts/animate.py ] && [ $ran -eq 1 ]; then
+if [ $ran -eq 1 ]; then
   for run in "$out" "$out/stand" "$out/track_paper_regime"; do
-    /usr/bin/python3 scripts/animate.py "$run" --out "$run/leg.gif"
+    /usr/bin/python3 -m leglab.results.animate "$run" --out "$run/leg.gif"
   done
 fi
 if [ $ran -eq 1 ]; then
-  /usr/bin/python3 scripts/report.py "$out"
+  /usr/bin/python3 -m leglab.results.report "$out"
   # The measured tables of README.md and docs/results.md against this run: a difference is
   # named, not fatal (docs_numbers.py "$out" --write puts this run's numbers in the docs).
   if ! /usr/bin/python3 scripts/docs_numbers.py "$out"; then
     echo "reproduce: the docs' tables differ from this run (above)" >&2
   fi
   # Every CSV table of this run against the columns docs/outputs.md declares.
-  if ! /usr/bin/python3 scripts/check-outputs.py "$out"; then
+  if ! /usr/bin/python3 tools/check_outputs.py "$out"; then
     echo "reproduce: a table's columns differ from docs/outputs.md (above)" >&2
   fi
 fi

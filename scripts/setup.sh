@@ -12,7 +12,7 @@ LEGLAB_PACKAGES=(
   python3 python3-matplotlib python3-numpy python3-pil clang-format clang-tidy parallel pmccabe
   # The Python sources' static check (ctest Checks.PythonHasNoPyflakesFindings).
   pyflakes3
-  # scripts/animate.py reads the robot files with a YAML parser.
+  # leglab.results.animate reads the robot files with a YAML parser.
   python3-yaml
   # The Python package (python/, docs/python.md) and its tests.
   pybind11-dev python3-dev python3-pytest
@@ -21,9 +21,9 @@ LEGLAB_PACKAGES=(
   # leglab.bus: servos on a serial port (pyserial), and socat for a pseudo-terminal pair in the
   # bus tests.
   python3-serial socat
-  # The learned actuator models (scripts/learned_fit.py) and their tests.
+  # The learned actuator models (leglab.servo.learned) and their tests.
   python3-torch
-  # The results page's browser check (tests/experiments/scripts/report_test.py) and the
+  # The results page's browser check (tests/python/results/report_test.py) and the
   # animation's encoder.
   chromium python3-websocket ffmpeg
 )

@@ -3,7 +3,7 @@
 # slowest tests listed. Usage: ./scripts/test.sh [ctest args...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source scripts/stages.sh
+source tools/stages.sh
 trap stage_summary EXIT
 
 release_tests() {

@@ -26,7 +26,11 @@ import sys
 
 import yaml
 
-from results_reader import ArgumentParser
+try:
+    from leglab.results.reader import ArgumentParser
+except ImportError as _error:  # leglab is found through PYTHONPATH
+    print(f"variants.py: {_error}: set PYTHONPATH=<build>/python", file=sys.stderr)
+    sys.exit(2)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 CONFIGS = pathlib.Path("experiments") / "configs"

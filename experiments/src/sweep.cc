@@ -563,7 +563,7 @@ std::string SlurmRerunCommand(const std::vector<int>& missing, int shard_count,
     if (j > i) ranges += "-" + std::to_string(missing[j]);
     i = j + 1;
   }
-  return "sbatch --array=" + ranges + " scripts/sweep-slurm.sh " + sweep_file + " " + out_dir +
+  return "sbatch --array=" + ranges + " scripts/sweep_slurm.sh " + sweep_file + " " + out_dir +
          " " + std::to_string(shard_count);
 }
 

@@ -12,35 +12,60 @@ See docs/python.md for the whole API and examples/python/ for four short scripts
 is the real-servo workflow (docs/real-servos.md).
 """
 
+import importlib as _importlib
 import os as _os
 
-from . import _paths
+try:
+    from . import _paths
+    _to_data = _paths.PACKAGE_TO_DATA
+except ImportError:  # the source tree's python/ (no build wrote _paths.py): the repository's
+    _to_data = _os.path.join(_os.pardir, _os.pardir)
 
 _here = _os.path.dirname(_os.path.abspath(__file__))
 # The C++ core finds robots/ and the configs through LEGLAB_DATA_DIR when it is set (as a
 # program not installed beside leglab's own must); the package's data is where CMake put it.
-_os.environ.setdefault(
-    "LEGLAB_DATA_DIR", _os.path.normpath(_os.path.join(_here, _paths.PACKAGE_TO_DATA)))
+_os.environ.setdefault("LEGLAB_DATA_DIR", _os.path.normpath(_os.path.join(_here, _to_data)))
 
-from ._leglab import (  # noqa: E402  (after the data folder is known)
-    ControllerContext,
-    Identification,
-    JointModel,
-    Plant,
-    Reading,
-    Robot,
-    Walk,
-)
-from . import _leglab  # noqa: E402
-from . import _one_line  # noqa: E402
+# The compiled module's names. Without it (the source tree's python/, a copy of the pure-Python
+# parts) the package still imports, for leglab.results, and a compiled name raises on use.
+_COMPILED = ("ControllerContext", "Identification", "JointModel", "Plant", "Reading", "Robot",
+             "Walk", "floor", "identify", "PAPER_MODEL", "PAPER_TABLE2", "PAPER_FOOT_CM")
+try:
+    _leglab = _importlib.import_module(f"{__name__}._leglab")
+    _missing = None
+except ModuleNotFoundError as _error:
+    if _error.name != f"{__name__}._leglab":
+        raise
+    _missing = _error
 
-# A call the compiled module cannot match raises one line naming the argument.
-_one_line.wrap_module(_leglab, [n for n in dir(_leglab) if not n.startswith("__")])
-from ._leglab import floor, identify  # noqa: E402  (the wrapped functions)
+if _missing is None:
+    from ._leglab import (  # noqa: E402  (after the data folder is known)
+        ControllerContext,
+        Identification,
+        JointModel,
+        Plant,
+        Reading,
+        Robot,
+        Walk,
+    )
+    from . import _one_line  # noqa: E402
 
-# help() and repr() name the classes as users import them.
-for _cls in (ControllerContext, Identification, JointModel, Plant, Reading, Robot, Walk):
-    _cls.__module__ = "leglab"
+    # A call the compiled module cannot match raises one line naming the argument.
+    _one_line.wrap_module(_leglab, [n for n in dir(_leglab) if not n.startswith("__")])
+    from ._leglab import floor, identify  # noqa: E402  (the wrapped functions)
+
+    # help() and repr() name the classes as users import them.
+    for _cls in (ControllerContext, Identification, JointModel, Plant, Reading, Robot, Walk):
+        _cls.__module__ = "leglab"
+
+
+def __getattr__(name):
+    """A compiled name when the compiled module is missing: ImportError saying so."""
+    if _missing is not None and (name in _COMPILED or name == "_leglab"):
+        raise ImportError(f"leglab.{name}: the compiled module leglab._leglab is not in "
+                          f"{_here} (build it, then set PYTHONPATH=<build>/python)",
+                          name=__name__) from _missing
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 JOINT_NAMES = ("rotator", "abductor", "knee")
 """The joints of a leg, in the order of every per-joint array."""
@@ -62,14 +87,15 @@ def config_path(name):
     return path
 
 
-PAPER_MODEL = _leglab.PAPER_MODEL
-"""The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 6 ticks."""
-PAPER_TABLE2 = _leglab.PAPER_TABLE2
-"""The paper's Table 2, deg: {"L2(Des,Dir)": (rotator, abductor, knee), ...}, keyed as
-table2.json's joint norms."""
-PAPER_FOOT_CM = _leglab.PAPER_FOOT_CM
-"""The paper's foot table, cm: {"direct": {"L2": {"mean": 3.23, "std": 0.01}, "Linf": ...},
-...}, shaped as table2.json's foot_cm."""
+if _missing is None:
+    PAPER_MODEL = _leglab.PAPER_MODEL
+    """The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 6 ticks."""
+    PAPER_TABLE2 = _leglab.PAPER_TABLE2
+    """The paper's Table 2, deg: {"L2(Des,Dir)": (rotator, abductor, knee), ...}, keyed as
+    table2.json's joint norms."""
+    PAPER_FOOT_CM = _leglab.PAPER_FOOT_CM
+    """The paper's foot table, cm: {"direct": {"L2": {"mean": 3.23, "std": 0.01}, "Linf": ...},
+    ...}, shaped as table2.json's foot_cm."""
 
 
 class Controller:

@@ -1,5 +1,6 @@
 // leglab.servo's compiled part: servo logs, the log fit, fitted servo models, plans and the
-// online planner, on numpy arrays. python/leglab/servo.py holds the Python classes around it.
+// online planner, on numpy arrays. python/leglab/servo/__init__.py holds the Python classes
+// around it.
 
 #include <pybind11/stl.h>
 

@@ -513,7 +513,7 @@ TEST_F(ProgramsTest, TrackFollowsADesiredCsv) {
   std::ifstream in(out_ / "table2.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["steps"], 2);
-  // The run names its robot file, as table1.json does (scripts/animate.py draws from it).
+  // The run names its robot file, as table1.json does (leglab.results.animate draws from it).
   EXPECT_TRUE(j["plant"]["robot"].get<std::string>().ends_with("robots/ers210a/robot.yaml"))
       << j["plant"];
   for (const char* mode : {"direct", "time_shift", "model_based"}) {

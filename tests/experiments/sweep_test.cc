@@ -209,7 +209,7 @@ TEST(Shard, ComesFromSlurmOrKubernetesWhenNoFlagIsGiven) {
 
 TEST(Shard, TheRerunCommandNamesOnlyTheMissingShards) {
   EXPECT_EQ(SlurmRerunCommand({1, 3, 4, 5, 9}, 10, "s.yaml", "out"),
-            "sbatch --array=1,3-5,9 scripts/sweep-slurm.sh s.yaml out 10");
+            "sbatch --array=1,3-5,9 scripts/sweep_slurm.sh s.yaml out 10");
 }
 
 // Every split of a sweep into N = 1..points+1 shards merges into the unsharded table byte for
@@ -371,7 +371,7 @@ TEST_F(SweepTest, TheProgramShardsAndMerges) {
       Sweep("merge " + parts.string() + " --out " + merged.string() + " --config " + file);
   EXPECT_EQ(missing_status, 2) << missing_err;
   EXPECT_NE(missing_err.find("sweep.shard-1-of-3.csv"), std::string::npos) << missing_err;
-  EXPECT_NE(missing_err.find("sbatch --array=1 scripts/sweep-slurm.sh " + file), std::string::npos)
+  EXPECT_NE(missing_err.find("sbatch --array=1 scripts/sweep_slurm.sh " + file), std::string::npos)
       << missing_err;
   EXPECT_FALSE(fs::exists(merged));
   // The missing shard from a Slurm job array's environment.

@@ -78,6 +78,22 @@ print('measured', p.run([[10.0, 0.0, 20.0]] * 25)['measured'][-1])
   expect("${out}" "${prefix}/${PYTHON_DIR}/leglab" "the installed package's folder")
   expect("${out}" "${prefix}/${DATADIR}" "the installed package's data")
   expect("${out}" "measured \\[ *(9\\.[5-9]|10\\.[0-4])" "the installed package's plant")
+  # leglab.results and leglab.servo.learned are installed; the results reader finds the output
+  # declarations installed with the data (<prefix>/share/leglab/docs/outputs.md), and report
+  # runs on the installed identify's folder.
+  run(out ${PYTHON} -c "
+import leglab.results.animate, leglab.results.compare_engines, leglab.results.plot_figures
+import leglab.results.plot_logs, leglab.results.plot_sweep, leglab.results.report
+import leglab.servo.learned
+from leglab.results import reader
+print('declarations', reader.OUTPUTS_MD, len(reader.declared_tables()))
+")
+  expect("${out}" "declarations ${prefix}/${DATADIR}/docs/outputs.md [1-9]"
+         "the installed results reader's declarations")
+  if(PROGRAMS)
+    run(out ${PYTHON} -m leglab.results.report ${WORK_DIR}/out)
+    expect("${out}" "report.py: 1 page" "the installed results page")
+  endif()
 endif()
 
 file(REMOVE_RECURSE ${WORK_DIR})

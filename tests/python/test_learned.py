@@ -1,23 +1,15 @@
-"""scripts/learned_fit.py: the learned rungs (PyTorch) trained at a small size on synthetic
+"""leglab.servo.learned: the learned rungs (PyTorch) trained at a small size on synthetic
 servos whose behaviour is written here, scored as identify scores, reproducibly."""
 
-import importlib.util
-import pathlib
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 
-torch = pytest.importorskip("torch", reason="PyTorch is not installed (python3-torch)")
+from leglab.servo import learned as learned_fit  # torch: imported when a network is trained
 
-SOURCE_DIR = pathlib.Path(__file__).resolve().parents[2]
-SCRIPT = SOURCE_DIR / "scripts" / "learned_fit.py"
-# The script imports its folder's shared modules (results_reader), as when it is run.
-sys.path.insert(0, str(SCRIPT.parent))
-spec = importlib.util.spec_from_file_location("learned_fit", SCRIPT)
-learned_fit = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(learned_fit)
+torch = pytest.importorskip("torch", reason="PyTorch is not installed (python3-torch)")
 
 SMALL = {"teacher_steps": 100, "teacher_batch": 16, "piece": 16, "steps": 60, "batch": 16,
          "window": 16, "grid_mlp": [(3, 8)], "grid_lstm": [(1, 8)]}
@@ -131,8 +123,8 @@ def test_the_learning_curve_trains_on_every_subset_of_the_other_groups():
 def test_a_folder_identify_did_not_write_is_one_line_exit_2_and_nothing_written(tmp_path):
     (tmp_path / "log_fit.json").write_text("{not json", encoding="utf-8")
     out = tmp_path / "out"
-    result = subprocess.run([sys.executable, str(SCRIPT), str(tmp_path), "--out", str(out)],
-                            capture_output=True, text=True, check=False)
+    result = subprocess.run([sys.executable, "-m", "leglab.servo.learned", str(tmp_path),
+                             "--out", str(out)], capture_output=True, text=True, check=False)
     assert result.returncode == 2, result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert "log_fit.json" in result.stderr

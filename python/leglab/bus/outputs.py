@@ -56,5 +56,5 @@ def markdown():
     return "\n".join(out)
 
 
-if __name__ == "__main__":  # scripts/gen-config-docs.sh, which needs no built package
+if __name__ == "__main__":  # tools/gen_config_docs.sh, which needs no built package
     print(markdown(), end="")

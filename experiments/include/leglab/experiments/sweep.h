@@ -92,7 +92,7 @@ MergeResult MergeShards(const std::vector<std::filesystem::path>& dirs,
                         const SweepConfig* sweep = nullptr);
 
 /// The Slurm command that reruns only `missing` shards of `shard_count` with
-/// scripts/sweep-slurm.sh, e.g. "sbatch --array=1,3-4 scripts/sweep-slurm.sh SWEEP DIR 5".
+/// scripts/sweep_slurm.sh, e.g. "sbatch --array=1,3-4 scripts/sweep_slurm.sh SWEEP DIR 5".
 std::string SlurmRerunCommand(const std::vector<int>& missing, int shard_count,
                               const std::string& sweep_file, const std::string& out_dir);
 
