@@ -244,8 +244,8 @@ def servo_learned_block(run):
                            [fixed(means[motor][key]) for key in methods] +
                            [fixed(nets[key]) if nets else UNKNOWN for key in learned])
         return out
-    return lambda: ["servo, held out by", "direct", "best shift", "paper", "extended", "mlp",
-             "lstm"], rows
+    return lambda: ["servo, held out by"] + [name for _, name in log_fit_results.METHODS +
+                                              log_fit_results.LEARNED], rows
 
 
 def paper_regime_block(run, leglab):

@@ -110,8 +110,8 @@ py::dict CurvesToDict(const LogFitCurves& c) {
 // A recording as a rung's Python functions see it: its arrays and its drive.
 py::dict RecordingToDict(const ServoRecording& r) {
   py::dict d;
-  d["request_deg"] = ToArray(r.request_deg);
-  d["measured_deg"] = ToArray(r.measured_deg);
+  d[py::str(std::string(kServoLogColumns.request_deg))] = ToArray(r.request_deg);
+  d[py::str(std::string(kServoLogColumns.measured_deg))] = ToArray(r.measured_deg);
   py::array_t<bool> driven(static_cast<py::ssize_t>(r.scored.size()));
   for (size_t t = 0; t < r.scored.size(); ++t) driven.mutable_at(t) = r.scored[t] != 0;
   d["driven"] = driven;

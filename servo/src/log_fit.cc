@@ -492,6 +492,9 @@ constexpr ColumnDoc kLogFitFields[] = {
      "the extended model: gain_per_deg_kp, v_max_deg_s, v_max_given (true when given, not "
      "fitted), stall_torque_nm, friction_duty, friction_load_ratio, velocity_lag_s, lag_ticks "
      "and tick_s, as plan reads it"},
+    {"models.<rung>.<motor>.<value>", "",
+     "a model rung added for that fit (leglab.servo.fit's rungs=, FitServoLogs' extra): its "
+     "parameters by name and tick_s"},
     {"fit_sample.<motor>.training_ticks", "ticks", "the servo type's training ticks"},
     {"fit_sample.<motor>.fitted_ticks", "ticks", "those its fit saw (logs.fit_ticks)"},
     {"cross_validate", "", "logs.cross_validate"},
@@ -532,7 +535,13 @@ constexpr ColumnDoc kLogFitFields[] = {
 
 std::span<const OutputDoc> LogFitOutputs() {
   static const std::vector<ServoRung> rungs = LogFitRungs();
-  static const std::vector<ColumnDoc> columns = LogCurveColumns(rungs);
+  static const std::vector<ColumnDoc> columns = [] {
+    std::vector<ColumnDoc> all = LogCurveColumns(rungs);
+    all.push_back({"<rung>_deg", "deg",
+                   "a model rung added for that fit (leglab.servo.fit's rungs=, FitServoLogs' "
+                   "extra): its prediction"});
+    return all;
+  }();
   static const std::string json = [] {
     std::string names;
     for (const ServoRung& rung : rungs) names += (names.empty() ? "" : ", ") + rung.name;

@@ -120,6 +120,18 @@ def test_a_rung_added_in_python_is_fitted_scored_written_and_read(tmp_path):
     loaded = servo.LogFit.load(tmp_path / "log_fit.json")
     assert [row["mae_deg"]["first_order"] for row in loaded.rows] == \
         [row["mae_deg"]["first_order"] for row in done.rows]
+    # Read by the results modules: the tables' methods, and plot_logs' figure of a log's CSV.
+    from leglab.results import log_fit_results
+    assert log_fit_results.methods_of(loaded.rows)[-1] == ("first_order", "first order")
+    columns = done.curves["m_slow"]
+    names = [k for k in columns if k not in ("file", "motor", "tick_s")]
+    np.savetxt(tmp_path / "log_m_slow.csv", np.column_stack([columns[k] for k in names]),
+               delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    drawn = subprocess.run([sys.executable, "-m", "leglab.results.plot_logs", str(tmp_path)],
+                           capture_output=True, text=True, check=False,
+                           env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert drawn.returncode == 0, drawn.stderr
+    assert (tmp_path / "log_m_slow.png").stat().st_size > 0
 
 
 def test_a_rung_added_badly_is_one_line_naming_it():

@@ -6,15 +6,35 @@ from __future__ import annotations
 
 from typing import Any, Iterable, Mapping, Sequence
 
-__all__ = ["METHODS", "LEARNED", "logs_of", "mean_errors"]
+from ..ladder import LADDER, label
+
+__all__ = ["METHODS", "LEARNED", "logs_of", "mean_errors", "methods_of"]
 
 # identify's methods (log_fit.json's `mae_deg` keys) with their names for a table, in the
-# order of the ladder: no model, the best time shift in hindsight, the paper's, the extended.
-METHODS = (("direct", "direct"), ("best_shift", "best shift"), ("paper", "paper"),
-           ("extended", "extended"))
+# order of the ladder (servo/ladder.json): its baselines and models.
+METHODS = tuple((r.name, r.label) for r in LADDER if r.kind != "learned")
 
 # The networks leglab.servo.learned adds to each log's `mae_deg` in learned_fit.json.
-LEARNED = (("mlp", "mlp"), ("lstm", "lstm"))
+LEARNED = tuple((r.name, r.label) for r in LADDER if r.kind == "learned")
+
+
+def methods_of(logs: Sequence[Mapping[str, Any]]) -> tuple[tuple[str, str], ...]:
+    """The methods scored logs hold, with their names for a table.
+
+    Parameters
+    ----------
+    logs : sequence of mappings
+        Rows of a log_fit.json's `logs` (logs_of).
+
+    Returns
+    -------
+    tuple of (key, name)
+        METHODS, then every other `mae_deg` key of the first row in its order (a rung added
+        for that fit, named by ``leglab.ladder.label``); METHODS alone when there is no row.
+    """
+    keys = list(logs[0].get("mae_deg", {})) if logs else []
+    known = {key for key, _ in METHODS + LEARNED}
+    return METHODS + tuple((key, label(key)) for key in keys if key not in known)
 
 
 def logs_of(fit: Mapping[str, Any], role: str) -> list[dict]:

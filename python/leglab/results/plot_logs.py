@@ -23,16 +23,26 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from . import figures  # noqa: E402
+from .. import ladder  # noqa: E402
 from .reader import ArgumentParser, one_line, read_finite_columns  # noqa: E402
 
 __all__ = ["main"]
 
 # The rungs' prediction columns follow the log's own four (time, request, measured, torque), in
-# the ladder's order: direct, best shift, the paper's model, the extended model.
+# the ladder's order (servo/ladder.json), then any rung added for that fit.
 LOG_COLUMNS = 4
-RUNG_STYLES = [("0.6", ":"), ("tab:purple", "--"), ("tab:orange", "-"), ("tab:green", "-")]
-RUNG_LABELS = {"direct": "direct (angle = request)", "best_shift": "best shift (hindsight oracle)",
-               "paper": "paper's model", "extended": "extended model"}
+# A rung the ladder does not hold (added for one fit): drawn in these, in turn.
+ADDED_STYLES = [("tab:cyan", "-."), ("tab:olive", "-."), ("tab:pink", "-."), ("tab:gray", "-.")]
+
+
+def rung_style(key, added):
+    """A `<rung>_deg` column's (color, line style, legend): the ladder's, or the `added`-th of
+    ADDED_STYLES and the column's name for a rung the ladder does not hold."""
+    found = ladder.rung(key.removesuffix("_deg"))
+    if found:
+        return found.color, found.linestyle, found.legend
+    color, style = ADDED_STYLES[added % len(ADDED_STYLES)]
+    return color, style, ladder.label(key.removesuffix("_deg"))
 
 
 class BadInput(Exception):
@@ -90,10 +100,13 @@ def log_figure(path, c, figure, staged):
     grey_torque_off(ax, t, c.torque_enabled)
     ax.plot(t, c.request_deg, color="0.3", lw=1.0, label="request")
     ax.plot(t, c.measured_deg, color="k", lw=2.0, label="measured")
-    for key, (color, style) in zip(list(c)[LOG_COLUMNS:], RUNG_STYLES):
+    added = 0
+    for key in list(c)[LOG_COLUMNS:]:
+        color, style, legend = rung_style(key, added)
+        added += ladder.rung(key.removesuffix("_deg")) is None
         # Not drawn where the torque is off: nothing is predicted there.
         y = [v if on else float("nan") for v, on in zip(c[key], c.torque_enabled)]
-        ax.plot(t, y, color=color, ls=style, lw=1.2, label=RUNG_LABELS.get(key.removesuffix("_deg"), key))
+        ax.plot(t, y, color=color, ls=style, lw=1.2, label=legend)
     name = os.path.basename(path)[len("log_"):-len(".csv")]
     ax.set_title(f"{name}: open-loop predictions (grey: torque off, not scored)")
     ax.set_xlabel("time (s)")

@@ -509,10 +509,10 @@ def servo_summary(tree, top, rel):
         path = os.path.join(top, run, "log_fit.json")
         if not os.path.isfile(path):
             continue
-        methods = log_fit_results.METHODS
         try:
-            means, counts = log_fit_results.mean_errors(
-                log_fit_results.logs_of(read_json(path), "validate"), [key for key, _ in methods])
+            held_out = log_fit_results.logs_of(read_json(path), "validate")
+            methods = log_fit_results.methods_of(held_out)
+            means, counts = log_fit_results.mean_errors(held_out, [key for key, _ in methods])
         except (ValueError, KeyError, TypeError, AttributeError):
             continue
         if not means:

@@ -53,6 +53,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from .. import data_dir
+from ..ladder import LADDER
 from ..results.reader import (ArgumentParser, non_finite_field, one_line, read_finite_columns,
                               read_json, write_all_or_nothing)
 from . import read_log
@@ -108,7 +109,9 @@ def expect(value, kinds, where):
 
 
 NUMBER = (int, float)
-RUNGS = ("direct", "best_shift", "paper", "extended")  # identify's, in its ladder's order
+# identify's rungs and the learned ones, in the ladder's order (servo/ladder.json).
+RUNGS = tuple(r.name for r in LADDER if r.kind != "learned")
+LEARNED_RUNGS = tuple(r.name for r in LADDER if r.kind == "learned")
 
 
 def check_fit(path, fit):
@@ -614,7 +617,7 @@ def rows_of(fit, results):
 
 
 def markdown(fit, rows, folds):
-    rungs = [*RUNGS, "mlp", "lstm"]
+    rungs = [*RUNGS, *LEARNED_RUNGS]
     lines = ["# Servo logs: the learned rungs beside identify's (mean absolute error, deg)", "",
              f"Cross-validation: {fit['cross_validate']}. mlp: Hwangbo et al.'s actuator "
              "network; lstm: Rudin et al.'s; both rolled out open loop as the other rungs. "

@@ -50,9 +50,9 @@ struct ModelRung {
 };
 
 /// The model rungs identify implements beyond the built-in paper and extended models: one for
-/// each further rung of kind kModel in servo/ladder.json (servo/src/model_rungs.cc). Throws
-/// std::logic_error (a bug) when a ladder rung of kind kBaseline or kModel has no
-/// implementation.
+/// each further rung of kind kModel in servo/ladder.json (ImplementedModelRungs in
+/// servo/src/ladder.cc). Throws std::logic_error (a bug) when a ladder rung of kind kBaseline
+/// or kModel has no implementation.
 std::span<const ModelRung> LadderModelRungs();
 
 }  // namespace leglab
