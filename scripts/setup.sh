@@ -18,6 +18,9 @@ LEGLAB_PACKAGES=(
   pybind11-dev python3-dev python3-pytest
   # The property-based test of the Python API (tests/python/test_properties.py).
   python3-hypothesis
+  # The Python package's types: mypy over it and stubtest of its stub against the compiled
+  # module (ctest Checks.PythonPackageIsTyped, Checks.PythonStubMatchesTheModule).
+  python3-mypy
   # leglab.bus: servos on a serial port (pyserial), and socat for a pseudo-terminal pair in the
   # bus tests.
   python3-serial socat

@@ -12,8 +12,15 @@ See docs/python.md for the whole API and examples/python/ for four short scripts
 is the real-servo workflow (docs/real-servos.md).
 """
 
+from __future__ import annotations
+
 import importlib as _importlib
 import os as _os
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Optional, Union
+
+if TYPE_CHECKING:  # for the annotations only: importing leglab costs no more than it did
+    import numpy as _np
+    import numpy.typing as _npt
 
 try:
     from . import _paths
@@ -59,7 +66,7 @@ if _missing is None:
         _cls.__module__ = "leglab"
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     """A compiled name when the compiled module is missing: ImportError saying so."""
     if _missing is not None and (name in _COMPILED or name == "_leglab"):
         raise ImportError(f"leglab.{name}: the compiled module leglab._leglab is not in "
@@ -67,20 +74,47 @@ def __getattr__(name):
                           name=__name__) from _missing
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
-JOINT_NAMES = ("rotator", "abductor", "knee")
+JOINT_NAMES: tuple[str, str, str] = ("rotator", "abductor", "knee")
 """The joints of a leg, in the order of every per-joint array."""
 
-TICK_S = 0.008
+TICK_S: float = 0.008
 """One control tick, s."""
 
 
-def data_dir():
-    """The folder of leglab's data: robots/, experiments/configs/, data/servo_logs/."""
+def data_dir() -> str:
+    """The folder of leglab's data: robots/, experiments/configs/, data/servo_logs/.
+
+    Returns
+    -------
+    str
+        The value of the environment variable LEGLAB_DATA_DIR, which the package sets (when it
+        is not set) to the data installed beside it.
+    """
     return _os.environ["LEGLAB_DATA_DIR"]
 
 
-def config_path(name):
-    """The path of a shipped experiment config, e.g. config_path("track.yaml")."""
+def config_path(name: str) -> str:
+    """The path of a shipped experiment config, e.g. config_path("track.yaml").
+
+    Parameters
+    ----------
+    name : str
+        The config's file name in experiments/configs/.
+
+    Returns
+    -------
+    str
+        The config file's path.
+
+    Raises
+    ------
+    TypeError
+        `name` is not a str.
+    ValueError
+        No shipped config has that name.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"config_path(): name: expected str, got {type(name).__name__}")
     path = _os.path.join(data_dir(), "experiments", "configs", name)
     if not _os.path.isfile(path):
         raise ValueError(f"config_path: no shipped config {name!r} in {_os.path.dirname(path)}")
@@ -88,12 +122,12 @@ def config_path(name):
 
 
 if _missing is None:
-    PAPER_MODEL = _leglab.PAPER_MODEL
+    PAPER_MODEL: JointModel = _leglab.PAPER_MODEL
     """The paper's Table 1: v_max 2.5 deg/tick, theta_0 7 deg, l 4 ticks, a 6 ticks."""
-    PAPER_TABLE2 = _leglab.PAPER_TABLE2
+    PAPER_TABLE2: dict[str, tuple[float, float, float]] = _leglab.PAPER_TABLE2
     """The paper's Table 2, deg: {"L2(Des,Dir)": (rotator, abductor, knee), ...}, keyed as
     table2.json's joint norms."""
-    PAPER_FOOT_CM = _leglab.PAPER_FOOT_CM
+    PAPER_FOOT_CM: dict[str, dict[str, dict[str, float]]] = _leglab.PAPER_FOOT_CM
     """The paper's foot table, cm: {"direct": {"L2": {"mean": 3.23, "std": 0.01}, "Linf": ...},
     ...}, shaped as table2.json's foot_cm."""
 
@@ -118,87 +152,183 @@ class Controller:
                 return self.desired[tick % len(self.desired)]
 
     is the built-in `direct` mode, number for number.
+
+    Attributes
+    ----------
+    name : str
+        The controller's name in the tables and file names: letters a-z, digits and _, not a
+        built-in mode's name (None in the base class: a subclass must set it).
     """
 
     #: The controller's name in the tables and file names: letters a-z, digits and _, not a
     #: built-in mode's name.
-    name = None
+    name: Optional[str] = None
 
-    def reset(self, context):
-        """A new run starts at tick 0. `context` is a ControllerContext: the desired cycle
-        (`desired`, shape (T, 3)), `period`, the joint `models`, `limits_deg`, `warmup_steps`,
-        the approximation P and `foot_mm(q_deg)`."""
+    def reset(self, context: ControllerContext) -> None:
+        """A new run starts at tick 0.
 
-    def request(self, tick, measured):
-        """The requested angles (3, deg) for tick `tick`, given the angles measured right
-        after the previous request (`measured`, shape (3,), deg). Finite; they are clamped
-        into the limits as the servos do."""
+        Parameters
+        ----------
+        context : ControllerContext
+            The desired cycle (`desired`, shape (T, 3)), `period`, the joint `models`,
+            `limits_deg`, `warmup_steps`, the approximation P and `foot_mm(q_deg)`.
+        """
+
+    def request(self, tick: int, measured: _npt.NDArray[_np.float64]) -> _npt.ArrayLike:
+        """The requested angles for tick `tick`.
+
+        Parameters
+        ----------
+        tick : int
+            The tick, counted from the run's first (warm-up included).
+        measured : numpy.ndarray
+            The angles measured right after the previous request, shape (3,), deg.
+
+        Returns
+        -------
+        array_like
+            3 finite angles, deg; they are clamped into the limits as the servos do.
+
+        Raises
+        ------
+        NotImplementedError
+            A subclass must define it.
+        """
         raise NotImplementedError(f"{type(self).__name__}.request")
 
-    def observe(self, request, reading):
-        """After each tick: the request as the plant applied it (clamped, deg) and the
-        Reading right after (its `measured` angles; `true` and the stand's instruments are
-        NaN: a controller does not see them)."""
+    def observe(self, request: _npt.NDArray[_np.float64], reading: Reading) -> None:
+        """After each tick: what the plant did with the request.
 
-    def end_of_step(self, step):
-        """Step `step` (0, 1, ... from the run's first, warm-up steps included) has ended."""
+        Parameters
+        ----------
+        request : numpy.ndarray
+            The request as the plant applied it (clamped), shape (3,), deg.
+        reading : Reading
+            The Reading right after: its `measured` angles; `true` and the stand's instruments
+            are NaN (a controller does not see them).
+        """
+
+    def end_of_step(self, step: int) -> None:
+        """A walking step has ended.
+
+        Parameters
+        ----------
+        step : int
+            The step, 0, 1, ... from the run's first (warm-up steps included).
+        """
 
 
 class TrackRun:
     """What run_track computed: Table 2 and the traces, as `track` writes them.
 
-    Attributes:
-        table2: the dict `track` writes to table2.json (json.load of that file compares
-            equal): steps, joints.<joint>.<row>.{mean, std}, foot_cm.<mode>.{L2, Linf}, ...
-        traces: {mode: {column: array}}, the columns of trace_<mode>.csv (step, tick, joint,
-            desired_deg, pwl_deg, request_deg, actual_deg, model_deg), one row per tick and
-            joint.
-        feet: {mode: {column: array}}, the columns of foot_<mode>.csv.
-        models: {joint: JointModel}, the models the modes used (identified or given).
-        walk_models: {joint: JointModel} fitted to the walk, when a mode used them; else None.
-        models_identified: whether the models were identified on the plant.
-        markdown: the tables as `track` prints them.
-        config_yaml: the keys the run used (track_config.yaml's text).
-        plant_ticks: the plant ticks run in all.
+    Parameters
+    ----------
+    parts : dict
+        The parts the compiled run returns, under the attributes' names.
+
+    Attributes
+    ----------
+    table2 : dict
+        The dict `track` writes to table2.json (json.load of that file compares equal): steps,
+        joints.<joint>.<row>.{mean, std}, foot_cm.<mode>.{L2, Linf}, ...
+    traces : dict
+        {mode: {column: array}}, the columns of trace_<mode>.csv (step, tick, joint,
+        desired_deg, pwl_deg, request_deg, actual_deg, model_deg), one row per tick and joint.
+    feet : dict
+        {mode: {column: array}}, the columns of foot_<mode>.csv.
+    models : dict
+        {joint: JointModel}, the models the modes used (identified or given).
+    walk_models : dict or None
+        {joint: JointModel} fitted to the walk, when a mode used them; else None.
+    models_identified : bool
+        Whether the models were identified on the plant.
+    markdown : str
+        The tables as `track` prints them.
+    config_yaml : str
+        The keys the run used (track_config.yaml's text).
+    plant_ticks : int
+        The plant ticks run in all.
     """
 
-    def __init__(self, parts):
-        self.table2 = parts["table2"]
-        self.traces = parts["traces"]
-        self.feet = parts["feet"]
-        self.models = parts["models"]
-        self.walk_models = parts["walk_models"]
-        self.models_identified = parts["models_identified"]
-        self.markdown = parts["markdown"]
-        self.config_yaml = parts["config_yaml"]
-        self.plant_ticks = parts["plant_ticks"]
+    def __init__(self, parts: Mapping[str, Any]) -> None:
+        self.table2: dict[str, Any] = parts["table2"]
+        self.traces: dict[str, dict[str, _npt.NDArray[Any]]] = parts["traces"]
+        self.feet: dict[str, dict[str, _npt.NDArray[Any]]] = parts["feet"]
+        self.models: dict[str, JointModel] = parts["models"]
+        self.walk_models: Optional[dict[str, JointModel]] = parts["walk_models"]
+        self.models_identified: bool = parts["models_identified"]
+        self.markdown: str = parts["markdown"]
+        self.config_yaml: str = parts["config_yaml"]
+        self.plant_ticks: int = parts["plant_ticks"]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         modes = ", ".join(self.table2.get("foot_cm", {}))
         return f"TrackRun(modes=[{modes}], steps={self.table2.get('steps')})"
 
 
-def run_track(config, overrides=None, controllers=(), out=None, threads=0):
+def _controller_list(controllers: Union[Controller, Iterable[Controller]]) -> list[Controller]:
+    """`controllers` as a list; TypeError for what is not a Controller or an iterable of them
+    (anything with `request` and `reset`, as run_track takes them)."""
+    if isinstance(controllers, Controller):
+        return [controllers]
+    if isinstance(controllers, (str, bytes, Mapping)) or not hasattr(controllers, "__iter__"):
+        raise TypeError(f"run_track(): controllers: expected a sequence of Controller, got "
+                        f"{type(controllers).__name__}")
+    given = list(controllers)
+    for controller in given:
+        if not isinstance(controller, Controller) and not (
+                hasattr(controller, "request") and hasattr(controller, "reset")):
+            raise TypeError(f"run_track(): controllers: expected Controller instances, got "
+                            f"{type(controller).__name__}")
+    return given
+
+
+def run_track(config: Union[str, _os.PathLike[str]], overrides: Optional[Mapping[str, Any]] = None,
+              controllers: Union[Controller, Iterable[Controller]] = (),
+              out: Union[str, _os.PathLike[str], None] = None, threads: int = 0) -> TrackRun:
     """Table 2's experiment, as the `track` program runs it, with your own controllers.
 
-    Args:
-        config: an experiment YAML file (str or os.PathLike).
-        overrides: a dict of config keys, as the programs' --set ({"steps": 5}).
-        controllers: Controller instances, run after the configured modes under the same
-            plant, seed, warm-up and scoring; their rows appear under their `name`.
-        out: a folder to write what `track` writes (table2.json, trace_<mode>.csv, ...), the
-            same way (all at once, on success only); None writes nothing.
-        threads: worker threads, 0 for one per core; the numbers do not depend on it.
+    Parameters
+    ----------
+    config : str or os.PathLike
+        An experiment YAML file.
+    overrides : dict, optional
+        Config keys, as the programs' --set ({"steps": 5}).
+    controllers : Controller or sequence of Controller, optional
+        Run after the configured modes under the same plant, seed, warm-up and scoring; their
+        rows appear under their `name`.
+    out : str or os.PathLike, optional
+        A folder to write what `track` writes (table2.json, trace_<mode>.csv, ...), the same
+        way (all at once, on success only); None writes nothing.
+    threads : int, optional
+        Worker threads, 0 for one per core (0 to 4096); the numbers do not depend on it.
 
-    Returns a TrackRun. Raises ValueError with the program's one-line message for a bad
-    config, key, robot or controller, and what a controller raises, unchanged.
+    Returns
+    -------
+    TrackRun
+        Table 2, the traces and the models of the run.
+
+    Raises
+    ------
+    TypeError
+        An argument of the wrong type: `config` or `out` not a path, `overrides` not a dict,
+        `controllers` not Controllers, `threads` not an integer.
+    ValueError
+        The program's one-line message for a bad config, key, robot or controller, or `threads`
+        out of its range.
+    OSError
+        `out` could not be written.
+
+    Notes
+    -----
+    What a controller raises comes out unchanged.
     """
-    if isinstance(controllers, Controller):
-        controllers = [controllers]
-    return TrackRun(_leglab._run_track(config, overrides, list(controllers), out, threads))
+    given = _controller_list(controllers)
+    return TrackRun(_leglab._run_track(config, overrides, given, out, threads))
 
 
 __all__ = [
-    "Controller", "ControllerContext", "TrackRun", "run_track", "Identification", "JointModel", "Plant", "Reading", "Robot", "Walk", "floor", "identify",
-    "JOINT_NAMES", "TICK_S", "PAPER_MODEL", "PAPER_TABLE2", "PAPER_FOOT_CM", "data_dir", "config_path",
+    "Controller", "ControllerContext", "TrackRun", "run_track", "Identification", "JointModel",
+    "Plant", "Reading", "Robot", "Walk", "floor", "identify", "JOINT_NAMES", "TICK_S",
+    "PAPER_MODEL", "PAPER_TABLE2", "PAPER_FOOT_CM", "data_dir", "config_path",
 ]

@@ -8,8 +8,16 @@ matched here against the signature it printed, and the TypeError raised instead 
 argument is wrong and why. Calls it accepts pass through unchanged.
 """
 
+from __future__ import annotations
+
 import functools
 import re
+from types import ModuleType
+from typing import Any, Callable, Iterable, Optional, TypeVar, cast
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+# A parameter as pybind11's message lists it: name, annotation, has a default, keyword only.
+_Parameter = tuple[str, str, bool, bool]
 
 _REFUSED = ("incompatible function arguments", "incompatible constructor arguments")
 _SIGNATURE = re.compile(r"^\s*1\. (?P<name>[\w.]*)\((?P<params>.*)\)(?: -> .*)?$", re.M)
@@ -18,9 +26,10 @@ _CALLABLE = re.compile(r"^(?P<name>\w+)\(\): ")
 _TYPES = {"str": (str,), "float": (int, float), "int": (int,), "bool": (bool,)}
 
 
-def _split_top_level(text):
+def _split_top_level(text: str) -> list[str]:
     """`text` split at the commas outside brackets (a type may be List[float, int])."""
-    parts, depth, start = [], 0, 0
+    parts: list[str] = []
+    depth, start = 0, 0
     for i, c in enumerate(text):
         depth += c in "[(" and 1 or (c in "])" and -1 or 0)
         if c == "," and depth == 0:
@@ -31,13 +40,14 @@ def _split_top_level(text):
     return parts
 
 
-def _parameters(message):
+def _parameters(message: str) -> Optional[tuple[str, list[_Parameter]]]:
     """(callable's name, [(parameter, annotation, has a default, keyword only)]) of the first
     signature pybind11's message lists, or None."""
     match = _SIGNATURE.search(message)
     if not match:
         return None
-    params, keyword_only = [], False
+    params: list[_Parameter] = []
+    keyword_only = False
     for part in _split_top_level(match.group("params")):
         if part == "*":
             keyword_only = True
@@ -52,7 +62,7 @@ def _parameters(message):
     return name.lstrip("_"), params
 
 
-def _reason(message, args, kwargs):
+def _reason(message: str, args: tuple[Any, ...], kwargs: dict[str, Any]) -> Optional[str]:
     """What is wrong with the call, in one line naming the argument, or None."""
     parsed = _parameters(message)
     if parsed is None:
@@ -91,7 +101,8 @@ def _reason(message, args, kwargs):
     return None
 
 
-def _out_of_memory(function, args, kwargs, method):
+def _out_of_memory(function: Callable[..., Any], args: tuple[Any, ...], kwargs: dict[str, Any],
+                   method: bool) -> str:
     """One line for a MemoryError (std::bad_alloc) of `function`: the argument with the most
     items, by its name in the signature its docstring opens with."""
     head = (getattr(function, "__doc__", "") or "").split("\n", 1)[0]
@@ -104,7 +115,7 @@ def _out_of_memory(function, args, kwargs, method):
         args = args[1:]  # the instance
     sized = list(zip(params, args)) + list(kwargs.items())
 
-    def size(value):
+    def size(value: Any) -> int:
         try:
             return len(value) if not isinstance(value, (str, bytes)) else 0
         except TypeError:
@@ -115,12 +126,26 @@ def _out_of_memory(function, args, kwargs, method):
     return f"{name}(): not enough memory for {largest[0]} of {size(largest[1])} items"
 
 
-def one_line(function, method=False):
-    """`function` with pybind11's several-line TypeError for a call it cannot match replaced
-    by one line naming the argument, and a MemoryError ("std::bad_alloc") by one naming the
-    argument with the most items. `method`: `function` is a class's, given its instance first."""
+def one_line(function: _F, method: bool = False) -> _F:
+    """`function` with pybind11's several-line errors replaced by one line.
+
+    A TypeError for a call pybind11 cannot match becomes one line naming the argument, and a
+    MemoryError ("std::bad_alloc") one naming the argument with the most items.
+
+    Parameters
+    ----------
+    function : callable
+        A function or method of the compiled module.
+    method : bool, optional
+        `function` is a class's, given its instance first.
+
+    Returns
+    -------
+    callable
+        The wrapped function (functools.wraps: its name and docstring are `function`'s).
+    """
     @functools.wraps(function)
-    def call(*args, **kwargs):
+    def call(*args: Any, **kwargs: Any) -> Any:
         try:
             return function(*args, **kwargs)
         except MemoryError as e:
@@ -134,12 +159,20 @@ def one_line(function, method=False):
             # A constructor's signature omits the instance it is given first.
             given = args[1:] if _REFUSED[1] in first else args
             raise TypeError(_reason(str(e), given, kwargs) or first) from None
-    return call
+    return cast(_F, call)  # the same signature: a wrapper that passes every argument on
 
 
-def wrap_module(module, names):
-    """Wraps the functions `names` of `module` and every public method, __init__ and
-    __call__ of its classes among them, in place."""
+def wrap_module(module: ModuleType, names: Iterable[str]) -> None:
+    """Wraps functions of `module`, and every public method, __init__ and __call__ of its
+    classes, with one_line, in place.
+
+    Parameters
+    ----------
+    module : module
+        The compiled module.
+    names : iterable of str
+        The names of `module` to wrap: functions and classes.
+    """
     for attribute in names:
         value = getattr(module, attribute)
         if isinstance(value, type):

@@ -16,25 +16,32 @@ When gymnasium is installed, importing this module also registers the env as
 "leglab/LegTracking-v0" (gymnasium.make("leglab/LegTracking-v0", action="offset")).
 """
 
+from __future__ import annotations
+
 import operator as _operator
+import os as _os
+from typing import Any, Mapping, Optional, Union
 
 import numpy as _np
+import numpy.typing as _npt
 
 import leglab as _leglab
 
-SEED_MAX = int(_leglab._leglab._key_range("seed")[1])
+_Vector = _npt.NDArray[_np.float64]
+
+SEED_MAX: int = int(_leglab._leglab._key_range("seed")[1])
 """The largest plant seed: the config key `seed`'s declared range is [0, SEED_MAX]."""
 
-ACTIONS = ("request", "offset")
+ACTIONS: tuple[str, str] = ("request", "offset")
 """The action kinds of LegTrackingEnv: the requested angles, or offsets from the desired ones."""
 
 # The most walking steps an episode takes and the most ticks of history or preview: bounds
 # that keep an episode's arrays far below memory (10,000 steps of the 88-tick walk are 2 hours).
-MAX_STEPS = 10_000
-MAX_WINDOW = 10_000
+MAX_STEPS: int = 10_000
+MAX_WINDOW: int = 10_000
 
 
-def _shown(value):
+def _shown(value: object) -> str:
     """`value` as a message shows it: its repr when short and on one line, else its type."""
     text = repr(value)
     return text if "\n" not in text and len(text) <= 60 else type(value).__name__
@@ -43,18 +50,34 @@ def _shown(value):
 class Box:
     """A box of float64 vectors, low <= x <= high elementwise (gymnasium.spaces.Box's shape).
 
-    Attributes:
-        low, high: the bounds, arrays of `shape` (-inf / inf where unbounded).
-        shape: the vectors' shape, a tuple.
-        dtype: numpy.float64.
-
     `sample()` draws from the generator of the env that owns the box (its np_random), so it
     is reproducible from the env's seed.
+
+    Parameters
+    ----------
+    low, high : array_like
+        The bounds, of one shape (-inf / inf where unbounded).
+    rng_owner : object, optional
+        An object whose `np_random` attribute is the generator sample() draws from (None: a
+        fresh generator).
+
+    Attributes
+    ----------
+    low, high : numpy.ndarray
+        The bounds, float64 arrays of `shape`, read-only.
+    shape : tuple of int
+        The vectors' shape.
+    dtype : numpy.dtype
+        numpy.float64.
+
+    Raises
+    ------
+    ValueError
+        `low` and `high` of different shapes, or `low` above `high` somewhere.
     """
 
-    def __init__(self, low, high, rng_owner=None):
-        """A box between `low` and `high` (arrays of one shape); `rng_owner` is an object whose
-        `np_random` attribute is the generator sample() draws from (None: a fresh generator)."""
+    def __init__(self, low: _npt.ArrayLike, high: _npt.ArrayLike,
+                 rng_owner: Optional[object] = None) -> None:
         self.low = _np.array(low, dtype=_np.float64)
         self.high = _np.array(high, dtype=_np.float64)
         if self.low.shape != self.high.shape:
@@ -66,20 +89,26 @@ class Box:
         self.shape = self.low.shape
         self.dtype = _np.dtype(_np.float64)
         self._rng_owner = rng_owner
-        self._own_rng = None
+        self._own_rng: Optional[_np.random.Generator] = None
 
-    def _rng(self):
+    def _rng(self) -> _np.random.Generator:
         """The generator sample() draws from: the owner's np_random, else the box's own."""
-        rng = getattr(self._rng_owner, "np_random", None)
+        rng: Optional[_np.random.Generator] = getattr(self._rng_owner, "np_random", None)
         if rng is None:
             if self._own_rng is None:
                 self._own_rng = _np.random.default_rng()
             rng = self._own_rng
         return rng
 
-    def sample(self):
-        """A random element: uniform in each bounded coordinate, standard normal where both
-        bounds are infinite, an exponential step inside a one-sided bound (as gymnasium)."""
+    def sample(self) -> _Vector:
+        """A random element of the box.
+
+        Returns
+        -------
+        numpy.ndarray
+            Uniform in each bounded coordinate, standard normal where both bounds are infinite,
+            an exponential step inside a one-sided bound (as gymnasium).
+        """
         rng = self._rng()
         low, high = self.low, self.high
         bounded = _np.isfinite(low) & _np.isfinite(high)
@@ -93,8 +122,19 @@ class Box:
         x[only_high] = high[only_high] - rng.exponential(size=int(only_high.sum()))
         return x
 
-    def contains(self, x):
-        """Whether `x` is a real array of this shape inside the bounds (NaN is not)."""
+    def contains(self, x: object) -> bool:
+        """Whether `x` is in the box.
+
+        Parameters
+        ----------
+        x : object
+            Anything.
+
+        Returns
+        -------
+        bool
+            Whether `x` is a real array of this shape inside the bounds (NaN is not).
+        """
         try:
             a = _np.asarray(x)
         except Exception:  # noqa: BLE001  (whatever cannot be an array is not in the box)
@@ -104,23 +144,25 @@ class Box:
             return False
         return bool(_np.all(a >= self.low) and _np.all(a <= self.high))
 
-    def __contains__(self, x):
+    def __contains__(self, x: object) -> bool:
         """`x in box`: contains(x)."""
         return self.contains(x)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """The bounds and shape."""
         return f"Box(low={self.low.tolist()}, high={self.high.tolist()}, shape={self.shape})"
 
 
-def _episode_seed(seed):
-    """`seed` as the plant's `seed` key takes it: an int in [0, SEED_MAX]."""
-    if isinstance(seed, bool):
-        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {_shown(seed)}")
+def _episode_seed(seed: object) -> int:
+    """`seed` as the plant's `seed` key takes it: an int in [0, SEED_MAX]; TypeError for what
+    is not an integer (bool included), ValueError outside the range."""
+    if isinstance(seed, (bool, _np.bool_)):
+        raise TypeError(f"seed: expected an integer in [0, {SEED_MAX}], got {_shown(seed)}")
     try:
-        value = _operator.index(seed)
+        value = _operator.index(seed)  # type: ignore[arg-type]
     except TypeError:
-        raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {_shown(seed)}") from None
+        raise TypeError(f"seed: expected an integer in [0, {SEED_MAX}], got "
+                        f"{_shown(seed)}") from None
     if not 0 <= value <= SEED_MAX:
         raise ValueError(f"seed: expected an integer in [0, {SEED_MAX}], got {value}")
     return int(value)
@@ -141,7 +183,8 @@ class LegTrackingEnv:
         action="offset": added to the desired angles of this tick; the sum is the request.
             action_space is +-(upper - lower limit) per joint. Zero offsets are the `direct`
             controller of `track`.
-    A request of the wrong shape or not finite raises ValueError naming the action.
+    An action that is no array raises TypeError, one of the wrong shape or not finite
+    ValueError, naming the action.
 
     Reward: minus the foot error of the tick, cm: the distance of the foot at the measured
     angles (Robot.foot_mm of the reading's `measured`) from the desired foot point of the
@@ -164,49 +207,74 @@ class LegTrackingEnv:
     of episodes for the same calls. action_space.sample() draws from np_random too, so
     sampling actions moves the seeds later resets draw (reproducibly).
 
-    Args:
-        config: an experiment YAML file (str or os.PathLike); default
-            leglab.config_path("track.yaml"). Its `plant` (sim or model), robot, servo,
-            sensor and walk keys apply; the tracking keys (steps, controller.*) do not.
-        overrides: a dict of config keys, as the programs' --set ({"plant": "model"}). Not
-            `seed`: the episode's seed is reset's.
-        steps: walking steps per episode (1 to MAX_STEPS, 10,000).
-        history: measured ticks in the observation (0 to MAX_WINDOW, 10,000).
-        preview: desired ticks in the observation (0 to MAX_WINDOW); history + preview >= 1.
-        action: "request" or "offset".
+    Parameters
+    ----------
+    config : str or os.PathLike, optional
+        An experiment YAML file; default leglab.config_path("track.yaml"). Its `plant` (sim or
+        model), robot, servo, sensor and walk keys apply; the tracking keys (steps,
+        controller.*) do not.
+    overrides : dict, optional
+        Config keys, as the programs' --set ({"plant": "model"}). Not `seed`: the episode's
+        seed is reset's.
+    steps : int, optional
+        Walking steps per episode (1 to MAX_STEPS, 10,000).
+    history : int, optional
+        Measured ticks in the observation (0 to MAX_WINDOW, 10,000).
+    preview : int, optional
+        Desired ticks in the observation (0 to MAX_WINDOW); history + preview >= 1.
+    action : {"request", "offset"}, optional
+        What an action is.
 
-    Raises ValueError for a bad config, key or argument (steps, history and preview must be
-    integers; bool is not one).
+    Attributes
+    ----------
+    walk : leglab.Walk
+        The desired angles and foot path, `period` T.
+    robot : leglab.Robot
+        limits_deg, foot_mm.
+    plant : leglab.Plant or None
+        The current episode's plant (None before the first reset).
+    period : int
+        T, ticks per step.
+    episode_ticks : int
+        steps * T.
+    tick : int
+        The ticks run in this episode so far (the next step runs tick `tick`).
+    episode_seed : int or None
+        The current episode's plant seed (None before the first reset).
+    np_random : numpy.random.Generator or None
+        The env's generator (None before the first reset or sample).
+    action_space, observation_space : Box
+        The spaces.
 
-    Attributes:
-        walk: the leglab.Walk (desired angles and foot path, `period` T).
-        robot: the leglab.Robot (limits_deg, foot_mm).
-        plant: the current episode's leglab.Plant (None before the first reset).
-        period: T, ticks per step.
-        episode_ticks: steps * T.
-        tick: the ticks run in this episode so far (the next step runs tick `tick`).
-        episode_seed: the current episode's plant seed (None before the first reset).
-        np_random: the env's numpy Generator (None before the first reset or sample).
+    Raises
+    ------
+    TypeError
+        An argument of the wrong type: `config` not a path, `overrides` not a dict, `steps`,
+        `history` or `preview` not an integer (bool is not one), `action` not a str.
+    ValueError
+        A bad config or key, an argument out of its range, an unknown action, `seed` in
+        `overrides`.
     """
 
-    metadata = {"render_modes": []}
-    render_mode = None
+    metadata: dict[str, Any] = {"render_modes": []}
+    render_mode: Optional[str] = None
 
-    def __init__(self, config=None, overrides=None, *, steps=4, history=4, preview=4,
-                 action="request"):
+    def __init__(self, config: Union[str, _os.PathLike[str], None] = None,
+                 overrides: Optional[Mapping[str, Any]] = None, *, steps: int = 4,
+                 history: int = 4, preview: int = 4, action: str = "request") -> None:
         """See the class docstring."""
         if config is None:
             config = _leglab.config_path("track.yaml")
         overrides = {} if overrides is None else overrides
         if not isinstance(overrides, dict):
-            raise ValueError(
+            raise TypeError(
                 f"overrides: expected a dict of config keys, got {type(overrides).__name__}")
         if "seed" in overrides:
             raise ValueError("overrides: 'seed' is the episode's: give it to reset(seed=...)")
         for name, value, most in (("steps", steps, MAX_STEPS), ("history", history, MAX_WINDOW),
                                   ("preview", preview, MAX_WINDOW)):
             if isinstance(value, bool) or not isinstance(value, (int, _np.integer)):
-                raise ValueError(f"{name}: expected an integer, got {type(value).__name__}")
+                raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
             if not 0 <= value <= most:
                 raise ValueError(f"{name}: expected an integer from 0 to {most}, got {value}")
         steps, history, preview = int(steps), int(history), int(preview)
@@ -215,6 +283,9 @@ class LegTrackingEnv:
         if history + preview < 1:
             raise ValueError(
                 f"history, preview: expected >= 1 together, got {history}, {preview}")
+        if not isinstance(action, str):
+            raise TypeError(f"action: expected a str ({', '.join(ACTIONS)}), got "
+                            f"{type(action).__name__}")
         if action not in ACTIONS:
             raise ValueError(f"action: expected one of {', '.join(ACTIONS)}, got {_shown(action)}")
 
@@ -244,26 +315,41 @@ class LegTrackingEnv:
             _np.concatenate([-inf, _np.tile(limits[:, 0], preview)]),
             _np.concatenate([inf, _np.tile(limits[:, 1], preview)]), self)
 
-        self.np_random = None
-        self.plant = None
+        self.np_random: Optional[_np.random.Generator] = None
+        self.plant: Optional[_leglab.Plant] = None
         self.tick = 0
-        self.episode_seed = None
+        self.episode_seed: Optional[int] = None
         self._measured = _np.empty((0, 3))
         self._done = True
 
-    def reset(self, seed=None, options=None):
+    def reset(self, seed: Optional[int] = None,
+              options: Optional[dict[str, Any]] = None) -> tuple[_Vector, dict[str, Any]]:
         """Starts an episode on a fresh plant at rest at the walk's first pose.
 
-        Args:
-            seed: the plant's seed, an int in [0, SEED_MAX]: re-seeds np_random too. None
-                draws the plant's seed from np_random.
-            options: unused (None or a dict), for the Gymnasium signature.
+        Parameters
+        ----------
+        seed : int, optional
+            The plant's seed, in [0, SEED_MAX]: re-seeds np_random too. None draws the plant's
+            seed from np_random.
+        options : dict, optional
+            Unused, for the Gymnasium signature.
 
-        Returns (observation, info); info has "tick" (0), "seed" (the plant's) and
-        "start_deg" (the start pose).
+        Returns
+        -------
+        observation : numpy.ndarray
+            The first observation.
+        info : dict
+            "tick" (0), "seed" (the plant's) and "start_deg" (the start pose).
+
+        Raises
+        ------
+        TypeError
+            `seed` not an integer (bool is not one), `options` not a dict.
+        ValueError
+            `seed` outside [0, SEED_MAX].
         """
         if options is not None and not isinstance(options, dict):
-            raise ValueError(f"options: expected None or a dict, got {type(options).__name__}")
+            raise TypeError(f"options: expected None or a dict, got {type(options).__name__}")
         if seed is not None:
             episode_seed = _episode_seed(seed)
             self.np_random = _np.random.default_rng(episode_seed)
@@ -282,18 +368,40 @@ class LegTrackingEnv:
         info = {"tick": 0, "seed": episode_seed, "start_deg": self._start_pose.copy()}
         return self._observation(), info
 
-    def step(self, action):
+    def step(self, action: _npt.ArrayLike) -> tuple[_Vector, float, bool, bool, dict[str, Any]]:
         """Runs one 8 ms tick with `action` (see the class docstring).
 
-        Returns (observation, reward, terminated, truncated, info): reward is minus the foot
-        error, cm; terminated is False; truncated is True after the episode's last tick.
-        info: "tick" (the tick just run, from 0), "foot_error_cm", "desired_deg",
-        "request_deg" (as the servos applied it, clamped), "measured_deg", "true_deg" (the
-        exact angles: for scoring, not for a policy), "foot_mm" (at the measured angles) and
-        "desired_foot_mm".
+        Parameters
+        ----------
+        action : array_like
+            3 numbers (rotator, abductor, knee), deg: the request, or offsets from the desired
+            angles.
 
-        Raises ValueError naming the action for a wrong shape or a non-finite value, and
-        RuntimeError before reset() or after the episode's end.
+        Returns
+        -------
+        observation : numpy.ndarray
+            The next observation.
+        reward : float
+            Minus the foot error, cm.
+        terminated : bool
+            False.
+        truncated : bool
+            True after the episode's last tick.
+        info : dict
+            "tick" (the tick just run, from 0), "foot_error_cm", "desired_deg", "request_deg"
+            (as the servos applied it, clamped), "measured_deg", "true_deg" (the exact angles:
+            for scoring, not for a policy), "foot_mm" (at the measured angles) and
+            "desired_foot_mm".
+
+        Raises
+        ------
+        TypeError
+            `action` is no array (None, text, a dict, an object).
+        ValueError
+            Naming the action: a wrong shape, numbers that are not real (bool, complex) or not
+            finite.
+        RuntimeError
+            Before reset() or after the episode's end.
         """
         if self.plant is None:
             raise RuntimeError("LegTrackingEnv.step: call reset() first")
@@ -324,14 +432,20 @@ class LegTrackingEnv:
         }
         return self._observation(), -foot_error_cm, False, truncated, info
 
-    def close(self):
+    def close(self) -> None:
         """Releases the plant. The env can be reset again afterwards."""
         self.plant = None
         self._done = True
 
-    def _check_action(self, action):
-        """`action` as a float64 array of shape (3,); ValueError naming the action when it is
-        not real numbers (bool and complex are not), of another shape, or not finite."""
+    def _check_action(self, action: _npt.ArrayLike) -> _Vector:
+        """`action` as a float64 array of shape (3,); TypeError naming the action when it is
+        no array, ValueError when it is not real numbers (bool and complex are not), of another
+        shape, or not finite."""
+        if action is None or isinstance(action, (str, bytes, dict, set)) or (
+                not isinstance(action, (_np.ndarray, list, tuple)) and
+                _np.asarray(action).dtype.kind == "O"):
+            raise TypeError(f"action: expected 3 numbers (rotator, abductor, knee), deg, got "
+                            f"{type(action).__name__}")
         try:
             given = _np.asarray(action)
             if given.dtype.kind not in "iuf":
@@ -348,14 +462,14 @@ class LegTrackingEnv:
                 raise ValueError(f"action: the {name}'s value is {a[j]}")
         return a
 
-    def _observation(self):
+    def _observation(self) -> _Vector:
         """The observation for the tick about to be run (layout: the class docstring)."""
         t = self.tick
         history = self._measured[t:t + self.history].ravel()
         preview = self._desired[_np.arange(t, t + self.preview) % self.period].ravel()
         return _np.concatenate([history, preview])
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         """The env's arguments and period."""
         return (f"LegTrackingEnv(steps={self.steps}, history={self.history}, "
                 f"preview={self.preview}, action={self.action!r}, period={self.period})")

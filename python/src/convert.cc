@@ -40,6 +40,12 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
       py::reinterpret_borrow<py::array>(value).size() <= kMaxArrayValues) {
     return py::reinterpret_borrow<DoubleArray>(value);
   }
+  // Not an array at all (None, text, a dict or set, an object numpy holds as one item): the
+  // argument's type is wrong, TypeError; a sequence or array of the wrong numbers, ValueError.
+  if (value.is_none() || py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
+      py::isinstance<py::dict>(value) || py::isinstance<py::set>(value)) {
+    ThrowTypeError(std::string(what) + ": expected an array of numbers, got " + TypeName(value));
+  }
   py::array array;
   try {
     array = py::module_::import("numpy").attr("asarray")(value);
@@ -53,6 +59,9 @@ DoubleArray RealArray(py::handle value, std::string_view what) {
                     " values, over the limit of " + std::to_string(kMaxArrayValues));
   }
   const char kind = array.dtype().kind();
+  if (kind == 'O' && array.ndim() == 0 && !py::isinstance<py::array>(value)) {
+    ThrowTypeError(std::string(what) + ": expected an array of numbers, got " + TypeName(value));
+  }
   if (kind != 'f' && kind != 'i' && kind != 'u') {
     ThrowValueError(std::string(what) + ": expected real numbers, got dtype " +
                     std::string(py::str(array.dtype())));
@@ -248,22 +257,22 @@ std::string ToPath(py::handle path, std::string_view what) {
     const py::object text = path.attr("__fspath__")();
     if (py::isinstance<py::str>(text)) return text.cast<std::string>();
   }
-  ThrowValueError(std::string(what) + ": expected a path (str or os.PathLike), got " +
-                  std::string(py::str(py::type::of(path).attr("__name__"))));
+  ThrowTypeError(std::string(what) + ": expected a path (str or os.PathLike), got " +
+                 std::string(py::str(py::type::of(path).attr("__name__"))));
 }
 
 std::vector<std::string> ToOverrides(py::handle overrides) {
   std::vector<std::string> result;
   if (overrides.is_none()) return result;
   if (!py::isinstance<py::dict>(overrides)) {
-    ThrowValueError("overrides: expected a dict of config keys, e.g. {\"steps\": 5}, got " +
-                    std::string(py::str(py::type::of(overrides).attr("__name__"))));
+    ThrowTypeError("overrides: expected a dict of config keys, e.g. {\"steps\": 5}, got " +
+                   std::string(py::str(py::type::of(overrides).attr("__name__"))));
   }
   const py::module_ json = py::module_::import("json");
   for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(overrides)) {
     if (!py::isinstance<py::str>(key)) {
-      ThrowValueError("overrides: a key is " + std::string(py::repr(key)) +
-                      ", expected a config key (str) such as \"servo.delay_ms\"");
+      ThrowTypeError("overrides: a key is " + std::string(py::repr(key)) +
+                     ", expected a config key (str) such as \"servo.delay_ms\"");
     }
     std::string text;
     // A numpy scalar (e.g. numpy.int64(5)) as the Python number it holds.
@@ -276,10 +285,14 @@ std::vector<std::string> ToOverrides(py::handle overrides) {
       try {
         // allow_nan=False: NaN is no YAML number; the key's own check names it below.
         text = json.attr("dumps")(plain, py::arg("allow_nan") = false).cast<std::string>();
-      } catch (const py::error_already_set&) {
-        ThrowValueError("overrides: " + key.cast<std::string>() + " = " +
-                        std::string(py::repr(value)) +
-                        " is not a config value (numbers, true/false, text, lists and maps)");
+      } catch (const py::error_already_set& e) {
+        // json's TypeError: an object no config value is (a wrong type); else NaN or infinity.
+        const std::string message = "overrides: " + key.cast<std::string>() + " = " +
+                                    std::string(py::repr(value)) +
+                                    " is not a config value (numbers, true/false, text, lists "
+                                    "and maps)";
+        if (e.matches(PyExc_TypeError)) ThrowTypeError(message);
+        ThrowValueError(message);
       }
     }
     result.push_back(key.cast<std::string>() + "=" + text);

@@ -1,8 +1,8 @@
 #pragma once
 
 // Conversions between Python values and leglab's C++ types, shared by the binding files. Every
-// check raises ValueError with one line naming the item (what the programs print for bad
-// input), never crashes the interpreter.
+// check raises one line naming the item (what the programs print for bad input): TypeError for
+// a value of the wrong type, ValueError for a wrong value; never crashes the interpreter.
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -54,10 +54,11 @@ long long ToInteger(py::handle value, std::string_view what, const KeyDoc& doc);
 /// its copy is made.
 inline constexpr py::ssize_t kMaxArrayValues = 100'000'000;
 
-/// `value` as a float64 array (numpy.asarray, then converted): integers and floats are taken,
-/// anything else (bool, complex, text, objects, ragged lists) raises ValueError "<what>: ...";
-/// so does one of more than kMaxArrayValues values. MemoryError naming it when its copy cannot
-/// be made.
+/// `value` as a float64 array (numpy.asarray, then converted): integers and floats are taken.
+/// No array at all (None, a str or bytes, a dict or set, an object numpy holds as one item)
+/// raises TypeError "<what>: expected an array of numbers, got <type>"; an array or sequence of
+/// anything else (bool, complex, text, objects, ragged lists) ValueError "<what>: ...", as does
+/// one of more than kMaxArrayValues values. MemoryError naming it when its copy cannot be made.
 DoubleArray RealArray(py::handle value, std::string_view what);
 
 /// `value` as one angle per joint (shape (3,), rotator, abductor, knee). With `finite`, a NaN or
@@ -79,13 +80,14 @@ DoubleArray ToArray(const std::vector<LegAngles>& rows);
 /// Each joint's (lower, upper) limit, deg, shape (3, 2).
 DoubleArray ToLimitsArray(const std::array<JointLimits, kLegJoints>& limits);
 
-/// A file path from a str or an os.PathLike.
+/// A file path from a str or an os.PathLike; TypeError naming `what` for anything else.
 std::string ToPath(py::handle path, std::string_view what);
 
 /// A dict {key: value} of config keys as the programs' `--set key=value` strings, in the dict's
 /// order. A str value is written as it is (YAML text, e.g. "sim" or "[direct, optimal]");
 /// numbers, booleans, lists and dicts as JSON, which YAML reads as the same values. None gives
-/// no overrides. ValueError for anything else.
+/// no overrides. TypeError for what is not a dict, a key that is not a str and a value JSON
+/// cannot write (an object); ValueError for a NaN or infinite value.
 std::vector<std::string> ToOverrides(py::handle overrides);
 
 }  // namespace leglab::python

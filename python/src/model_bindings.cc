@@ -95,10 +95,13 @@ std::vector<JointRecording> ToRecordings(py::handle requests, py::handle measure
 
 // A (min, max) pair of ticks with min <= max, each in `doc`'s range (a model's l or a).
 std::pair<int, int> ToRange(py::handle range, const std::string& what, const KeyDoc& doc) {
-  if (!(py::isinstance<py::tuple>(range) || py::isinstance<py::list>(range)) ||
-      py::len(range) != 2) {
+  if (!(py::isinstance<py::tuple>(range) || py::isinstance<py::list>(range))) {
     ThrowTypeError(what + ": expected (min, max), a tuple of two integers, got " +
                    std::string(py::str(py::type::of(range).attr("__name__"))));
+  }
+  if (py::len(range) != 2) {
+    ThrowValueError(what + ": expected (min, max), a tuple of two integers, got " +
+                    std::to_string(py::len(range)) + " values");
   }
   const int low = ToInt(range[py::int_(0)], what + "[0]", doc);
   const int high = ToInt(range[py::int_(1)], what + "[1]", doc);
@@ -164,9 +167,9 @@ void BindPaperTables(py::module_& m) {
   m.attr("PAPER_FOOT_CM") = foot;
 }
 
-// JointModel and PAPER_MODEL.
-void BindJointModel(py::module_& m) {
-  py::class_<JointModelParams>(m, "JointModel", R"doc(
+// JointModel's docstring (numpydoc, as every public name's).
+constexpr const char* kJointModelDoc =
+    R"doc(
 The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks.
 
     M(t) = M(t-1) + (1/a) * sum_{i=l+1}^{l+a} f(R(t-i) - M(t-1))
@@ -174,16 +177,95 @@ The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks
 where f (eq. 2) is linear with slope v_max / theta_0 inside (-theta_0, theta_0) and saturates
 at +-v_max outside. The paper's Table 1 is leglab.PAPER_MODEL.
 
-Args:
-    v_max_deg_per_tick: top speed v_max, deg per 8 ms tick (> 0).
-    theta0_deg: the request-actual difference that gives top speed, deg (> 0).
-    lag_ticks: l, ticks before a request starts to act (>= 0).
-    accel_ticks: a, ticks over which the speed is averaged (>= 1).
+Parameters
+----------
+v_max_deg_per_tick : float
+    Top speed v_max, deg per 8 ms tick (> 0).
+theta0_deg : float
+    The request-actual difference that gives top speed, deg (> 0).
+lag_ticks : int
+    l, ticks before a request starts to act (>= 0).
+accel_ticks : int
+    a, ticks over which the speed is averaged (>= 1).
 
-Raises TypeError for a value that is not a number (bool is not; l and a must be integers) and
-ValueError naming the field for one outside its range, the config's model.* ranges: v_max in
-[0.01, 45], theta_0 in [0.01, 180], l in [0, 50], a in [1, 50].
-)doc")
+Raises
+------
+TypeError
+    A value that is not a number (bool is not; l and a must be integers).
+ValueError
+    Naming the field, for one outside its range, the config's model.* ranges: v_max in
+    [0.01, 45], theta_0 in [0.01, 180], l in [0, 50], a in [1, 50].
+)doc";
+
+// JointModel.simulate's docstring.
+constexpr const char* kSimulateDoc =
+    R"doc(simulate(requests, start_deg) -> numpy.ndarray
+
+The model's angles under requests, from rest.
+
+Parameters
+----------
+requests : array_like
+    R(0..N-1), 1-D, deg, finite.
+start_deg : float
+    The angle at rest, deg: M(-1) and every remembered request equal it.
+
+Returns
+-------
+numpy.ndarray
+    M(0..N-1), deg.
+
+Raises
+------
+TypeError
+    `requests` not an array, `start_deg` not a number.
+ValueError
+    `requests` not 1-D or not finite, `start_deg` not finite.
+MemoryError
+    Naming `requests`.)doc";
+
+// JointModel.steady_state's docstring.
+constexpr const char* kSteadyStateDoc =
+    R"doc(steady_state(cycle) -> numpy.ndarray
+
+The cyclic steady state of eq. 3 under a request cycle repeated for ever.
+
+Parameters
+----------
+cycle : array_like
+    R(0..T-1), 1-D, deg, finite, at least one.
+
+Returns
+-------
+numpy.ndarray
+    The angles M(0..T-1) of one cycle, deg.
+
+Raises
+------
+TypeError
+    `cycle` not an array.
+ValueError
+    `cycle` empty, not 1-D or not finite; a model that never settles (v_max >= 2 theta_0 can
+    swing about a request for ever).)doc";
+
+// JointModel.speed_response's docstring.
+constexpr const char* kSpeedResponseDoc =
+    "speed_response(x_deg) -> float\n\n"
+    "f of eq. 2: the speed for a request-actual difference.\n\n"
+    "Parameters\n----------\nx_deg : float\n    The difference, deg, finite.\n\n"
+    "Returns\n-------\nfloat\n    The speed, deg/tick.\n\n"
+    "Raises\n------\nTypeError\n    `x_deg` not a number.\n"
+    "ValueError\n    `x_deg` not finite.";
+
+// JointModel.to_dict's docstring.
+constexpr const char* kToDictDoc =
+    "to_dict() -> dict\n\n"
+    "The four parameters as a dict.\n\n"
+    "Returns\n-------\ndict\n    Under the keys of table1.json's joints.";
+
+// JointModel and PAPER_MODEL.
+void BindJointModel(py::module_& m) {
+  py::class_<JointModelParams>(m, "JointModel", kJointModelDoc)
       // The names are views of literals, so NUL-terminated.
       .def(py::init(&MakeModel), py::arg(kJointModelNames.v_max_deg_per_tick.data()),
            py::arg(kJointModelNames.theta0_deg.data()), py::arg(kJointModelNames.lag_ticks.data()),
@@ -207,11 +289,7 @@ ValueError naming the field for one outside its range, the config's model.* rang
             py::gil_scoped_acquire acquire;
             return ToArray(angles);
           },
-          py::arg("requests"), py::arg("start_deg"),
-          R"doc(simulate(requests, start_deg) -> numpy.ndarray
-
-The model's angles M(0..N-1), deg, under requests R(0..N-1) (1-D, deg), from rest at
-start_deg (M(-1) and every remembered request equal to it).)doc")
+          py::arg("requests"), py::arg("start_deg"), kSimulateDoc)
       .def(
           "steady_state",
           [](const JointModelParams& p, py::handle cycle) {
@@ -228,20 +306,13 @@ start_deg (M(-1) and every remembered request equal to it).)doc")
             }
             return ToArray(angles);
           },
-          py::arg("cycle"),
-          R"doc(steady_state(cycle) -> numpy.ndarray
-
-The cyclic steady state of eq. 3 under the request cycle R(0..T-1) (1-D, deg) repeated
-for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model never settles
-(v_max >= 2 theta_0 can swing about a request for ever).)doc")
+          py::arg("cycle"), kSteadyStateDoc)
       .def(
           "speed_response",
           [](const JointModelParams& p, py::handle x) {
             return SpeedResponse(p, ToReal(x, "x_deg"));
           },
-          py::arg("x_deg"),
-          "speed_response(x_deg) -> float\n\n"
-          "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
+          py::arg("x_deg"), kSpeedResponseDoc)
       .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
                              "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
       .def(
@@ -253,14 +324,16 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
                          }));
             return d;
           },
-          "to_dict() -> dict\n\n"
-          "The four parameters as a dict (the keys of table1.json's joints).")
+          kToDictDoc)
       .def("__repr__", &ModelRepr)
-      .def("__eq__",
-           [](const JointModelParams& a, const JointModelParams& b) {
-             return a.v_max_deg_per_tick == b.v_max_deg_per_tick && a.theta0_deg == b.theta0_deg &&
-                    a.lag_ticks == b.lag_ticks && a.accel_ticks == b.accel_ticks;
-           })
+      // An operator: another type compares unequal (NotImplemented), as Python's own do.
+      .def(
+          "__eq__",
+          [](const JointModelParams& a, const JointModelParams& b) {
+            return a.v_max_deg_per_tick == b.v_max_deg_per_tick && a.theta0_deg == b.theta0_deg &&
+                   a.lag_ticks == b.lag_ticks && a.accel_ticks == b.accel_ticks;
+          },
+          py::is_operator())
       .def(py::pickle(
           [](const JointModelParams& p) {
             return py::make_tuple(p.v_max_deg_per_tick, p.theta0_deg, p.lag_ticks, p.accel_ticks);
@@ -274,6 +347,76 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
 }
 
 }  // namespace
+
+// floor's docstring.
+constexpr const char* kFloorDoc =
+    R"doc(floor(desired_cycle, model) -> numpy.ndarray
+
+The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
+joint with the model's top speed v_max and acceleration time a can follow at all. No request
+policy brings a joint of that model closer to the desired cycle.
+
+Parameters
+----------
+desired_cycle : array_like
+    One cycle, deg: shape (T,) with one JointModel, or (T, 3) with a sequence of three
+    (rotator, abductor, knee). T >= 3.
+model : JointModel or sequence of JointModel
+    A JointModel, or three.
+
+Returns
+-------
+numpy.ndarray
+    The floor, shaped as desired_cycle, deg.
+
+Raises
+------
+TypeError
+    `desired_cycle` not an array, `model` not a JointModel (or a sequence of them for a (T, 3)
+    cycle).
+ValueError
+    A cycle of the wrong shape, shorter than 3 or not finite; not three models for a (T, 3)
+    cycle.
+MemoryError
+    Naming `desired_cycle`.)doc";
+
+// identify's docstring after its first line (BindModel writes the defaults there).
+constexpr const char* kIdentifyDoc =
+    R"doc(
+Fits the paper's joint model to recordings, as `identify` does to its step tests.
+
+Parameters
+----------
+requests : array_like or list of array_like
+    The request sent each tick, deg: a 1-D array (one recording) or a list of them.
+measured : array_like or list of array_like
+    The angle measured right after each request, deg, shaped as `requests`.
+lag_range_ticks : (int, int), optional
+    (min, max) of l, searched exhaustively (integers, 0 to 50).
+accel_range_ticks : (int, int), optional
+    (min, max) of a, searched exhaustively (integers, 1 to 50).
+period_ticks : int, optional
+    When given (1 to 1,000,000), every recording is whole cycles of this many ticks with the
+    same requests every cycle (a step test's square wave), and each is averaged into one cycle
+    before the fit, as `identify` does (identify.average_cycles: true); None fits every tick as
+    it is.
+
+Returns
+-------
+Identification
+    model, and rms_residual_deg: over every scored tick, with period_ticks the averaged fit's
+    residual plus the cycles' spread about their mean, as `identify` reports it. The first
+    lag_max + accel_max ticks of each recording are the prediction's warm-up and are not scored.
+
+Raises
+------
+TypeError
+    An argument of the wrong type: an array argument that is no array, a range that is not a
+    pair, a bound or period that is not an integer.
+ValueError
+    Recordings that are empty, of different lengths, non-finite, too short to score, or not
+    whole cycles of one request pattern when period_ticks is given; a range outside its bounds
+    or with min > max; a fit outside the model's ranges.)doc";
 
 void BindModel(py::module_& m) {
   BindJointModel(m);
@@ -295,25 +438,7 @@ void BindModel(py::module_& m) {
       "identify(requests, measured, *, lag_range_ticks=(" + std::to_string(search.lag_min_ticks) +
       ", " + std::to_string(search.lag_max_ticks) + "), accel_range_ticks=(" +
       std::to_string(search.accel_min_ticks) + ", " + std::to_string(search.accel_max_ticks) +
-      "), period_ticks=None) -> Identification\n" + R"doc(
-Fits the paper's joint model to recordings, as `identify` does to its step tests.
-
-Args:
-    requests: the request sent each tick, deg: a 1-D array (one recording) or a list of them.
-    measured: the angle measured right after each request, deg, shaped as `requests`.
-    lag_range_ticks: (min, max) of l, searched exhaustively (integers, 0 to 50).
-    accel_range_ticks: (min, max) of a, searched exhaustively (integers, 1 to 50).
-    period_ticks: when given (1 to 1,000,000), every recording is whole cycles of this many ticks with the
-        same requests every cycle (a step test's square wave), and each is averaged into one
-        cycle before the fit, as `identify` does (identify.average_cycles: true); None fits
-        every tick as it is.
-
-Returns an Identification (model, rms_residual_deg: over every scored tick, with
-period_ticks the averaged fit's residual plus the cycles' spread about their mean, as
-`identify` reports it). The first lag_max + accel_max ticks
-of each recording are the prediction's warm-up and are not scored. Raises ValueError for
-recordings that are empty, of different lengths, non-finite, too short to score, or not
-whole cycles of one request pattern when period_ticks is given.)doc";
+      "), period_ticks=None) -> Identification\n" + kIdentifyDoc;
   m.def(
       "identify", &Identify, py::arg("requests"), py::arg("measured"), py::kw_only(),
       py::arg("lag_range_ticks") = py::make_tuple(search.lag_min_ticks, search.lag_max_ticks),
@@ -342,13 +467,13 @@ whole cycles of one request pattern when period_ticks is given.)doc";
           return ToArray(x);
         }
         const std::vector<LegAngles> rows = ToAngleRows(desired, "desired_cycle");
-        if (!(py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)) ||
-            py::len(model) != kLegJoints) {
-          ThrowValueError(
-              "model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
-              (py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)
-                   ? std::to_string(py::len(model))
-                   : "a " + std::string(py::str(py::type::of(model).attr("__name__")))));
+        if (!(py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model))) {
+          ThrowTypeError("model: expected one JointModel per joint (3) for a (T, 3) cycle, got a " +
+                         std::string(py::str(py::type::of(model).attr("__name__"))));
+        }
+        if (py::len(model) != kLegJoints) {
+          ThrowValueError("model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
+                          std::to_string(py::len(model)));
         }
         std::vector<JointModelParams> models;
         models.reserve(kLegJoints);
@@ -367,19 +492,7 @@ whole cycles of one request pattern when period_ticks is given.)doc";
         }
         return ToArray(floor);
       },
-      py::arg("desired_cycle"), py::arg("model"),
-      R"doc(floor(desired_cycle, model) -> numpy.ndarray
-
-The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
-joint with the model's top speed v_max and acceleration time a can follow at all. No request
-policy brings a joint of that model closer to the desired cycle.
-
-Args:
-    desired_cycle: one cycle, deg: shape (T,) with one JointModel, or (T, 3) with a sequence
-        of three (rotator, abductor, knee). T >= 3.
-    model: a JointModel, or three.
-
-Returns the floor, shaped as desired_cycle, deg.)doc");
+      py::arg("desired_cycle"), py::arg("model"), kFloorDoc);
 }
 
 }  // namespace leglab::python

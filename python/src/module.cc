@@ -1,5 +1,6 @@
 // leglab._leglab: the compiled part of the leglab Python package (see python/README.md). Bad
-// input raises ValueError with the programs' one-line message; a failure to write, OSError.
+// input raises ValueError with the programs' one-line message (a value of the wrong type,
+// TypeError); a failure to write, OSError.
 #include <pybind11/pybind11.h>
 
 #include <exception>

@@ -97,14 +97,22 @@ py::dict RunRequests(PlantHandle& h, py::handle requests) {
 
 std::vector<PlantSetting> ToSettings(py::handle settings) {
   if (!py::isinstance<py::dict>(settings)) {
-    ThrowValueError("settings: expected a dict {key: number}, e.g. {\"servo.delay_ms\": 24}");
+    ThrowTypeError("settings: expected a dict {key: number}, e.g. {\"servo.delay_ms\": 24}");
   }
   std::vector<PlantSetting> result;
   for (const auto& [key, value] : py::reinterpret_borrow<py::dict>(settings)) {
-    if (!py::isinstance<py::str>(key)) ThrowValueError("settings: a key is not a str");
+    if (!py::isinstance<py::str>(key)) ThrowTypeError("settings: a key is not a str");
     const std::string name = key.cast<std::string>();
+    // A bool or an array where one number goes is a wrong type, as for ToReal's arguments.
+    if (py::isinstance<py::bool_>(value) ||
+        py::isinstance(value, py::module_::import("numpy").attr("bool_"))) {
+      ThrowTypeError(name + ": expected one number, got bool");
+    }
     const DoubleArray number = RealArray(value, name);
-    if (number.ndim() != 0) ThrowValueError(name + ": expected one number");
+    if (number.ndim() != 0) {
+      ThrowTypeError(name + ": expected one number, got " +
+                     std::string(py::str(py::type::of(value).attr("__name__"))));
+    }
     result.push_back({name, *number.data()});
   }
   return result;
@@ -118,12 +126,74 @@ std::string ReadingRepr(const PlantReading& r) {
          ", applied=" + angles(r.applied_deg) + ")";
 }
 
-// Robot, Walk and Reading: what a Plant's users read.
-void BindRobotWalkReading(py::module_& m) {
-  py::class_<Robot>(m, "Robot", R"doc(
+// Robot's docstring (numpydoc, as every public name's).
+constexpr const char* kRobotDoc =
+    R"doc(
 A leg as the experiments see it: read from its URDF (the one source of its geometry).
 Make one with Robot(config) from an experiment config, or take Plant.robot.
-)doc")
+
+Parameters
+----------
+config : str or os.PathLike
+    An experiment YAML file, e.g. leglab.config_path("track.yaml").
+overrides : dict, optional
+    Config keys, as the programs' --set: {"servo.delay_ms": 24, "plant": "model"}.
+
+Raises
+------
+TypeError
+    `config` not a path, `overrides` not a dict of config keys.
+ValueError
+    The programs' one-line message for a bad config, key or robot.
+)doc";
+
+// Robot.foot_mm's docstring.
+constexpr const char* kFootMmDoc =
+    R"doc(foot_mm(q_deg) -> numpy.ndarray
+
+Forward kinematics: the foot (ball centre) in the body frame (x forward, y left, z up).
+
+Parameters
+----------
+q_deg : array_like
+    Joint angles, deg: shape (3,) or (N, 3).
+
+Returns
+-------
+numpy.ndarray
+    The foot, mm: shape (3,) for (3,), (N, 3) for (N, 3).
+
+Raises
+------
+TypeError
+    `q_deg` not an array.
+ValueError
+    Another shape, or an angle not finite.)doc";
+
+// Walk's docstring.
+constexpr const char* kWalkDoc =
+    R"doc(
+The desired walk of an experiment config: one step's cycle of joint angles (desired.csv, or
+the half-elliptical foot locus through inverse kinematics) and the foot path they draw.
+
+Parameters
+----------
+config : str or os.PathLike
+    An experiment YAML file, e.g. leglab.config_path("track.yaml").
+overrides : dict, optional
+    Config keys, as the programs' --set: {"servo.delay_ms": 24, "plant": "model"}.
+
+Raises
+------
+TypeError
+    `config` not a path, `overrides` not a dict of config keys.
+ValueError
+    The programs' one-line message for a bad config, key or robot.
+)doc";
+
+// Robot, Walk and Reading: what a Plant's users read.
+void BindRobotWalkReading(py::module_& m) {
+  py::class_<Robot>(m, "Robot", kRobotDoc)
       .def(py::init([](py::handle config, py::handle overrides) {
              return experiments::LoadRobot(LoadConfig(config, overrides).sim.urdf_path);
            }),
@@ -138,18 +208,12 @@ Make one with Robot(config) from an experiment config, or take Plant.robot.
           "Each joint's (lower, upper) software limit, deg, shape (3, 2).")
       .def(
           "foot_mm", [](const Robot& r, py::handle q_deg) { return FootMm(r.geometry, q_deg); },
-          py::arg("q_deg"),
-          "foot_mm(q_deg) -> numpy.ndarray\n\n"
-          "Forward kinematics: the foot (ball centre) in the body frame (x forward, y left,\n"
-          "z up), mm, for joint angles in degrees: shape (3,) for (3,), (N, 3) for (N, 3).")
+          py::arg("q_deg"), kFootMmDoc)
       .def("__repr__", [](const Robot& r) {
         return "Robot(name=" + std::string(py::repr(py::str(r.name))) + ")";
       });
 
-  py::class_<Walk>(m, "Walk", R"doc(
-The desired walk of an experiment config: one step's cycle of joint angles (desired.csv, or
-the half-elliptical foot locus through inverse kinematics) and the foot path they draw.
-)doc")
+  py::class_<Walk>(m, "Walk", kWalkDoc)
       .def(py::init([](py::handle config, py::handle overrides) {
              const ExperimentConfig c = LoadConfig(config, overrides);
              Walk walk{experiments::LoadRobot(c.sim.urdf_path), {}};
@@ -211,32 +275,110 @@ const std::string& RunDoc() {
       if (!names.empty()) names += &c == &kStandColumns.back() ? " and " : ", ";
       names += '"' + std::string(c.doc.name) + '"';
     }
-    return "run(requests) -> dict\n\nTicks through `requests`, shape (T, 3), deg, one row a "
-           "tick, with the GIL released.\n\nReturns a dict of arrays, one row a tick: "
-           "\"measured\", \"true\", \"applied\" (T, 3) deg, \"contact_force_n\" (T, 3) N, "
-           "and " +
-           names + " (T,) mm. Every request is checked (finite) before the first tick.";
+    return "run(requests) -> dict\n\nTicks through requests, one row a tick, with the GIL "
+           "released. Every request is checked (finite) before the first tick.\n\n"
+           "Parameters\n----------\nrequests : array_like\n    Shape (T, 3), deg.\n\n"
+           "Returns\n-------\ndict of numpy.ndarray\n    One row a tick: \"measured\", "
+           "\"true\", \"applied\" (T, 3) deg, \"contact_force_n\" (T, 3) N, and " +
+           names +
+           " (T,) mm.\n\nRaises\n------\nTypeError\n    `requests` not an array.\n"
+           "ValueError\n    Not (T, 3), or a request not finite.\nMemoryError\n    Naming "
+           "`requests`.\nRuntimeError\n    Another thread is driving the plant.";
   }();
   return doc;
 }
 
 }  // namespace
 
-void BindPlant(py::module_& m) {
-  BindRobotWalkReading(m);
-  py::class_<PlantHandle>(m, "Plant", R"doc(
+// Plant's docstring.
+constexpr const char* kPlantDoc =
+    R"doc(
 The plant an experiment config describes: `plant: sim` (the simulated leg, any robot, the
 test stand) or `plant: model` (the joint model as an ideal plant). It takes one request per
 8 ms tick and reports its angles, as the programs drive it.
 
-Args:
-    config: an experiment YAML file (str or os.PathLike), e.g. leglab.config_path("track.yaml").
-    overrides: a dict of config keys, as the programs' --set: {"servo.delay_ms": 24,
-        "plant": "model"}.
-
-Raises ValueError with the programs' one-line message for a bad config, key or robot.
 The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
-)doc")
+
+Parameters
+----------
+config : str or os.PathLike
+    An experiment YAML file, e.g. leglab.config_path("track.yaml").
+overrides : dict, optional
+    Config keys, as the programs' --set: {"servo.delay_ms": 24, "plant": "model"}.
+
+Raises
+------
+TypeError
+    `config` not a path, `overrides` not a dict of config keys.
+ValueError
+    The programs' one-line message for a bad config, key or robot.
+)doc";
+
+// Plant.reset's docstring.
+constexpr const char* kResetDoc =
+    R"doc(reset(pose) -> None
+
+Puts the leg at rest at a pose with its servos holding it. Does not advance time.
+
+Parameters
+----------
+pose : array_like
+    3 angles, deg, within the limits.
+
+Raises
+------
+TypeError
+    `pose` not an array.
+ValueError
+    Not 3 angles, an angle not finite or outside the limits.)doc";
+
+// Plant.tick's docstring.
+constexpr const char* kTickDoc =
+    R"doc(tick(request) -> Reading
+
+One 8 ms tick: the request goes to the servos and the leg moves.
+
+Parameters
+----------
+request : array_like
+    3 angles, deg; clamped into the limits as the servos do.
+
+Returns
+-------
+Reading
+    What the plant reports at the end of the tick.
+
+Raises
+------
+TypeError
+    `request` not an array.
+ValueError
+    Not 3 angles, or an angle not finite.
+RuntimeError
+    Another thread is driving the plant.)doc";
+
+// Plant.change_settings' docstring.
+constexpr const char* kChangeSettingsDoc =
+    R"doc(change_settings(settings) -> None
+
+Changes settings of the running plant between ticks, as wear or a swapped part would. All
+are checked before any is applied.
+
+Parameters
+----------
+settings : dict
+    {key: number} with robot.yaml's keys (servo.*, sensor.*; plant_model.* for plant: model).
+
+Raises
+------
+TypeError
+    `settings` not a dict, a key not a str, a value not one number.
+ValueError
+    An unknown key, or a value outside its range or rule (as track's plant_changes).)doc";
+
+void BindPlant(py::module_& m) {
+  BindRobotWalkReading(m);
+  py::class_<PlantHandle>(m, "Plant", kPlantDoc)
       .def(py::init([](py::handle config, py::handle overrides) {
              auto h = std::make_unique<PlantHandle>();
              h->config = LoadConfig(config, overrides);
@@ -253,10 +395,7 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
             const auto lock = h.Lock();
             h.plant->Reset(q);
           },
-          py::arg("pose"),
-          "reset(pose) -> None\n\n"
-          "Puts the leg at rest at `pose` (3 angles, deg, within the limits) with its servos\n"
-          "holding it. Does not advance time.")
+          py::arg("pose"), kResetDoc)
       .def(
           "tick",
           [](PlantHandle& h, py::handle request) {
@@ -264,11 +403,7 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
             const auto lock = h.Lock();
             return h.plant->Tick(r);
           },
-          py::arg("request"),
-          "tick(request) -> Reading\n\n"
-          "One 8 ms tick: `request` (3 angles, deg; clamped into the limits as the servos do)\n"
-          "goes to the servos, the leg moves, and the Reading at the end of the tick is\n"
-          "returned.")
+          py::arg("request"), kTickDoc)
       .def("run", &RunRequests, py::arg("requests"), RunDoc().c_str())
       .def(
           "change_settings",
@@ -277,11 +412,7 @@ The plant starts at rest at q = 0 (or the pose nearest it inside the limits).
             const auto lock = h.Lock();
             h.plant->ChangeSettings(s);
           },
-          py::arg("settings"),
-          "change_settings(settings) -> None\n\n"
-          "Changes settings of the running plant between ticks, as wear or a swapped part\n"
-          "would: a dict {key: value} with robot.yaml's keys (servo.*, sensor.*;\n"
-          "plant_model.* for plant: model). All are checked before any is applied.")
+          py::arg("settings"), kChangeSettingsDoc)
       .def_property_readonly(
           "reading",
           [](PlantHandle& h) {

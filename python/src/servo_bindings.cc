@@ -421,59 +421,56 @@ void BindLogs(py::module_& m) {
 
 }  // namespace
 
-void BindServo(py::module_& m) {
-  BindLogs(m);
-  m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
-        py::arg("rungs") = py::list(),
-        "_fit(config, overrides, given, threads, rungs=[]): identify's log fit, with rungs "
-        "(name, label, description, column, fit, predict) added to the ladder's");
-  m.def(
-      "_model_from_json",
-      [](const std::string& text, const std::string& rung, const std::string& motor,
-         const std::string& source) {
-        if (rung != "paper" && rung != "extended") {
-          ThrowValueError("rung: expected 'extended' or 'paper', got '" + rung + "'");
-        }
-        return ParseFittedModel(text, rung, motor, source);
-      },
-      "_model_from_json(text, rung, motor, source)");
-
-  py::class_<FittedModel>(m, "ServoModel", R"doc(
+// ServoModel's docstring (numpydoc, as every public name's).
+constexpr const char* kServoModelDoc =
+    R"doc(
 A servo model fitted to logs: one rung (extended or paper) of one motor, on its tick.
 
 Get one from a LogFit: fit.model("xl330") or LogFit.load(path).model("xl330", rung="paper").
 The extended model takes the servo's gain register kp and its load (mass_kg on an arm of
 length_m, 0 hanging straight down); the paper's model ignores them.
-)doc")
-      .def_readonly("rung", &FittedModel::rung, "'extended' or 'paper'.")
-      .def_readonly("motor", &FittedModel::motor, "The servo type, e.g. 'xl330'.")
-      .def_readonly("tick_s", &FittedModel::tick_s, "The tick the model was fitted on, s.")
-      .def_readonly("top_speed_deg_s", &FittedModel::top_speed_deg_s,
-                    "The model's top speed (deg/s): a plan's requests change no faster.")
-      .def_property_readonly(
-          kJointModelNames.lag_ticks.data(),
-          [](const FittedModel& f) {
-            return f.rung == "paper" ? f.paper.lag_ticks : f.extended.lag_ticks;
-          },
-          "l: ticks before a request starts to act.")
-      .def("to_dict", &ModelToDict,
-           "to_dict() -> dict: the model as log_fit.json's models.<rung>.<motor> holds it.")
-      .def(
-          "simulate", &Simulate, py::arg("requests_deg"), py::kw_only(),
-          py::arg("start_deg") = py::none(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
-          py::arg("length_m") = 0.0,
-          R"doc(simulate(requests_deg, *, start_deg=None, kp=None, mass_kg=0.0, length_m=0.0) -> ndarray
+)doc";
 
-The angles (deg) the model predicts, one a tick, with the requests sent as they are, from rest
-at start_deg (None: the first request). A plan's predicted_deg is simulate(request_deg,
-start_deg=desired_deg[0], ...). kp is required for the extended rung.)doc")
-      .def("__repr__", &ModelRepr);
+// ServoModel.to_dict's docstring.
+constexpr const char* kServoToDictDoc =
+    "to_dict() -> dict: the model as log_fit.json's models.<rung>.<motor> holds it.\n\n"
+    "Returns\n-------\ndict\n    Its fields, under log_fit.json's names.";
 
-  m.def("_plan", &Plan, py::arg("model"), py::arg("desired_deg"), py::arg("method"), py::arg("kp"),
-        py::arg("mass_kg"), py::arg("length_m"), py::arg("min_deg"), py::arg("max_deg"),
-        "_plan(model, desired_deg, method, kp, mass_kg, length_m, ...)");
+// ServoModel.simulate's docstring.
+constexpr const char* kServoSimulateDoc =
+    R"doc(simulate(requests_deg, *, start_deg=None, kp=None, mass_kg=0.0, length_m=0.0) -> ndarray
 
-  py::class_<ServoPlanner>(m, "ServoPlanner", R"doc(
+The angles the model predicts with the requests sent as they are. A plan's predicted_deg is
+simulate(request_deg, start_deg=desired_deg[0], ...).
+
+Parameters
+----------
+requests_deg : array_like
+    One request a tick, deg, 1-D, finite.
+start_deg : float, optional
+    The angle at rest before the first tick (None: the first request).
+kp : float, optional
+    The servo's gain register (required for the extended rung).
+mass_kg, length_m : float, optional
+    The servo's load.
+
+Returns
+-------
+numpy.ndarray
+    One angle a tick, deg.
+
+Raises
+------
+TypeError
+    An argument of the wrong type.
+ValueError
+    A value out of range or not finite; no kp for the extended rung.
+MemoryError
+    Naming `requests_deg`.)doc";
+
+// ServoPlanner's docstring.
+constexpr const char* kServoPlannerDoc =
+    R"doc(
 ServoPlanner(model, method="model_based", *, kp=None, mass_kg=0.0, length_m=0.0,
              preview_ticks=None, min_deg=-180.0, max_deg=180.0, reanchor_deg=2.0,
              optimal_iterations_per_tick=200, budget_s=None, hold_ticks=0,
@@ -491,8 +488,135 @@ L-BFGS: at most optimal_iterations_per_tick iterations, and none that starts bud
 after request() was called (None: half the model's tick; 0: the cap alone, the same requests
 on every machine). The requests acting on the preview's last handover_ticks ticks stay
 model_based's (None: two horizons and the model's settling), so that the planner never spends
-a request whose consequences it cannot see. Requests stay within [min_deg, max_deg] and change at most at the model's top speed.
-)doc")
+a request whose consequences it cannot see. Requests stay within [min_deg, max_deg] and change
+at most at the model's top speed.
+
+Parameters
+----------
+model : ServoModel
+    The servo's fitted model (LogFit.model).
+method : {"model_based", "optimal"}, optional
+    How requests are planned.
+kp : float, optional
+    The servo's gain register (required for the extended rung).
+mass_kg, length_m : float, optional
+    The servo's load.
+preview_ticks : int, optional
+    Desired angles after this tick's that request() uses (None: the method's own).
+min_deg, max_deg : float, optional
+    The requests' bounds.
+reanchor_deg : float, optional
+    A measured angle this far off the prediction moves the model there (inf: never).
+optimal_iterations_per_tick : int, optional
+    optimal's iteration cap a tick.
+budget_s : float, optional
+    optimal's time a tick, s (None: half the model's tick; 0: the cap alone).
+hold_ticks : int, optional
+    optimal: ticks after the preview with the last desired angle held.
+handover_ticks : int, optional
+    The preview's last ticks whose requests stay model_based's (None: the model's own).
+
+Raises
+------
+TypeError
+    An unknown keyword, an argument of the wrong type.
+ValueError
+    A value out of its declared range, an unknown method, a model the planner refuses.
+)doc";
+
+// ServoPlanner.reset's docstring.
+constexpr const char* kPlannerResetDoc =
+    "reset(angle_deg): the servo at rest there; the next request is tick 0.\n\n"
+    "Parameters\n----------\nangle_deg : float\n    The angle, deg, finite.\n\n"
+    "Raises\n------\nTypeError\n    `angle_deg` not a number.\nValueError\n    "
+    "`angle_deg` out of range or not finite; the planner is left as it was.";
+
+// ServoPlanner.request's docstring.
+constexpr const char* kRequestDoc =
+    R"doc(request(window_deg, measured_deg) -> float
+
+The request R(t) of this tick.
+
+Parameters
+----------
+window_deg : array_like
+    D(t), D(t+1), ...: the desired angles from this tick on, deg (at least one, finite).
+measured_deg : float
+    M(t), the angle just measured, deg.
+
+Returns
+-------
+float
+    R(t), deg: send it.
+
+Raises
+------
+TypeError
+    `window_deg` not an array, `measured_deg` not a number.
+ValueError
+    An empty or non-finite window, a measured angle out of range or not finite; the planner is
+    left as it was.)doc";
+
+// ServoPlanner.hold's docstring.
+constexpr const char* kHoldDoc =
+    R"doc(hold(window_deg) -> None
+
+A tick that passed with no request sent (the loop woke too late): the servo kept the last
+request, and the planner's model is advanced by that tick as the servo was. The next request
+is the next tick's.
+
+Parameters
+----------
+window_deg : array_like
+    As request()'s.
+
+Raises
+------
+TypeError
+    `window_deg` not an array.
+ValueError
+    An empty or non-finite window; the planner is left as it was.)doc";
+
+void BindServo(py::module_& m) {
+  BindLogs(m);
+  m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
+        py::arg("rungs") = py::list(),
+        "_fit(config, overrides, given, threads, rungs=[]): identify's log fit, with rungs "
+        "(name, label, description, column, fit, predict) added to the ladder's");
+  m.def(
+      "_model_from_json",
+      [](const std::string& text, const std::string& rung, const std::string& motor,
+         const std::string& source) {
+        if (rung != "paper" && rung != "extended") {
+          ThrowValueError("rung: expected 'extended' or 'paper', got '" + rung + "'");
+        }
+        return ParseFittedModel(text, rung, motor, source);
+      },
+      "_model_from_json(text, rung, motor, source)");
+
+  py::class_<FittedModel>(m, "ServoModel", kServoModelDoc)
+      .def_readonly("rung", &FittedModel::rung, "'extended' or 'paper'.")
+      .def_readonly("motor", &FittedModel::motor, "The servo type, e.g. 'xl330'.")
+      .def_readonly("tick_s", &FittedModel::tick_s, "The tick the model was fitted on, s.")
+      .def_readonly("top_speed_deg_s", &FittedModel::top_speed_deg_s,
+                    "The model's top speed (deg/s): a plan's requests change no faster.")
+      .def_property_readonly(
+          kJointModelNames.lag_ticks.data(),
+          [](const FittedModel& f) {
+            return f.rung == "paper" ? f.paper.lag_ticks : f.extended.lag_ticks;
+          },
+          "l: ticks before a request starts to act.")
+      .def("to_dict", &ModelToDict, kServoToDictDoc)
+      .def("simulate", &Simulate, py::arg("requests_deg"), py::kw_only(),
+           py::arg("start_deg") = py::none(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
+           py::arg("length_m") = 0.0, kServoSimulateDoc)
+      .def("__repr__", &ModelRepr);
+
+  m.def("_plan", &Plan, py::arg("model"), py::arg("desired_deg"), py::arg("method"), py::arg("kp"),
+        py::arg("mass_kg"), py::arg("length_m"), py::arg("min_deg"), py::arg("max_deg"),
+        "_plan(model, desired_deg, method, kp, mass_kg, length_m, ...)");
+
+  py::class_<ServoPlanner>(m, "ServoPlanner", kServoPlannerDoc)
       .def(py::init(&MakePlanner), py::arg("model"), py::arg("method") = "model_based",
            py::kw_only(), py::arg("kp") = py::none(), py::arg("mass_kg") = 0.0,
            py::arg("length_m") = 0.0, py::arg("preview_ticks") = py::none(),
@@ -504,18 +628,11 @@ a request whose consequences it cannot see. Requests stay within [min_deg, max_d
                              "l + 1: the desired angles after this tick's a request depends on.")
       .def_property_readonly("preview_ticks", &ServoPlanner::PreviewTicks,
                              "The desired angles after this tick's that request() uses.")
-      .def("reset", &ServoPlanner::Reset, py::arg("angle_deg"),
-           "reset(angle_deg): the servo at rest there; the next request is tick 0.")
+      .def("reset", &ServoPlanner::Reset, py::arg("angle_deg"), kPlannerResetDoc)
       .def("request", &Request, py::arg("window_deg"),
            py::arg(kServoLogColumns.measured_deg.data()),  // a literal's view: NUL-terminated
-           R"doc(request(window_deg, measured_deg) -> float
-
-R(t), deg: window_deg = D(t), D(t+1), ... (at least one, finite), measured_deg = M(t).)doc")
-      .def("hold", &Hold, py::arg("window_deg"), R"doc(hold(window_deg) -> None
-
-A tick that passed with no request sent (the loop woke too late): the servo kept the last
-request, and the planner's model is advanced by that tick as the servo was. window_deg as
-request()'s; the next request is the next tick's.)doc")
+           kRequestDoc)
+      .def("hold", &Hold, py::arg("window_deg"), kHoldDoc)
       .def_property_readonly("predicted_deg", &ServoPlanner::PredictedDeg,
                              "What the model predicted for the last measured angle.")
       .def_property_readonly("expected_deg", &ServoPlanner::ExpectedDeg,

@@ -368,8 +368,26 @@ degrees; a tick's row is rotator, abductor, knee.
             return ToArray(LegAngles{f.x(), f.y(), f.z()});
           },
           py::arg("q_deg"),
-          "foot_mm(q_deg) -> numpy.ndarray\n\n"
-          "Forward kinematics: the foot in the body frame, mm, for 3 joint angles, deg.");
+          R"doc(foot_mm(q_deg) -> numpy.ndarray
+
+Forward kinematics: the foot in the body frame.
+
+Parameters
+----------
+q_deg : array_like
+    3 joint angles, deg.
+
+Returns
+-------
+numpy.ndarray
+    The foot, mm, shape (3,).
+
+Raises
+------
+TypeError
+    `q_deg` not an array.
+ValueError
+    Not 3 angles, or an angle not finite.)doc");
 
   m.def("_run_track", &RunTrackStoppable, py::arg("config"), py::arg("overrides"),
         py::arg("controllers"), py::arg("out"), py::arg("threads"),

@@ -133,6 +133,8 @@ def test_models_compare_pickle_and_print():
     m = leglab.JointModel(2.5, 7.0, 4, 6)
     assert m == leglab.PAPER_MODEL
     assert pickle.loads(pickle.dumps(m)) == m
+    # Another type compares unequal (it raised pybind11's several-line TypeError before).
+    assert m != 3 and not (m == "JointModel") and m != None  # noqa: E711
     assert repr(m) == "JointModel(v_max_deg_per_tick=2.5, theta0_deg=7.0, lag_ticks=4, accel_ticks=6)"
     assert "eq. 3" in leglab.JointModel.__doc__
 
@@ -149,7 +151,6 @@ def test_models_compare_pickle_and_print():
     (lambda: leglab.identify([1.0] * 30, [1.0] * 30, period_ticks=16), "cycles|whole"),
     (lambda: leglab.floor([1.0, 2.0], leglab.PAPER_MODEL), "at least 3"),
     (lambda: leglab.floor(np.zeros((5, 3)), [leglab.PAPER_MODEL]), "one JointModel per joint"),
-    (lambda: leglab.floor(np.zeros((5, 3)), leglab.PAPER_MODEL), "got a JointModel"),
     # Bounds from the model's key declarations (the config's model.* ranges, as
     # docs/configuration.md lists them), before anything is allocated.
     (lambda: leglab.JointModel(2.5, 7.0, 2**40, 6), r"lag_ticks must be an integer in \[0, 50\] ticks"),
@@ -192,6 +193,12 @@ def test_bad_input_is_a_one_line_value_error(call, message):
     (lambda: leglab.identify([1.0] * 40, [1.0] * 40, lag_range_ticks=5), "lag_range_ticks"),
     (lambda: leglab.identify([1.0] * 40, [1.0] * 40, accel_range_ticks=(1, 2.5)),
      r"accel_range_ticks\[1\]: expected an integer"),
+    # These were ValueError before the package followed Python's convention everywhere
+    # (CHANGELOG.md, Changed): one JointModel where a (T, 3) cycle needs three, and an array
+    # argument that is no array at all.
+    (lambda: leglab.floor(np.zeros((5, 3)), leglab.PAPER_MODEL), "got a JointModel"),
+    (lambda: leglab.PAPER_MODEL.simulate(None, 0.0), "requests: expected an array of numbers"),
+    (lambda: leglab.PAPER_MODEL.steady_state("abc"), "cycle: expected an array of numbers"),
 ])
 def test_a_value_of_the_wrong_type_is_a_one_line_type_error(call, message):
     # Python's convention: TypeError for the wrong type (bool is not a number here), never

@@ -101,15 +101,23 @@ def test_change_settings_changes_the_servo_and_refuses_bad_keys():
     plant = leglab.Plant(TRACK_YAML)
     for bad, message in [({"servo.nope": 1.0}, "servo.nope"),
                          ({"servo.max_speed_deg_s": -1.0}, "max_speed"),
-                         ({"servo.delay_ms": "x"}, "servo.delay_ms"),
                          # The config's ranges and rules, as track's plant_changes checks them.
                          ({"servo.delay_ms": 80000}, r"servo.delay_ms must be in \[0, 400\] ms"),
                          ({"sensor.noise_deg": 1e9}, r"sensor.noise_deg must be in \[0, 2\] deg"),
                          ({"servo.smoothing_ms": 400000}, "servo.smoothing_ms must be in"),
                          ({"servo.smoothing_ms": 12}, "multiple of 8 ms"),
-                         ({"servo.max_torque_nm": 1e6}, "servo.max_torque_nm must be in"),
-                         ([1, 2], "dict")]:
+                         ({"servo.max_torque_nm": 1e6}, "servo.max_torque_nm must be in")]:
         with pytest.raises(ValueError, match=message):
+            plant.change_settings(bad)
+    # A wrong type is a TypeError (ValueError before the package followed Python's convention
+    # everywhere; CHANGELOG.md, Changed).
+    for bad, message in [({"servo.delay_ms": "x"}, "servo.delay_ms"),
+                         ({"servo.delay_ms": True},
+                          "servo.delay_ms: expected one number, got bool"),
+                         ({"servo.delay_ms": [8]}, "servo.delay_ms: expected one number, got list"),
+                         ({1: 8}, "a key is not a str"),
+                         ([1, 2], "dict")]:
+        with pytest.raises(TypeError, match=message):
             plant.change_settings(bad)
     # Refused settings left it as it was.
     assert np.array_equal(plant.run(requests)["true"],
@@ -140,7 +148,6 @@ HOSTILE = [
     (lambda p: p.tick(["a", "b", "c"]), "dtype"),
     (lambda p: p.tick([True, False, True]), "dtype bool"),
     (lambda p: p.tick([[1.0], [2.0, 3.0]]), "not an array of numbers"),
-    (lambda p: p.tick(None), "dtype object"),
     (lambda p: p.run(np.zeros((10, 2))), r"shape \(T, 3\)"),
     (lambda p: p.run(np.array([[0.0, 0.0, 0.0], [0.0, 0.0, np.nan]])), r"requests\[1, 2\]"),
     (lambda p: p.reset([0.0, 0.0, 400.0]), "knee"),
@@ -152,6 +159,21 @@ HOSTILE = [
 def test_hostile_input_is_a_one_line_value_error(call, message):
     plant = leglab.Plant(TRACK_YAML)
     with pytest.raises(ValueError, match=message) as error:
+        call(plant)
+    assert "\n" not in str(error.value)
+
+
+# No array at all is a TypeError (ValueError "dtype object" before the package followed Python's
+# convention everywhere; CHANGELOG.md, Changed).
+@pytest.mark.parametrize("call, message", [
+    (lambda p: p.tick(None), "request: expected an array of numbers, got NoneType"),
+    (lambda p: p.tick("abc"), "request: expected an array of numbers, got str"),
+    (lambda p: p.run({}), "requests: expected an array of numbers, got dict"),
+    (lambda p: p.reset(object()), "pose: expected an array of numbers, got object"),
+])
+def test_an_argument_that_is_no_array_is_a_one_line_type_error(call, message):
+    plant = leglab.Plant(TRACK_YAML)
+    with pytest.raises(TypeError, match=message) as error:
         call(plant)
     assert "\n" not in str(error.value)
 
@@ -175,11 +197,22 @@ def test_a_refused_run_ticks_nothing():
     ({"plant": "bogus"}, "plant"),
     ({"robot": "no_such_robot"}, "no_such_robot"),
     ({"urdf": "/no/such.urdf"}, "such.urdf"),
-    ({1: 2}, "config key"),
-    ("steps=2", "dict"),
 ])
 def test_bad_configs_are_value_errors_naming_the_key(overrides, message):
     with pytest.raises(ValueError, match=message) as error:
+        leglab.Plant(TRACK_YAML, overrides)
+    assert "\n" not in str(error.value)
+
+
+# Overrides of the wrong type: TypeError (ValueError before the package followed Python's
+# convention everywhere; CHANGELOG.md, Changed).
+@pytest.mark.parametrize("overrides, message", [
+    ({1: 2}, "config key"),
+    ("steps=2", "dict"),
+    ({"steps": object()}, "steps = <object"),
+])
+def test_overrides_of_the_wrong_type_are_type_errors_naming_them(overrides, message):
+    with pytest.raises(TypeError, match=message) as error:
         leglab.Plant(TRACK_YAML, overrides)
     assert "\n" not in str(error.value)
 
@@ -191,7 +224,8 @@ def test_bad_config_files_are_value_errors(tmp_path):
     broken.write_text("servo: [\n")
     with pytest.raises(ValueError, match="broken.yaml"):
         leglab.Plant(broken)
-    with pytest.raises(ValueError, match="path"):
+    # Not a path at all: TypeError (ValueError before; CHANGELOG.md, Changed).
+    with pytest.raises(TypeError, match="path"):
         leglab.Plant(42)
 
 

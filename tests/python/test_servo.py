@@ -153,9 +153,9 @@ def test_a_rung_added_badly_is_one_line_naming_it():
         with pytest.raises(kind) as e:
             servo.fit(logs, keys, rungs=[rung])
         assert needle in str(e.value) and "\n" not in str(e.value), str(e.value)
-    with pytest.raises(TypeError, match="rungs: expected ModelRung objects, got str"):
+    with pytest.raises(TypeError, match="fit\(\): rungs: expected ModelRung objects, got str"):
         servo.fit(logs, keys, rungs=["first_order"])
-    with pytest.raises(TypeError, match="ModelRung: fit: expected a function, got int"):
+    with pytest.raises(TypeError, match="ModelRung\(\): fit: expected a function, got int"):
         servo.ModelRung("r", 3, first_order_predict)
 
 
@@ -377,7 +377,6 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
         (lambda: servo.ServoLog(t, t, t, motor="", kp=1), "motor is empty"),
         (lambda: servo.ServoLog(t, t, t, motor="m", kp=-1), "kp"),
         (lambda: servo.read_log(tmp_path / "none.csv", motor="m", kp=1), "no such file"),
-        (lambda: servo.read_log(XL330_LOG, speed=3), "unknown keyword 'speed'"),
         (lambda: servo.read_log(csv_log, kp=1), "no motor"),
         (lambda: servo.read_log(csv_log, motor="m"), "kp must be in (0, 1000000], got 0"),
         (lambda: servo.fit(IDENTIFY_LOGS, {"logs.nope": 1}), "nope"),
@@ -386,7 +385,6 @@ def test_bad_input_is_a_value_error_naming_it(identified, tmp_path):
          "no logs section"),
         (lambda: fit.model("nope"), "no motor 'nope'"),
         (lambda: fit.model("xl330", "nope"), "rung"),
-        (lambda: servo.plan("xl330", [1.0], kp=1), "expected a ServoModel"),
         (lambda: servo.plan(fit.model("xl330"), [1.0]), "kp is required"),
         (lambda: servo.plan(fit.model("xl330"), [1.0, np.nan], kp=1), "desired_deg"),
         (lambda: servo.plan(fit.model("xl330"), [1.0], "fast", kp=1), "method"),
@@ -424,6 +422,15 @@ def test_a_value_of_the_wrong_type_is_a_one_line_type_error(identified):
         (lambda: servo.ServoPlanner(model, kp=400).request([1.0] * 80, "0"),
          "measured_deg: expected a number, got str"),
         (lambda: servo.fit([], threads=1.5), "threads: expected an integer, got float 1.5"),
+        # These were ValueError before the package followed Python's convention everywhere
+        # (CHANGELOG.md, Changed).
+        (lambda: servo.plan("xl330", [1.0], kp=1), "expected a ServoModel"),
+        (lambda: servo.ServoPlanner("xl330", kp=1), "model: expected a ServoModel"),
+        (lambda: servo.write_log("log", "log.csv"), "log: expected a ServoLog"),
+        (lambda: servo.fit(["log"]), "expected ServoLog objects"),
+        (lambda: servo.ServoLog(None, [1.0], [1.0], motor="m", kp=1),
+         "time_s: expected an array of numbers, got NoneType"),
+        (lambda: servo.read_log(XL330_LOG, speed=3), "unknown keyword 'speed'"),
     ]
     for call, words in cases:
         with pytest.raises(TypeError, match=words) as error:

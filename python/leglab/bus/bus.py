@@ -8,17 +8,19 @@ for again, at most `retries` times (each counted in `Bus.stats`); after that a `
 the port, the servo and the item in one line.
 """
 
+from __future__ import annotations
+
 import errno
 import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any
+from typing import Any, Optional, Union
 
 from . import dynamixel, feetech, tables
-from .errors import ProtocolError
+from .errors import Packet, ProtocolError
 
-PROTOCOLS = {"dynamixel": dynamixel, "feetech": feetech}
+PROTOCOLS: dict[str, ModuleType] = {"dynamixel": dynamixel, "feetech": feetech}
 """The protocols a Bus speaks, by name."""
 
 MAX_ID = 252
@@ -33,8 +35,10 @@ _STALE_LIMIT = object()  # _skip_stale's "too many"
 
 
 class BusError(Exception):
-    """A servo that did not answer, answered with an error, or a port that failed: one line
-    naming the port, the servo id and the item."""
+    """A servo that did not answer, answered with an error, or a port that failed.
+
+    Its message is one line naming the port, the servo id and the item.
+    """
 
 
 class NoReply(BusError):
@@ -47,7 +51,23 @@ class HardwareError(BusError):
 
 @dataclass
 class BusStats:
-    """What a Bus has sent and retried since it was opened (or since `reset`)."""
+    """What a Bus has sent and retried since it was opened (or since `reset`).
+
+    Attributes
+    ----------
+    instructions : int
+        Instruction packets sent, retries included.
+    retries : int
+        Instructions sent again after a missing or corrupt reply.
+    missing : int
+        Replies that did not come within the timeout.
+    corrupt : int
+        Replies with a bad header, length or checksum.
+    stale : int
+        Late replies to an earlier instruction, dropped.
+    errors : int
+        Instructions that failed after every retry.
+    """
 
     instructions: int = 0  # instruction packets sent, retries included
     retries: int = 0       # instructions sent again after a missing or corrupt reply
@@ -64,8 +84,21 @@ class BusStats:
 
 @dataclass(frozen=True)
 class ServoInfo:
-    """A servo found on the bus: its id, model number, firmware and control table (None when
-    leglab has no table for its model number)."""
+    """A servo found on the bus.
+
+    Attributes
+    ----------
+    id : int
+        Its id.
+    model_number : int
+        Its model number.
+    firmware_version : int
+        Its firmware.
+    table : tables.ControlTable or None
+        Its control table (None when leglab has no table for its model number).
+    error : str
+        The PING reply's error byte in words ("" when clear).
+    """
 
     id: int
     model_number: int
@@ -75,19 +108,54 @@ class ServoInfo:
 
 
 def check_protocol(name: str) -> ModuleType:
-    """The protocol module of `name`; ValueError listing the valid names otherwise."""
+    """The protocol module of `name`.
+
+    Parameters
+    ----------
+    name : {"dynamixel", "feetech"}
+        The protocol.
+
+    Returns
+    -------
+    module
+        leglab.bus.dynamixel or leglab.bus.feetech.
+
+    Raises
+    ------
+    TypeError
+        `name` not a str.
+    ValueError
+        An unknown protocol, listing the valid names.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"protocol: expected a str ({', '.join(PROTOCOLS)}), got "
+                        f"{type(name).__name__}")
     if name not in PROTOCOLS:
         raise ValueError(f"unknown protocol {name!r} (valid: {', '.join(PROTOCOLS)})")
     return PROTOCOLS[name]
 
 
 def wire_time_s(byte_count: int, baud: int) -> float:
-    """Seconds `byte_count` bytes take on a UART at `baud` (10 bits a byte: start, 8, stop)."""
+    """Seconds `byte_count` bytes take on a UART at `baud` (10 bits a byte: start, 8, stop).
+
+    Parameters
+    ----------
+    byte_count : int
+        The bytes sent.
+    baud : int
+        The baud rate.
+
+    Returns
+    -------
+    float
+        The time on the wire, s.
+    """
     return byte_count * 10.0 / baud
 
 
-def _open_serial(port, baud, timeout_s):
-    import serial  # pyserial: imported here so that the emulator and protocols need none
+def _open_serial(port: str, baud: int, timeout_s: float) -> Any:
+    # pyserial (untyped): imported here so that the emulator and protocols need none.
+    import serial
 
     if not os.path.exists(port):
         raise BusError(f"port {port}: no such device (is the adapter plugged in? "
@@ -101,32 +169,68 @@ def _open_serial(port, baud, timeout_s):
 
 
 class Bus:
-    """Servos on one serial port, by id and item name. A context manager: the port is closed
-    on leaving it.
+    """Servos on one serial port, by id and item name.
 
-    port: a device path (opened with pyserial, exclusively), or an object with pyserial's
+    A context manager: the port is closed on leaving it.
+
+    Parameters
+    ----------
+    port : str, os.PathLike or port object
+        A device path (opened with pyserial, exclusively), or an object with pyserial's
         `write`, `read`, `reset_input_buffer`, `close`, `timeout` and `name` (such as the
         emulator's VirtualPort).
-    protocol: "dynamixel" or "feetech".
-    baud: the bus's baud rate (the servos' own setting; 1 Mbaud is both makers' default).
-    timeout_s: how long a reply is waited for; on a USB adapter add its latency timer.
-    retries: how many times an instruction is sent again after a missing or corrupt reply.
+    protocol : {"dynamixel", "feetech"}
+        The servos' protocol.
+    baud : int, optional
+        The bus's baud rate, one of BAUD_RATES (the servos' own setting; 1 Mbaud is both
+        makers' default).
+    timeout_s : float, optional
+        How long a reply is waited for, in (0, 10] s; on a USB adapter add its latency timer.
+    retries : int, optional
+        How many times (0 to 100) an instruction is sent again after a missing or corrupt
+        reply.
+
+    Attributes
+    ----------
+    stats : BusStats
+        What it has sent and retried.
+    torque_on : set of int
+        The ids this Bus has turned the torque on in, and not off since.
+    port_name : str
+        The port, for messages.
+
+    Raises
+    ------
+    TypeError
+        An argument of the wrong type (bool is not an integer).
+    ValueError
+        An unknown protocol, a baud rate not in BAUD_RATES, `timeout_s` or `retries` out of
+        range.
+    BusError
+        The port cannot be opened.
     """
 
-    def __init__(self, port: "str | os.PathLike | Any", protocol: str, baud: int = 1_000_000,
-                 timeout_s: float = 0.02, retries: int = 2) -> None:
+    def __init__(self, port: Union[str, os.PathLike[str], Any], protocol: str,
+                 baud: int = 1_000_000, timeout_s: float = 0.02, retries: int = 2) -> None:
         self.protocol = check_protocol(protocol)
+        if isinstance(baud, bool) or not isinstance(baud, int):
+            raise TypeError(f"baud: expected an integer, got {type(baud).__name__}")
         if baud not in BAUD_RATES:
             raise ValueError(f"baud {baud!r} is not one of {', '.join(map(str, BAUD_RATES))}")
-        if not (isinstance(timeout_s, (int, float)) and 0 < timeout_s <= 10):
+        if isinstance(timeout_s, bool) or not isinstance(timeout_s, (int, float)):
+            raise TypeError(f"timeout_s: expected a number, got {type(timeout_s).__name__}")
+        if not 0 < timeout_s <= 10:
             raise ValueError(f"timeout_s must be in (0, 10] s, got {timeout_s!r}")
-        if not (isinstance(retries, int) and 0 <= retries <= 100):
+        if isinstance(retries, bool) or not isinstance(retries, int):
+            raise TypeError(f"retries: expected an integer, got {type(retries).__name__}")
+        if not 0 <= retries <= 100:
             raise ValueError(f"retries must be an integer in [0, 100], got {retries!r}")
         self.baud = baud
         self.retries = retries
         self.stats = BusStats()
-        self.torque_on = set()  # ids this Bus has turned the torque on in, and not off since
-        self._tables = {}
+        self.torque_on: set[int] = set()  # ids it turned the torque on in, and not off since
+        self._tables: dict[int, tables.ControlTable] = {}
+        self.port_name: str
         if isinstance(port, (str, os.PathLike)):
             self.port_name = os.fspath(port)
             self._port = _open_serial(self.port_name, baud, timeout_s)
@@ -144,7 +248,13 @@ class Bus:
         self.close()
 
     def close(self) -> None:
-        """Closes the port (again: nothing)."""
+        """Closes the port (again: nothing).
+
+        Raises
+        ------
+        Exception
+            What the port's close raises.
+        """
         if self._port is not None:
             try:
                 self._port.close()
@@ -154,7 +264,7 @@ class Bus:
     @property
     def timeout_s(self) -> float:
         """How long a reply is waited for, s."""
-        return self._port.timeout
+        return float(self._port.timeout)
 
     @timeout_s.setter
     def timeout_s(self, value: float) -> None:
@@ -163,7 +273,27 @@ class Bus:
     # ---- the servos' tables ----
 
     def table(self, servo_id: int) -> tables.ControlTable:
-        """The control table of `servo_id`, from its model number (asked once, then kept)."""
+        """The control table of a servo, from its model number (asked once, then kept).
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo, 0 to MAX_ID.
+
+        Returns
+        -------
+        tables.ControlTable
+            Its table.
+
+        Raises
+        ------
+        TypeError
+            `servo_id` not an integer.
+        ValueError
+            `servo_id` out of range.
+        BusError
+            No table for its model; NoReply when it does not answer.
+        """
         if servo_id not in self._tables:
             info = self.ping(servo_id)
             if info.table is None:
@@ -174,14 +304,45 @@ class Bus:
         return self._tables[servo_id]
 
     def set_table(self, servo_id: int, table: tables.ControlTable) -> None:
-        """Takes `table` as servo `servo_id`'s without asking it (a servo known in advance)."""
+        """Takes `table` as a servo's without asking it (a servo known in advance).
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        table : tables.ControlTable
+            Its table.
+        """
         self._tables[servo_id] = table
 
     # ---- instructions ----
 
-    def ping(self, servo_id: int, retries: "int | None" = None) -> ServoInfo:
-        """The ServoInfo of `servo_id`; NoReply if it does not answer. A servo that reports a
-        hardware error still answers: its ServoInfo.error says what."""
+    def ping(self, servo_id: int, retries: Optional[int] = None) -> ServoInfo:
+        """What a servo says it is.
+
+        A servo that reports a hardware error still answers: its ServoInfo.error says what.
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo, 0 to MAX_ID.
+        retries : int, optional
+            Retries of this instruction (None: the Bus's).
+
+        Returns
+        -------
+        ServoInfo
+            Its id, model number, firmware and table.
+
+        Raises
+        ------
+        TypeError
+            `servo_id` not an integer.
+        ValueError
+            `servo_id` out of range.
+        NoReply
+            It does not answer.
+        """
         _check_id(servo_id)
         (reply,) = self._transact(self.protocol.ping(servo_id), [servo_id], "PING", retries,
                                   check=False)
@@ -204,12 +365,34 @@ class Bus:
                          error)
 
     def scan(self, ids: Iterable[int] = range(0, MAX_ID + 1),
-             timeout_s: "float | None" = None) -> list[ServoInfo]:
-        """ServoInfo of every servo in `ids` that answers a PING (each asked once, no retry)."""
+             timeout_s: Optional[float] = None) -> list[ServoInfo]:
+        """The servos that answer a PING (each asked once, no retry).
+
+        Parameters
+        ----------
+        ids : iterable of int, optional
+            The ids to ask (default: all).
+        timeout_s : float, optional
+            The reply timeout while scanning (None: the Bus's).
+
+        Returns
+        -------
+        list of ServoInfo
+            One for each servo that answered.
+
+        Raises
+        ------
+        TypeError
+            An id not an integer.
+        ValueError
+            An id out of range.
+        BusError
+            The port failed.
+        """
         saved = self.timeout_s
         if timeout_s is not None:
             self.timeout_s = timeout_s
-        found = []
+        found: list[ServoInfo] = []
         try:
             for servo_id in ids:
                 try:
@@ -225,32 +408,131 @@ class Bus:
         return found
 
     def read_raw(self, servo_id: int, item: str) -> int:
-        """Item `item` of servo `servo_id` as the register holds it (an int)."""
+        """An item of a servo as the register holds it.
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        item : str
+            The item's name in the servo's control table.
+
+        Returns
+        -------
+        int
+            The register's counts.
+
+        Raises
+        ------
+        ValueError
+            An item the servo's table lacks.
+        BusError
+            The servo refused or did not answer (NoReply), or reports a hardware fault
+            (HardwareError).
+        """
         it = self.table(servo_id).item(item)
         (reply,) = self._transact(self.protocol.read(servo_id, it.address, it.size), [servo_id],
                                   f"read {item}", size=it.size)
         return tables.decode(it, reply.params)
 
     def read(self, servo_id: int, item: str) -> float:
-        """Item `item` of servo `servo_id`, in leglab's units (tables.to_units)."""
+        """An item of a servo, in leglab's units (tables.to_units).
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        item : str
+            The item's name in the servo's control table.
+
+        Returns
+        -------
+        float
+            The value, in the item's unit (deg, deg/s, V, C, s, ...).
+
+        Raises
+        ------
+        ValueError
+            An item the servo's table lacks.
+        BusError
+            As read_raw.
+        """
         it = self.table(servo_id).item(item)
         return tables.to_units(it, self.read_raw(servo_id, item))
 
     def write_raw(self, servo_id: int, item: str, raw: int, check: bool = True) -> None:
-        """Writes `raw` (register counts) to item `item` of servo `servo_id`. check=False: a
-        hardware alert or error in the reply is not raised (the write was answered)."""
+        """Writes register counts to an item of a servo.
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        item : str
+            The item's name in the servo's control table.
+        raw : int
+            The counts.
+        check : bool, optional
+            False: a hardware alert or error in the reply is not raised (the write was
+            answered).
+
+        Raises
+        ------
+        ValueError
+            An item the servo's table lacks, counts that do not fit it.
+        BusError
+            As read_raw.
+        """
         it = self.table(servo_id).item(item)
         self._transact(self.protocol.write(servo_id, it.address, tables.encode(it, raw)),
                        [servo_id], f"write {item}", check=check)
         self._note_torque(item, {servo_id: raw})
 
     def write(self, servo_id: int, item: str, value: float) -> None:
-        """Writes `value` (leglab's units) to item `item` of servo `servo_id`."""
+        """Writes a value in leglab's units to an item of a servo.
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        item : str
+            The item's name in the servo's control table.
+        value : float
+            The value, in the item's unit.
+
+        Raises
+        ------
+        TypeError
+            `value` not a number.
+        ValueError
+            An item the servo's table lacks; a value not finite or out of the item's range.
+        BusError
+            As read_raw.
+        """
         it = self.table(servo_id).item(item)
         self.write_raw(servo_id, item, tables.from_units(it, value))
 
     def sync_read_raw(self, ids: Iterable[int], item: str) -> dict[int, int]:
-        """{id: raw} of `item` on every servo of `ids`, in one SYNC_READ (one reply each)."""
+        """An item of several servos as their registers hold it, in one SYNC_READ.
+
+        Parameters
+        ----------
+        ids : iterable of int
+            The servos (one reply each).
+        item : str
+            The item's name, at one address on all of them.
+
+        Returns
+        -------
+        dict of int to int
+            {id: counts}.
+
+        Raises
+        ------
+        ValueError
+            No ids, an item a table lacks.
+        BusError
+            As read_raw; the item at different addresses.
+        """
         ids = list(ids)
         it = self._common_item(ids, item)
         replies = self._transact(self.protocol.sync_read(it.address, it.size, ids), ids,
@@ -258,12 +540,48 @@ class Bus:
         return {r.id: tables.decode(it, r.params) for r in replies}
 
     def sync_read(self, ids: Iterable[int], item: str) -> dict[int, float]:
-        """{id: value} of `item` (leglab's units) on every servo of `ids`, in one SYNC_READ."""
-        it = self._common_item(list(ids), item)
+        """An item of several servos, in leglab's units, in one SYNC_READ.
+
+        Parameters
+        ----------
+        ids : iterable of int
+            The servos.
+        item : str
+            The item's name, at one address on all of them.
+
+        Returns
+        -------
+        dict of int to float
+            {id: value}.
+
+        Raises
+        ------
+        ValueError, BusError
+            As sync_read_raw.
+        """
+        ids = list(ids)
+        it = self._common_item(ids, item)
         return {i: tables.to_units(it, raw) for i, raw in self.sync_read_raw(ids, item).items()}
 
     def sync_write_raw(self, item: str, raw_by_id: Mapping[int, int]) -> None:
-        """Writes {id: raw} to `item` in one SYNC_WRITE (no reply: the servos answer none)."""
+        """Writes register counts to an item of several servos, in one SYNC_WRITE.
+
+        The servos answer none.
+
+        Parameters
+        ----------
+        item : str
+            The item's name, at one address on all of them.
+        raw_by_id : mapping of int to int
+            {id: counts}.
+
+        Raises
+        ------
+        ValueError
+            No ids, an item a table lacks, counts that do not fit.
+        BusError
+            The port failed; the item at different addresses.
+        """
         it = self._common_item(list(raw_by_id), item)
         frame = self.protocol.sync_write(
             it.address, it.size, {i: tables.encode(it, raw) for i, raw in raw_by_id.items()})
@@ -271,11 +589,26 @@ class Bus:
         self._note_torque(item, raw_by_id)
 
     def sync_write(self, item: str, value_by_id: Mapping[int, float]) -> None:
-        """Writes {id: value} (leglab's units) to `item` in one SYNC_WRITE."""
+        """Writes values in leglab's units to an item of several servos, in one SYNC_WRITE.
+
+        Parameters
+        ----------
+        item : str
+            The item's name, at one address on all of them.
+        value_by_id : mapping of int to float
+            {id: value}.
+
+        Raises
+        ------
+        TypeError
+            A value not a number.
+        ValueError, BusError
+            As sync_write_raw; a value not finite or out of range.
+        """
         it = self._common_item(list(value_by_id), item)
         self.sync_write_raw(item, {i: tables.from_units(it, v) for i, v in value_by_id.items()})
 
-    def _note_torque(self, item, raw_by_id):
+    def _note_torque(self, item: str, raw_by_id: Mapping[int, int]) -> None:
         """Keeps torque_on: the servos whose torque this Bus has turned on (a sync write, which
         is not answered, counted as done)."""
         if item == "torque_enable":
@@ -284,7 +617,7 @@ class Bus:
 
     # ---- the wire ----
 
-    def _common_item(self, ids, item):
+    def _common_item(self, ids: list[int], item: str) -> tables.Item:
         """The item `item` of the servos `ids`, which a sync instruction needs at one address."""
         if not ids:
             raise ValueError(f"{item}: no servo ids given")
@@ -295,7 +628,7 @@ class Bus:
                            f"{', '.join(map(str, ids))}: read them one at a time")
         return first
 
-    def _port_call(self, method, *args):
+    def _port_call(self, method: str, *args: Any) -> Any:
         """The port's `method`(*args); a failure of the port (unplugged, closed, its driver's
         error) is a BusError naming it."""
         if self._port is None:
@@ -304,18 +637,18 @@ class Bus:
             return getattr(self._port, method)(*args)
         except OSError as e:
             raise BusError(f"port {self.port_name}: lost: "
-                           f"{e.strerror or errno.errorcode.get(e.errno, e)}") from None
+                           f"{e.strerror or errno.errorcode.get(e.errno or 0, str(e))}") from None
         except Exception as e:  # pyserial's SerialException, termios.error
             raise BusError(f"port {self.port_name}: lost: {first_line(e)}") from None
 
-    def _send(self, frame, what):
+    def _send(self, frame: bytes, what: str) -> None:
         self.stats.instructions += 1
         self._port_call("write", frame)
 
-    def _read_exact(self, count):
-        return self._port_call("read", count)
+    def _read_exact(self, count: int) -> bytes:
+        return bytes(self._port_call("read", count))
 
-    def _read_status(self):
+    def _read_status(self) -> Optional[Packet]:
         """One status packet from the port, or None (nothing within the timeout), or raises
         ProtocolError (bytes that are not a valid packet)."""
         header = self.protocol.HEADER
@@ -335,9 +668,11 @@ class Bus:
         rest = self._read_exact(total - len(buf))
         if len(rest) != total - len(buf):
             raise ProtocolError("a reply cut short")
-        return self.protocol.decode(bytes(buf + rest), status=True)
+        packet: Packet = self.protocol.decode(bytes(buf + rest), status=True)
+        return packet
 
-    def _transact(self, frame, ids, what, retries=None, check=True, size=None):
+    def _transact(self, frame: bytes, ids: list[int], what: str, retries: Optional[int] = None,
+                  check: bool = True, size: Optional[int] = None) -> list[Packet]:
         """Sends `frame` and reads one status packet from each of `ids`, in order. A missing or
         corrupt reply (or, with `size`, one whose data is not `size` bytes: an earlier read's,
         late) sends it again (at most `retries` times). With `check`, an instruction the servo
@@ -349,13 +684,15 @@ class Bus:
                 self.stats.retries += 1
             self._port_call("reset_input_buffer")
             self._send(frame, what)
-            replies, problem, bad_id = [], "", ids[0]
+            replies: list[Packet] = []
+            problem, bad_id = "", ids[0]
             for servo_id in ids:
                 bad_id = servo_id
+                reply: Union[Packet, None, object]
                 try:
                     reply = self._read_status()
                     if reply is not None and reply.id != servo_id:
-                        reply = self._skip_stale(reply, servo_id)
+                        reply = self._skip_stale(servo_id)
                 except ProtocolError as e:
                     self.stats.corrupt += 1
                     problem = f"gave a corrupt reply ({e})"
@@ -368,6 +705,7 @@ class Bus:
                     self.stats.corrupt += 1
                     problem = "was drowned by replies of other servos"
                     break
+                assert isinstance(reply, Packet)
                 if size is not None and len(reply.params) != size and not reply.error:
                     self.stats.corrupt += 1
                     problem = f"gave {len(reply.params)} bytes where {size} were asked"
@@ -382,10 +720,10 @@ class Bus:
         tries = f"{retries + 1} {'try' if retries == 0 else 'tries'}"
         raise NoReply(f"port {self.port_name}: servo {bad_id} {problem} to {what} ({tries})")
 
-    def _skip_stale(self, reply, servo_id):
-        """The next reply from `servo_id` after `reply`, another servo's: a reply that came
-        after its instruction's timeout (one master on the bus: no other reply is for us), so
-        dropped and counted. None on a timeout, _STALE_LIMIT after too many; ProtocolError as
+    def _skip_stale(self, servo_id: int) -> Union[Packet, None, object]:
+        """The next reply from `servo_id` after another servo's: a reply that came after its
+        instruction's timeout (one master on the bus: no other reply is for us), so dropped and
+        counted. None on a timeout, _STALE_LIMIT after too many; ProtocolError as
         _read_status."""
         for _ in range(_STALE_REPLIES):
             self.stats.stale += 1
@@ -394,7 +732,7 @@ class Bus:
                 return reply
         return _STALE_LIMIT
 
-    def _check_status(self, reply, what):
+    def _check_status(self, reply: Packet, what: str) -> None:
         if not reply.error:
             return
         text = self.protocol.error_text(reply.error)
@@ -403,7 +741,7 @@ class Bus:
                                 f"error ({self._hardware_error(reply.id) or text}) at {what}")
         raise BusError(f"port {self.port_name}: servo {reply.id} refused to {what}: {text}")
 
-    def _hardware_error(self, servo_id):
+    def _hardware_error(self, servo_id: int) -> str:
         """The servo's hardware error register in words ("" when it cannot be read)."""
         table = self._tables.get(servo_id)
         if table is None or "hardware_error_status" not in table.items:
@@ -414,26 +752,43 @@ class Bus:
                                       [servo_id], "read hardware_error_status", check=False)
         except BusError:
             return ""
-        return self.protocol.hardware_error_text(tables.decode(it, reply.params))
+        text: str = self.protocol.hardware_error_text(tables.decode(it, reply.params))
+        return text
 
 
-def _check_id(servo_id):
-    if isinstance(servo_id, bool) or not isinstance(servo_id, int) or not 0 <= servo_id <= MAX_ID:
+def _check_id(servo_id: object) -> None:
+    """TypeError unless `servo_id` is an integer (bool is not), ValueError unless it is in
+    [0, MAX_ID]."""
+    if isinstance(servo_id, bool) or not isinstance(servo_id, int):
+        raise TypeError(f"servo id: expected an integer in [0, {MAX_ID}], got "
+                        f"{type(servo_id).__name__}")
+    if not 0 <= servo_id <= MAX_ID:
         raise ValueError(f"servo id must be an integer in [0, {MAX_ID}], got {servo_id!r}")
 
 
-def _feetech_item(name):
+def _feetech_item(name: str) -> tables.Item:
     table = next(t for t in tables.TABLES.values() if t.protocol == "feetech")
     return table.item(name)
 
 
-def _known_models(protocol):
+def _known_models(protocol: str) -> str:
     return ", ".join(f"{t.model} ({t.model_number})" for t in tables.TABLES.values()
                      if t.protocol == protocol)
 
 
 def first_line(error: BaseException) -> str:
-    """An exception's message in one line (its type's name when it has none)."""
+    """An exception's message in one line.
+
+    Parameters
+    ----------
+    error : BaseException
+        The exception.
+
+    Returns
+    -------
+    str
+        The first line of its message (its type's name when it has none).
+    """
     text = str(error).strip()
     return text.splitlines()[0] if text else type(error).__name__
 

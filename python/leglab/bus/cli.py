@@ -6,26 +6,30 @@ fault ends (a servo that stops answering, a hardware error, SIGINT or SIGTERM) t
 off, writes what it recorded, and exits 2 with one line naming the port and the servo.
 """
 
+from __future__ import annotations
+
 import argparse
 import math
 import os
 import sys
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn, Optional, Union
 
 from . import bus as bus_module
 from . import emulator, physics, session, tables, trajectories
 
-MOTOR_ALIASES = {"xl330": "xl330-m288", "xl430": "xl430-w250"}
+MOTOR_ALIASES: dict[str, str] = {"xl330": "xl330-m288", "xl430": "xl430-w250"}
 """Servo models also known by the shorter names the shipped logs give them."""
 
 
 class ArgumentParser(argparse.ArgumentParser):
     """argparse whose usage errors are one line and exit status 2."""
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: {message} (--help lists the options)\n")
 
 
-def _ids(text):
+def _ids(text: str) -> list[int]:
     try:
         ids = [int(part) for part in text.split(",")]
     except ValueError:
@@ -36,10 +40,11 @@ def _ids(text):
     return ids
 
 
-def _ranged(low, high, unit="", integer=False):
-    def parse(text):
+def _ranged(low: float, high: float, unit: str = "",
+            integer: bool = False) -> Callable[[str], Union[int, float]]:
+    def parse(text: str) -> Union[int, float]:
         try:
-            value = int(text) if integer else float(text)
+            value: Union[int, float] = int(text) if integer else float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"'{text}' is not {'an integer' if integer else 'a number'}")
         if not (low <= value <= high):
@@ -48,7 +53,7 @@ def _ranged(low, high, unit="", integer=False):
     return parse
 
 
-def _model(text):
+def _model(text: str) -> str:
     key = MOTOR_ALIASES.get(text, text)
     if key not in tables.TABLES or key not in physics.SPECS:
         known = ", ".join(k for k in tables.TABLES if k in physics.SPECS)
@@ -56,14 +61,14 @@ def _model(text):
     return key
 
 
-def _name(text):
+def _name(text: str) -> str:
     if not text or len(text) > 64 or any(not (c.isalnum() or c in "-_.") for c in text):
         raise argparse.ArgumentTypeError(
             f"'{text}': a name of 1-64 letters, digits, '-', '_' or '.'")
     return text
 
 
-def _trajectories(text):
+def _trajectories(text: str) -> list[str]:
     names = text.split(",")
     if len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f"'{text}' names a trajectory twice")
@@ -74,7 +79,7 @@ def _trajectories(text):
     return names
 
 
-def _common(parser, ids_flag="--id"):
+def _common(parser: argparse.ArgumentParser, ids_flag: Optional[str] = "--id") -> None:
     parser.add_argument("--port", required=True,
                         help="the serial port (/dev/ttyUSB0, /dev/serial/by-id/...), or "
                              "emulator:MODEL[,key=value...] for an emulated bus on virtual time")
@@ -92,7 +97,7 @@ def _common(parser, ids_flag="--id"):
                             help="the servos' ids, e.g. 1 or 1,2,3 (or give --servos)")
 
 
-def _drive(parser):
+def _drive(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--servos", metavar="FILE",
                         help="each servo's own settings, a YAML file (leglab.bus.joints); "
                              "the flags fill what it leaves out")
@@ -109,8 +114,14 @@ def _drive(parser):
                         help="do not ask for real-time priority")
 
 
-def parser():
-    """The command line's parser."""
+def parser() -> argparse.ArgumentParser:
+    """The command line's parser.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Its verbs scan, record, run and emulate, with their flags.
+    """
     top = ArgumentParser(prog="python3 -m leglab.bus",
                          description="Servos on a serial bus: scan, record, run, emulate.")
     verbs = top.add_subparsers(dest="verb", required=True, parser_class=ArgumentParser)
@@ -176,7 +187,7 @@ def parser():
     return top
 
 
-def _faults(parser):
+def _faults(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--drop-rate", type=_ranged(0, 1), default=0.0,
                         help="the share of replies not sent")
     parser.add_argument("--corrupt-rate", type=_ranged(0, 1), default=0.0,
@@ -190,17 +201,44 @@ def _faults(parser):
     parser.add_argument("--seed", type=_ranged(0, 2**31, integer=True), default=0)
 
 
-def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
-    """A VirtualPort and VirtualClock from `--port emulator:MODEL[,key=value...]`; keys:
-    drop_rate, corrupt_rate, silent_after_s, silent_ids (1+2), hardware_error_after_s, seed,
-    angle_deg (the load's start), kp (the gain at power-on), hang_deg (where the load hangs on
-    the servo's 0-360 deg scale, default 180)."""
+def emulated_port(spec: str, protocol: str, ids: list[int], mass_kg: float, length_m: float,
+                  baud: int, loads: Optional[dict[int, tuple[float, float]]] = None
+                  ) -> tuple[emulator.VirtualPort, emulator.VirtualClock]:
+    """An emulated bus from `--port emulator:MODEL[,key=value...]`.
+
+    Parameters
+    ----------
+    spec : str
+        MODEL[,key=value...] with keys drop_rate, corrupt_rate, silent_after_s, silent_ids
+        (1+2), hardware_error_after_s, seed, angle_deg (the load's start), kp (the gain at
+        power-on), hang_deg (where the load hangs on the servo's 0-360 deg scale, default 180).
+    protocol : str
+        The bus's protocol.
+    ids : list of int
+        The servos.
+    mass_kg, length_m : float
+        Their load.
+    baud : int
+        The baud rate.
+    loads : dict, optional
+        {id: (mass_kg, length_m)} for servos with their own load.
+
+    Returns
+    -------
+    (VirtualPort, VirtualClock)
+        The port and its clock.
+
+    Raises
+    ------
+    SessionError
+        A bad spec, naming the key.
+    """
     model, *pairs = spec.split(",")
     try:
         model = _model(model)
     except argparse.ArgumentTypeError as e:
         raise session.SessionError(f"--port emulator:{spec}: {e}") from None
-    faults, extra, seen = emulator.Faults(), {}, set()
+    faults, extra, seen = emulator.Faults(), dict[str, Any](), set[str]()
     for pair in pairs:
         key, _, value = pair.partition("=")
         try:
@@ -219,15 +257,16 @@ def emulated_port(spec, protocol, ids, mass_kg, length_m, baud, loads=None):
     return emulator.VirtualPort(emulated, clock, name=f"emulator:{model}"), clock
 
 
-def _number(value, low, high, integer=False):
+def _number(value: str, low: float, high: float, integer: bool = False) -> Union[int, float]:
     """`value` (text) as a number in [low, high]; ValueError otherwise."""
-    number = int(value) if integer else float(value)
+    number: Union[int, float] = int(value) if integer else float(value)
     if not low <= number <= high:  # NaN is in no range
         raise ValueError(f"{value} is outside [{low:g}, {high:g}]")
     return number
 
 
-def _emulator_setting(faults, extra, key, value, ids, model):
+def _emulator_setting(faults: emulator.Faults, extra: dict[str, Any], key: str, value: str,
+                      ids: Sequence[int], model: str) -> None:
     """One key=value of --port emulator:...: into `faults` or the emulator's `extra`."""
     if key == "silent_ids":
         silent = tuple(int(v) for v in value.split("+"))
@@ -239,7 +278,7 @@ def _emulator_setting(faults, extra, key, value, ids, model):
     elif key in ("silent_after_s", "hardware_error_after_s"):
         setattr(faults, key, _number(value, 0, 1e9))
     elif key == "seed":
-        faults.seed = _number(value, 0, 2**31, integer=True)
+        faults.seed = int(_number(value, 0, 2**31, integer=True))
     elif key == "hang_deg":  # where the load hangs on the servo's 0-360 scale
         extra["hang_count"] = round(_number(value, 0, 360) * 4096 / 360) % 4096
     elif key == "angle_deg":
@@ -252,31 +291,68 @@ def _emulator_setting(faults, extra, key, value, ids, model):
                          "silent_ids, hardware_error_after_s, seed, angle_deg, kp, hang_deg)")
 
 
-def open_bus(args, joints=()):
-    """(Bus, clock) for the verb's --port; an emulated bus holds `joints` (ids and loads; by
-    default servo 1 with 0.1 kg at 0.1 m)."""
+def open_bus(args: argparse.Namespace, joints: Sequence[Any] = ()
+             ) -> tuple[bus_module.Bus, Union[emulator.VirtualClock, emulator.RealClock]]:
+    """The bus of a verb's --port.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The verb's flags (port, protocol, baud, timeout_ms, retries, ids).
+    joints : sequence of joints.Joint, optional
+        What an emulated bus holds (ids and loads; by default servo 1 with 0.1 kg at 0.1 m).
+
+    Returns
+    -------
+    (Bus, clock)
+        The bus and the clock its loop runs on (virtual for an emulated bus).
+
+    Raises
+    ------
+    SessionError, BusError
+        A bad --port emulator:..., a port that cannot be opened.
+    """
     timeout_s = args.timeout_ms / 1e3
     if args.port.startswith("emulator:"):
         ids = [j.id for j in joints] or (getattr(args, "ids", None) or [1])
         loads = {j.id: (j.mass_kg, j.length_m) for j in joints}
-        port, clock = emulated_port(args.port[len("emulator:"):], args.protocol, ids, 0.1, 0.1,
+        port, virtual = emulated_port(args.port[len("emulator:"):], args.protocol, ids, 0.1, 0.1,
                                     args.baud, loads)
-        return bus_module.Bus(port, args.protocol, args.baud, timeout_s, args.retries), clock
+        return bus_module.Bus(port, args.protocol, args.baud, timeout_s, args.retries), virtual
     return (bus_module.Bus(args.port, args.protocol, args.baud, timeout_s, args.retries),
             emulator.RealClock())
 
 
-def say(line):
-    """A line of progress, on stdout at once. A reader that has gone (`| head`) is no fault of
-    the session: its lines are dropped, and the session goes on to its end (torque off)."""
+def say(line: str) -> None:
+    """A line of progress, on stdout at once.
+
+    A reader that has gone (`| head`) is no fault of the session: its lines are dropped, and
+    the session goes on to its end (torque off).
+
+    Parameters
+    ----------
+    line : str
+        The line.
+    """
     try:
         print(line, flush=True)
     except BrokenPipeError:
         sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (for the rest of the process)
 
 
-def main(argv=None):
-    """The command line; returns the exit status."""
+def main(argv: Optional[list[str]] = None) -> int:
+    """The command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (None: sys.argv[1:]).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for bad input or a session a fault ended.
+    """
     argv = sys.argv[1:] if argv is None else argv
     if argv == ["--list-outputs"]:  # the files each verb writes, as docs/outputs.md shows them
         from . import outputs
@@ -286,7 +362,8 @@ def main(argv=None):
     from . import verbs  # the verbs' bodies (run needs the compiled leglab module)
 
     try:
-        return getattr(verbs, args.verb)(args)
+        status: int = getattr(verbs, args.verb)(args)
+        return status
     except (session.SessionError, bus_module.BusError, session.Stopped) as e:
         # Before the motion (set-up, zero, a refusal): nothing recorded yet.
         print(f"leglab.bus {args.verb}: {e}", file=sys.stderr)

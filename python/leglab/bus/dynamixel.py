@@ -60,7 +60,18 @@ _CRC_TABLE = _crc_table(CRC_POLYNOMIAL)
 
 
 def crc16(data: bytes) -> int:
-    """The Protocol 2.0 CRC of `data` (polynomial 0x8005, initial value 0, unreflected)."""
+    """The Protocol 2.0 CRC (polynomial 0x8005, initial value 0, unreflected).
+
+    Parameters
+    ----------
+    data : bytes
+        The bytes it covers.
+
+    Returns
+    -------
+    int
+        The CRC-16.
+    """
     crc = 0
     for byte in data:
         crc = ((crc << 8) & 0xFFFF) ^ _CRC_TABLE[(crc >> 8) ^ byte]
@@ -68,8 +79,19 @@ def crc16(data: bytes) -> int:
 
 
 def stuff(body: bytes) -> bytes:
-    """`body` (the instruction, [error] and params) with byte stuffing: each FF FF FD becomes
-    FF FF FD FD, so that no header pattern appears inside a packet."""
+    """Byte stuffing: each FF FF FD becomes FF FF FD FD, so that no header pattern appears inside
+    a packet.
+
+    Parameters
+    ----------
+    body : bytes
+        The instruction, [error] and params.
+
+    Returns
+    -------
+    bytes
+        The stuffed body.
+    """
     out = bytearray()
     ones = 0  # consecutive 0xFF bytes seen in `body`
     for byte in body:
@@ -83,8 +105,23 @@ def stuff(body: bytes) -> bytes:
 
 
 def unstuff(body: bytes) -> bytes:
-    """`body` with byte stuffing removed (FF FF FD FD -> FF FF FD); ProtocolError when an
-    FF FF FD is not followed by its stuffing byte."""
+    """Byte stuffing removed (FF FF FD FD -> FF FF FD).
+
+    Parameters
+    ----------
+    body : bytes
+        A stuffed body.
+
+    Returns
+    -------
+    bytes
+        The body.
+
+    Raises
+    ------
+    ProtocolError
+        An FF FF FD not followed by its stuffing byte.
+    """
     out = bytearray()
     ones = 0
     expect_stuffing = False
@@ -106,22 +143,30 @@ def unstuff(body: bytes) -> bytes:
 
 
 def _check_id(id: int, broadcast: bool) -> None:
-    """ValueError unless `id` addresses one servo (or, with `broadcast`, is BROADCAST_ID)."""
-    if not isinstance(id, int) or not (0 <= id <= MAX_ID or (broadcast and id == BROADCAST_ID)):
+    """TypeError unless `id` is an integer (bool is not), ValueError unless it addresses one servo
+    (or, with `broadcast`, is BROADCAST_ID)."""
+    if isinstance(id, bool) or not isinstance(id, int):
+        raise TypeError(f"id: expected an integer, got {type(id).__name__}")
+    if not (0 <= id <= MAX_ID or (broadcast and id == BROADCAST_ID)):
         allowed = f"0..{MAX_ID}" + (f" or {BROADCAST_ID}" if broadcast else "")
         raise ValueError(f"id {id!r} is not a servo id ({allowed})")
 
 
 def _byte(value: int, what: str) -> int:
-    """`value` checked to fit one byte."""
-    if not isinstance(value, int) or not 0 <= value <= 0xFF:
+    """`value` checked to be an integer (TypeError) that fits one byte (ValueError)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what}: expected an integer, got {type(value).__name__}")
+    if not 0 <= value <= 0xFF:
         raise ValueError(f"{what} {value!r} does not fit one byte (0..255)")
     return value
 
 
 def _u16(value: int, what: str) -> bytes:
-    """`value` as 2 bytes little endian; ValueError if it does not fit."""
-    if not isinstance(value, int) or not 0 <= value <= 0xFFFF:
+    """`value` as 2 bytes little endian; TypeError if it is not an integer, ValueError if it does
+    not fit."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what}: expected an integer, got {type(value).__name__}")
+    if not 0 <= value <= 0xFFFF:
         raise ValueError(f"{what} {value!r} does not fit two bytes (0..65535)")
     return value.to_bytes(2, "little")
 
@@ -137,20 +182,79 @@ def _frame(id: int, area: bytes) -> bytes:
 
 
 def encode_instruction(id: int, instruction: int, params: bytes = b"") -> bytes:
-    """A whole instruction frame: header, id, length, stuffed instruction and params, CRC."""
+    """A whole instruction frame: header, id, length, stuffed instruction and params, CRC.
+
+    Parameters
+    ----------
+    id : int
+        The servo (or BROADCAST_ID).
+    instruction : int
+        The instruction code.
+    params : bytes, optional
+        Its parameters.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     _check_id(id, broadcast=True)
     return _frame(id, bytes([_byte(instruction, "instruction")]) + bytes(params))
 
 
 def encode_status(id: int, error: int, params: bytes = b"") -> bytes:
-    """A whole status frame, as servo `id` sends it: instruction STATUS, `error`, `params`."""
+    """A whole status frame, as a servo sends it: instruction STATUS, the error byte, the params.
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+    error : int
+        The status packet's error byte.
+    params : bytes, optional
+        Its parameters.
+
+    Returns
+    -------
+    bytes
+        The whole status frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     _check_id(id, broadcast=False)
     return _frame(id, bytes([STATUS, _byte(error, "error")]) + bytes(params))
 
 
 def frame_length(prefix: bytes) -> int:
-    """The total size in bytes of the frame that starts with `prefix` (its first PREFIX_BYTES
-    bytes or more); ProtocolError if the header, id or length field cannot start a packet."""
+    """The total size in bytes of the frame that starts with `prefix`.
+
+    Parameters
+    ----------
+    prefix : bytes
+        Its first PREFIX_BYTES bytes or more.
+
+    Returns
+    -------
+    int
+        The frame's size, bytes.
+
+    Raises
+    ------
+    ProtocolError
+        The header, id or length field cannot start a packet.
+    """
     if len(prefix) < PREFIX_BYTES:
         raise ProtocolError(f"{len(prefix)} bytes are too few to size a frame ({PREFIX_BYTES})")
     if bytes(prefix[:4]) != HEADER:
@@ -165,8 +269,25 @@ def frame_length(prefix: bytes) -> int:
 
 def decode(frame: bytes, status: bool) -> Packet:
     """The packet in one whole frame, verified: header, id, length, CRC and byte stuffing.
-    status=True reads a status packet (instruction STATUS, then its error byte), status=False
-    an instruction packet. ProtocolError says what is wrong."""
+
+    Parameters
+    ----------
+    frame : bytes
+        One whole frame.
+    status : bool
+        True: a status packet (instruction STATUS, then its error byte); False: an instruction
+        packet.
+
+    Returns
+    -------
+    Packet
+        Its id, instruction, error byte and params.
+
+    Raises
+    ------
+    ProtocolError
+        What is wrong with the frame.
+    """
     frame = bytes(frame)
     size = frame_length(frame)
     if len(frame) != size:
@@ -190,53 +311,206 @@ def decode(frame: bytes, status: bool) -> Packet:
 
 
 def ping(id: int) -> bytes:
-    """PING `id` (or BROADCAST_ID: every servo answers, in id order)."""
+    """PING a servo.
+
+    Parameters
+    ----------
+    id : int
+        The servo (or BROADCAST_ID: every servo answers, in id order).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     return encode_instruction(id, PING)
 
 
 def ping_status_params(model_number: int, firmware_version: int) -> bytes:
-    """The params of a servo's reply to PING: model number (2 bytes LE), firmware version."""
+    """The params of a servo's reply to PING.
+
+    Parameters
+    ----------
+    model_number : int
+        The servo's model number.
+    firmware_version : int
+        Its firmware.
+
+    Returns
+    -------
+    bytes
+        Model number (2 bytes LE), firmware version.
+    """
     return _u16(model_number, "model number") + bytes([_byte(firmware_version, "firmware")])
 
 
 def parse_ping_status(params: bytes) -> tuple[int, int]:
-    """(model number, firmware version) from the params of a reply to PING."""
+    """The model number and firmware of a reply to PING.
+
+    Parameters
+    ----------
+    params : bytes
+        The params of a reply to PING.
+
+    Returns
+    -------
+    (int, int)
+        (model number, firmware version).
+
+    Raises
+    ------
+    ProtocolError
+        Params of the wrong length.
+    """
     if len(params) != 3:
         raise ProtocolError(f"PING reply has {len(params)} params, not 3")
     return int.from_bytes(params[:2], "little"), params[2]
 
 
 def read(id: int, address: int, size: int) -> bytes:
-    """READ `size` bytes from `address` of servo `id`."""
-    if size < 1:
+    """READ bytes from a servo's control table.
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+    address : int
+        The first byte's address.
+    size : int
+        How many bytes (at least 1).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
+    if isinstance(size, int) and size < 1:  # another type: TypeError below
         raise ValueError(f"read size {size} is below 1")
     return encode_instruction(id, READ, _u16(address, "address") + _u16(size, "size"))
 
 
 def write(id: int, address: int, data: bytes) -> bytes:
-    """WRITE `data` at `address` of servo `id` (BROADCAST_ID writes every servo, no reply)."""
+    """WRITE bytes into a servo's control table.
+
+    Parameters
+    ----------
+    id : int
+        The servo (BROADCAST_ID writes every servo, no reply).
+    address : int
+        The first byte's address.
+    data : bytes
+        The bytes (at least one).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     if not data:
         raise ValueError("write of no data")
     return encode_instruction(id, WRITE, _u16(address, "address") + bytes(data))
 
 
 def reboot(id: int) -> bytes:
-    """REBOOT servo `id`: the only way to turn torque back on after a hardware-error shutdown."""
+    """REBOOT a servo: the only way to turn torque back on after a hardware-error shutdown.
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     return encode_instruction(id, REBOOT)
 
 
 def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
-    """SYNC_READ `size` bytes at `address` from each of `ids`; each answers with its own status
-    packet, in the order of `ids`."""
+    """SYNC_READ: the same bytes of several servos, each answering with its own status packet in
+    the order of `ids`.
+
+    Parameters
+    ----------
+    address : int
+        The first byte's address.
+    size : int
+        How many bytes (at least 1).
+    ids : sequence of int
+        The servos, distinct.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     check_ids(ids, _check_id)
-    if size < 1:
+    if isinstance(size, int) and size < 1:  # another type: TypeError below
         raise ValueError(f"read size {size} is below 1")
     head = _u16(address, "address") + _u16(size, "size")
     return encode_instruction(BROADCAST_ID, SYNC_READ, head + bytes(ids))
 
 
 def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> bytes:
-    """SYNC_WRITE: `data_by_id[id]` (exactly `size` bytes each) at `address` of each servo."""
+    """SYNC_WRITE: bytes into several servos at one address (no reply).
+
+    Parameters
+    ----------
+    address : int
+        The first byte's address.
+    size : int
+        The bytes each servo is given.
+    data_by_id : mapping of int to bytes
+        {id: data}, exactly `size` bytes each.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     check_ids(list(data_by_id), _check_id)
     params = bytearray(_u16(address, "address") + _u16(size, "size"))
     params += sync_write_blocks(size, data_by_id)
@@ -244,8 +518,26 @@ def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> byte
 
 
 def bulk_read(items: Sequence[tuple[int, int, int]]) -> bytes:
-    """BULK_READ: for each (id, address, size) in `items`, `size` bytes at `address` of that
-    servo; each answers with its own status packet, in the order of `items`."""
+    """BULK_READ: bytes of several servos, each its own; each answers with its own status packet,
+    in the order of `items`.
+
+    Parameters
+    ----------
+    items : sequence of (int, int, int)
+        (id, address, size) of each servo.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     check_ids([id for id, _, _ in items], _check_id)
     params = bytearray()
     for id, address, size in items:
@@ -256,7 +548,23 @@ def bulk_read(items: Sequence[tuple[int, int, int]]) -> bytes:
 
 
 def parse_sync_read(params: bytes) -> tuple[int, int, list[int]]:
-    """(address, size, ids) from a SYNC_READ instruction's params."""
+    """What a SYNC_READ instruction asks.
+
+    Parameters
+    ----------
+    params : bytes
+        The instruction's params.
+
+    Returns
+    -------
+    (int, int, list of int)
+        (address, size, ids).
+
+    Raises
+    ------
+    ProtocolError
+        Params that are not a SYNC_READ's.
+    """
     if len(params) < 5:
         raise ProtocolError(f"SYNC_READ has {len(params)} params, fewer than 5")
     address, size = int.from_bytes(params[:2], "little"), int.from_bytes(params[2:4], "little")
@@ -264,7 +572,23 @@ def parse_sync_read(params: bytes) -> tuple[int, int, list[int]]:
 
 
 def parse_sync_write(params: bytes) -> tuple[int, int, dict[int, bytes]]:
-    """(address, size, {id: data}) from a SYNC_WRITE instruction's params."""
+    """What a SYNC_WRITE instruction writes.
+
+    Parameters
+    ----------
+    params : bytes
+        The instruction's params.
+
+    Returns
+    -------
+    (int, int, dict of int to bytes)
+        (address, size, {id: data}).
+
+    Raises
+    ------
+    ProtocolError
+        Params that are not a SYNC_WRITE's.
+    """
     if len(params) < 4:
         raise ProtocolError(f"SYNC_WRITE has {len(params)} params, fewer than 4")
     address, size = int.from_bytes(params[:2], "little"), int.from_bytes(params[2:4], "little")
@@ -273,7 +597,23 @@ def parse_sync_write(params: bytes) -> tuple[int, int, dict[int, bytes]]:
 
 
 def parse_bulk_read(params: bytes) -> list[tuple[int, int, int]]:
-    """[(id, address, size), ...] from a BULK_READ instruction's params."""
+    """What a BULK_READ instruction asks.
+
+    Parameters
+    ----------
+    params : bytes
+        The instruction's params.
+
+    Returns
+    -------
+    list of (int, int, int)
+        [(id, address, size), ...].
+
+    Raises
+    ------
+    ProtocolError
+        Params that are not a BULK_READ's.
+    """
     if not params or len(params) % 5:
         raise ProtocolError(f"BULK_READ has {len(params)} params, not a multiple of 5")
     return [(params[i], int.from_bytes(params[i + 1:i + 3], "little"),
@@ -304,7 +644,18 @@ HARDWARE_ERROR_BITS = {
 
 
 def error_text(error: int) -> str:
-    """The status error byte in words ("" when 0), e.g. "alert (hardware error), CRC error"."""
+    """The status error byte in words.
+
+    Parameters
+    ----------
+    error : int
+        The byte.
+
+    Returns
+    -------
+    str
+        "" when 0, e.g. "alert (hardware error), CRC error".
+    """
     words = ["alert (hardware error)"] if error & ALERT else []
     number = error & 0x7F
     if number:
@@ -313,12 +664,34 @@ def error_text(error: int) -> str:
 
 
 def error_is_hardware(error: int) -> bool:
-    """Whether the status error byte raises the alert: the servo has a hardware error (read
-    hardware_error_status for which) and has turned its torque off until rebooted."""
+    """Whether the status error byte reports a fault of the servo itself.
+
+    Parameters
+    ----------
+    error : int
+        The byte.
+
+    Returns
+    -------
+    bool
+        Whether it raises the alert: the servo has a hardware error (read hardware_error_status for
+        which) and has turned its torque off until rebooted.
+    """
     return bool(error & ALERT)
 
 
 def hardware_error_text(status: int) -> str:
-    """The Hardware Error Status register in words ("" when 0), e.g. "overheating, overload"."""
+    """The Hardware Error Status register in words.
+
+    Parameters
+    ----------
+    status : int
+        The register's value.
+
+    Returns
+    -------
+    str
+        "" when 0, e.g. "overheating, overload".
+    """
     return ", ".join(HARDWARE_ERROR_BITS.get(1 << bit, f"bit {bit}")
                      for bit in range(8) if status & (1 << bit))

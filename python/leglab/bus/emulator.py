@@ -14,6 +14,8 @@ Two ways to run it:
 - `serve_pty`: on a pseudo-terminal in real time, for any program that opens a serial port.
 """
 
+from __future__ import annotations
+
 import collections
 import math
 import os
@@ -21,12 +23,13 @@ import random
 import select
 import time
 import tty
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from typing import Optional
 
 from . import physics, tables
-from .bus import PROTOCOLS, wire_time_s
-from .errors import ProtocolError
+from .bus import check_protocol, wire_time_s
+from .errors import Packet, ProtocolError
 
 HANG_COUNT = 2048
 """The position count at which an emulated load hangs still (180 deg on the servo's scale)."""
@@ -39,33 +42,75 @@ _OVERLOAD_BIT = 0x20  # hardware_error_status (Dynamixel) and status (Feetech): 
 
 @dataclass
 class Faults:
-    """Faults an emulator makes on demand, for tests. Rates are per reply, drawn from a
-    random generator seeded with `seed` (the same faults on every run)."""
+    """Faults an emulator makes on demand, for tests.
+
+    Rates are per reply, drawn from a random generator seeded with `seed` (the same faults on
+    every run).
+
+    Attributes
+    ----------
+    drop_rate : float
+        A reply not sent.
+    corrupt_rate : float
+        A reply with one byte changed.
+    silent_after_s : float
+        From this time on, the servos in silent_ids answer nothing.
+    silent_ids : tuple of int
+        () with a finite silent_after_s: every servo.
+    hardware_error_after_s : float
+        From then on, an overload in every servo.
+    seed : int
+        The generator's seed.
+    """
 
     drop_rate: float = 0.0         # a reply not sent
     corrupt_rate: float = 0.0      # a reply with one byte changed
     silent_after_s: float = math.inf  # from this time on, the servos in silent_ids answer nothing
-    silent_ids: tuple = ()         # () with a finite silent_after_s: every servo
+    silent_ids: tuple[int, ...] = ()  # () with a finite silent_after_s: every servo
     hardware_error_after_s: float = math.inf  # from then on, an overload in every servo
     seed: int = 0
 
     def silent(self, servo_id: int, now_s: float) -> bool:
-        """Whether servo `servo_id` is silent at `now_s`."""
+        """Whether a servo is silent.
+
+        Parameters
+        ----------
+        servo_id : int
+            The servo.
+        now_s : float
+            The emulator's time, s.
+
+        Returns
+        -------
+        bool
+            Whether it answers nothing at `now_s`.
+        """
         return now_s >= self.silent_after_s and (not self.silent_ids or servo_id in self.silent_ids)
 
 
 class EmulatedServo:
     """One servo: its control table's memory and its physics.
 
-    table, spec: the servo's control table (tables.TABLES) and motor (physics.SPECS).
-    mass_kg, length_m: the pendulum load (a point mass on an arm; 0 deg hanging down).
-    kp: the gain register at power-on (None: the table's factory default).
-    angle_deg: the load's angle from hanging at power-on.
-    hang_count: the position count at which the load hangs (its encoder's mounting).
+    Parameters
+    ----------
+    table : tables.ControlTable
+        The servo's control table (tables.TABLES).
+    spec : physics.MotorSpec
+        Its motor (physics.SPECS).
+    servo_id : int
+        Its id.
+    mass_kg, length_m : float
+        The pendulum load (a point mass on an arm; 0 deg hanging down).
+    kp : int, optional
+        The gain register at power-on (None: the table's factory default).
+    angle_deg : float, optional
+        The load's angle from hanging at power-on.
+    hang_count : int, optional
+        The position count at which the load hangs (its encoder's mounting).
     """
 
     def __init__(self, table: tables.ControlTable, spec: physics.MotorSpec, servo_id: int,
-                 mass_kg: float, length_m: float, kp: "int | None" = None,
+                 mass_kg: float, length_m: float, kp: Optional[int] = None,
                  angle_deg: float = 0.0, hang_count: int = HANG_COUNT) -> None:
         self.table = table
         self.id = servo_id
@@ -87,30 +132,73 @@ class EmulatedServo:
     # ---- memory ----
 
     def get(self, name: str) -> int:
-        """Item `name`'s raw value."""
+        """An item's raw value.
+
+        Parameters
+        ----------
+        name : str
+            The item.
+
+        Returns
+        -------
+        int
+            Its counts.
+        """
         it = self.table.items[name]
         return tables.decode(it, bytes(self.memory[it.address:it.address + it.size]))
 
     def set(self, name: str, raw: int) -> None:
-        """Sets item `name` to `raw`, clamped to what the register holds."""
+        """Sets an item, clamped to what the register holds.
+
+        Parameters
+        ----------
+        name : str
+            The item.
+        raw : int
+            Its counts.
+        """
         it = self.table.items[name]
         low, high = _raw_range(it)
         raw = min(max(int(raw), low), high)
         self.memory[it.address:it.address + it.size] = tables.encode(it, raw)
 
-    def _set_units(self, name, value):
+    def _set_units(self, name: str, value: float) -> None:
         if name in self.table.items:
             it = self.table.items[name]
             self.set(name, round(value / it.scale))
 
     def read(self, address: int, size: int) -> bytes:
-        """`size` bytes from `address` (beyond the table: zeros)."""
+        """Bytes of the table's memory.
+
+        Parameters
+        ----------
+        address, size : int
+            Where and how many.
+
+        Returns
+        -------
+        bytes
+            `size` bytes from `address` (beyond the table: zeros).
+        """
         data = bytes(self.memory[address:address + size])
         return data + bytes(size - len(data))
 
     def write(self, address: int, data: bytes) -> str:
-        """Writes `data` at `address` as the firmware would: the error name of Protocol 2.0
-        ("access", "range") when refused, else "" (written)."""
+        """Writes `data` at `address` as the firmware would.
+
+        Parameters
+        ----------
+        address : int
+            Where.
+        data : bytes
+            What.
+
+        Returns
+        -------
+        str
+            The error name of Protocol 2.0 ("access", "range", "limit") when refused, else ""
+            (written).
+        """
         end = address + len(data)
         touched = [it for it in self.table.items.values()
                    if it.address < end and address < it.address + it.size]
@@ -134,10 +222,10 @@ class EmulatedServo:
         self.memory[:] = new
         return ""
 
-    def _within_limits(self, memory):
+    def _within_limits(self, memory: bytearray) -> bool:
         """Whether Goal Position in `memory` is within the position limit registers (limits
         that hold no range, Feetech's multi-turn 0 and 0, take any goal)."""
-        def value(name):
+        def value(name: str) -> int:
             it = self.table.items[name]
             return tables.decode(it, bytes(memory[it.address:it.address + it.size]))
         low, high = value("min_position_limit"), value("max_position_limit")
@@ -146,13 +234,27 @@ class EmulatedServo:
     # ---- physics ----
 
     def return_delay_s(self) -> float:
-        """The return delay register, s."""
+        """The return delay register.
+
+        Returns
+        -------
+        float
+            The delay, s.
+        """
         it = self.table.items["return_delay_time"]
         return tables.to_units(it, self.get("return_delay_time"))
 
     def advance(self, now_s: float, hardware_fault: bool = False) -> None:
-        """Integrates the servo up to `now_s` under its registers, then updates the present
-        values (position quantised to counts)."""
+        """Integrates the servo under its registers, then updates the present values (position
+        quantised to counts).
+
+        Parameters
+        ----------
+        now_s : float
+            Up to when, s.
+        hardware_fault : bool, optional
+            An overload: the torque drops and the status says so.
+        """
         dt = max(0.0, now_s - self._last_s)
         self._last_s = max(self._last_s, now_s)
         goal = self._goal(dt)
@@ -161,7 +263,7 @@ class EmulatedServo:
                              self.hang_count)
         self._update_present(hardware_fault)
 
-    def _goal(self, dt):
+    def _goal(self, dt: float) -> int:
         """The goal the firmware steers to: Goal Position, reached at the profile velocity when
         that is not 0 (0: at once; the acceleration profile is not emulated)."""
         goal = float(self.get("goal_position"))
@@ -174,7 +276,7 @@ class EmulatedServo:
             self._profiled_goal += max(-step, min(step, goal - self._profiled_goal))
         return round(self._profiled_goal)
 
-    def _update_present(self, hardware_fault):
+    def _update_present(self, hardware_fault: bool) -> None:
         p = self.physics
         count = p.position_count(self.hang_count)
         if self.table.protocol == "feetech":
@@ -193,7 +295,7 @@ class EmulatedServo:
             self.set("torque_enable", 0)  # both makers' firmware drops the torque on a fault
 
 
-def _raw_range(item):
+def _raw_range(item: tables.Item) -> tuple[int, int]:
     bits = 8 * item.size
     if item.encoding == "unsigned":
         return 0, (1 << bits) - 1
@@ -204,14 +306,30 @@ def _raw_range(item):
 
 
 class Emulator:
-    """Servos on one emulated bus, speaking `protocol` at `baud`.
+    """Servos on one emulated bus.
 
-    servos: EmulatedServo objects with distinct ids, each with a table of `protocol`.
+    Parameters
+    ----------
+    protocol : {"dynamixel", "feetech"}
+        What the bus speaks.
+    servos : list of EmulatedServo
+        With distinct ids, each with a table of `protocol`.
+    baud : int, optional
+        The bus's baud rate.
+    faults : Faults, optional
+        Faults to make (None: none).
+
+    Raises
+    ------
+    TypeError
+        `protocol` not a str.
+    ValueError
+        An unknown protocol, two servos of one id, a servo of another protocol.
     """
 
     def __init__(self, protocol: str, servos: list[EmulatedServo], baud: int = 1_000_000,
-                 faults: "Faults | None" = None) -> None:
-        self.protocol = PROTOCOLS[protocol]
+                 faults: Optional[Faults] = None) -> None:
+        self.protocol = check_protocol(protocol)
         self.baud = baud
         self.servos = {s.id: s for s in servos}
         if len(self.servos) != len(servos):
@@ -227,25 +345,42 @@ class Emulator:
         self.instructions = 0  # whole instruction packets received
 
     def advance(self, now_s: float) -> None:
-        """Every servo's physics up to `now_s`."""
+        """Integrates every servo's physics.
+
+        Parameters
+        ----------
+        now_s : float
+            Up to when, s.
+        """
         self.now_s = max(self.now_s, now_s)
         fault = self.now_s >= self.faults.hardware_error_after_s
         for servo in self.servos.values():
             servo.advance(self.now_s, hardware_fault=fault)
 
     def receive(self, data: bytes, now_s: float) -> list[tuple[float, bytes]]:
-        """Takes bytes from the bus at `now_s` (the servos integrated up to then) and returns
-        the replies to the whole instructions among them: [(delay_s, frame)], each delay from
-        the end of the instruction to the start of its reply (return delays and the replies
-        before it on the wire)."""
+        """Takes bytes from the bus and answers the whole instructions among them.
+
+        Parameters
+        ----------
+        data : bytes
+            What came on the bus.
+        now_s : float
+            When, s (the servos are integrated up to then).
+
+        Returns
+        -------
+        list of (float, bytes)
+            The replies, [(delay_s, frame)], each delay from the end of the instruction to the
+            start of its reply (return delays and the replies before it on the wire).
+        """
         self.advance(now_s)
         self._buffer += data
-        replies = []
+        replies: list[tuple[float, bytes]] = []
         for frame in self._frames():
             replies += self._answer(frame)
         return replies
 
-    def _frames(self):
+    def _frames(self) -> Iterator[bytes]:
         """Whole frames at the buffer's start; bytes before a header are line noise, dropped."""
         header, need = self.protocol.HEADER, self.protocol.PREFIX_BYTES
         while True:
@@ -267,10 +402,10 @@ class Emulator:
             del self._buffer[:total]
             yield frame
 
-    def _answer(self, frame):
+    def _answer(self, frame: bytes) -> list[tuple[float, bytes]]:
         p = self.protocol
         try:
-            packet = p.decode(frame, status=False)
+            packet: Packet = p.decode(frame, status=False)
         except ProtocolError:
             return []  # a servo ignores a packet it cannot trust
         self.instructions += 1
@@ -292,7 +427,7 @@ class Emulator:
             return []  # only a broadcast PING is answered
         return self._replies([(i, frame) for i, frame in answers if frame is not None])
 
-    def _single(self, servo_id, packet):
+    def _single(self, servo_id: int, packet: Packet) -> Optional[bytes]:
         """The status frame servo `servo_id` sends for `packet` (None: no reply)."""
         p, servo = self.protocol, self.servos[servo_id]
         if packet.instruction == p.PING:
@@ -300,7 +435,8 @@ class Emulator:
             if p.NAME == "dynamixel":
                 params = (servo.table.model_number.to_bytes(2, "little")
                           + bytes([servo.table.firmware_version]))
-            return p.encode_status(servo_id, self._status_error(servo_id), params)
+            status: bytes = p.encode_status(servo_id, self._status_error(servo_id), params)
+            return status
         if packet.instruction == p.READ:
             address, size = _read_params(p.NAME, packet.params)
             return p.encode_status(servo_id, self._status_error(servo_id),
@@ -317,19 +453,20 @@ class Emulator:
                 "instruction"], b"")
         return None
 
-    def _status_error(self, servo_id):
+    def _status_error(self, servo_id: int) -> int:
         hardware = self.servos[servo_id].get("hardware_error_status")
         if not hardware:
             return 0
         return _DXL_ALERT if self.protocol.NAME == "dynamixel" else hardware
 
-    def _silent(self, servo_id):
+    def _silent(self, servo_id: int) -> bool:
         return self.faults.silent(servo_id, self.now_s)
 
-    def _replies(self, frames):
+    def _replies(self, frames: list[tuple[int, bytes]]) -> list[tuple[float, bytes]]:
         """[(delay_s, frame)] for replies sent one after another, each after its servo's return
         delay; faults applied."""
-        out, delay = [], 0.0
+        out: list[tuple[float, bytes]] = []
+        delay = 0.0
         for servo_id, frame in frames:
             if self._silent(servo_id):
                 continue
@@ -343,19 +480,19 @@ class Emulator:
         return out
 
 
-def _read_params(protocol, params):
+def _read_params(protocol: str, params: bytes) -> tuple[int, int]:
     if protocol == "dynamixel":
         return int.from_bytes(params[0:2], "little"), int.from_bytes(params[2:4], "little")
     return params[0], params[1]
 
 
-def _write_params(protocol, params):
+def _write_params(protocol: str, params: bytes) -> tuple[int, bytes]:
     if protocol == "dynamixel":
         return int.from_bytes(params[0:2], "little"), bytes(params[2:])
     return params[0], bytes(params[1:])
 
 
-def _corrupted(frame, rng):
+def _corrupted(frame: bytes, rng: random.Random) -> bytes:
     """`frame` with one byte after the header changed (a noisy line)."""
     data = bytearray(frame)
     at = rng.randrange(2, len(data))
@@ -364,13 +501,49 @@ def _corrupted(frame, rng):
 
 
 def make_emulator(protocol: str, model: str, ids: list[int], mass_kg: float, length_m: float,
-                  kp: "int | None" = None, baud: int = 1_000_000,
-                  faults: "Faults | None" = None, angle_deg: float = 0.0,
-                  loads: "dict[int, tuple[float, float]] | None" = None,
+                  kp: Optional[int] = None, baud: int = 1_000_000,
+                  faults: Optional[Faults] = None, angle_deg: float = 0.0,
+                  loads: Optional[dict[int, tuple[float, float]]] = None,
                   hang_count: int = HANG_COUNT) -> Emulator:
-    """An Emulator of servos `ids`, each a `model` (a key of tables.TABLES and physics.SPECS)
-    with a pendulum of `mass_kg` at `length_m`; `loads` = {id: (mass_kg, length_m)} gives some
-    servos their own."""
+    """An emulated bus of servos of one model.
+
+    Parameters
+    ----------
+    protocol : {"dynamixel", "feetech"}
+        What the bus speaks.
+    model : str
+        A key of tables.TABLES and physics.SPECS ("xl330-m288", ...).
+    ids : list of int
+        The servos' ids.
+    mass_kg, length_m : float
+        Each servo's pendulum load.
+    kp : int, optional
+        The gain register at power-on (None: the factory default).
+    baud : int, optional
+        The bus's baud rate.
+    faults : Faults, optional
+        Faults to make.
+    angle_deg : float, optional
+        The loads' angle from hanging at power-on.
+    loads : dict, optional
+        {id: (mass_kg, length_m)} gives some servos their own load.
+    hang_count : int, optional
+        The position count at which a load hangs.
+
+    Returns
+    -------
+    Emulator
+        The bus.
+
+    Raises
+    ------
+    TypeError
+        `protocol` or `model` not a str.
+    ValueError
+        An unknown protocol or model, ids that repeat, a model of another protocol.
+    """
+    if not isinstance(model, str):
+        raise TypeError(f"model: expected a str, got {type(model).__name__}")
     if model not in tables.TABLES or model not in physics.SPECS:
         known = ", ".join(k for k in tables.TABLES if k in physics.SPECS)
         raise ValueError(f"unknown servo model {model!r} (valid: {known})")
@@ -385,22 +558,46 @@ def make_emulator(protocol: str, model: str, ids: list[int], mass_kg: float, len
 # ---- in the same process, on virtual time ----
 
 class VirtualClock:
-    """Time that passes only when told to: the emulator's wire and delays, the loop's sleeps."""
+    """Time that passes only when told to: the emulator's wire and delays, the loop's sleeps.
+
+    Parameters
+    ----------
+    start_s : float, optional
+        The time it starts at, s.
+    """
 
     def __init__(self, start_s: float = 0.0) -> None:
         self._now = start_s
 
     def now(self) -> float:
-        """Seconds since the clock's start."""
+        """The time.
+
+        Returns
+        -------
+        float
+            Seconds since the clock's start.
+        """
         return self._now
 
     def sleep(self, seconds: float) -> None:
-        """Passes `seconds` (nothing when not positive)."""
+        """Passes time.
+
+        Parameters
+        ----------
+        seconds : float
+            How long (nothing when not positive).
+        """
         if seconds > 0:
             self._now += seconds
 
     def advance_to(self, t_s: float) -> None:
-        """Passes time up to `t_s` (nothing when that is past)."""
+        """Passes time up to a moment.
+
+        Parameters
+        ----------
+        t_s : float
+            The moment, s (nothing when that is past).
+        """
         self._now = max(self._now, t_s)
 
 
@@ -409,11 +606,23 @@ class RealClock:
     asked (the last 0.3 ms waited in a loop, as a tick needs)."""
 
     def now(self) -> float:
-        """Monotonic seconds."""
+        """The time.
+
+        Returns
+        -------
+        float
+            Monotonic seconds.
+        """
         return time.monotonic()
 
     def sleep(self, seconds: float) -> None:
-        """Waits `seconds`."""
+        """Waits.
+
+        Parameters
+        ----------
+        seconds : float
+            How long.
+        """
         end = time.monotonic() + seconds
         if seconds > 0.0003:
             time.sleep(seconds - 0.0003)
@@ -423,17 +632,41 @@ class RealClock:
 
 @dataclass
 class VirtualPort:
-    """The emulator behind pyserial's calls (write, read, reset_input_buffer, close, timeout),
-    on a VirtualClock: each byte takes its wire time, a missing reply its timeout."""
+    """The emulator behind pyserial's calls (write, read, reset_input_buffer, close, timeout).
+
+    On a VirtualClock: each byte takes its wire time, a missing reply its timeout.
+
+    Parameters
+    ----------
+    emulator : Emulator
+        The servos.
+    clock : VirtualClock
+        The time.
+    name : str, optional
+        The port's name, for messages.
+    timeout : float, optional
+        The read timeout, s.
+    """
 
     emulator: Emulator
     clock: VirtualClock
     name: str = "emulator"
     timeout: float = 0.02
-    _incoming: collections.deque = field(default_factory=collections.deque)
+    _incoming: collections.deque[tuple[float, int]] = field(default_factory=collections.deque)
 
     def write(self, data: bytes) -> int:
-        """Sends `data`; the emulator answers when the last byte is in."""
+        """Sends bytes; the emulator answers when the last byte is in.
+
+        Parameters
+        ----------
+        data : bytes
+            What to send.
+
+        Returns
+        -------
+        int
+            The bytes sent.
+        """
         baud = self.emulator.baud
         end = self.clock.now() + wire_time_s(len(data), baud)
         self.clock.advance_to(end)
@@ -444,8 +677,19 @@ class VirtualPort:
         return len(data)
 
     def read(self, count: int) -> bytes:
-        """Up to `count` bytes: all of them when they arrive within the timeout (the clock then
-        at the last one's arrival), else those that did (the clock at the timeout)."""
+        """Reads bytes.
+
+        Parameters
+        ----------
+        count : int
+            How many.
+
+        Returns
+        -------
+        bytes
+            All of them when they arrive within the timeout (the clock then at the last one's
+            arrival), else those that did (the clock at the timeout).
+        """
         deadline = self.clock.now() + self.timeout
         out = bytearray()
         last = self.clock.now()
@@ -469,12 +713,28 @@ class VirtualPort:
 
 def serve_pty(emulator: Emulator, on_ready: Callable[[str], object],
               should_stop: Callable[[], bool] = lambda: False,
-              link: "str | None" = None) -> None:
-    """Serves `emulator` on a new pseudo-terminal in real time until `should_stop()` is true:
-    `on_ready(path)` is called with the terminal's path (open it as the servos' port). Replies
-    go out when they would have arrived on a real bus at the emulator's baud (the instruction's
-    and the reply's wire time and the return delays). `link`: a new path to make a symbolic
-    link to the terminal at (FileExistsError if something is there), removed at the end."""
+              link: Optional[str] = None) -> None:
+    """Serves an emulator on a new pseudo-terminal in real time.
+
+    Replies go out when they would have arrived on a real bus at the emulator's baud (the
+    instruction's and the reply's wire time and the return delays).
+
+    Parameters
+    ----------
+    emulator : Emulator
+        The servos.
+    on_ready : callable
+        Called with the terminal's path (open it as the servos' port).
+    should_stop : callable, optional
+        Serving ends when it returns True.
+    link : str, optional
+        A new path to make a symbolic link to the terminal at, removed at the end.
+
+    Raises
+    ------
+    FileExistsError
+        Something is at `link`.
+    """
     master, slave = os.openpty()
     tty.setraw(slave)  # bytes as they are: no echo, no line editing
     path = os.ttyname(slave)
@@ -482,7 +742,7 @@ def serve_pty(emulator: Emulator, on_ready: Callable[[str], object],
         os.symlink(path, link)
     on_ready(path)
     start = time.monotonic()
-    pending = []  # [(send_at_s, frame)], in order
+    pending: list[tuple[float, bytes]] = []  # [(send_at_s, frame)], in order
     try:
         while not should_stop():
             now = time.monotonic() - start

@@ -16,10 +16,16 @@ class ProtocolError(ValueError):
 class Packet(NamedTuple):
     """One decoded packet, instruction or status.
 
-    id: the servo's id (0xFE is broadcast).
-    instruction: the instruction code; a status packet carries its module's STATUS constant.
-    error: a status packet's error byte (see the module's error_text); 0 for instructions.
-    params: the parameter bytes (Dynamixel: after byte stuffing has been removed).
+    Attributes
+    ----------
+    id : int
+        The servo's id (0xFE is broadcast).
+    instruction : int
+        The instruction code; a status packet carries its module's STATUS constant.
+    error : int
+        A status packet's error byte (see the module's error_text); 0 for instructions.
+    params : bytes
+        The parameter bytes (Dynamixel: after byte stuffing has been removed).
     """
 
     id: int
@@ -29,8 +35,22 @@ class Packet(NamedTuple):
 
 
 def check_ids(ids: Sequence[int], check_id: Callable[[int, bool], None]) -> None:
-    """ValueError unless `ids` are one or more distinct servo ids, each as `check_id(id,
-    broadcast=False)` (the protocol's own) accepts."""
+    """Checks the ids of a SYNC instruction.
+
+    Parameters
+    ----------
+    ids : sequence of int
+        One or more distinct servo ids.
+    check_id : callable
+        The protocol's own check of one id, called as check_id(id, False).
+
+    Raises
+    ------
+    TypeError
+        An id not an integer (check_id's).
+    ValueError
+        No ids, an id repeated, an id `check_id` refuses.
+    """
     if not ids:
         raise ValueError("no ids")
     for id in ids:
@@ -40,8 +60,25 @@ def check_ids(ids: Sequence[int], check_id: Callable[[int, bool], None]) -> None
 
 
 def sync_write_blocks(size: int, data_by_id: Mapping[int, bytes]) -> bytes:
-    """SYNC_WRITE's per-servo blocks: each id, then its `size` bytes of data (ValueError when
-    a servo's data is not `size` bytes)."""
+    """SYNC_WRITE's per-servo blocks.
+
+    Parameters
+    ----------
+    size : int
+        The bytes each servo is given.
+    data_by_id : mapping of int to bytes
+        {id: data}.
+
+    Returns
+    -------
+    bytes
+        Each id, then its `size` bytes of data.
+
+    Raises
+    ------
+    ValueError
+        A servo's data is not `size` bytes.
+    """
     blocks = bytearray()
     for id, data in data_by_id.items():
         if len(data) != size:
@@ -51,7 +88,25 @@ def sync_write_blocks(size: int, data_by_id: Mapping[int, bytes]) -> bytes:
 
 
 def parse_sync_write_blocks(rest: bytes, size: int) -> dict[int, bytes]:
-    """{id: data} from SYNC_WRITE's per-servo blocks (ProtocolError when they are not whole)."""
+    """The data of SYNC_WRITE's per-servo blocks.
+
+    Parameters
+    ----------
+    rest : bytes
+        The blocks.
+    size : int
+        The bytes each servo is given.
+
+    Returns
+    -------
+    dict of int to bytes
+        {id: data}.
+
+    Raises
+    ------
+    ProtocolError
+        The blocks are not whole.
+    """
     if size < 1 or not rest or len(rest) % (size + 1):
         raise ProtocolError(f"SYNC_WRITE data of {len(rest)} bytes is not whole (id + {size})")
     step = size + 1

@@ -49,14 +49,42 @@ PING_REPORTS_MODEL = False
 
 
 def checksum(body: bytes) -> int:
-    """The FT-SCS checksum of `body` (id through last param): ~sum, lowest byte."""
+    """The FT-SCS checksum: ~sum, lowest byte.
+
+    Parameters
+    ----------
+    body : bytes
+        The id through the last param.
+
+    Returns
+    -------
+    int
+        The checksum byte.
+    """
     return ~sum(body) & 0xFF
 
 
 def to_sign_magnitude(value: int, sign_bit: int) -> int:
-    """`value` as Feetech writes a signed number: |value| in the bits below `sign_bit`, that bit
-    set when negative (position and speed: bit 15; load: bit 10; position offset: bit 11).
-    ValueError when |value| needs the sign bit."""
+    """A signed number as Feetech writes it: |value| in the bits below `sign_bit`, that bit set
+    when negative (position and speed: bit 15; load: bit 10; position offset: bit 11).
+
+    Parameters
+    ----------
+    value : int
+        The number.
+    sign_bit : int
+        The sign's bit.
+
+    Returns
+    -------
+    int
+        The raw field.
+
+    Raises
+    ------
+    ValueError
+        |value| needs the sign bit.
+    """
     magnitude = abs(value)
     if magnitude >= 1 << sign_bit:
         raise ValueError(f"{value} does not fit sign-magnitude with the sign in bit {sign_bit} "
@@ -65,22 +93,40 @@ def to_sign_magnitude(value: int, sign_bit: int) -> int:
 
 
 def from_sign_magnitude(raw: int, sign_bit: int) -> int:
-    """The signed number in sign-magnitude `raw` (sign in `sign_bit`); bits above the sign bit
-    are not part of the number and are ignored."""
+    """The signed number in a sign-magnitude field; bits above the sign bit are not part of the
+    number and are ignored.
+
+    Parameters
+    ----------
+    raw : int
+        The raw field.
+    sign_bit : int
+        The sign's bit.
+
+    Returns
+    -------
+    int
+        The number.
+    """
     magnitude = raw & ((1 << sign_bit) - 1)
     return -magnitude if raw & (1 << sign_bit) else magnitude
 
 
 def _check_id(id: int, broadcast: bool) -> None:
-    """ValueError unless `id` addresses one servo (or, with `broadcast`, is BROADCAST_ID)."""
-    if not isinstance(id, int) or not (0 <= id <= MAX_ID or (broadcast and id == BROADCAST_ID)):
+    """TypeError unless `id` is an integer (bool is not), ValueError unless it addresses one servo
+    (or, with `broadcast`, is BROADCAST_ID)."""
+    if isinstance(id, bool) or not isinstance(id, int):
+        raise TypeError(f"id: expected an integer, got {type(id).__name__}")
+    if not (0 <= id <= MAX_ID or (broadcast and id == BROADCAST_ID)):
         allowed = f"0..{MAX_ID}" + (f" or {BROADCAST_ID}" if broadcast else "")
         raise ValueError(f"id {id!r} is not a servo id ({allowed})")
 
 
 def _byte(value: int, what: str) -> int:
-    """`value` checked to fit one byte."""
-    if not isinstance(value, int) or not 0 <= value <= 0xFF:
+    """`value` checked to be an integer (TypeError) that fits one byte (ValueError)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{what}: expected an integer, got {type(value).__name__}")
+    if not 0 <= value <= 0xFF:
         raise ValueError(f"{what} {value!r} does not fit one byte (0..255)")
     return value
 
@@ -94,20 +140,79 @@ def _frame(id: int, code: int, params: bytes) -> bytes:
 
 
 def encode_instruction(id: int, instruction: int, params: bytes = b"") -> bytes:
-    """A whole instruction frame: header, id, length, instruction, params, checksum."""
+    """A whole instruction frame: header, id, length, instruction, params, checksum.
+
+    Parameters
+    ----------
+    id : int
+        The servo (or BROADCAST_ID).
+    instruction : int
+        The instruction code.
+    params : bytes, optional
+        Its parameters.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     _check_id(id, broadcast=True)
     return _frame(id, _byte(instruction, "instruction"), params)
 
 
 def encode_status(id: int, error: int, params: bytes = b"") -> bytes:
-    """A whole status frame, as servo `id` sends it: its status bits `error`, then `params`."""
+    """A whole status frame, as a servo sends it: its status bits, then the params.
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+    error : int
+        The status packet's error byte.
+    params : bytes, optional
+        Its parameters.
+
+    Returns
+    -------
+    bytes
+        The whole status frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     _check_id(id, broadcast=False)
     return _frame(id, _byte(error, "error"), params)
 
 
 def frame_length(prefix: bytes) -> int:
-    """The total size in bytes of the frame that starts with `prefix` (its first PREFIX_BYTES
-    bytes or more); ProtocolError if the header, id or length field cannot start a packet."""
+    """The total size in bytes of the frame that starts with `prefix`.
+
+    Parameters
+    ----------
+    prefix : bytes
+        Its first PREFIX_BYTES bytes or more.
+
+    Returns
+    -------
+    int
+        The frame's size, bytes.
+
+    Raises
+    ------
+    ProtocolError
+        The header, id or length field cannot start a packet.
+    """
     if len(prefix) < PREFIX_BYTES:
         raise ProtocolError(f"{len(prefix)} bytes are too few to size a frame ({PREFIX_BYTES})")
     if bytes(prefix[:2]) != HEADER:
@@ -120,9 +225,26 @@ def frame_length(prefix: bytes) -> int:
 
 
 def decode(frame: bytes, status: bool) -> Packet:
-    """The packet in one whole frame, verified: header, id, length and checksum. status=True
-    reads a status packet (its error byte; instruction reported as STATUS), status=False an
-    instruction packet. ProtocolError says what is wrong."""
+    """The packet in one whole frame, verified: header, id, length and checksum.
+
+    Parameters
+    ----------
+    frame : bytes
+        One whole frame.
+    status : bool
+        True: a status packet (its error byte; instruction reported as STATUS); False: an
+        instruction packet.
+
+    Returns
+    -------
+    Packet
+        Its id, instruction, error byte and params.
+
+    Raises
+    ------
+    ProtocolError
+        What is wrong with the frame.
+    """
     frame = bytes(frame)
     size = frame_length(frame)
     if len(frame) != size:
@@ -140,53 +262,206 @@ def decode(frame: bytes, status: bool) -> Packet:
 
 
 def ping(id: int) -> bytes:
-    """PING `id`. The broadcast id works only with a single servo on the bus."""
+    """PING a servo.
+
+    Parameters
+    ----------
+    id : int
+        The servo (the broadcast id works only with a single servo on the bus).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     return encode_instruction(id, PING)
 
 
 def ping_status_params(model_number: int, firmware_version: int) -> bytes:
     """The params of a servo's reply to PING: none (the arguments are for the same call in
-    leglab.bus.dynamixel; a Feetech servo's model number is in its control table)."""
+    leglab.bus.dynamixel; a Feetech servo's model number is in its control table).
+
+    Parameters
+    ----------
+    model_number : int
+        The servo's model number.
+    firmware_version : int
+        Its firmware.
+
+    Returns
+    -------
+    bytes
+        Empty.
+    """
     return b""
 
 
 def parse_ping_status(params: bytes) -> None:
-    """Nothing: a Feetech reply to PING carries no model number (read `model_number`)."""
+    """Checks a reply to PING, which carries no model number on Feetech (read `model_number`).
+
+    Parameters
+    ----------
+    params : bytes
+        The params of a reply to PING.
+
+    Returns
+    -------
+    None
+        Nothing.
+
+    Raises
+    ------
+    ProtocolError
+        Params of the wrong length.
+    """
     if params:
         raise ProtocolError(f"PING reply has {len(params)} params, not 0")
 
 
 def read(id: int, address: int, size: int) -> bytes:
-    """READ `size` bytes from `address` of servo `id`."""
-    if size < 1:
+    """READ bytes from a servo's control table.
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+    address : int
+        The first byte's address.
+    size : int
+        How many bytes (at least 1).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
+    if isinstance(size, int) and size < 1:  # another type: TypeError below
         raise ValueError(f"read size {size} is below 1")
     return encode_instruction(id, READ, bytes([_byte(address, "address"), _byte(size, "size")]))
 
 
 def write(id: int, address: int, data: bytes) -> bytes:
-    """WRITE `data` at `address` of servo `id` (BROADCAST_ID writes every servo, no reply)."""
+    """WRITE bytes into a servo's control table.
+
+    Parameters
+    ----------
+    id : int
+        The servo (BROADCAST_ID writes every servo, no reply).
+    address : int
+        The first byte's address.
+    data : bytes
+        The bytes (at least one).
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     if not data:
         raise ValueError("write of no data")
     return encode_instruction(id, WRITE, bytes([_byte(address, "address")]) + bytes(data))
 
 
 def reboot(id: int) -> bytes:
-    """Restart servo `id` (no reply; Feetech advises turning torque off first)."""
+    """Restart a servo (no reply; Feetech advises turning torque off first).
+
+    Parameters
+    ----------
+    id : int
+        The servo.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     return encode_instruction(id, REBOOT)
 
 
 def sync_read(address: int, size: int, ids: Sequence[int]) -> bytes:
-    """SYNC_READ `size` bytes at `address` from each of `ids`; each answers with its own status
-    packet, in the order of `ids`."""
+    """SYNC_READ: the same bytes of several servos, each answering with its own status packet in
+    the order of `ids`.
+
+    Parameters
+    ----------
+    address : int
+        The first byte's address.
+    size : int
+        How many bytes (at least 1).
+    ids : sequence of int
+        The servos, distinct.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     check_ids(ids, _check_id)
-    if size < 1:
+    if isinstance(size, int) and size < 1:  # another type: TypeError below
         raise ValueError(f"read size {size} is below 1")
     head = bytes([_byte(address, "address"), _byte(size, "size")])
     return encode_instruction(BROADCAST_ID, SYNC_READ, head + bytes(ids))
 
 
 def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> bytes:
-    """SYNC_WRITE: `data_by_id[id]` (exactly `size` bytes each) at `address` of each servo."""
+    """SYNC_WRITE: bytes into several servos at one address (no reply).
+
+    Parameters
+    ----------
+    address : int
+        The first byte's address.
+    size : int
+        The bytes each servo is given.
+    data_by_id : mapping of int to bytes
+        {id: data}, exactly `size` bytes each.
+
+    Returns
+    -------
+    bytes
+        The whole instruction frame.
+
+    Raises
+    ------
+    TypeError
+        An argument that is not an integer (bool is not one).
+    ValueError
+        An id that is not a servo's, or a field that does not fit.
+    """
     check_ids(list(data_by_id), _check_id)
     params = bytearray([_byte(address, "address"), _byte(size, "size")])
     params += sync_write_blocks(size, data_by_id)
@@ -194,14 +469,46 @@ def sync_write(address: int, size: int, data_by_id: Mapping[int, bytes]) -> byte
 
 
 def parse_sync_read(params: bytes) -> tuple[int, int, list[int]]:
-    """(address, size, ids) from a SYNC_READ instruction's params."""
+    """What a SYNC_READ instruction asks.
+
+    Parameters
+    ----------
+    params : bytes
+        The instruction's params.
+
+    Returns
+    -------
+    (int, int, list of int)
+        (address, size, ids).
+
+    Raises
+    ------
+    ProtocolError
+        Params that are not a SYNC_READ's.
+    """
     if len(params) < 3:
         raise ProtocolError(f"SYNC_READ has {len(params)} params, fewer than 3")
     return params[0], params[1], list(params[2:])
 
 
 def parse_sync_write(params: bytes) -> tuple[int, int, dict[int, bytes]]:
-    """(address, size, {id: data}) from a SYNC_WRITE instruction's params."""
+    """What a SYNC_WRITE instruction writes.
+
+    Parameters
+    ----------
+    params : bytes
+        The instruction's params.
+
+    Returns
+    -------
+    (int, int, dict of int to bytes)
+        (address, size, {id: data}).
+
+    Raises
+    ------
+    ProtocolError
+        Params that are not a SYNC_WRITE's.
+    """
     if len(params) < 2:
         raise ProtocolError(f"SYNC_WRITE has {len(params)} params, fewer than 2")
     address, size, rest = params[0], params[1], params[2:]
@@ -225,17 +532,49 @@ HARDWARE_BITS = 0x01 | 0x02 | 0x04 | 0x08 | 0x20
 
 
 def error_text(error: int) -> str:
-    """The status byte in words ("" when 0), e.g. "voltage, temperature"."""
+    """The status byte in words.
+
+    Parameters
+    ----------
+    error : int
+        The byte.
+
+    Returns
+    -------
+    str
+        "" when 0, e.g. "voltage, temperature".
+    """
     return ", ".join(ERROR_BITS.get(1 << bit, f"bit {bit}")
                      for bit in range(8) if error & (1 << bit))
 
 
 def error_is_hardware(error: int) -> bool:
-    """Whether the status byte reports a fault of the servo itself: voltage, magnetic encoder,
-    temperature, current or overload."""
+    """Whether the status byte reports a fault of the servo itself.
+
+    Parameters
+    ----------
+    error : int
+        The byte.
+
+    Returns
+    -------
+    bool
+        Voltage, magnetic encoder, temperature, current or overload.
+    """
     return bool(error & HARDWARE_BITS)
 
 
 def hardware_error_text(status: int) -> str:
-    """The status register (hardware_error_status) in words; the same bits as error_text."""
+    """The status register (hardware_error_status); the same bits as error_text in words.
+
+    Parameters
+    ----------
+    status : int
+        The register's value.
+
+    Returns
+    -------
+    str
+        "" when 0, e.g. "overload".
+    """
     return error_text(status)

@@ -1,14 +1,18 @@
 """The files a bus session writes, each all at once, into a folder the user names."""
 
+from __future__ import annotations
+
 import json
 import math
 import os
 import tempfile
+from collections.abc import Iterable
+from typing import Any, Union
 
 from .session import SessionError
 
 
-def out_folder(path):
+def out_folder(path: Union[str, os.PathLike[str]]) -> str:
     """`path` as an output folder, checked before a session starts: a folder (not a link to
     one) that a file can be made in, or a new name in one (made when the first file is
     written, so that a session refused before it records leaves nothing behind). The check
@@ -39,7 +43,7 @@ def out_folder(path):
     return name
 
 
-def check_inputs_apart(outputs, inputs):
+def check_inputs_apart(outputs: Iterable[str], inputs: Iterable[str]) -> None:
     """SessionError when an output path is one of the session's input files."""
     real = {os.path.realpath(p): p for p in inputs if p}
     for path in outputs:
@@ -48,14 +52,14 @@ def check_inputs_apart(outputs, inputs):
                                "write the outputs elsewhere")
 
 
-def check_input_file(path, what):
+def check_input_file(path: str, what: str) -> None:
     """SessionError unless `path` is a regular file (a pipe would block the session)."""
     if not os.path.isfile(path):
         reason = "no such file" if not os.path.lexists(path) else "is not a regular file"
         raise SessionError(f"{what} '{path}': {reason}")
 
 
-def check_writable(path):
+def check_writable(path: str) -> None:
     """SessionError when `path` holds something a session must not replace: anything but a
     regular file (a link, a device, a pipe, a folder)."""
     if os.path.lexists(path) and (os.path.islink(path) or not os.path.isfile(path)):
@@ -63,14 +67,14 @@ def check_writable(path):
                            "its own files")
 
 
-def check_writable_all(folder, paths):
+def check_writable_all(folder: str, paths: Iterable[str]) -> None:
     """check_writable on every path a session will write into `folder`, before it starts:
     what it records is never lost at the end to a name it may not replace."""
     for path in paths:
         check_writable(path)
 
 
-def write_text(path, text):
+def write_text(path: str, text: str) -> None:
     """Writes `text` to `path` all at once, with the permissions the umask gives a new file: a
     failure leaves no file, or the old one as it was (SessionError naming it)."""
     check_writable(path)
@@ -95,12 +99,12 @@ def write_text(path, text):
         raise
 
 
-def write_json(path, value):
+def write_json(path: str, value: Any) -> None:
     """`value` as indented JSON (no NaN or infinity: those are written as null)."""
     write_text(path, json.dumps(_finite(value), indent=1) + "\n")
 
 
-def _finite(value):
+def _finite(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return None
     if isinstance(value, dict):
@@ -110,6 +114,6 @@ def _finite(value):
     return value
 
 
-def number(value):
+def number(value: float) -> str:
     """The shortest text that reads back as the same double."""
     return repr(float(value))

@@ -8,16 +8,21 @@ from a small YAML file (`--servos FILE`), the flags filling what an entry leaves
       2: {motor: sts3215, kp: 32, mass_kg: 0.25, length_m: 0.10, desired: elbow.csv}
 """
 
+# No `from __future__ import annotations` here: Joint's fields' types are read at run time
+# (dataclasses.fields(Joint)[i].type is str), which postponed annotations would make text.
+import argparse
 import dataclasses
 import os
 from dataclasses import dataclass, field
+from typing import Any, Optional
 
 from .bus import first_line
 from .files import check_input_file
 from .session import SessionError
 
 
-def _setting(default, *, low=None, high=None, needed_by=("record", "run")):
+def _setting(default: Any, *, low: Optional[float] = None, high: Optional[float] = None,
+             needed_by: tuple[str, ...] = ("record", "run")) -> Any:
     """A Joint field: its default, its range (numbers), and the verbs that need it given."""
     return field(default=default, metadata={"range": (low, high), "needed_by": needed_by})
 
@@ -40,14 +45,14 @@ class Joint:
 _SETTINGS = {f.name: f for f in dataclasses.fields(Joint) if f.name != "id"}
 
 
-def _given(value):
+def _given(value: object) -> bool:
     return value is not None and value != ""
 
 
-def _entry(servo_id, entry, source, folder):
+def _entry(servo_id: int, entry: object, source: str, folder: str) -> dict[str, Any]:
     if not isinstance(entry, dict):
         raise SessionError(f"{source}: servo {servo_id}: expected a mapping of settings")
-    values = {}
+    values: dict[str, Any] = {}
     for key, value in entry.items():
         where = f"{source}: servo {servo_id}: {key}"
         if key not in _SETTINGS:
@@ -59,7 +64,7 @@ def _entry(servo_id, entry, source, folder):
             if key == "desired":  # relative to the file's folder
                 value = os.path.join(folder, value)
         else:
-            wanted = int if kind is int else (int, float)
+            wanted: Any = int if kind is int else (int, float)
             if isinstance(value, bool) or not isinstance(value, wanted):
                 raise SessionError(f"{where}: expected {'an integer' if kind is int else 'a number'}"
                                    f", got {_shown(value)}")
@@ -73,19 +78,19 @@ def _entry(servo_id, entry, source, folder):
 _MAX_FILE_BYTES = 1 << 20  # a servos file is a few lines; this is far beyond any
 
 
-def _shown(value):
+def _shown(value: object) -> str:
     """`value` for a message, at most 60 characters."""
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _yaml_loader(yaml):
+def _yaml_loader(yaml: Any) -> Any:
     """PyYAML's safe loader, refusing a key given twice in one mapping (which it would take
     the last of)."""
     class Loader(yaml.SafeLoader):
         pass
 
-    def mapping(loader, node, deep=False):
+    def mapping(loader: Any, node: Any, deep: bool = False) -> Any:
         keys = [loader.construct_object(k, deep=deep) for k, _ in node.value]
         for key in keys:
             if keys.count(key) > 1:
@@ -97,7 +102,7 @@ def _yaml_loader(yaml):
     return Loader
 
 
-def read_file(path):
+def read_file(path: str) -> dict[int, dict[str, Any]]:
     """{id: settings} from a servos YAML file; SessionError naming the file, servo and key."""
     try:
         import yaml
@@ -119,7 +124,7 @@ def read_file(path):
             document["servos"], dict) or not document["servos"]:
         raise SessionError(f"--servos '{path}': expected one key, servos, mapping ids to "
                            "settings")
-    entries = {}
+    entries: dict[int, dict[str, Any]] = {}
     for servo_id, entry in document["servos"].items():
         if isinstance(servo_id, bool) or not isinstance(servo_id, int) or not 0 <= servo_id <= 252:
             raise SessionError(f"--servos '{path}': {_shown(servo_id)} is not a servo id in "
@@ -129,11 +134,11 @@ def read_file(path):
     return entries
 
 
-def joints(args, verb):
+def joints(args: argparse.Namespace, verb: str) -> list[Joint]:
     """[Joint] of the session of `verb` ("record" or "run"), in id order: --servos' entries
     over the flags (the same names, dashes for underscores); SessionError naming the servo and
     a setting the verb needs that neither gives."""
-    flags = {name: getattr(args, name, None) for name in _SETTINGS}
+    flags: dict[str, Any] = {name: getattr(args, name, None) for name in _SETTINGS}
     flags = {name: value for name, value in flags.items() if _given(value)}
     entries = read_file(args.servos) if getattr(args, "servos", None) else {}
     if entries and args.ids and sorted(args.ids) != sorted(entries):
@@ -156,7 +161,7 @@ def joints(args, verb):
     return out
 
 
-def settings(joint, motor, zero_deg):
+def settings(joint: Joint, motor: str, zero_deg: float) -> dict[str, Any]:
     """`joint` as run.json records it: its settings, its model's motor and the zero it ran at,
     the desired motion's path made absolute."""
     values = dataclasses.asdict(joint)

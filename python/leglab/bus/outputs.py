@@ -2,6 +2,8 @@
 meaning. The writers take their names from here, and `python3 -m leglab.bus --list-outputs`
 prints them as the programs' --list-outputs do (for docs/outputs.md)."""
 
+from __future__ import annotations
+
 from typing import NamedTuple
 
 
@@ -18,7 +20,7 @@ class File(NamedTuple):
 
     pattern: str
     description: str
-    names: tuple
+    names: tuple[Name, ...]
 
 
 RUN_CSV = File(
@@ -39,13 +41,30 @@ FILES = (("run", (RUN_CSV, RUN_CSV_PER_SERVO)),)
 identify reads) are described field by field in docs/real-servos.md."""
 
 
-def column_names(file):
-    """The names of a file's columns, in order."""
+def column_names(file: File) -> tuple[str, ...]:
+    """The names of a file's columns, in order.
+
+    Parameters
+    ----------
+    file : File
+        The file's declaration.
+
+    Returns
+    -------
+    tuple of str
+        Its column names.
+    """
     return tuple(n.name for n in file.names)
 
 
-def markdown():
-    """The declarations as docs/outputs.md shows a program's (--list-outputs)."""
+def markdown() -> str:
+    """The declarations as docs/outputs.md shows a program's (--list-outputs).
+
+    Returns
+    -------
+    str
+        The Markdown text.
+    """
     out = []
     for _, files in FILES:
         for f in files:

@@ -35,9 +35,12 @@ armature, the firmware's P-law scaling), it comes from BAM, and where neither do
 says how it was derived.
 """
 
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 from types import MappingProxyType
+from typing import Any, Callable, Optional
 
 GRAVITY_M_S2 = 9.80665
 KGF_CM_NM = 0.0980665  # one kgf cm in N m
@@ -59,6 +62,55 @@ class MotorSpec:
     reproduces the published stall torque, stall current and no-load speed exactly. Build one
     with make_spec; dataclasses.replace gives variants (e.g. without friction) whose derived
     fields stay as they were.
+
+    Attributes
+    ----------
+    key : str
+        "xl330-m288", "xl430-w250", "sts3215", "sts3250" (the control tables' keys).
+    voltage_v : float
+        Supply the published figures are for, V.
+    stall_torque_nm : float
+        Published stall torque at voltage_v, N m.
+    stall_current_a : float
+        Stall current at voltage_v, A.
+    no_load_speed_rad_s : float
+        Published no-load speed at voltage_v, rad/s.
+    gear_ratio : float
+        Motor turns per output turn.
+    torque_constant_nm_a : float
+        k at the output, N m/A (= back-EMF constant, V s/rad).
+    resistance_ohm : float
+        Winding + bridge resistance, ohm.
+    coulomb_nm : float
+        Kinetic Coulomb friction at the output, N m.
+    static_nm : float
+        Static Coulomb friction at rest, N m (>= coulomb_nm).
+    load_friction : float
+        Kinetic friction per N m of motor torque (mu_m).
+    load_friction_static : float
+        The same at rest.
+    external_friction : float
+        Kinetic friction per N m of external (gravity) torque (mu_e).
+    external_friction_static : float
+        The same at rest.
+    viscous_nm_s_rad : float
+        Viscous friction at the output, N m s/rad.
+    stribeck_rad_s : float
+        Speed over which static friction fades to kinetic, rad/s.
+    armature_kgm2 : float
+        Reflected rotor inertia at the output, kg m^2.
+    duty_per_count_kp : float
+        Firmware duty per count of error per unit of the gain register.
+    max_duty : float
+        Firmware's duty limit (1 = full supply).
+    pwm_steps : int
+        The firmware's integer PWM full scale (885 on Dynamixel X), 0: continuous.
+    pwm_slope_v_per_s : float
+        Firmware's slew limit on the motor voltage, V/s (0: none).
+    firmware_period_s : float
+        Position loop period, s.
+    counts_per_rev : int
+        Encoder counts per output turn.
     """
 
     key: str  # "xl330-m288", "xl430-w250", "sts3215", "sts3250" (the control tables' keys)
@@ -86,18 +138,19 @@ class MotorSpec:
     counts_per_rev: int = 4096  # encoder counts per output turn
 
     @property
-    def motor_torque_constant_nm_a(self):
+    def motor_torque_constant_nm_a(self) -> float:
         """k at the motor shaft, N m/A (the output's k over the gear ratio)."""
         return self.torque_constant_nm_a / self.gear_ratio
 
     @property
-    def efficiency(self):
+    def efficiency(self) -> float:
         """The gearbox's efficiency at a high load, 1 - load_friction (the Coulomb and viscous
         parts lower it further at a light load)."""
         return 1.0 - self.load_friction
 
 
-def _torque_constant(voltage_v, stall_torque_nm, no_load_speed_rad_s, coulomb_nm, viscous):
+def _torque_constant(voltage_v: float, stall_torque_nm: float, no_load_speed_rad_s: float,
+                     coulomb_nm: float, viscous: float) -> float:
     """k that makes the model's stall torque and no-load speed the published ones. With
     (1 - mu) k I_stall = T_stall + tau_c (driving, just at stall) and
     (1 - mu) k (V - k w_nl) / R = tau_c + b w_nl (no load), and I_stall = V / R:
@@ -106,27 +159,56 @@ def _torque_constant(voltage_v, stall_torque_nm, no_load_speed_rad_s, coulomb_nm
     return voltage_v / no_load_speed_rad_s * (1.0 - loss)
 
 
-def make_spec(key, *, voltage_v, stall_torque_nm, no_load_speed_rad_s, gear_ratio,
-              stall_current_a=None, load_friction=None, **rest):
-    """A MotorSpec from the published figures and the friction, with k, R and one of
-    stall_current_a / load_friction derived (give exactly one of the two). `rest`: the other
-    MotorSpec fields except the derived ones; load_friction_static defaults to load_friction."""
+def make_spec(key: str, *, voltage_v: float, stall_torque_nm: float,
+              no_load_speed_rad_s: float, gear_ratio: float,
+              stall_current_a: Optional[float] = None, load_friction: Optional[float] = None,
+              **rest: Any) -> MotorSpec:
+    """A MotorSpec from the published figures and the friction.
+
+    k, R and one of stall_current_a / load_friction are derived (give exactly one of the two).
+
+    Parameters
+    ----------
+    key : str
+        The control table's key ("xl330-m288", ...).
+    voltage_v, stall_torque_nm, no_load_speed_rad_s, gear_ratio : float
+        The maker's figures: supply (V), stall torque (N m), no-load speed (rad/s), motor turns
+        per output turn.
+    stall_current_a, load_friction : float, optional
+        Exactly one: the stall current (A) or the kinetic friction per N m of motor torque.
+    **rest
+        The other MotorSpec fields except the derived ones; load_friction_static defaults to
+        load_friction.
+
+    Returns
+    -------
+    MotorSpec
+        The spec, reproducing the published stall torque, stall current and no-load speed.
+
+    Raises
+    ------
+    ValueError
+        Both or neither of stall_current_a and load_friction, or figures that give a load
+        friction outside [0, 1).
+    """
     if (stall_current_a is None) == (load_friction is None):
         raise ValueError(f"{key}: give exactly one of stall_current_a and load_friction")
     k = _torque_constant(voltage_v, stall_torque_nm, no_load_speed_rad_s, rest["coulomb_nm"],
                          rest["viscous_nm_s_rad"])
     drive_at_stall = stall_torque_nm + rest["coulomb_nm"]  # (1 - mu) k I_stall
     if stall_current_a is None:
-        stall_current_a = drive_at_stall / ((1.0 - load_friction) * k)
+        assert load_friction is not None  # exactly one of the two, checked above
+        friction = load_friction
+        stall_current_a = drive_at_stall / ((1.0 - friction) * k)
     else:
-        load_friction = 1.0 - drive_at_stall / (k * stall_current_a)
-    if not 0.0 <= load_friction < 1.0:
-        raise ValueError(f"{key}: the published figures give a load friction {load_friction}")
-    rest.setdefault("load_friction_static", load_friction)
+        friction = 1.0 - drive_at_stall / (k * stall_current_a)
+    if not 0.0 <= friction < 1.0:
+        raise ValueError(f"{key}: the published figures give a load friction {friction}")
+    rest.setdefault("load_friction_static", friction)
     return MotorSpec(key=key, voltage_v=voltage_v, stall_torque_nm=stall_torque_nm,
                      stall_current_a=stall_current_a, no_load_speed_rad_s=no_load_speed_rad_s,
                      gear_ratio=gear_ratio, torque_constant_nm_a=k,
-                     resistance_ohm=voltage_v / stall_current_a, load_friction=load_friction,
+                     resistance_ohm=voltage_v / stall_current_a, load_friction=friction,
                      **rest)
 
 
@@ -217,11 +299,27 @@ STS3250 = make_spec(
 SPECS = MappingProxyType({s.key: s for s in (XL330_M288, XL430_W250, STS3215, STS3250)})
 
 
-def firmware_duty(spec, goal_count, present_count, kp_register):
-    """The duty in [-max_duty, max_duty] (a fraction of the supply, signed like the error) the
-    servo's position loop commands for a position error of goal_count - present_count counts
-    and the gain register kp_register (Dynamixel: Position P Gain; Feetech: P coefficient).
-    Dynamixel's integer PWM is truncated toward zero as the firmware's integer arithmetic does."""
+def firmware_duty(spec: MotorSpec, goal_count: float, present_count: float,
+                  kp_register: float) -> float:
+    """The duty the servo's position loop commands.
+
+    Dynamixel's integer PWM is truncated toward zero as the firmware's integer arithmetic does.
+
+    Parameters
+    ----------
+    spec : MotorSpec
+        The servo.
+    goal_count, present_count : float
+        The goal and the present position, counts.
+    kp_register : float
+        The gain register (Dynamixel: Position P Gain; Feetech: P coefficient).
+
+    Returns
+    -------
+    float
+        The duty in [-max_duty, max_duty], a fraction of the supply, signed like the error
+        goal_count - present_count.
+    """
     duty = spec.duty_per_count_kp * kp_register * (goal_count - present_count)
     if spec.pwm_steps:
         duty = math.trunc(duty * spec.pwm_steps) / spec.pwm_steps
@@ -238,7 +336,18 @@ class ServoPhysics:
     shaft_torque_nm (while locked: the torque the drive puts on the clamp, net of the gearbox's
     kinetic friction), time_s (simulated time, s, a whole number of steps).
 
-    supply_v: the supply voltage (default: the spec's). horn_inertia_kgm2: the horn's inertia.
+    Parameters
+    ----------
+    spec : MotorSpec
+        The servo's motor.
+    mass_kg, length_m : float
+        The pendulum load: a point mass on an arm.
+    angle_rad, velocity_rad_s : float, optional
+        The initial state.
+    supply_v : float, optional
+        The supply voltage (None: the spec's).
+    horn_inertia_kgm2 : float, optional
+        The horn's inertia.
 
     Determinism: the state after advance(t, ...) depends only on the state before, on the
     whole number of steps floor(t / DT_S + 1e-9) and on the arguments; the firmware ticks on
@@ -247,8 +356,9 @@ class ServoPhysics:
     arguments a, and two objects given the same calls agree to the bit.
     """
 
-    def __init__(self, spec, mass_kg, length_m, angle_rad=0.0, velocity_rad_s=0.0, *,
-                 supply_v=None, horn_inertia_kgm2=HORN_INERTIA_KGM2):
+    def __init__(self, spec: MotorSpec, mass_kg: float, length_m: float, angle_rad: float = 0.0,
+                 velocity_rad_s: float = 0.0, *, supply_v: Optional[float] = None,
+                 horn_inertia_kgm2: float = HORN_INERTIA_KGM2) -> None:
         self.spec = spec
         self.mass_kg = float(mass_kg)
         self.length_m = float(length_m)
@@ -266,41 +376,76 @@ class ServoPhysics:
         self._ticks_per_firmware = max(1, round(spec.firmware_period_s / DT_S))
 
     @property
-    def time_s(self):
+    def time_s(self) -> float:
         """Simulated time, s (the number of steps taken times DT_S)."""
         return self._steps * DT_S
 
-    def position_count(self, offset_count=2048):
-        """The quantised reading (Present Position): offset_count + round(angle * 4096 / 2 pi),
-        halves rounded up."""
+    def position_count(self, offset_count: int = 2048) -> int:
+        """The quantised reading (Present Position).
+
+        Parameters
+        ----------
+        offset_count : int, optional
+            The count at which the load hangs.
+
+        Returns
+        -------
+        int
+            offset_count + round(angle * 4096 / 2 pi), halves rounded up.
+        """
         return offset_count + math.floor(self.angle_rad * self.spec.counts_per_rev /
                                          (2.0 * math.pi) + 0.5)
 
-    def load_fraction(self):
-        """The winding current as a signed fraction of the spec's stall current (for the present
-        load / current registers)."""
+    def load_fraction(self) -> float:
+        """The load the servo reports.
+
+        Returns
+        -------
+        float
+            The winding current as a signed fraction of the spec's stall current (for the
+            present load / current registers).
+        """
         return self.current_a / self.spec.stall_current_a
 
-    def advance(self, until_s, goal_count, kp_register, offset_count=2048):
-        """Integrates from time_s up to until_s (whole steps; see the class note) under the
-        firmware's P law toward goal_count (counts on the scale where the load hangs at
-        offset_count) with the gain register kp_register; goal_count None: torque off."""
+    def advance(self, until_s: float, goal_count: Optional[float], kp_register: float,
+                offset_count: int = 2048) -> None:
+        """Integrates from time_s up to until_s under the firmware's P law.
+
+        Parameters
+        ----------
+        until_s : float
+            The end, s (whole steps; see the class note).
+        goal_count : float or None
+            The goal, counts on the scale where the load hangs at offset_count; None: torque
+            off.
+        kp_register : float
+            The gain register.
+        offset_count : int, optional
+            The count at which the load hangs.
+        """
         spec = self.spec
 
-        def command():
+        def command() -> Optional[float]:
             if goal_count is None:
                 return None
             return firmware_duty(spec, goal_count, self.position_count(offset_count),
                                  kp_register)
         self._run(until_s, command)
 
-    def advance_open_loop(self, until_s, duty):
-        """Integrates up to until_s (as advance) with the H-bridge at a fixed duty in [-1, 1]
-        (PWM control mode; the PWM slope still applies); duty None: torque off."""
+    def advance_open_loop(self, until_s: float, duty: Optional[float]) -> None:
+        """Integrates up to until_s (as advance) with the H-bridge at a fixed duty.
+
+        Parameters
+        ----------
+        until_s : float
+            The end, s.
+        duty : float or None
+            In [-1, 1] (PWM control mode; the PWM slope still applies); None: torque off.
+        """
         clamped = None if duty is None else max(-1.0, min(1.0, float(duty)))
         self._run(until_s, lambda: clamped)
 
-    def _run(self, until_s, command):
+    def _run(self, until_s: float, command: Callable[[], Optional[float]]) -> None:
         """Steps up to floor(until_s / DT_S); on each firmware tick, command() gives the target
         duty (None: bridge open)."""
         end = math.floor(until_s / DT_S + _EPS_STEPS)
@@ -311,7 +456,7 @@ class ServoPhysics:
             self._step()
             self._steps += 1
 
-    def _firmware_tick(self, target):
+    def _firmware_tick(self, target: Optional[float]) -> None:
         """Sets the bridge and the duty for the next firmware period: open on None, else the
         target duty reached at the spec's PWM slope at most."""
         if target is None:
@@ -323,7 +468,7 @@ class ServoPhysics:
             target = max(self.duty - reach, min(self.duty + reach, target))
         self._bridge_on, self.duty = True, target
 
-    def _step(self):
+    def _step(self) -> None:
         """One semi-implicit Euler step of DT_S."""
         s, w = self.spec, self.velocity_rad_s
         k, r, v = s.torque_constant_nm_a, s.resistance_ohm, self.supply_v
@@ -353,7 +498,7 @@ class ServoPhysics:
         self.angle_rad += w * DT_S
 
 
-def _friction_band(spec, w, motor_nm, external_nm):
+def _friction_band(spec: MotorSpec, w: float, motor_nm: float, external_nm: float) -> float:
     """The Coulomb friction bound at speed w (N m, >= 0): the kinetic band plus the static
     excess faded by exp(-(w / stribeck_rad_s)^2)."""
     kinetic = spec.coulomb_nm + spec.load_friction * motor_nm + \

@@ -2,21 +2,31 @@
 form `identify` and `leglab.servo.read_log` read with no extra keys (BAM's JSON log: the motor,
 gain, load and trajectory travel in the file)."""
 
+from __future__ import annotations
+
 import math
+from collections.abc import Mapping, Sequence
+from typing import Any, Optional
 
 from . import files, session, trajectories
+from .bus import Bus
+
+# A servo's samples: (t_s, measured_deg, request_deg, torque_on) a tick.
+_Samples = dict[int, list[tuple[float, float, float, bool]]]
 
 
-def log_name(trajectory, kp, servo_id):
+def log_name(trajectory: str, kp: float, servo_id: int) -> str:
     """The log's file name: <trajectory>_kp<kp>_id<id>.json."""
     return f"{trajectory}_kp{kp:g}_id{servo_id}.json"
 
 
-def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
+def record_trajectory(bus: Bus, clock: session.Clock, ids: Sequence[int], name: str,
+                      tick_s: float, zeros: Mapping[int, float], say: session.Say
+                      ) -> tuple[_Samples, session.TickStats, Optional[BaseException]]:
     """Servos `ids` through trajectory `name`, one tick of `tick_s` at a time, from its first
     angle. Returns ({id: [(t_s, measured_deg, request_deg, torque_on)]}, TickStats, the
     exception that ended it early or None)."""
-    samples = {i: [] for i in ids}
+    samples: _Samples = {i: [] for i in ids}
     try:
         start_deg = trajectories.start_deg(name)
         session.move_to(bus, clock, ids, zeros, {i: start_deg for i in ids}, tick_s)
@@ -24,7 +34,7 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
         return samples, session.TickStats(tick_s), e
     torque = [True]
 
-    def tick(_k, t_s, _skipped):
+    def tick(_k: int, t_s: float, _skipped: int) -> None:
         raw = bus.sync_read_raw(ids, "present_position")
         request_deg, torque_on = trajectories.sample(name, t_s)
         if torque_on != torque[0]:
@@ -49,7 +59,8 @@ def record_trajectory(bus, clock, ids, name, tick_s, zeros, say):
     return samples, stats, None
 
 
-def log_json(samples, meta):
+def log_json(samples: Sequence[tuple[float, float, float, bool]],
+             meta: Mapping[str, Any]) -> dict[str, Any]:
     """A BAM-style log: `meta` (motor, kp, mass, length, trajectory, ...) and the entries
     (radians from the zero, as BAM's logs hold them)."""
     entries = [{"timestamp": t, "position": math.radians(m), "goal_position": math.radians(r),
@@ -57,9 +68,11 @@ def log_json(samples, meta):
     return {**meta, "entries": entries}
 
 
-def write_logs(paths, samples, stats, meta_by_id, bus):
+def write_logs(paths: Mapping[tuple[str, int], str], samples: _Samples,
+               stats: session.TickStats, meta_by_id: Mapping[int, Mapping[str, Any]],
+               bus: Bus) -> list[str]:
     """One log per servo, at paths[(trajectory, id)]; returns the paths written."""
-    written = []
+    written: list[str] = []
     for servo_id, rows in samples.items():
         meta = dict(meta_by_id[servo_id])
         meta.update(stats.summary(), retries=bus.stats.retries)

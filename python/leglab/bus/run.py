@@ -2,13 +2,22 @@
 angles sent as they are), tick by tick on the real clock, and what they did is written beside
 what the model predicted."""
 
+from __future__ import annotations
+
 import math
 import os
+from collections.abc import Mapping, Sequence
+from typing import Any, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import servo
 from . import files, outputs, session
+from .bus import Bus
+
+# A servo's rows of run.csv without `late`: time_s, desired_deg, request_deg, measured_deg.
+_Rows = dict[int, list[tuple[float, float, float, float]]]
 
 METHODS = ("direct", "model_based", "optimal")
 """What run sends: the desired angles as they are, or the model's planned requests."""
@@ -22,11 +31,13 @@ class Policy:
     desired angles. `request(k, skipped, measured_deg)` is tick k's request (deg), `skipped`
     the ticks since the last one on which none was sent."""
 
-    def __init__(self, model, desired_deg, method, online, preview_ticks, drive, limits,
-                 lead_ticks=0, budget_s=None):
+    def __init__(self, model: servo.ServoModel, desired_deg: npt.ArrayLike, method: str,
+                 online: bool, preview_ticks: Optional[int], drive: Mapping[str, Any],
+                 limits: tuple[float, float], lead_ticks: int = 0,
+                 budget_s: Optional[float] = None) -> None:
         self.desired = np.ascontiguousarray(desired_deg, dtype=np.float64)
         self.method = method
-        self.planner = None
+        self.planner: Optional[servo.ServoPlanner] = None
         self.limits = dict(min_deg=limits[0], max_deg=limits[1])
         min_deg, max_deg = limits
         if method == "direct":  # D(t + lead), the last angle held: the paper's time shift
@@ -42,7 +53,7 @@ class Policy:
             self.requests = servo.plan(model, self.desired, method, min_deg=min_deg,
                                        max_deg=max_deg, **drive).request_deg
 
-    def request(self, k, skipped, measured_deg):
+    def request(self, k: int, skipped: int, measured_deg: float) -> float:
         """Tick k's request, deg."""
         if self.planner is None:
             return float(self.requests[k])
@@ -51,7 +62,7 @@ class Policy:
         return self.planner.request(self.desired[k:k + self.window], measured_deg)
 
 
-def predicted_mae_deg(model, policy, drive):
+def predicted_mae_deg(model: servo.ServoModel, policy: Policy, drive: Mapping[str, Any]) -> float:
     """What the model predicts for the run: its mean absolute error under the policy's batch
     requests (online: the batch plan of the same method, which online model_based equals when
     the servo is the model), deg."""
@@ -63,16 +74,19 @@ def predicted_mae_deg(model, policy, drive):
     return float(np.mean(np.abs(angles - policy.desired)))
 
 
-def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s):
+def run_servos(bus: Bus, clock: session.Clock, ids: Sequence[int], policies: Mapping[int, Policy],
+               zeros: Mapping[int, float], limits: Mapping[int, tuple[float, float]],
+               max_speed_deg_s: Mapping[int, float], tick_s: float
+               ) -> tuple[_Rows, session.TickStats, Optional[BaseException]]:
     """The loop: each tick one sync read, each servo's request (clamped to its `limits[id]`
     and to `max_speed_deg_s[id]` from the last one sent), one sync write. Returns ({id: rows},
     TickStats, the exception that ended it or None); rows as RUN_COLUMNS without `late`."""
-    rows = {i: [] for i in ids}
+    rows: _Rows = {i: [] for i in ids}
     sent = {i: float(policies[i].desired[0]) for i in ids}
-    goals = {}
-    stopped = []
+    goals: dict[int, int] = {}
+    stopped: list[BaseException] = []
 
-    def tick(k, t_s, skipped):
+    def tick(k: int, t_s: float, skipped: int) -> None:
         raw = bus.sync_read_raw(ids, "present_position")
         for i in ids:
             measured = session.from_count(raw[i], zeros[i])
@@ -95,7 +109,7 @@ def run_servos(bus, clock, ids, policies, zeros, limits, max_speed_deg_s, tick_s
     return rows, stats, (stopped[0] if stopped else None)
 
 
-def errors(rows):
+def errors(rows: Sequence[tuple[float, float, float, float]]) -> dict[str, float]:
     """mae_deg, rms_deg and max_abs_deg of measured - desired over `rows`."""
     if not rows:
         return {"mae_deg": math.nan, "rms_deg": math.nan, "max_abs_deg": math.nan}
@@ -104,7 +118,7 @@ def errors(rows):
             "max_abs_deg": float(np.max(np.abs(e)))}
 
 
-def csv_text(rows, late):
+def csv_text(rows: Sequence[tuple[float, ...]], late: Sequence[int]) -> str:
     """run.csv's text."""
     lines = [",".join(RUN_COLUMNS)]
     for row, is_late in zip(rows, late):
@@ -112,15 +126,16 @@ def csv_text(rows, late):
     return "\n".join(lines) + "\n"
 
 
-def output_paths(out, ids):
+def output_paths(out: str, ids: Sequence[int]) -> list[str]:
     """The files `run` writes into `out` for servos `ids`."""
     names = ["run.csv"] if len(ids) == 1 else [f"run_id{i}.csv" for i in ids]
     return [os.path.join(out, name) for name in names + ["run.json"]]
 
 
-def write_run(out, rows, stats, summary):
+def write_run(out: str, rows: _Rows, stats: session.TickStats,
+              summary: Mapping[str, Any]) -> list[str]:
     """run.csv (one servo) or run_id<N>.csv (several), and run.json; returns the paths."""
-    paths = []
+    paths: list[str] = []
     late = stats.late + [0] * max(0, max(len(r) for r in rows.values()) - len(stats.late))
     for servo_id, servo_rows in rows.items():
         name = "run.csv" if len(rows) == 1 else f"run_id{servo_id}.csv"

@@ -6,6 +6,8 @@ Angles here are degrees from the zero (the load hanging still, the shipped logs'
 unless named `*_servo_deg` (the servo's own 0-360 deg scale over 4096 counts).
 """
 
+from __future__ import annotations
+
 import contextlib
 import ctypes
 import gc
@@ -13,9 +15,25 @@ import math
 import os
 import signal
 import statistics
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any, Optional, Protocol
 
-from .bus import BusError
+from . import tables
+from .bus import Bus, BusError
+
+
+class Clock(Protocol):
+    """What a loop keeps its tick on: emulator.VirtualClock or emulator.RealClock."""
+
+    def now(self) -> float:
+        """Seconds since the clock's start."""
+
+    def sleep(self, seconds: float) -> None:
+        """Passes `seconds`."""
+
+
+Say = Callable[[str], None]  # a line of progress (cli.say)
 
 COUNTS_PER_REV = 4096
 DEG_PER_COUNT = 360.0 / COUNTS_PER_REV
@@ -33,7 +51,7 @@ class Stopped(BaseException):
 
 # ---- set-up ----
 
-def model_settings(table, kp):
+def model_settings(table: tables.ControlTable, kp: int) -> dict[str, int]:
     """{item: raw} a servo of `table` is set to before it moves, in the order written: the
     EEPROM items first (with the torque off), then the RAM ones. What the model assumes:
     position control by the firmware's P law alone at gain `kp` (no I or D term, no profile
@@ -48,11 +66,12 @@ def model_settings(table, kp):
     return {**eeprom, **ram}
 
 
-def set_up(bus, ids, kp_by_id, say):
+def set_up(bus: Bus, ids: Sequence[int], kp_by_id: Mapping[int, float],
+           say: Say) -> list[dict[str, Any]]:
     """Torque off, then every servo set to model_settings; each register that changed is
     said (`say(line)`). Returns the changes: [{id, item, before, after, unit}]."""
     bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
-    changes = []
+    changes: list[dict[str, Any]] = []
     for servo_id in ids:
         table = bus.table(servo_id)
         kp = kp_by_id[servo_id]
@@ -81,7 +100,7 @@ def set_up(bus, ids, kp_by_id, say):
     return changes
 
 
-def check_health(bus, ids):
+def check_health(bus: Bus, ids: Sequence[int]) -> None:
     """SessionError when a servo is too hot, its supply outside its limits, or it reports a
     hardware error: what a run must not start with."""
     for servo_id in ids:
@@ -105,13 +124,14 @@ def check_health(bus, ids):
                                f"within 5 C of its limit ({limit:g} C): let it cool")
 
 
-def find_zero(bus, clock, ids, say, settle_s=0.5, timeout_s=15.0):
+def find_zero(bus: Bus, clock: Clock, ids: Sequence[int], say: Say, settle_s: float = 0.5,
+              timeout_s: float = 15.0) -> dict[int, float]:
     """{id: zero_servo_deg}: with the torque off, the reading once the load hangs still (its
     readings over `settle_s` within one count), averaged over that time."""
     bus.sync_write_raw("torque_enable", {i: 0 for i in ids})
     window = max(2, round(settle_s / 0.02))
-    history = {i: [] for i in ids}
-    first = None
+    history: dict[int, list[int]] = {i: [] for i in ids}
+    first: Optional[dict[int, int]] = None
     start = clock.now()
     while True:
         raw = bus.sync_read_raw(ids, "present_position")
@@ -132,25 +152,25 @@ def find_zero(bus, clock, ids, say, settle_s=0.5, timeout_s=15.0):
         clock.sleep(0.02)
 
 
-def wrapped(counts):
+def wrapped(counts: int) -> int:
     """`counts` (a difference of positions) within half a turn: [-2048, 2048)."""
     return (counts + COUNTS_PER_REV // 2) % COUNTS_PER_REV - COUNTS_PER_REV // 2
 
 
-def to_count(angle_deg, zero_servo_deg):
+def to_count(angle_deg: float, zero_servo_deg: float) -> int:
     """The goal count of `angle_deg` from the zero (on the servo's scale: the caller keeps it
     within the servo's position limits, position_limits_deg)."""
     return round((angle_deg + zero_servo_deg) / DEG_PER_COUNT)
 
 
-def from_count(count, zero_servo_deg):
+def from_count(count: float, zero_servo_deg: float) -> float:
     """The angle from the zero of a position count, deg, within half a turn of it: a reading
     across the encoder's 0/4096 seam is the angle next to the zero, not a turn away."""
     offset = count - zero_servo_deg / DEG_PER_COUNT
     return (offset - COUNTS_PER_REV * math.floor(offset / COUNTS_PER_REV + 0.5)) * DEG_PER_COUNT
 
 
-def position_limits_deg(bus, servo_id, zero_servo_deg):
+def position_limits_deg(bus: Bus, servo_id: int, zero_servo_deg: float) -> tuple[float, float]:
     """The servo's own position limits (its min/max position registers), as angles from the
     zero: the range a goal must stay in. Limits that hold no range (Feetech's 0, 0 of its
     multi-turn mode) count as one whole turn."""
@@ -162,7 +182,7 @@ def position_limits_deg(bus, servo_id, zero_servo_deg):
     return (low - zero) * DEG_PER_COUNT, (high - zero) * DEG_PER_COUNT
 
 
-def torque_on_where_it_is(bus, ids):
+def torque_on_where_it_is(bus: Bus, ids: Sequence[int]) -> dict[int, int]:
     """Goal = present position, then torque on: the servos hold where they are."""
     present = bus.sync_read_raw(ids, "present_position")
     bus.sync_write_raw("goal_position", present)
@@ -170,7 +190,9 @@ def torque_on_where_it_is(bus, ids):
     return present
 
 
-def move_to(bus, clock, ids, zeros, target_deg, tick_s, speed_deg_s=60.0, settle_s=1.0):
+def move_to(bus: Bus, clock: Clock, ids: Sequence[int], zeros: Mapping[int, float],
+            target_deg: Mapping[int, float], tick_s: float, speed_deg_s: float = 60.0,
+            settle_s: float = 1.0) -> None:
     """Torque on where the servos are, then each goal ramped to `target_deg[id]` at
     `speed_deg_s`, then held `settle_s`."""
     present = torque_on_where_it_is(bus, ids)
@@ -185,7 +207,7 @@ def move_to(bus, clock, ids, zeros, target_deg, tick_s, speed_deg_s=60.0, settle
     clock.sleep(settle_s)
 
 
-def torque_off(bus, ids, say):
+def torque_off(bus: Bus, ids: Sequence[int], say: Say) -> list[int]:
     """Torque off on every servo of `ids` that answers; never raises (the way out of a fault).
     A sync write first (one packet), then each servo alone (a write that is answered; a
     hardware alert in its reply does not mean the write failed). Returns the ids whose torque
@@ -212,13 +234,13 @@ class TickStats:
     """How a loop kept its tick."""
 
     tick_s: float
-    starts_s: list = field(default_factory=list)  # each tick's start, s from the loop's start
-    work_s: list = field(default_factory=list)    # each tick's work (read, plan, write), s
-    late: list = field(default_factory=list)      # 1 when the tick's write ended after the
+    starts_s: list[float] = field(default_factory=list)  # each tick's start, s from the start
+    work_s: list[float] = field(default_factory=list)  # each tick's work (read, plan, write), s
+    late: list[int] = field(default_factory=list)  # 1 when the tick's write ended after the
     # next tick's start, or ticks were skipped before it
     skipped: int = 0                               # ticks that passed with no request sent
 
-    def summary(self):
+    def summary(self) -> dict[str, Any]:
         """The period's and the work's median, p99 and max (ms), ticks, late and skipped."""
         periods = [b - a for a, b in zip(self.starts_s, self.starts_s[1:])] or [0.0]
         return {"ticks": len(self.starts_s), "ticks_late": sum(self.late),
@@ -226,14 +248,15 @@ class TickStats:
                 "period_ms": _quantiles_ms(periods), "work_ms": _quantiles_ms(self.work_s or [0])}
 
 
-def _quantiles_ms(values):
+def _quantiles_ms(values: Sequence[float]) -> dict[str, float]:
     ordered = sorted(values)
     p99 = ordered[min(len(ordered) - 1, math.ceil(0.99 * len(ordered)) - 1)]
     return {"median": round(1e3 * statistics.median(ordered), 4), "p99": round(1e3 * p99, 4),
             "max": round(1e3 * ordered[-1], 4)}
 
 
-def run_ticks(clock, tick_s, count, body, stats=None):
+def run_ticks(clock: Clock, tick_s: float, count: int, body: Callable[[int, float, int], object],
+              stats: Optional[TickStats] = None) -> TickStats:
     """Calls `body(k, t_s, skipped)` for ticks k = 0..count-1 on the clock, tick k at
     start + k * tick_s: t_s is the time since the loop's start, `skipped` the ticks that passed
     since the last call with no call (the loop woke too late; those k are never called).
@@ -271,16 +294,16 @@ class LoopTimeout:
     timeout, never under 1 ms): a reply lost on the wire costs one retry within the tick, not
     several ticks."""
 
-    def __init__(self, bus, tick_s):
+    def __init__(self, bus: Bus, tick_s: float) -> None:
         self.bus = bus
         self.timeout_s = min(bus.timeout_s, max(0.001, tick_s / 2))
 
-    def __enter__(self):
+    def __enter__(self) -> LoopTimeout:
         self._saved = self.bus.timeout_s
         self.bus.timeout_s = self.timeout_s
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.bus.timeout_s = self._saved
 
 
@@ -289,12 +312,12 @@ class RealTime:
     (SCHED_FIFO) where the system allows it, its memory locked, the garbage collector paused.
     `warning` says what could not be had (empty when all was)."""
 
-    def __init__(self, enabled=True):
+    def __init__(self, enabled: bool = True) -> None:
         self.enabled = enabled
         self.warning = ""
-        self._policy = None
+        self._policy: Optional[tuple[int, Any]] = None
 
-    def __enter__(self):
+    def __enter__(self) -> RealTime:
         gc.collect()
         gc.disable()
         if not self.enabled:
@@ -315,7 +338,7 @@ class RealTime:
                             "grant rtprio and memlock in /etc/security/limits.conf)")
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         gc.enable()
         if self._policy is not None:
             try:
@@ -335,20 +358,20 @@ class StopOnSignal:
     `finish()` (the way out under way) signals are noted and ignored. The handlers are restored
     on leaving."""
 
-    def __init__(self):
-        self._saved = {}
-        self.unreached = []  # set by the session: servos whose torque could not go off
+    def __init__(self) -> None:
+        self._saved: dict[int, Any] = {}
+        self.unreached: list[int] = []  # set by the session: servos whose torque stayed on
         self._holding = 0
-        self._pending = None
+        self._pending: Optional[int] = None
         self._finished = False
 
-    def __enter__(self):
+    def __enter__(self) -> StopOnSignal:
         self._saved = {s: signal.getsignal(s) for s in STOP_SIGNALS}
         for s in self._saved:
             signal.signal(s, self._handle)
         return self
 
-    def _handle(self, signum, _frame):
+    def _handle(self, signum: int, _frame: object) -> None:
         if self._finished:
             return
         if self._holding:
@@ -358,7 +381,7 @@ class StopOnSignal:
         raise Stopped(f"stopped by {signal.Signals(signum).name}")
 
     @contextlib.contextmanager
-    def held(self):
+    def held(self) -> Iterator[None]:
         """A block no signal interrupts: one that arrives in it is raised when it ends."""
         self._holding += 1
         try:
@@ -369,16 +392,16 @@ class StopOnSignal:
             self._finished = True
             raise Stopped(f"stopped by {signal.Signals(self._pending).name}")
 
-    def finish(self):
+    def finish(self) -> None:
         """From now on signals are ignored: the torque is going off and the log being written."""
         self._finished = True
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         for s, handler in self._saved.items():
             signal.signal(s, handler)
 
 
-def torque_words(unreached):
+def torque_words(unreached: Sequence[int]) -> str:
     """What became of the torque, for the session's last line."""
     if not unreached:
         return "the torque is off"
@@ -387,7 +410,7 @@ def torque_words(unreached):
             "now")
 
 
-def quit_reason(error):
+def quit_reason(error: BaseException) -> str:
     """The one line a session ends with on `error`."""
     if isinstance(error, (BusError, SessionError, Stopped)):
         return str(error)

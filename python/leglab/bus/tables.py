@@ -16,9 +16,10 @@ disagree the choice is noted at the item.
 """
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
+from typing import Any, Optional
 
 from .feetech import from_sign_magnitude, to_sign_magnitude
 
@@ -30,14 +31,28 @@ DEG_PER_COUNT = 360.0 / COUNTS_PER_REV
 class Item:
     """One register of a control table.
 
-    name: leglab's name (shared across protocols where the meaning is the same).
-    address, size: where it is and how many bytes (1, 2 or 4), little endian.
-    encoding: "unsigned", "signed" (two's complement) or "sign_magnitude".
-    sign_bit: for sign_magnitude, the bit holding the sign (15, 11 or 10); otherwise 0.
-    unit: what one raw count is, in the manufacturer's words.
-    scale: leglab units per raw count; leglab_unit names them ("" for plain numbers).
-    access: "R" or "RW"; memory: "EEPROM" or "RAM".
-    default: the raw factory default (0 for present values and undocumented goals).
+    Attributes
+    ----------
+    name : str
+        leglab's name (shared across protocols where the meaning is the same).
+    address, size : int
+        Where it is and how many bytes (1, 2 or 4), little endian.
+    encoding : str
+        "unsigned", "signed" (two's complement) or "sign_magnitude".
+    sign_bit : int
+        For sign_magnitude, the bit holding the sign (15, 11 or 10); otherwise 0.
+    unit : str
+        What one raw count is, in the manufacturer's words.
+    scale : float
+        leglab units per raw count.
+    leglab_unit : str
+        The unit of raw * scale ("" for plain numbers).
+    access : str
+        "R" or "RW".
+    memory : str
+        "EEPROM" or "RAM".
+    default : int
+        The raw factory default (0 for present values and undocumented goals).
     """
 
     name: str
@@ -57,13 +72,24 @@ class Item:
 class ControlTable:
     """One servo model's control table.
 
-    key: leglab's key ("xl330-m288", "xl430-w250", "sts3215", "sts3250").
-    model: the manufacturer's model name; protocol: "dynamixel" or "feetech".
-    model_number: what the servo reports (Dynamixel: PING and address 0; Feetech: address 3).
-    firmware_version: a plausible current firmware number, for an emulator.
-    counts_per_rev: encoder counts per output revolution.
-    items: the registers by leglab name.
-    aliases: {name: other name} for the items that are another name of the same register.
+    Attributes
+    ----------
+    key : str
+        leglab's key ("xl330-m288", "xl430-w250", "sts3215", "sts3250").
+    model : str
+        The manufacturer's model name.
+    protocol : str
+        "dynamixel" or "feetech".
+    model_number : int
+        What the servo reports (Dynamixel: PING and address 0; Feetech: address 3).
+    firmware_version : int
+        A plausible current firmware number, for an emulator.
+    counts_per_rev : int
+        Encoder counts per output revolution.
+    items : mapping of str to Item
+        The registers by leglab name.
+    aliases : mapping of str to str
+        {name: other name} for the items that are another name of the same register.
     """
 
     key: str
@@ -76,7 +102,27 @@ class ControlTable:
     aliases: Mapping[str, str] = field(default_factory=lambda: MappingProxyType({}), repr=False)
 
     def item(self, name: str) -> Item:
-        """The item called `name`; ValueError naming the table and the valid names if none."""
+        """An item by name.
+
+        Parameters
+        ----------
+        name : str
+            leglab's name of the item.
+
+        Returns
+        -------
+        Item
+            The register.
+
+        Raises
+        ------
+        TypeError
+            `name` not a str.
+        ValueError
+            No such item, naming the table and the valid names.
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"item: expected a str (an item's name), got {type(name).__name__}")
         try:
             return self.items[name]
         except KeyError:
@@ -108,13 +154,15 @@ STS_CURRENT = ("6.5 mA", 0.0065, "A")
 TEN_MS = ("10 ms", 0.01, "s")
 
 
-def _table(key, model, protocol, identity, eeprom_end, rows, variant, aliases=None):
+def _table(key: str, model: str, protocol: str, identity: tuple[int, int], eeprom_end: int,
+           rows: Iterable[tuple[Any, ...]], variant: int,
+           aliases: Optional[dict[str, str]] = None) -> ControlTable:
     """A ControlTable of model number and firmware `identity`, from rows (name, address, size,
     access, default, encoding, unit); its items come in address order. A default given as a
     tuple holds one value per model sharing the rows; `variant` picks this model's. Encoding is
     "u", "s" (two's complement) or an int: the sign bit of sign-magnitude. Addresses below
     `eeprom_end` are EEPROM."""
-    items = {}
+    items: dict[str, Item] = {}
     for name, address, size, access, default, encoding, (unit, scale, leglab_unit) in sorted(
             rows, key=lambda row: row[1]):
         kind = {"u": "unsigned", "s": "signed"}.get(encoding, "sign_magnitude")
@@ -136,7 +184,7 @@ XL430_IDENTITY = (1060, 52)
 
 # The X-series rows the XL330-M288 and XL430-W250 share; tuple defaults are (XL330, XL430)
 # (e-Manual control tables).
-_X_SERIES = [
+_X_SERIES: list[tuple[Any, ...]] = [
     ("model_number", 0, 2, "R", (XL330_IDENTITY[0], XL430_IDENTITY[0]), "u", PLAIN),
     ("firmware_version", 6, 1, "R", (XL330_IDENTITY[1], XL430_IDENTITY[1]), "u", PLAIN),
     ("id", 7, 1, "RW", 1, "u", PLAIN),
@@ -192,13 +240,13 @@ _X_SERIES = [
 # (the page's Goal Current description says "about 2.69 mA"; the table row is followed here).
 # Address 126 is Present Current here, Present Load (0.1 %) on the XL430; the XL330's
 # present_load is its present_current under leglab's shared name.
-_XL330_ONLY = [
+_XL330_ONLY: list[tuple[Any, ...]] = [
     ("current_limit", 38, 2, "RW", 1750, "u", MILLIAMP),
     ("pwm_slope", 62, 1, "RW", 140, "u", ("1.977 mV/ms", 1.977, "V/s")),
     ("goal_current", 102, 2, "RW", 0, "s", MILLIAMP),
     ("present_current", 126, 2, "R", 0, "s", MILLIAMP),
 ]
-_XL430_ONLY = [
+_XL430_ONLY: list[tuple[Any, ...]] = [
     ("present_load", 126, 2, "R", 0, "s", DXL_LOAD),
 ]
 
@@ -216,7 +264,7 @@ STS3250_IDENTITY = (2825, 3)
 # spreadsheet's defaults; tuple defaults are (STS3215, STS3250). The STS3250 (9-12.6 V) has no
 # published memory table of its own: its maximum-voltage default 140 (a 12 V servo's) is an
 # assumption.
-_STS = [
+_STS: list[tuple[Any, ...]] = [
     ("firmware_version", 0, 1, "R", 3, "u", PLAIN),  # major; the spreadsheet's 3.6
     ("firmware_minor_version", 1, 1, "R", 6, "u", PLAIN),
     ("model_number", 3, 2, "R", (STS3215_IDENTITY[0], STS3250_IDENTITY[0]), "u", PLAIN),
@@ -279,8 +327,21 @@ TABLES: Mapping[str, ControlTable] = MappingProxyType(
     {table.key: table for table in (XL330_M288, XL430_W250, STS3215, STS3250)})
 
 
-def table_for(protocol: str, model_number: int) -> ControlTable | None:
-    """The table of the servo that reports `model_number` on `protocol`, or None."""
+def table_for(protocol: str, model_number: int) -> Optional[ControlTable]:
+    """The table of a servo model.
+
+    Parameters
+    ----------
+    protocol : {"dynamixel", "feetech"}
+        The protocol it speaks.
+    model_number : int
+        The model number it reports.
+
+    Returns
+    -------
+    ControlTable or None
+        Its table, or None when leglab has none.
+    """
     for table in TABLES.values():
         if table.protocol == protocol and table.model_number == model_number:
             return table
@@ -288,7 +349,18 @@ def table_for(protocol: str, model_number: int) -> ControlTable | None:
 
 
 def raw_range(item: Item) -> tuple[int, int]:
-    """The smallest and largest raw value the register holds."""
+    """The raw values a register holds.
+
+    Parameters
+    ----------
+    item : Item
+        The register.
+
+    Returns
+    -------
+    (int, int)
+        The smallest and the largest.
+    """
     bits = 8 * item.size
     if item.encoding == "signed":
         return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
@@ -298,9 +370,31 @@ def raw_range(item: Item) -> tuple[int, int]:
 
 
 def encode(item: Item, raw: int) -> bytes:
-    """`raw` as the register's `size` bytes, little endian; ValueError if it does not fit."""
+    """A raw value as the register's bytes.
+
+    Parameters
+    ----------
+    item : Item
+        The register.
+    raw : int
+        The counts.
+
+    Returns
+    -------
+    bytes
+        Its `size` bytes, little endian.
+
+    Raises
+    ------
+    TypeError
+        `raw` not an integer.
+    ValueError
+        `raw` does not fit the register.
+    """
     low, high = raw_range(item)
-    if not isinstance(raw, int) or not low <= raw <= high:
+    if not isinstance(raw, int):
+        raise TypeError(f"{item.name}: expected an integer count, got {type(raw).__name__}")
+    if not low <= raw <= high:
         raise ValueError(f"{item.name}: {raw!r} does not fit ({low}..{high})")
     if item.encoding == "sign_magnitude":
         raw = to_sign_magnitude(raw, item.sign_bit)
@@ -308,7 +402,25 @@ def encode(item: Item, raw: int) -> bytes:
 
 
 def decode(item: Item, data: bytes) -> int:
-    """The raw number in the register's bytes `data` (exactly `size` of them)."""
+    """The raw number in a register's bytes.
+
+    Parameters
+    ----------
+    item : Item
+        The register.
+    data : bytes
+        Exactly `item.size` bytes, little endian.
+
+    Returns
+    -------
+    int
+        The counts.
+
+    Raises
+    ------
+    ValueError
+        `data` of another length.
+    """
     if len(data) != item.size:
         raise ValueError(f"{item.name}: {len(data)} bytes, not {item.size}")
     raw = int.from_bytes(data, "little", signed=item.encoding == "signed")
@@ -316,13 +428,48 @@ def decode(item: Item, data: bytes) -> int:
 
 
 def to_units(item: Item, raw: int) -> float:
-    """`raw` in leglab units (raw * scale; positions: degrees on the servo's 0..360 scale)."""
+    """A raw value in leglab units.
+
+    Parameters
+    ----------
+    item : Item
+        The register.
+    raw : int
+        The counts.
+
+    Returns
+    -------
+    float
+        raw * scale (positions: degrees on the servo's 0..360 scale).
+    """
     return raw * item.scale
 
 
 def from_units(item: Item, value: float) -> int:
-    """The raw count nearest `value` (in leglab units); ValueError if the register cannot
-    hold it."""
+    """The raw count nearest a value in leglab units.
+
+    Parameters
+    ----------
+    item : Item
+        The register.
+    value : float
+        The value, in the item's leglab_unit.
+
+    Returns
+    -------
+    int
+        The counts.
+
+    Raises
+    ------
+    TypeError
+        `value` not a number.
+    ValueError
+        `value` not finite, or the register cannot hold it.
+    """
+    if isinstance(value, (str, bytes)) or not isinstance(value, (int, float)) and \
+            not hasattr(value, "__float__"):
+        raise TypeError(f"{item.name}: expected a number, got {type(value).__name__}")
     if not math.isfinite(value):
         raise ValueError(f"{item.name}: {value!r} is not a finite number")
     raw = round(value / item.scale)

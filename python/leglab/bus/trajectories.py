@@ -32,11 +32,15 @@ All keep the torque on throughout except lift_and_drop after 2 s.
 Standard library only; no import of the compiled module.
 """
 
+from __future__ import annotations
+
 import math
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
+from typing import Union
 
-NAMES = ("lift_and_drop", "sin_time_square", "up_and_down", "sin_sin", "chirp", "steps")
+NAMES: tuple[str, ...] = ("lift_and_drop", "sin_time_square", "up_and_down", "sin_sin", "chirp",
+                          "steps")
 
 _BAM_DURATION_S = 6.0  # every BAM trajectory lasts 6 s
 _DROP_S = 2.0  # lift_and_drop: torque off from here on
@@ -49,49 +53,49 @@ _STEP_LEVELS_DEG = (0.0, 5.0, 0.0, -5.0, 0.0, 20.0, 0.0, -20.0, 0.0, 45.0, 0.0, 
 _AMPLITUDE_TICK_S = 0.001  # amplitude_deg's sampling step
 
 
-def _ease(t_s, t0_s, x0, t1_s, x1):
+def _ease(t_s: float, t0_s: float, x0: float, t1_s: float, x1: float) -> float:
     """The cubic from x0 at t0_s to x1 at t1_s with zero slope at both ends (BAM's keyframes)."""
     s = (t_s - t0_s) / (t1_s - t0_s)
     return x0 + (x1 - x0) * s * s * (3.0 - 2.0 * s)
 
 
-def _lift_and_drop_rad(t_s):
+def _lift_and_drop_rad(t_s: float) -> float:
     """BAM's LiftAndDrop: 0 -> -pi/2 rad over 2 s, then held (rad)."""
     return _ease(min(t_s, _DROP_S), 0.0, 0.0, _DROP_S, -math.pi / 2)
 
 
-def _sin_time_square_rad(t_s):
+def _sin_time_square_rad(t_s: float) -> float:
     """BAM's SinusTimeSquare: sin(t^2) (rad)."""
     return math.sin(t_s * t_s)
 
 
-def _up_and_down_rad(t_s):
+def _up_and_down_rad(t_s: float) -> float:
     """BAM's UpAndDown: 0 -> pi/2 rad over 0..3 s, then -> 0.8 pi/2 rad over 3..6 s (rad)."""
     if t_s <= 3.0:
         return _ease(t_s, 0.0, 0.0, 3.0, math.pi / 2)
     return _ease(t_s, 3.0, math.pi / 2, 6.0, 0.8 * math.pi / 2)
 
 
-def _sin_sin_rad(t_s):
+def _sin_sin_rad(t_s: float) -> float:
     """BAM's SinSin: sin(t) pi/2 + sin(5 t) 0.5 sin(2 t) (rad)."""
     return math.sin(t_s) * math.pi / 2 + math.sin(5.0 * t_s) * 0.5 * math.sin(2.0 * t_s)
 
 
-def _chirp_deg(t_s):
+def _chirp_deg(t_s: float) -> float:
     """25 deg sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T))): f0 = 0.5 Hz to f1 = 3 Hz over T = 6 s."""
     sweep = (_CHIRP_F1_HZ - _CHIRP_F0_HZ) / (2.0 * _CHIRP_DURATION_S)
     cycles = _CHIRP_F0_HZ * t_s + sweep * t_s * t_s
     return _CHIRP_AMPLITUDE_DEG * math.sin(2.0 * math.pi * cycles)
 
 
-def _steps_deg(t_s):
+def _steps_deg(t_s: float) -> float:
     """The level held at t_s: _STEP_LEVELS_DEG[k] over [k, k + 1) * 0.5 s (deg)."""
     k = min(int(t_s / _STEP_HOLD_S), len(_STEP_LEVELS_DEG) - 1)
     return _STEP_LEVELS_DEG[k]
 
 
 # name: (request in deg at t within the duration, duration in s)
-_TRAJECTORIES = {
+_TRAJECTORIES: dict[str, tuple[Callable[[float], float], float]] = {
     "lift_and_drop": (lambda t: math.degrees(_lift_and_drop_rad(t)), _BAM_DURATION_S),
     "sin_time_square": (lambda t: math.degrees(_sin_time_square_rad(t)), _BAM_DURATION_S),
     "up_and_down": (lambda t: math.degrees(_up_and_down_rad(t)), _BAM_DURATION_S),
@@ -102,24 +106,79 @@ _TRAJECTORIES = {
 
 
 def check_name(name: str) -> None:
-    """Raise ValueError naming the valid trajectories if name is not one of NAMES."""
+    """Checks a trajectory's name.
+
+    Parameters
+    ----------
+    name : str
+        The name.
+
+    Raises
+    ------
+    TypeError
+        `name` not a str.
+    ValueError
+        `name` not one of NAMES, naming the valid trajectories.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"trajectory: expected a str ({', '.join(NAMES)}), got "
+                        f"{type(name).__name__}")
     if name not in NAMES:
         raise ValueError(f"unknown trajectory {name!r} (valid: {', '.join(NAMES)})")
 
 
 def duration_s(name: str) -> float:
-    """The trajectory's duration (s); after it, sample holds the last value."""
+    """A trajectory's duration; after it, sample holds the last value.
+
+    Parameters
+    ----------
+    name : str
+        One of NAMES.
+
+    Returns
+    -------
+    float
+        The duration, s.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As check_name.
+    """
     check_name(name)
     return _TRAJECTORIES[name][1]
 
 
 def sample(name: str, t_s: float) -> tuple[float, bool]:
-    """(request_deg, torque_enabled) at t_s seconds from the start.
+    """A trajectory's request and torque flag at a time.
 
-    request_deg is in degrees from the load's hanging zero. t_s must be finite and >= 0
-    (ValueError otherwise); beyond duration_s(name) the value at the duration is held.
+    Beyond duration_s(name) the value at the duration is held.
+
+    Parameters
+    ----------
+    name : str
+        One of NAMES.
+    t_s : float
+        Seconds from the start, finite and >= 0.
+
+    Returns
+    -------
+    request_deg : float
+        Degrees from the load's hanging zero.
+    torque_enabled : bool
+        Whether the torque is on.
+
+    Raises
+    ------
+    TypeError
+        `name` not a str, `t_s` not a number.
+    ValueError
+        An unknown name, `t_s` negative or not finite.
     """
     check_name(name)
+    if isinstance(t_s, bool) or not isinstance(t_s, (int, float)):
+        raise TypeError(f"trajectory time: expected a number of seconds, got "
+                        f"{type(t_s).__name__}")
     if not (math.isfinite(t_s) and t_s >= 0.0):
         raise ValueError(f"trajectory time must be finite and >= 0 s, got {t_s!r}")
     request, duration = _TRAJECTORIES[name]
@@ -129,24 +188,72 @@ def sample(name: str, t_s: float) -> tuple[float, bool]:
 
 
 def start_deg(name: str) -> float:
-    """The request at t = 0 (deg): where to hold the load before the trajectory starts."""
+    """Where to hold the load before a trajectory starts.
+
+    Parameters
+    ----------
+    name : str
+        One of NAMES.
+
+    Returns
+    -------
+    float
+        The request at t = 0, deg.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As check_name.
+    """
     return sample(name, 0.0)[0]
 
 
 def amplitude_deg(name: str) -> tuple[float, float]:
-    """(least, greatest) request (deg) over [0, duration], sampled every 1 ms and at the end."""
+    """A trajectory's range of requests, sampled every 1 ms and at the end.
+
+    Parameters
+    ----------
+    name : str
+        One of NAMES.
+
+    Returns
+    -------
+    (float, float)
+        The least and the greatest request over [0, duration], deg.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As check_name.
+    """
     duration = duration_s(name)
     ticks = int(round(duration / _AMPLITUDE_TICK_S))
     values = [sample(name, min(k * _AMPLITUDE_TICK_S, duration))[0] for k in range(ticks + 1)]
     return min(values), max(values)
 
 
-def pick_and_place_deg(tick_s: float = 0.005, poses_deg: tuple = (0.0, 50.0, -30.0, 0.0),
+def pick_and_place_deg(tick_s: float = 0.005,
+                       poses_deg: tuple[float, ...] = (0.0, 50.0, -30.0, 0.0),
                        move_s: float = 0.5, hold_s: float = 0.4) -> list[float]:
-    """A desired motion, not an excitation: one angle a tick of `tick_s` (deg from the zero):
-    a hold at the first pose, then an eased move to each next pose (smoothstep: no speed at
-    either end) over `move_s`, each followed by a hold of `hold_s`. The motion the docs' and
-    tests' runs follow, which no excitation holds."""
+    """A desired motion, not an excitation: the motion the docs' and tests' runs follow, which
+    no excitation holds.
+
+    Parameters
+    ----------
+    tick_s : float, optional
+        The tick, s.
+    poses_deg : tuple of float, optional
+        The poses, deg from the zero.
+    move_s : float, optional
+        Each move's time: an eased move (smoothstep: no speed at either end).
+    hold_s : float, optional
+        Each hold's time, after each move and at the first pose.
+
+    Returns
+    -------
+    list of float
+        One angle a tick, deg.
+    """
     moves = round(move_s / tick_s)
     ease = [3 * s ** 2 - 2 * s ** 3 for s in (k / moves for k in range(1, moves + 1))]
     hold = round(hold_s / tick_s)
@@ -156,10 +263,29 @@ def pick_and_place_deg(tick_s: float = 0.005, poses_deg: tuple = (0.0, 50.0, -30
     return out
 
 
-def write_desired_csv(path: "str | os.PathLike", desired_deg: Iterable[float],
+def write_desired_csv(path: Union[str, os.PathLike[str]], desired_deg: Iterable[float],
                       tick_s: float = 0.005) -> None:
-    """`desired_deg` (one a tick) as the desired CSV `plan` and `run` read: time_s,desired_deg,
-    each number the shortest text that reads back as the same double."""
+    """Writes a desired motion as the desired CSV `plan` and `run` read.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    desired_deg : iterable of float
+        One angle a tick, deg.
+    tick_s : float, optional
+        The tick, s.
+
+    Raises
+    ------
+    OSError
+        The file cannot be written.
+
+    Notes
+    -----
+    The columns are time_s,desired_deg, each number the shortest text that reads back as the
+    same double.
+    """
     with open(path, "w", encoding="ascii") as f:
         f.write("time_s,desired_deg\n")
         f.writelines(f"{k * tick_s!r},{float(d)!r}\n" for k, d in enumerate(desired_deg))

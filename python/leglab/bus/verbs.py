@@ -1,14 +1,20 @@
 """The bodies of `python3 -m leglab.bus`'s verbs (the flags are cli.py's)."""
 
+from __future__ import annotations
+
+import argparse
 import glob
 import os
 import signal
 import sys
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from . import emulator, files, joints, record as recording, run as running, session, tables
-from .bus import MAX_ID, BusError, BusStats, first_line
+from .bus import MAX_ID, Bus, BusError, BusStats, ServoInfo, first_line
 from .cli import open_bus, say
 
 _SCAN_ITEMS = (  # (column, item, format): what matters to the model, as scan shows it
@@ -21,7 +27,7 @@ _SCAN_ITEMS = (  # (column, item, format): what matters to the model, as scan sh
     ("pos_deg", "present_position", "{:.1f}"))
 
 
-def latency_timer_ms(port):
+def latency_timer_ms(port: str) -> Optional[int]:
     """The USB serial adapter's latency timer behind `port` (ms), or None when it has none (a
     pseudo-terminal, a native UART)."""
     try:
@@ -34,7 +40,7 @@ def latency_timer_ms(port):
     return None
 
 
-def _scan_row(bus, info):
+def _scan_row(bus: Bus, info: ServoInfo) -> list[str]:
     cells = [str(info.id), info.table.model if info.table else f"#{info.model_number}",
              str(info.firmware_version)]
     for _, item, fmt in _SCAN_ITEMS:
@@ -48,11 +54,11 @@ def _scan_row(bus, info):
     return cells
 
 
-def scan(args):
+def scan(args: argparse.Namespace) -> int:
     """Prints the servos on the port and their settings; warns of what spoils a tick."""
     bus, _ = open_bus(args)
     with bus:
-        ids = args.ids or range(0, MAX_ID + 1)
+        ids: Sequence[int] = args.ids or range(0, MAX_ID + 1)
         # A sweep of many ids waits 5 ms for each (a servo answers in well under 1 ms); a few
         # ids are asked with the bus's own timeout.
         found = bus.scan(ids, timeout_s=min(bus.timeout_s, 0.005) if len(ids) > 16 else None)
@@ -87,12 +93,13 @@ def scan(args):
     return 0
 
 
-def _id_range(ids):
+def _id_range(ids: Iterable[int]) -> str:
     ids = list(ids)
     return f"{ids[0]}-{ids[-1]}" if len(ids) > 1 else str(ids[0])
 
 
-def _prepare(bus, clock, js, say_line):
+def _prepare(bus: Bus, clock: session.Clock, js: Sequence[joints.Joint], say_line: session.Say
+             ) -> tuple[dict[int, float], list[dict[str, Any]]]:
     """The servos of `js` (Joints) found and set up as the model assumes; their zeros.
     Returns ({id: zero_servo_deg}, the set-up's changes)."""
     ids = [j.id for j in js]
@@ -111,7 +118,8 @@ def _prepare(bus, clock, js, say_line):
     return zeros, changes
 
 
-def _session(bus, clock, args, ids, body, stop):
+def _session(bus: Bus, clock: session.Clock, args: argparse.Namespace, ids: Sequence[int],
+             body: Callable[[], Any], stop: session.StopOnSignal) -> Any:
     """Runs `body()` with real time asked for; the torque goes off however it ends (then
     `stop` ignores further signals, so that the log is written). Returns what body returns;
     stop.unreached: the servos whose torque could not be turned off."""
@@ -125,7 +133,7 @@ def _session(bus, clock, args, ids, body, stop):
         stop.unreached = session.torque_off(bus, ids, say)
 
 
-def _ended(verb, ended, what, unreached):
+def _ended(verb: str, ended: Optional[BaseException], what: str, unreached: Sequence[int]) -> int:
     """The exit status of a session that `ended` (None: completed), its one line said."""
     if ended is None and not unreached:
         return 0
@@ -136,7 +144,7 @@ def _ended(verb, ended, what, unreached):
                                                      session.Stopped)) else 1
 
 
-def _warn_latency(args):
+def _warn_latency(args: argparse.Namespace) -> None:
     """A USB adapter's latency timer above 1 ms, said before a session (scan explains it)."""
     latency = latency_timer_ms(args.port)
     if latency is not None and latency > 1:
@@ -144,7 +152,7 @@ def _warn_latency(args):
             "it (python3 -m leglab.bus scan says how to set 1 ms)")
 
 
-def record(args):
+def record(args: argparse.Namespace) -> int:
     """Records each trajectory on every servo; one log per servo and trajectory."""
     js = joints.joints(args, verb="record")
     ids = [j.id for j in js]
@@ -158,10 +166,10 @@ def record(args):
     files.check_writable_all(out, paths.values())
     bus, clock = open_bus(args, js)
     _warn_latency(args)
-    written = []
+    written: list[str] = []
     with bus, session.StopOnSignal() as stop:
 
-        def body():
+        def body() -> Optional[BaseException]:
             zeros, changes = _prepare(bus, clock, js, say)
             _check_reach(bus, js, zeros, args.trajectory)
             for name in args.trajectory:
@@ -183,7 +191,8 @@ def record(args):
                   "no log was written", stop.unreached)
 
 
-def _check_reach(bus, js, zeros, names):
+def _check_reach(bus: Bus, js: Sequence[joints.Joint], zeros: Mapping[int, float],
+                 names: Iterable[str]) -> None:
     """SessionError, before anything moves, when a trajectory leaves a servo's own position
     limits from its zero."""
     for j in js:
@@ -198,7 +207,9 @@ def _check_reach(bus, js, zeros, names):
                     "its offset)")
 
 
-def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
+def _log_meta(args: argparse.Namespace, bus: Bus, trajectory: str, joint: joints.Joint,
+              zero_deg: float, changes: Sequence[Mapping[str, Any]],
+              ended: Optional[BaseException]) -> dict[str, Any]:
     """A log's fields beside its entries: BAM's (mass, length, kp, vin, motor, trajectory),
     which identify reads, and the session's (docs/real-servos.md lists them)."""
     return dict(mass=joint.mass_kg, length=joint.length_m, kp=joint.kp,
@@ -210,14 +221,15 @@ def _log_meta(args, bus, trajectory, joint, zero_deg, changes, ended):
                 ended="completed" if ended is None else session.quit_reason(ended))
 
 
-def _supply_volts(bus, servo_id, ended):
+def _supply_volts(bus: Bus, servo_id: int, ended: Optional[BaseException]) -> Optional[float]:
     """The servo's supply now (None when the session ended on a fault: the bus may be gone)."""
     if ended is not None:
         return None
     return bus.read(servo_id, "present_input_voltage")
 
 
-def _load_joint(args, fit, joint):
+def _load_joint(args: argparse.Namespace, fit: Any, joint: joints.Joint
+                ) -> tuple[Any, npt.NDArray[np.float64]]:
     """(model, desired on its tick) of one joint, the desired motion inside the joint's
     limits and its drive and the planner's options valid; SessionError naming the file, servo
     or flag, before anything opens the port."""
@@ -246,15 +258,16 @@ def _load_joint(args, fit, joint):
     return model, desired
 
 
-def budget_s(args):
+def budget_s(args: argparse.Namespace) -> Optional[float]:
     """The online planner's budget_s: --budget-ms; else none on an emulator's virtual time
     (the iteration cap alone: the same requests every run), half the model's tick on a port."""
     if args.budget_ms is not None:
-        return args.budget_ms / 1000.0
+        return float(args.budget_ms) / 1000.0
     return 0.0 if args.port.startswith("emulator:") else None
 
 
-def _check_inside(joint, desired, low, high, what):
+def _check_inside(joint: joints.Joint, desired: npt.NDArray[np.float64], low: float, high: float,
+                  what: str) -> None:
     outside = (desired < low) | (desired > high)
     if outside.any():
         at = int(np.argmax(outside))
@@ -263,7 +276,8 @@ def _check_inside(joint, desired, low, high, what):
             f"deg at tick {at} is outside {what} = [{low:g}, {high:g}] deg: nothing moved")
 
 
-def _load_run_inputs(args):
+def _load_run_inputs(args: argparse.Namespace
+                     ) -> tuple[list[joints.Joint], dict[int, tuple[Any, npt.NDArray[np.float64]]]]:
     """The joints and, per joint, its model and desired motion; all on one tick and of one
     length (SessionError otherwise)."""
     from .. import servo
@@ -296,11 +310,13 @@ def _load_run_inputs(args):
     return js, loaded
 
 
-def _plan_joints(args, bus, js, loaded, zeros):
+def _plan_joints(args: argparse.Namespace, bus: Bus, js: Sequence[joints.Joint],
+                 loaded: Mapping[int, tuple[Any, npt.NDArray[np.float64]]],
+                 zeros: Mapping[int, float]) -> dict[int, tuple[Any, ...]]:
     """{id: (model, desired, Policy, predicted MAE, (low, high))}: each joint's requests kept
     within its limits and its servo's own position limits (the desired motion refused, before
     anything moves, where it leaves them)."""
-    planned = {}
+    planned: dict[int, tuple[Any, ...]] = {}
     for j in js:
         model, desired = loaded[j.id]
         servo_low, servo_high = session.position_limits_deg(bus, j.id, zeros[j.id])
@@ -317,7 +333,7 @@ def _plan_joints(args, bus, js, loaded, zeros):
     return planned
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     """Drives the servos along their desired motions; writes run.csv and run.json."""
     js, loaded = _load_run_inputs(args)
     ids = [j.id for j in js]
@@ -329,9 +345,9 @@ def run(args):
     bus, clock = open_bus(args, js)
     _warn_latency(args)
     with bus, session.StopOnSignal() as stop:
-        context = {}
+        context: dict[str, Any] = {}
 
-        def body():
+        def body() -> tuple[Any, session.TickStats, Optional[BaseException]]:
             context["zeros"], context["changes"] = _prepare(bus, clock, js, say)
             planned = context["planned"] = _plan_joints(args, bus, js, loaded, context["zeros"])
             speeds = {i: args.max_speed_deg_s or planned[i][0].top_speed_deg_s for i in ids}
@@ -360,7 +376,11 @@ def run(args):
     return _ended("run", ended, "the log is written up to there", stop.unreached)
 
 
-def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
+def _run_summary(args: argparse.Namespace, js: Sequence[joints.Joint],
+                 planned: Mapping[int, tuple[Any, ...]], rows: Mapping[int, Any],
+                 stats: session.TickStats, ended: Optional[BaseException],
+                 counts: Mapping[str, int], zeros: Mapping[int, float],
+                 changes: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     """run.json's content (docs/real-servos.md lists its fields)."""
     all_rows = [r for servo_rows in rows.values() for r in servo_rows]
     policy = planned[js[0].id][2]
@@ -378,7 +398,7 @@ def _run_summary(args, js, planned, rows, stats, ended, counts, zeros, changes):
         model=os.path.abspath(args.model), servos=per_servo, setup=changes)
 
 
-def emulate(args):
+def emulate(args: argparse.Namespace) -> int:
     """Serves an emulated bus on a pseudo-terminal until SIGINT or SIGTERM."""
     if args.link and os.path.lexists(args.link):
         raise session.SessionError(f"--link '{args.link}': exists; leglab makes only a new link "
@@ -402,7 +422,7 @@ def emulate(args):
                                           faults=faults)
     except ValueError as e:
         raise session.SessionError(first_line(e)) from None
-    stop = []
+    stop: list[bool] = []
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, lambda *_: stop.append(True))
     with session.RealTime(True) as rt:
