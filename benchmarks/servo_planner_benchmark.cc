@@ -9,7 +9,7 @@
 // After them, optimal's Requests one by one (median, 99th percentile and largest, and the
 // ticks that reached the budget) at its default budget (half the tick) and on its iteration
 // cap alone, with its default preview and with a preview of 250 ticks, 250 held after it and a
-// hand-over of 2 (l + 1), the setting nearest the batch optimum (docs/results.md).
+// hand-over of 2 (l + 1), the setting nearest the batch optimum (docs/results/servos.md).
 //
 // Each planner case runs along the desired motion, measuring what the model predicts, and
 // starts over at its end. Then the four side by side in interleaved rounds (the machine is

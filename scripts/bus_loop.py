@@ -10,7 +10,7 @@ motion) and one folder per run (run.csv, run.json): direct; best_lead (the desir
 early by the lead that did best, in hindsight); paper_model_based_online (the paper's model);
 model_based, model_based_online, optimal, optimal_online (the extended model). The emulated servos are an XL330-M288 on BAM's pendulum
 (0.49 kg at 0.1 m, kp 400; Dynamixel 2.0) and an STS3215 with 0.5 kg at 0.12 m (kp 32;
-Feetech), leglab.bus.physics: not the model leglab fits. docs/results.md's bus-loop table is
+Feetech), leglab.bus.physics: not the model leglab fits. docs/results/servos.md's bus-loop table is
 read from the run.json files. Bad input: one line, exit status 2.
 """
 

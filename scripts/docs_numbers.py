@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The measured tables of README.md and docs/results.md, filled from a run's files or checked
+"""The measured tables of README.md and docs/results/*.md, filled from a run's files or checked
 against them, so that no number in them is copied by hand.
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/docs_numbers.py RESULTS [--write]
@@ -42,7 +42,8 @@ from numbers_run import (JOINTS, UNKNOWN, Missing, Run, UserError, cell, fixed, 
                          joint_norm, paper_value, with_paper)
 
 SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
-DOCS = ("README.md", "docs/results.md")
+DOCS = ("README.md", "docs/results/paper.md", "docs/results/beyond.md", "docs/results/stand.md",
+        "docs/results/servos.md")
 BEGIN = re.compile(r"^<!-- numbers: ([a-z0-9-]+) -->$")
 
 # BAM's own models on the XL330 logs (Rhoban/bam, its README's comparison of models m1, m4

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The paper's own numbers, examined on the ERS-210A's geometry (docs/results.md, section
+"""The paper's own numbers, examined on the ERS-210A's geometry (docs/results/paper.md, section
 "The paper's own numbers, examined").
 
 Usage: scripts/examine_paper_numbers.py RUN_DIR [RUN_DIR ...]   (folders `track` wrote)

@@ -1,11 +1,11 @@
-"""The blocks of docs/results.md beyond Tables 1 and 2 and the real servos' headline: the paper's
+"""The blocks of docs/results/*.md beyond Tables 1 and 2 and the real servos' headline: the paper's
 walk fitted and examined, C_m, the floor and the modes that go for it, optimal's model and
 objective, the untuned walks, move suppression, the sweeps, adaptive and its probes, the
 stand's Table 1 and the online servo planner. Each reads a file reproduce.sh writes, most the
 runs of scripts/variants.py (RESULTS/variants/<name>/); docs_numbers.blocks() registers them.
 
 A block is (header, rows): functions of a numbers_run.Run, rows raising Missing for a file the
-folder lacks. Bold marks, where a table has them, follow the rule its caption in results.md
+folder lacks. Bold marks, where a table has them, follow the rule its caption in docs/results/*.md
 states.
 """
 import math

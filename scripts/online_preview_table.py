@@ -4,7 +4,7 @@ against the batch `plan`, on a motor's logs taken as desired motions.
     /usr/bin/python3 scripts/online_preview_table.py --model results/servo_logs/log_fit.json \
         --out results/servo_logs/online [--motor xl330] [--kp 400] [--build build]
 
-Writes preview.md (the table docs/results.md shows), preview.json (every run's predicted
+Writes preview.md (the table docs/results/servos.md shows), preview.json (every run's predicted
 mean absolute error from the desired motion, deg, over all its ticks: plan.json's
 predicted_mae_deg.planned) and preview_rms.json (the root mean square of the same errors,
 predicted_rms_deg.planned: the optimal plans' objective as an angle) into --out; each run's own

@@ -124,7 +124,7 @@ if [ $ran -eq 1 ]; then
 fi
 if [ $ran -eq 1 ]; then
   /usr/bin/python3 -m leglab.results.report "$out"
-  # The measured tables of README.md and docs/results.md against this run: a difference is
+  # The measured tables of README.md and docs/results/*.md against this run: a difference is
   # named, not fatal (docs_numbers.py "$out" --write puts this run's numbers in the docs).
   if ! /usr/bin/python3 scripts/docs_numbers.py "$out"; then
     echo "reproduce: the docs' tables differ from this run (above)" >&2

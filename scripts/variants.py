@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The runs docs/results.md's tables quote besides reproduce.sh's own: each a program on a
+"""The runs docs/results/*.md's tables quote besides reproduce.sh's own: each a program on a
 shipped config with `--set` overrides (the command the results page gives for it), written to
 RESULTS/variants/<name>/, where scripts/docs_numbers.py reads them.
 
@@ -36,7 +36,7 @@ SOURCE_DIR = pathlib.Path(__file__).resolve().parent.parent
 CONFIGS = pathlib.Path("experiments") / "configs"
 SWEEPS = pathlib.Path("experiments") / "sweeps"
 
-# Optimal's model and objective, each column of results.md's table at each step time:
+# Optimal's model and objective, each column of docs/results/beyond.md's table at each step time:
 # (name, overrides). The shipped pair (foot objective, walk model) is the step time's own run.
 OPTIMAL_VARIANTS = (
     ("optimal_joint_step_tests", ["optimal.objective=joint", "optimal.model=step_tests"]),
@@ -121,7 +121,7 @@ def rigid_rail_sweep():
 
 
 def variants():
-    """Every variant, in the order results.md quotes them."""
+    """Every variant, in the order docs/results/*.md quote them."""
     track = CONFIGS / "track.yaml"
     out = [Variant("cm_closed", "track", track,
                    ["controller.cm=closed", "controller.modes=[model_based]"]),

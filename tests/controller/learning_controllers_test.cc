@@ -281,8 +281,8 @@ TEST(OptimalController, FootObjectiveNeedsTheLegsGeometryAndValidOptions) {
 // A triangle wave per joint within the model's limits (its corners a change of speed of at
 // most 2 v_max / a in one tick): the model can follow it exactly, but only with requests that
 // chatter at its averaging period a from every corner on (the inverse of eq. 3's moving
-// average of a terms), which no real servo's acceleration smoothing forgives (docs/results.md's
-// untuned triangle).
+// average of a terms), which no real servo's acceleration smoothing forgives
+// (docs/results/beyond.md's untuned triangle).
 DesiredCycle TriangleCycle() {
   DesiredCycle d(88);
   auto wave = [](double x) {  // period 1, amplitude 1

@@ -426,15 +426,15 @@ TEST_F(StandRegression, TheStanceCarriesTheWeightAndModelBasedBeatsDirect) {
 
 // Walks nobody tuned for: a sine and a triangle wave per joint through desired.csv,
 // at the paper's step time and at half of it (rotator 65 + 20 w(p), abductor 21 + 8 w(p + 1),
-// knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; docs/results.md's table), and a trapezoid (the
-// triangle times 1.6, clipped to +-1) at the paper's step time, one of docs/results.md's held-out
-// walks. On each, ILC (track.yaml's foot objective) must put the foot nearer its path than the
-// paper's method and the best time shift do, over the shipped run (5 warm-up and 20 measured
+// knee 45 + 30 w(p + 2) deg, p = 2 pi t / T; docs/results/beyond.md's table), and a trapezoid (the
+// triangle times 1.6, clipped to +-1) at the paper's step time, one of docs/results/beyond.md's
+// held-out walks. On each, ILC (track.yaml's foot objective) must put the foot nearer its path than
+// the paper's method and the best time shift do, over the shipped run (5 warm-up and 20 measured
 // steps: on the slow sine ILC is still gaining after 4). So must optimal (track.yaml's: foot
 // objective with move suppression, model fitted to the walk); on the slow triangle and the
 // trapezoid only since its sweeps lower the suppression too (0.093 and 0.118 cm against the
 // time shift's 0.102 and 0.126; before, 0.112 and 0.136: requests chattering at the model's
-// averaging period from the corners on, docs/results.md, "The slow triangle").
+// averaging period from the corners on, docs/results/beyond.md, "The slow triangle").
 double Triangle(double phase) {
   const double x = phase / (2.0 * std::numbers::pi) - std::floor(phase / (2.0 * std::numbers::pi));
   return x < 0.25 ? 4.0 * x : (x < 0.75 ? 2.0 - 4.0 * x : 4.0 * x - 4.0);

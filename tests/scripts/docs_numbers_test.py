@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The measured tables of README.md and docs/results.md are a fresh run's
+"""The measured tables of README.md and docs/results/*.md are a fresh run's
 (scripts/docs_numbers.py), and the check finds a number changed by hand.
 
 A fresh run of the programs whose JSON the blocks read, with the commands and folders of
@@ -23,7 +23,8 @@ import sys
 
 SOURCE, BIN, BUILD, SCRATCH = sys.argv[1:5]
 SCRIPT = os.path.join(SOURCE, "scripts", "docs_numbers.py")
-DOCS = ("README.md", os.path.join("docs", "results.md"))
+DOCS = ("README.md",) + tuple(os.path.join("docs", "results", f"{page}.md")
+                              for page in ("paper", "beyond", "stand", "servos"))
 # The blocks whose learned_fit.json this run does not make, each checked without its networks.
 WITHOUT_NETWORKS = ("real-servos", "servo-learned")
 
@@ -180,20 +181,20 @@ def main():
     for rel in DOCS:
         os.makedirs(os.path.dirname(os.path.join(copy, rel)), exist_ok=True)
         shutil.copyfile(os.path.join(SOURCE, rel), os.path.join(copy, rel))
-    readme, page = (os.path.join(copy, rel) for rel in DOCS)
+    readme, stand, servos = (os.path.join(copy, DOCS[k]) for k in (0, 3, 4))
     theta = edit(readme, "| theta_0 (deg) | 7.0 | 5.65 |", "| theta_0 (deg) | 7.0 | 5.66 |")
     paper = edit(readme, "11.42 [31.0]", "11.42 [31.5]")
-    kp = edit(page, "| 100 | 2.61 |", "| 100 | 2.62 |")
+    kp = edit(servos, "| 100 | 2.61 |", "| 100 | 2.62 |")
     # A variant's number (scripts/variants.py's probe runs).
-    probe = edit(page, "; 3/6 -0.06 +0.71 | 0.451 |", "; 3/6 -0.06 +0.71 | 0.450 |")
+    probe = edit(stand, "; 3/6 -0.06 +0.71 | 0.451 |", "; 3/6 -0.06 +0.71 | 0.450 |")
     result = check(results, docs=copy)
     expect(result.returncode == 1, "four numbers changed by hand were not all found", result)
     for where in (f"README.md:{theta}: 'table1': column 3: '5.66' where the run gives '5.65'",
                   f"README.md:{paper}: 'table2-joints': column 2: '11.42 [31.5]' where the run "
                   f"gives '11.42 [31.0]'",
-                  f"docs/results.md:{kp}: 'servo-by-kp': column 2: '2.62' where the run gives "
-                  f"'2.61'",
-                  f"docs/results.md:{probe}: 'probes': column 3: '0.450' where the run gives "
+                  f"docs/results/servos.md:{kp}: 'servo-by-kp': column 2: '2.62' where the run "
+                  f"gives '2.61'",
+                  f"docs/results/stand.md:{probe}: 'probes': column 3: '0.450' where the run gives "
                   f"'0.451'"):
         expect(where in result.stderr, f"the check does not say {where!r}", result)
     result = check(results, "--write", docs=copy)

@@ -33,7 +33,7 @@ namespace leglab {
 /// foot error never rises above the joint optimum's; with it the requests need not chatter: the
 /// model follows a corner of the desired cycle exactly only with requests that swing at its
 /// averaging period a ever after (eq. 3's moving average of a terms inverted), which a servo
-/// unlike the model turns into error (docs/results.md, "The slow triangle").
+/// unlike the model turns into error (docs/results/beyond.md, "The slow triangle").
 ///
 /// Model (`optimal.model`): `step_tests` (the loader's default) optimises under the context's
 /// models, identified from the step tests (or given); `walk` under models fitted to the walk
