@@ -164,9 +164,7 @@ void BindPaperTables(py::module_& m) {
   m.attr("PAPER_FOOT_CM") = foot;
 }
 
-// JointModel and PAPER_MODEL.
-void BindJointModel(py::module_& m) {
-  py::class_<JointModelParams>(m, "JointModel", R"doc(
+constexpr const char* kJointModelDoc = R"doc(
 The paper's model of one joint (eq. 3), in its own units: degrees and 8 ms ticks.
 
     M(t) = M(t-1) + (1/a) * sum_{i=l+1}^{l+a} f(R(t-i) - M(t-1))
@@ -183,8 +181,12 @@ Args:
 Raises TypeError for a value that is not a number (bool is not; l and a must be integers) and
 ValueError naming the field for one outside its range, the config's model.* ranges: v_max in
 [0.01, 45], theta_0 in [0.01, 180], l in [0, 50], a in [1, 50].
-)doc")
-      // The names are views of literals, so NUL-terminated.
+)doc";
+
+// JointModel's constructor and its four values.
+void DefJointModelValues(py::class_<JointModelParams>& joint_model) {
+  // The names are views of literals, so NUL-terminated.
+  joint_model
       .def(py::init(&MakeModel), py::arg(kJointModelNames.v_max_deg_per_tick.data()),
            py::arg(kJointModelNames.theta0_deg.data()), py::arg(kJointModelNames.lag_ticks.data()),
            py::arg(kJointModelNames.accel_ticks.data()),
@@ -196,7 +198,12 @@ ValueError naming the field for one outside its range, the config's model.* rang
       .def_readonly(kJointModelNames.lag_ticks.data(), &JointModelParams::lag_ticks,
                     "l: ticks before a request starts to act.")
       .def_readonly(kJointModelNames.accel_ticks.data(), &JointModelParams::accel_ticks,
-                    "a: ticks over which the speed is averaged.")
+                    "a: ticks over which the speed is averaged.");
+}
+
+// What JointModel computes: a run, the cyclic steady state, f, whether every cycle settles.
+void DefJointModelRuns(py::class_<JointModelParams>& joint_model) {
+  joint_model
       .def(
           "simulate",
           [](const JointModelParams& p, py::handle requests, py::handle start) {
@@ -242,8 +249,14 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
           py::arg("x_deg"),
           "speed_response(x_deg) -> float\n\n"
           "f of eq. 2: the speed, deg/tick, for a request-actual difference x_deg.")
-      .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
-                             "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
+      .def_property_readonly(
+          "settles_on_every_cycle", &SettlesOnEveryCycle,
+          "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).");
+}
+
+// JointModel as a Python value: to_dict, repr, ==, pickling.
+void DefJointModelProtocols(py::class_<JointModelParams>& joint_model) {
+  joint_model
       .def(
           "to_dict",
           [](const JointModelParams& p) {
@@ -269,15 +282,19 @@ for ever: the angles M(0..T-1) of one cycle, deg. ValueError when the model neve
             if (t.size() != 4) ThrowValueError("JointModel: a pickled model holds 4 values");
             return MakeModel(t[0], t[1], t[2], t[3]);
           }));
+}
 
+// JointModel and PAPER_MODEL.
+void BindJointModel(py::module_& m) {
+  py::class_<JointModelParams> model(m, "JointModel", kJointModelDoc);
+  DefJointModelValues(model);
+  DefJointModelRuns(model);
+  DefJointModelProtocols(model);
   m.attr("PAPER_MODEL") = paper::kTable1;
 }
 
-}  // namespace
-
-void BindModel(py::module_& m) {
-  BindJointModel(m);
-  BindPaperTables(m);
+// Identification, identify and _key_range.
+void BindIdentification(py::module_& m) {
   py::class_<IdentificationResult>(m, "Identification",
                                    "A model fitted to recordings, with how well it predicts them.")
       .def_readonly("model", &IdentificationResult::params, "The fitted JointModel.")
@@ -328,47 +345,60 @@ whole cycles of one request pattern when period_ticks is given.)doc";
         ThrowValueError("no config key '" + key + "'");
       },
       "_key_range(key) -> (min, max): an experiment config key's declared range");
+}
 
-  m.def(
-      "floor",
-      [](py::handle desired, py::handle model) -> py::object {
-        const DoubleArray array = RealArray(desired, "desired_cycle");
-        if (array.ndim() == 1) {
-          const std::vector<double> d = ToFiniteVector(desired, "desired_cycle", 3);
-          const JointModelParams params = ToModel(model, "model");
-          py::gil_scoped_release release;
-          std::vector<double> x = FloorTrajectory(d, params);
-          py::gil_scoped_acquire acquire;
-          return ToArray(x);
-        }
-        const std::vector<LegAngles> rows = ToAngleRows(desired, "desired_cycle");
-        if (!(py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)) ||
-            py::len(model) != kLegJoints) {
-          ThrowValueError(
-              "model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
-              (py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)
-                   ? std::to_string(py::len(model))
-                   : "a " + std::string(py::str(py::type::of(model).attr("__name__")))));
-        }
-        std::vector<JointModelParams> models;
-        models.reserve(kLegJoints);
-        for (int j = 0; j < kLegJoints; ++j) {
-          models.push_back(ToModel(model[py::int_(j)], "model[" + std::to_string(j) + "]"));
-        }
-        std::vector<LegAngles> floor(rows.size());
-        {
-          py::gil_scoped_release release;
-          for (int j = 0; j < kLegJoints; ++j) {
-            std::vector<double> d(rows.size());
-            for (size_t t = 0; t < rows.size(); ++t) d[t] = rows[t][j];
-            const std::vector<double> x = FloorTrajectory(d, models[j]);
-            for (size_t t = 0; t < rows.size(); ++t) floor[t][j] = x[t];
-          }
-        }
-        return ToArray(floor);
-      },
-      py::arg("desired_cycle"), py::arg("model"),
-      R"doc(floor(desired_cycle, model) -> numpy.ndarray
+// floor's `model` for a (T, 3) cycle: one JointModel per joint, a list or tuple of three.
+std::vector<JointModelParams> ThreeModels(py::handle model) {
+  if (!(py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)) ||
+      py::len(model) != kLegJoints) {
+    ThrowValueError("model: expected one JointModel per joint (3) for a (T, 3) cycle, got " +
+                    (py::isinstance<py::list>(model) || py::isinstance<py::tuple>(model)
+                         ? std::to_string(py::len(model))
+                         : "a " + std::string(py::str(py::type::of(model).attr("__name__")))));
+  }
+  std::vector<JointModelParams> models;
+  models.reserve(kLegJoints);
+  for (int j = 0; j < kLegJoints; ++j) {
+    models.push_back(ToModel(model[py::int_(j)], "model[" + std::to_string(j) + "]"));
+  }
+  return models;
+}
+
+// floor(desired_cycle, model): one joint's cycle (T,) with one model, or the leg's (T, 3) with
+// three.
+py::object Floor(py::handle desired, py::handle model) {
+  const DoubleArray array = RealArray(desired, "desired_cycle");
+  if (array.ndim() == 1) {
+    const std::vector<double> d = ToFiniteVector(desired, "desired_cycle", 3);
+    const JointModelParams params = ToModel(model, "model");
+    py::gil_scoped_release release;
+    std::vector<double> x = FloorTrajectory(d, params);
+    py::gil_scoped_acquire acquire;
+    return ToArray(x);
+  }
+  const std::vector<LegAngles> rows = ToAngleRows(desired, "desired_cycle");
+  const std::vector<JointModelParams> models = ThreeModels(model);
+  std::vector<LegAngles> floor(rows.size());
+  {
+    py::gil_scoped_release release;
+    for (int j = 0; j < kLegJoints; ++j) {
+      std::vector<double> d(rows.size());
+      for (size_t t = 0; t < rows.size(); ++t) d[t] = rows[t][j];
+      const std::vector<double> x = FloorTrajectory(d, models[j]);
+      for (size_t t = 0; t < rows.size(); ++t) floor[t][j] = x[t];
+    }
+  }
+  return ToArray(floor);
+}
+
+}  // namespace
+
+void BindModel(py::module_& m) {
+  BindJointModel(m);
+  BindPaperTables(m);
+  BindIdentification(m);
+  m.def("floor", &Floor, py::arg("desired_cycle"), py::arg("model"),
+        R"doc(floor(desired_cycle, model) -> numpy.ndarray
 
 The floor of a desired cycle: the cyclic trajectory nearest it (least squares) that a
 joint with the model's top speed v_max and acceleration time a can follow at all. No request

@@ -118,8 +118,8 @@ std::string ReadingRepr(const PlantReading& r) {
          ", applied=" + angles(r.applied_deg) + ")";
 }
 
-// Robot, Walk and Reading: what a Plant's users read.
-void BindRobotWalkReading(py::module_& m) {
+// Robot: a leg's geometry and its forward kinematics.
+void BindRobot(py::module_& m) {
   py::class_<Robot>(m, "Robot", R"doc(
 A leg as the experiments see it: read from its URDF (the one source of its geometry).
 Make one with Robot(config) from an experiment config, or take Plant.robot.
@@ -145,7 +145,10 @@ Make one with Robot(config) from an experiment config, or take Plant.robot.
       .def("__repr__", [](const Robot& r) {
         return "Robot(name=" + std::string(py::repr(py::str(r.name))) + ")";
       });
+}
 
+// Walk: a config's desired cycle of joint angles and its foot path.
+void BindWalk(py::module_& m) {
   py::class_<Walk>(m, "Walk", R"doc(
 The desired walk of an experiment config: one step's cycle of joint angles (desired.csv, or
 the half-elliptical foot locus through inverse kinematics) and the foot path they draw.
@@ -173,7 +176,10 @@ the half-elliptical foot locus through inverse kinematics) and the foot path the
       .def_property_readonly(
           "period", [](const Walk& w) { return w.motion.angles_deg.size(); }, "T: ticks per step.")
       .def_readonly("robot", &Walk::robot, "The Robot that walks it.");
+}
 
+// Reading: what a plant reports at the end of a tick, the stand's instruments included.
+void BindReading(py::module_& m) {
   auto reading =
       py::class_<PlantReading>(m, "Reading", R"doc(
 What a plant reports at the end of a tick. Angles in degrees, shape (3,): rotator, abductor,
@@ -201,6 +207,13 @@ stand's instruments are for scoring and plotting.
         std::string(c.doc.name).c_str(),
         [value = c.value](const PlantReading& r) { return value(r.telemetry); }, doc.c_str());
   }
+}
+
+// Robot, Walk and Reading: what a Plant's users read.
+void BindRobotWalkReading(py::module_& m) {
+  BindRobot(m);
+  BindWalk(m);
+  BindReading(m);
 }
 
 // Plant.run()'s docstring, the stand's arrays named from their declarations.

@@ -358,10 +358,8 @@ void BindLogs(py::module_& m) {
       "_log_csv_text(fields): the log in leglab's CSV form");
 }
 
-}  // namespace
-
-void BindServo(py::module_& m) {
-  BindLogs(m);
+// The log fit and its models: _fit, _model_from_json and ServoModel.
+void BindFit(py::module_& m) {
   m.def("_fit", &Fit, py::arg("config"), py::arg("overrides"), py::arg("given"), py::arg("threads"),
         "_fit(config, overrides, given, threads): identify's log fit");
   m.def(
@@ -405,7 +403,10 @@ The angles (deg) the model predicts, one a tick, with the requests sent as they 
 at start_deg (None: the first request). A plan's predicted_deg is simulate(request_deg,
 start_deg=desired_deg[0], ...). kp is required for the extended rung.)doc")
       .def("__repr__", &ModelRepr);
+}
 
+// Planning requests from a model: _plan (batch) and ServoPlanner (online).
+void BindPlanning(py::module_& m) {
   m.def("_plan", &Plan, py::arg("model"), py::arg("desired_deg"), py::arg("method"), py::arg("kp"),
         py::arg("mass_kg"), py::arg("length_m"), py::arg("min_deg"), py::arg("max_deg"),
         "_plan(model, desired_deg, method, kp, mass_kg, length_m, ...)");
@@ -462,6 +463,14 @@ request()'s; the next request is the next tick's.)doc")
                              "Whether the last measured angle moved the model.")
       .def_property_readonly("ticks", &ServoPlanner::Ticks,
                              "Ticks since the last reset: requests and holds.");
+}
+
+}  // namespace
+
+void BindServo(py::module_& m) {
+  BindLogs(m);
+  BindFit(m);
+  BindPlanning(m);
 }
 
 }  // namespace leglab::python
