@@ -1,13 +1,14 @@
 // The log fit's two inner loops, recordings side by side in vector lanes, against the same
 // arithmetic one recording at a time (the same bits; tests/servo/servo_rollouts_test.cc and
-// paper_sweeps_test.cc check that):
+// paper_sensitivity_lanes_test.cc check that):
 //
 //   extended rollouts  one evaluation of the extended model's fit objective: every
 //                      recording's squared prediction error (ServoRollouts), against
 //                      servo_tick::Advance run over each recording in turn;
-//   paper sweeps       one evaluation of the paper model's normal equations (PaperSweeps, l 2,
-//                      a 20), against PredictRecordingSensitivities summed per recording (which
-//                      also stores its four series: a little of its cost).
+//   paper sweeps       one evaluation of the paper model's normal equations
+//                      (PaperSensitivityLanes, l 2, a 20), against
+//                      PredictRecordingSensitivities summed per recording (which also stores
+//                      its four series: a little of its cost).
 //
 // Each on the baseline instructions and, where the processor has them, AVX2. The recordings: 12
 // of the XL330 as the shipped logs are (nine of 1134 ticks, three of 378; kp 100, 400, 800;
@@ -27,7 +28,7 @@
 
 #include "leglab/model/identification.h"
 #include "leglab/servo/servo_model.h"
-#include "paper_sweeps.h"
+#include "paper_sensitivity_lanes.h"
 #include "rounds_flag.h"
 #include "servo_model_tick.h"
 #include "servo_rollouts.h"
@@ -137,7 +138,7 @@ double ScalarSweeps() {
 }
 
 double LaneSweeps(LaneInstructions instructions) {
-  static const PaperSweeps sweeps(TheInputs().swept, kWarmup);
+  static const PaperSensitivityLanes sweeps(TheInputs().swept, kWarmup);
   std::vector<PaperNormalEquations> equations;
   sweeps.Accumulate(kPaper, {}, false, equations, instructions);
   return equations[0].squared_error;

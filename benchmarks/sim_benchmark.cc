@@ -125,10 +125,21 @@ BENCHMARK(BM_SimTick);
 void BM_StandTick(benchmark::State& state) { TickSim(state, StandConfig()); }
 BENCHMARK(BM_StandTick);
 
-void BM_DartStep(benchmark::State& state) { StepBareWorld(state, PhysicsEngine::kDart); }
+// False, the benchmark skipped, in a build without DART.
+bool HasDart(benchmark::State& state) {
+  if (leglab::sim::BuiltWithDart()) return true;
+  state.SkipWithError("this build has no DART (LEGLAB_WITH_DART=OFF)");
+  return false;
+}
+
+void BM_DartStep(benchmark::State& state) {
+  if (HasDart(state)) StepBareWorld(state, PhysicsEngine::kDart);
+}
 BENCHMARK(BM_DartStep);
 
-void BM_DartSimTick(benchmark::State& state) { TickSim(state, DartConfig()); }
+void BM_DartSimTick(benchmark::State& state) {
+  if (HasDart(state)) TickSim(state, DartConfig());
+}
 BENCHMARK(BM_DartSimTick);
 
 // Seconds per physics step over `steps` bare ODE steps.
@@ -228,6 +239,10 @@ void ReportStandRatio(int rounds) {
 
 // The leg in the air on DART against ODE, both as LegSims walking the same requests.
 void ReportEngineRatio(int rounds) {
+  if (!leglab::sim::BuiltWithDart()) {
+    std::printf("dart/ode step cost ratio: not measured, this build has no DART\n");
+    return;
+  }
   LegSim ode(Config());
   LegSim dart(DartConfig());
   const int steps_per_tick = leglab::sim::PhysicsStepsPerTick(ode.config().physics_dt_ms);

@@ -64,6 +64,10 @@ void BM_SweepPoint(benchmark::State& state) {
 BENCHMARK(BM_SweepPoint)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 void BM_TrackDart(benchmark::State& state) {
+  if (!leglab::sim::BuiltWithDart()) {
+    state.SkipWithError("this build has no DART (LEGLAB_WITH_DART=OFF)");
+    return;
+  }
   const ExperimentConfig config = Config({"sim.engine=dart"});
   for (auto _ : state) benchmark::DoNotOptimize(RunTrackExperiment(config).plant_ticks);
 }
@@ -89,9 +93,9 @@ double TimePhysics(const ExperimentConfig& config, const TrackResult& shape, lon
 
 using leglab::benchmarks::Median;
 
-void ReportSideBySide(int rounds) {
-  const ExperimentConfig config = Config();
-  const TrackResult shape = RunTrackExperiment(config);
+// A default track against the physics of its plant ticks alone, interleaved.
+void ReportTrackAgainstPhysics(const ExperimentConfig& config, const TrackResult& shape,
+                               int rounds) {
   // Plants a default track ticks: identification's (joints x step heights), the walk fit's
   // (when a mode uses the walk-fitted models), the search's lead-0 run and every mode's run.
   const bool walk_fit =
@@ -121,8 +125,10 @@ void ReportSideBySide(int rounds) {
       "%.3f s; track/physics wall time %.2f (median of %d interleaved rounds; target <= 1.3)\n",
       Median(track_s), shape.plant_ticks, shape.plant_ticks * steps_per_tick, Median(physics_s),
       Median(ratios), rounds);
+}
 
-  // The paper's search: every shift on its own plant (run once: it is the slow one).
+// The paper's search: every shift on its own plant (run once: it is the slow one).
+void ReportExhaustiveSearch(const TrackResult& shape) {
   ExperimentConfig exhaustive = Config({"track.search_shift=exhaustive"});
   const auto start = std::chrono::steady_clock::now();
   const long exhaustive_ticks = RunTrackExperiment(exhaustive).plant_ticks;
@@ -131,9 +137,11 @@ void ReportSideBySide(int rounds) {
       "with true: %.1fx fewer\n",
       exhaustive_ticks, Seconds(start), shape.plant_ticks,
       static_cast<double>(exhaustive_ticks) / static_cast<double>(shape.plant_ticks));
+}
 
-  // A sweep's throughput: 8 points of equal cost (identification plus the paper's three modes,
-  // seeds 1..8) on 1 and on 2 threads, interleaved.
+// A sweep's throughput: 8 points of equal cost (identification plus the paper's three modes,
+// seeds 1..8) on 1 and on 2 threads, interleaved.
+void ReportSweepThreads(int rounds) {
   SweepConfig sweep;
   sweep.path = "benchmark";
   sweep.base_path = kConfigs + "track.yaml";
@@ -152,8 +160,14 @@ void ReportSideBySide(int rounds) {
       "sweep points per second (identification + 3 paper modes): %.2f on 1 thread, %.2f on 2: "
       "%.2fx (target >= 1.8)\n",
       Median(one), Median(two), Median(two) / Median(one));
+}
 
-  // The same track on the two engines, interleaved.
+// The same track on the two engines, interleaved.
+void ReportEngines(const ExperimentConfig& config, int rounds) {
+  if (!leglab::sim::BuiltWithDart()) {
+    std::printf("track on DART: not measured, this build has no DART (LEGLAB_WITH_DART=OFF)\n");
+    return;
+  }
   const ExperimentConfig dart = Config({"sim.engine=dart"});
   const auto time = [](const ExperimentConfig& c) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -172,6 +186,15 @@ void ReportSideBySide(int rounds) {
       "track (track.yaml, 1 thread) on ODE %.3f s, on DART %.3f s: dart/ode %.2f (median "
       "of %d interleaved rounds)\n",
       Median(ode_s), Median(dart_s), Median(engine_ratios), rounds);
+}
+
+void ReportSideBySide(int rounds) {
+  const ExperimentConfig config = Config();
+  const TrackResult shape = RunTrackExperiment(config);
+  ReportTrackAgainstPhysics(config, shape, rounds);
+  ReportExhaustiveSearch(shape);
+  ReportSweepThreads(rounds);
+  ReportEngines(config, rounds);
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ endfunction()
 # its public headers, C++20, the project's warnings and float options. INTERFACE makes a
 # header-only library (no SOURCES, no PRIVATE). List only the dependencies it uses.
 # Installed: the library into the export set leglabTargets as leglab::<name>, and the folder's
-# include/leglab/... under <prefix>/include. A PRIVATE dependency of a static library is still
+# include/leglab/... under <prefix>/include, but for its internal/ headers. A PRIVATE dependency of a static library is still
 # needed when a program links it: leglabConfig.cmake.in must find_dependency() it.
 function(leglab_add_library name)
   cmake_parse_arguments(ARG "INTERFACE" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
@@ -55,7 +55,10 @@ function(leglab_add_library name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  # An include/leglab/<name>/internal/ folder holds headers shared between leglab's own
+  # libraries (model's vector lanes, which servo uses), not part of the API: not installed.
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          PATTERN internal EXCLUDE)
 endfunction()
 
 # leglab_add_data(<folder> <destination>): a data folder of the source tree (e.g. robots) that

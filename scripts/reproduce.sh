@@ -27,8 +27,13 @@ if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
   build/bin/track --config experiments/configs/track_hind.yaml --out "$out/hind"
 fi
 # Both legs again on the second physics engine (sim.engine: dart) into dart/ and hind/dart/,
-# with engines.md: each table and step test beside ODE's (the stand is ODE's alone).
-if [ -x build/bin/identify ] && [ -x build/bin/track ]; then
+# with engines.md: each table and step test beside ODE's (the stand is ODE's alone). A build
+# configured without DART (LEGLAB_WITH_DART off in build/CMakeCache.txt) skips them, saying so.
+if [ -x build/bin/identify ] && [ -x build/bin/track ] &&
+  ! grep -Eiq '^LEGLAB_WITH_DART:BOOL=(ON|1|TRUE|YES|Y)$' build/CMakeCache.txt; then
+  echo "reproduce: skipping the runs on DART (dart/, hind/dart/): this build has no DART" \
+    "(LEGLAB_WITH_DART is OFF)" >&2
+elif [ -x build/bin/identify ] && [ -x build/bin/track ]; then
   build/bin/identify --config experiments/configs/identify.yaml --set sim.engine=dart \
     --out "$out/dart"
   build/bin/track --config experiments/configs/track.yaml --set sim.engine=dart --out "$out/dart"

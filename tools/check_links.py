@@ -16,14 +16,26 @@ Checked:
   `docs/design/floor.md`) must exist. Paths with a placeholder (`<name>`, `*`, `...`, `{`), the
   outputs' folders (results/, build/) and CHANGELOG.md's paths (history: files as they were
   then) are not checked.
+With --installed PREFIX (a prefix `cmake --install` filled) or --build DIR (the build folder,
+installed here into a temporary prefix with --cmake, default `cmake`), also what the build
+installs against what the docs say it does:
+- every install path docs/design/install.md's list of what is installed names
+  (`include/leglab/{core,model}/`, `share/leglab/robots/`, `lib/cmake/leglab/`, the Python
+  package's folder when the build made one) exists in the prefix, and its include/leglab/
+  folders are all the installed ones;
+- each list of the programs (install.md's `bin/...`, README.md's "The programs are ...",
+  docs/results-page.md's programs whose folders the page reads) names exactly the programs
+  installed in <prefix>/bin.
 Prints one line per broken link or path (file:line: what) and exits 1 if there is any.
 """
 
 import functools
+import itertools
 import pathlib
 import re
 import subprocess
 import sys
+import tempfile
 
 try:
     from leglab.results.reader import ArgumentParser
@@ -146,12 +158,136 @@ def problems(root):
     return found
 
 
+INSTALL_PAGE = "docs/design/install.md"
+# Where the docs list every program: (file, the list's text as a regex group). A program is a
+# backquoted word (`track`) or a `bin/<program>` path in it.
+PROGRAM_LISTS = ((INSTALL_PAGE, r"^- the programs (.*?);$"),
+                 ("README.md", r"^The programs are (.*?); they are built"),
+                 ("docs/results-page.md", r"\(`--out /tmp/x` of (.*?)\)"))
+INSTALLED = re.compile(r"`(?:<prefix>/)?((?:include|bin|share|lib|\$\{LEGLAB_PYTHON_INSTALL_DIR\})"
+                       r"/[^`]*)`")
+PROGRAM = re.compile(r"`(?:bin/)?([a-z][a-z0-9_]*)`")
+
+
+def paragraphs(path):
+    """A .md file's paragraphs and list items, each joined into one line, with its first line's
+    number."""
+    found, lines, first = [], [], 0
+    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+        if not line.strip() or line.lstrip().startswith("- "):
+            if lines:
+                found.append((first, " ".join(lines)))
+            lines, first = ([line.strip()], number) if line.strip() else ([], 0)
+        else:
+            lines, first = lines + [line.strip()], first or number
+    if lines:
+        found.append((first, " ".join(lines)))
+    return found
+
+
+def expand(path):
+    """`include/leglab/{core,model}/` as the paths it stands for."""
+    match = re.search(r"\{([^}]*)\}", path)
+    if not match:
+        return [path]
+    return list(itertools.chain.from_iterable(
+        expand(path[:match.start()] + part + path[match.end():])
+        for part in match.group(1).split(",")))
+
+
+def installed_list(root):
+    """install.md's list of what is installed: (line, text) of each of its items."""
+    items, listing = [], False
+    for number, text in paragraphs(root / INSTALL_PAGE):
+        if text == "installs":
+            listing = True
+        elif listing and text.startswith("- "):
+            items.append((number, text))
+        elif listing:
+            break
+    return items
+
+
+def install_problems(root, prefix, python_dir=None):
+    """What install.md and the program lists say against the prefix a build was installed
+    into; `python_dir` is LEGLAB_PYTHON_INSTALL_DIR when the build made the Python package."""
+    found = []
+    items = installed_list(root)
+    if not items:
+        return [f"{INSTALL_PAGE}: no list of what `cmake --install` installs (\"installs\" and "
+                "its items)"]
+    for number, text in items:
+        for written in INSTALLED.findall(text):
+            if "${LEGLAB_PYTHON_INSTALL_DIR}" in written:
+                if python_dir is None:
+                    continue
+                written = written.replace("${LEGLAB_PYTHON_INSTALL_DIR}", python_dir)
+            for path in expand(written):
+                if not (prefix / path).exists():
+                    found.append(f"{INSTALL_PAGE}:{number}: names '{path}', which the build does "
+                                 "not install")
+            if written.startswith("include/leglab/{"):
+                named = {pathlib.Path(p).name for p in expand(written)}
+                folders = {p.name for p in (prefix / "include" / "leglab").iterdir()}
+                for folder in sorted(folders - named):
+                    found.append(f"{INSTALL_PAGE}:{number}: the build installs include/leglab/"
+                                 f"{folder}/, which it does not name")
+    programs = {p.name for p in (prefix / "bin").iterdir()} if (prefix / "bin").is_dir() else set()
+    for file, pattern in PROGRAM_LISTS:
+        lists = [(number, match.group(1)) for number, text in paragraphs(root / file)
+                 for match in [re.search(pattern, text)] if match]
+        if not lists:
+            found.append(f"{file}: no list of the programs (/{pattern}/)")
+        for number, text in lists:
+            named = set(PROGRAM.findall(text))
+            for program in sorted(named - programs):
+                found.append(f"{file}:{number}: lists the program '{program}', which the build "
+                             "does not install")
+            for program in sorted(programs - named):
+                found.append(f"{file}:{number}: the build installs the program '{program}', "
+                             "which this list lacks")
+    return found
+
+
+def cache_value(build, name):
+    """A CMakeCache.txt entry's value, or None."""
+    cache = build / "CMakeCache.txt"
+    for line in cache.read_text(encoding="utf-8").splitlines() if cache.is_file() else []:
+        if line.startswith(name + ":"):
+            return line.partition("=")[2]
+    return None
+
+
+def build_install_problems(root, build, cmake):
+    """install_problems on `build` installed into a temporary prefix."""
+    with tempfile.TemporaryDirectory() as prefix:
+        subprocess.run([cmake, "--install", str(build), "--prefix", prefix], check=True,
+                       stdout=subprocess.DEVNULL)
+        python_dir = None
+        if cache_value(build, "LEGLAB_PYTHON") in ("ON", "TRUE", "1"):
+            python_dir = cache_value(build, "LEGLAB_PYTHON_INSTALL_DIR")
+        return install_problems(root, pathlib.Path(prefix), python_dir)
+
+
 def main():
     parser = ArgumentParser(prog="check_links.py", description=__doc__.splitlines()[0])
     parser.add_argument("root", nargs="?", default=pathlib.Path(__file__).resolve().parents[1],
                         metavar="ROOT", help="the repository (default: this one)")
-    root = pathlib.Path(parser.parse_args().root).resolve()
+    against = parser.add_mutually_exclusive_group()
+    against.add_argument("--installed", metavar="PREFIX",
+                         help="also check the install page and the program lists against PREFIX")
+    against.add_argument("--build", metavar="DIR",
+                         help="the same against DIR installed into a temporary prefix")
+    parser.add_argument("--python-dir", metavar="DIR",
+                        help="with --installed: the Python package's folder in PREFIX")
+    parser.add_argument("--cmake", default="cmake", help="with --build: the cmake to install with")
+    args = parser.parse_args()
+    root = pathlib.Path(args.root).resolve()
     found = problems(root)
+    if args.installed:
+        found += install_problems(root, pathlib.Path(args.installed).resolve(), args.python_dir)
+    elif args.build:
+        found += build_install_problems(root, pathlib.Path(args.build).resolve(), args.cmake)
     for line in found:
         print(line)
     return 1 if found else 0

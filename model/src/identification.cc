@@ -12,7 +12,7 @@
 
 #include "leglab/model/levenberg_marquardt.h"
 #include "leglab/model/nelder_mead.h"
-#include "paper_sweeps.h"
+#include "paper_sensitivity_lanes.h"
 
 namespace leglab {
 namespace {
@@ -244,7 +244,7 @@ class ContinuousFit {
   int n_;
   LevenbergMarquardt solver_;
   std::vector<SweptRecording> swept_;
-  std::optional<PaperSweeps> lanes_;
+  std::optional<PaperSensitivityLanes> lanes_;
   LaneInstructions instructions_ = BestLaneInstructions();
   mutable std::vector<PaperNormalEquations> equations_;  // Evaluate's work space
 };

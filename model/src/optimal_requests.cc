@@ -8,8 +8,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "banded_step_solver.h"
 #include "leglab/model/cyclic_banded_cholesky.h"
-#include "optimal_requests_parts.h"
+#include "periodic_model.h"
 
 namespace leglab {
 namespace {

@@ -264,32 +264,21 @@ constexpr const char* kToDictDoc =
     "Returns\n-------\ndict\n    Under the keys of table1.json's joints.";
 
 // JointModel and PAPER_MODEL.
-void BindJointModel(py::module_& m) {
-  py::class_<JointModelParams>(m, "JointModel", kJointModelDoc)
-      // The names are views of literals, so NUL-terminated.
-      .def(py::init(&MakeModel), py::arg(kJointModelNames.v_max_deg_per_tick.data()),
-           py::arg(kJointModelNames.theta0_deg.data()), py::arg(kJointModelNames.lag_ticks.data()),
-           py::arg(kJointModelNames.accel_ticks.data()),
-           "JointModel(v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks)")
-      .def_readonly(kJointModelNames.v_max_deg_per_tick.data(),
-                    &JointModelParams::v_max_deg_per_tick, "Top speed v_max, deg per tick.")
-      .def_readonly(kJointModelNames.theta0_deg.data(), &JointModelParams::theta0_deg,
-                    "Request-actual difference that gives top speed, deg.")
-      .def_readonly(kJointModelNames.lag_ticks.data(), &JointModelParams::lag_ticks,
-                    "l: ticks before a request starts to act.")
-      .def_readonly(kJointModelNames.accel_ticks.data(), &JointModelParams::accel_ticks,
-                    "a: ticks over which the speed is averaged.")
-      .def(
-          "simulate",
-          [](const JointModelParams& p, py::handle requests, py::handle start) {
-            const std::vector<double> r = ToFiniteVector(requests, "requests");
-            const double start_deg = ToReal(start, "start_deg");
-            py::gil_scoped_release release;
-            std::vector<double> angles = SimulateJointModel(p, r, RestState(p, start_deg));
-            py::gil_scoped_acquire acquire;
-            return ToArray(angles);
-          },
-          py::arg("requests"), py::arg("start_deg"), kSimulateDoc)
+using JointModelClass = py::class_<JointModelParams>;
+
+// JointModel's runs of eq. 3: simulate, steady_state, speed_response.
+void DefJointModelRuns(JointModelClass& c) {
+  c.def(
+       "simulate",
+       [](const JointModelParams& p, py::handle requests, py::handle start) {
+         const std::vector<double> r = ToFiniteVector(requests, "requests");
+         const double start_deg = ToReal(start, "start_deg");
+         py::gil_scoped_release release;
+         std::vector<double> angles = SimulateJointModel(p, r, RestState(p, start_deg));
+         py::gil_scoped_acquire acquire;
+         return ToArray(angles);
+       },
+       py::arg("requests"), py::arg("start_deg"), kSimulateDoc)
       .def(
           "steady_state",
           [](const JointModelParams& p, py::handle cycle) {
@@ -312,9 +301,27 @@ void BindJointModel(py::module_& m) {
           [](const JointModelParams& p, py::handle x) {
             return SpeedResponse(p, ToReal(x, "x_deg"));
           },
-          py::arg("x_deg"), kSpeedResponseDoc)
-      .def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
-                             "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
+          py::arg("x_deg"), kSpeedResponseDoc);
+}
+
+void BindJointModel(py::module_& m) {
+  JointModelClass c(m, "JointModel", kJointModelDoc);
+  c  // The names are views of literals, so NUL-terminated.
+      .def(py::init(&MakeModel), py::arg(kJointModelNames.v_max_deg_per_tick.data()),
+           py::arg(kJointModelNames.theta0_deg.data()), py::arg(kJointModelNames.lag_ticks.data()),
+           py::arg(kJointModelNames.accel_ticks.data()),
+           "JointModel(v_max_deg_per_tick, theta0_deg, lag_ticks, accel_ticks)")
+      .def_readonly(kJointModelNames.v_max_deg_per_tick.data(),
+                    &JointModelParams::v_max_deg_per_tick, "Top speed v_max, deg per tick.")
+      .def_readonly(kJointModelNames.theta0_deg.data(), &JointModelParams::theta0_deg,
+                    "Request-actual difference that gives top speed, deg.")
+      .def_readonly(kJointModelNames.lag_ticks.data(), &JointModelParams::lag_ticks,
+                    "l: ticks before a request starts to act.")
+      .def_readonly(kJointModelNames.accel_ticks.data(), &JointModelParams::accel_ticks,
+                    "a: ticks over which the speed is averaged.");
+  DefJointModelRuns(c);
+  c.def_property_readonly("settles_on_every_cycle", &SettlesOnEveryCycle,
+                          "Whether eq. 3 settles under every request cycle (v_max < 2 theta_0).")
       .def(
           "to_dict",
           [](const JointModelParams& p) {

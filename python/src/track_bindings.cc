@@ -310,12 +310,39 @@ py::dict RunTrackStoppable(py::handle config_path, py::handle overrides, py::han
 
 }  // namespace
 
-void BindTrack(py::module_& m) {
-  py::class_<PyControllerContext>(m, "ControllerContext", R"doc(
+// ControllerContext's docstring.
+constexpr const char* kControllerContextDoc =
+    R"doc(
 What a controller is built from (given to Controller.reset): the desired cycle, the models the
 experiment identified (or was given), the leg's limits and forward kinematics. Angles in
 degrees; a tick's row is rotator, abductor, knee.
-)doc")
+)doc");
+
+// ControllerContext.foot_mm's docstring (numpydoc, as every public name's).
+constexpr const char* kContextFootMmDoc =
+    R"doc(foot_mm(q_deg) -> numpy.ndarray
+
+Forward kinematics: the foot in the body frame.
+
+Parameters
+----------
+q_deg : array_like
+    3 joint angles, deg.
+
+Returns
+-------
+numpy.ndarray
+    The foot, mm, shape (3,).
+
+Raises
+------
+TypeError
+    `q_deg` not an array.
+ValueError
+    Not 3 angles, or an angle not finite.)doc");
+
+void BindTrack(py::module_& m) {
+  py::class_<PyControllerContext>(m, "ControllerContext", kControllerContextDoc)
       .def_property_readonly(
           "desired", [](const PyControllerContext& c) { return ToArray(c.context.desired); },
           "The desired cycle, deg, shape (T, 3): row t is tick t of every step.")
@@ -367,28 +394,7 @@ degrees; a tick's row is rotator, abductor, knee.
             const Eigen::Vector3d f = experiments::FootMm(*c.context.geometry, q);
             return ToArray(LegAngles{f.x(), f.y(), f.z()});
           },
-          py::arg("q_deg"),
-          R"doc(foot_mm(q_deg) -> numpy.ndarray
-
-Forward kinematics: the foot in the body frame.
-
-Parameters
-----------
-q_deg : array_like
-    3 joint angles, deg.
-
-Returns
--------
-numpy.ndarray
-    The foot, mm, shape (3,).
-
-Raises
-------
-TypeError
-    `q_deg` not an array.
-ValueError
-    Not 3 angles, or an angle not finite.)doc");
-
+          py::arg("q_deg"), kContextFootMmDoc);
   m.def("_run_track", &RunTrackStoppable, py::arg("config"), py::arg("overrides"),
         py::arg("controllers"), py::arg("out"), py::arg("threads"),
         "_run_track(config, overrides, controllers, out, threads) -> dict\n\n"

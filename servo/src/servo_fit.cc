@@ -1,3 +1,5 @@
+#include "leglab/servo/servo_fit.h"
+
 // FitServoModel: Nelder-Mead on the open-loop prediction error, lag by lag.
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 
 #include "leglab/core/format.h"
 #include "leglab/model/nelder_mead.h"
-#include "leglab/servo/servo_model.h"
 #include "servo_model_tick.h"
 #include "servo_rollouts.h"
 

@@ -163,4 +163,6 @@ std::unique_ptr<PhysicsWorld> MakeDartWorld(const LegDescription& leg, const Sta
   return std::make_unique<DartLegWorld>(leg);
 }
 
+bool BuiltWithDart() { return true; }
+
 }  // namespace leglab::sim

@@ -49,9 +49,16 @@ inline constexpr std::string_view kDartHasNoStand =
     "stand: sim.engine dart has no stand (its contact is hard, with one process-wide softness, "
     "where the stand's is a spring-damper per world); use sim.engine: ode";
 
+/// Why sim.engine: dart is refused by a build without DART (LEGLAB_WITH_DART off; MakeDartWorld,
+/// ValidateSimConfig), one line.
+inline constexpr std::string_view kNoDart =
+    "sim.engine: dart, but this build of leglab has no DART (configured with "
+    "LEGLAB_WITH_DART=OFF or without DART 6.12 installed); use sim.engine: ode";
+
 /// DART's world of `leg` (reduced coordinates: one skeleton whose revolute joints cannot open).
 /// Throws std::invalid_argument when `stand.enabled` (the stand is ODE's alone; see
-/// docs/design/dart.md). `leg` is checked (LegWorld) and outlives the world.
+/// docs/design/dart.md), and kNoDart in a build without DART (no_dart_leg_world.cc). `leg` is
+/// checked (LegWorld) and outlives the world.
 std::unique_ptr<PhysicsWorld> MakeDartWorld(const LegDescription& leg, const StandConfig& stand);
 
 }  // namespace leglab::sim

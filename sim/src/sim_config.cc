@@ -223,6 +223,9 @@ void ValidateSimConfig(const SimConfig& config) {
   if (config.urdf_path.empty()) {
     throw std::invalid_argument("urdf must name a URDF file, got an empty path");
   }
+  if (config.engine == PhysicsEngine::kDart && !BuiltWithDart()) {
+    throw std::invalid_argument(std::string(kNoDart));
+  }
   const double dt = config.physics_dt_ms;
   if (!std::isfinite(dt) || dt <= 0.0 || dt > kTickMs || !IsWholeMultiple(kTickMs, dt)) {
     Reject("sim.physics_dt_ms", "> 0 and divide the 8 ms tick into a whole number of steps", dt);

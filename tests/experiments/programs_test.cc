@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "leglab/app/output.h"
+#include "leglab/sim/sim_config.h"
 
 namespace {
 
@@ -233,6 +234,8 @@ TEST_F(ProgramsTest, ASimulationThatBreaksDownIsBadInput) {
 // walk of ProgramsTest.ASimulationThatBreaksDownIsBadInput, the leg 0.5 m long, its plant
 // changed to 2000 deg/s at gain 1000 (and 3600 deg/s, which ODE's bound refuses).
 TEST_F(ProgramsTest, DartRunsTheLegThatComesApartOnOde) {
+  if (!leglab::sim::BuiltWithDart())
+    GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   const std::string walk =
       "--config experiments/configs/track.yaml --set desired.csv=" +
       Write("wave.csv", DesiredCsv(88)) + " --set urdf=" + Write("long_shin.urdf", LongShinUrdf()) +
@@ -245,6 +248,17 @@ TEST_F(ProgramsTest, DartRunsTheLegThatComesApartOnOde) {
     EXPECT_EQ(r.status, 0) << r.stderr_text;
     EXPECT_TRUE(fs::exists(out_ / "table2.json")) << top;
     fs::remove_all(out_);
+  }
+}
+
+// A build without DART refuses sim.engine: dart as bad input: one line naming the key, exit 2,
+// nothing written.
+TEST_F(ProgramsTest, DartInABuildWithoutItIsBadInput) {
+  if (leglab::sim::BuiltWithDart()) GTEST_SKIP() << "this build has DART";
+  for (const std::string& program : {kIdentify, kTrack}) {
+    const std::string config = program == kIdentify ? "identify.yaml" : "track.yaml";
+    ExpectBadInput(program, "--config experiments/configs/" + config + " --set sim.engine=dart",
+                   "error: config: sim.engine: dart, but this build of leglab has no DART");
   }
 }
 

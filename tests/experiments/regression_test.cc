@@ -24,6 +24,7 @@
 #include "leglab/experiments/tables.h"
 #include "leglab/experiments/track.h"
 #include "leglab/model/paper.h"
+#include "leglab/sim/sim_config.h"
 
 namespace leglab::experiments {
 namespace {
@@ -129,6 +130,7 @@ TEST(Regression, IdentifyFindsAnotherPlantsLag) {
 // further from ODE's seed-1 values than ODE's own values spread over seeds 1-3 (the sensor
 // noise's doing), which is what an engine that does not matter must give.
 TEST(EngineRegression, Table1OnDartIsOdesWithinTheSeedSpread) {
+  if (!sim::BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   const Table1 dart = Identify("identify.yaml", {"sim.engine=dart"});
   std::array<Table1, 3> ode{Identify("identify.yaml"), Identify("identify.yaml", {"seed=2"}),
                             Identify("identify.yaml", {"seed=3"})};
@@ -155,6 +157,7 @@ TEST(EngineRegression, Table1OnDartIsOdesWithinTheSeedSpread) {
 // Table 2's finding holds on both engines: model-based at least halves the direct foot error,
 // and its ratio to direct on DART is within 20 % of ODE's.
 TEST(EngineRegression, Table2sOrderingHoldsOnBothEngines) {
+  if (!sim::BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   std::array<double, 2> ratio{};
   for (const bool on_dart : {false, true}) {
     std::vector<std::string> overrides = {"steps=4", "warmup_steps=2",

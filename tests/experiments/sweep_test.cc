@@ -15,6 +15,8 @@
 #include <string>
 #include <utility>
 
+#include "leglab/sim/sim_config.h"
+
 namespace leglab::experiments {
 namespace {
 
@@ -338,6 +340,7 @@ TEST_F(SweepTest, ASimulationBreakdownIsItsPointsStatus) {
 // A sweep over the engine: at 2000 deg/s the long shin comes apart on ODE (its point's status)
 // and walks on DART, whose joints cannot open.
 TEST_F(SweepTest, OverTheEngine) {
+  if (!sim::BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   const SweepConfig sweep = LoadSweepConfig(
       Write("s.yaml", LongShinSweep(Write("long_shin.urdf", LongShinUrdf()),
                                     Write("wave.csv", WaveCsv()), "  sim.engine: [ode, dart]\n") +

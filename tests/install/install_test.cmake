@@ -28,6 +28,13 @@ file(MAKE_DIRECTORY ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 
 run(out ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+# Headers under an include/leglab/<library>/internal/ folder are shared between leglab's own
+# libraries, not part of the API: none is installed.
+file(GLOB_RECURSE internal_headers LIST_DIRECTORIES true ${prefix}/include/*)
+list(FILTER internal_headers INCLUDE REGEX "/internal(/|$)")
+if(internal_headers)
+  message(FATAL_ERROR "internal headers installed: ${internal_headers}")
+endif()
 
 run(out ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
         -D CMAKE_PREFIX_PATH=${prefix} -D CMAKE_CXX_COMPILER=${CXX_COMPILER}

@@ -1,6 +1,7 @@
 """leglab.Plant, Robot and Walk against the programs' own runs (the same bits), eq. 3 by hand
 and hostile input."""
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -12,6 +13,8 @@ import leglab
 from conftest import TRACK_YAML, eq3, read_csv, run_program
 
 SHORT = {"steps": 2, "warmup_steps": 1, "controller.modes": "[direct]"}
+# Whether the build has DART (LEGLAB_WITH_DART; ctest sets it, tests/python/CMakeLists.txt).
+WITH_DART = os.environ.get("LEGLAB_WITH_DART", "ON") == "ON"
 
 
 def test_requests_of_trace_direct_reproduce_its_measured_angles(tmp_path):
@@ -55,6 +58,7 @@ def test_same_seed_same_bits_other_seed_other_noise():
     assert np.array_equal(runs[0]["true"], runs[2]["true"])
 
 
+@pytest.mark.skipif(not WITH_DART, reason="this build has no DART (LEGLAB_WITH_DART=OFF)")
 def test_the_engine_is_an_override_and_the_driven_leg_does_not_depend_on_it():
     # The walk on both engines: the firmware drives the joints at its commanded speeds, so the
     # true angles agree far inside the sensor's 0.1 deg of noise; the same seed, the same bits
@@ -69,6 +73,13 @@ def test_the_engine_is_an_override_and_the_driven_leg_does_not_depend_on_it():
     assert np.array_equal(runs["dart"][0]["measured"], runs["dart"][1]["measured"])
     assert np.max(np.abs(runs["dart"][0]["true"] - runs["ode"][0]["true"])) < 0.01
     assert not np.array_equal(runs["dart"][0]["true"], runs["ode"][0]["true"])
+
+
+def test_an_engine_not_built_or_unknown_is_a_value_error_naming_the_key():
+    if not WITH_DART:
+        refusal = "^config: sim.engine: dart, but this build of leglab has no DART"
+        with pytest.raises(ValueError, match=refusal):
+            leglab.Plant(TRACK_YAML, {"sim.engine": "dart"})
     with pytest.raises(ValueError, match="sim.engine must be ode or dart, got 'bullet'"):
         leglab.Plant(TRACK_YAML, {"sim.engine": "bullet"})
 

@@ -419,6 +419,7 @@ TEST(LegSimDartTest, RunsTheTopSpeedOdeMustRefuse) {
   LegSim ode(config);
   EXPECT_NE(RunSquareWaves(ode, 400).find("came apart"), std::string::npos);
 
+  if (!BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   config.engine = PhysicsEngine::kDart;
   EXPECT_NO_THROW(CheckTurnPerPhysicsStep(config));
   LegSim dart(config);
@@ -439,6 +440,7 @@ TEST(LegSimDartTest, RunsTheTopSpeedOdeMustRefuse) {
 // A shin twice as long (its centre of mass and the foot twice as far from the knee) at 2000
 // deg/s, inside ODE's bound: on DART it runs sound.
 TEST(LegSimDartTest, RunsALegWithTwiceTheShin) {
+  if (!BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   const testing::TempUrdf long_shin(
       kUrdf, testing::Edits{{R"(xyz="-0.011001 0 -0.038457")", R"(xyz="-0.022002 0 -0.076914")"},
                             {R"(xyz="-0.01888 0 -0.066")", R"(xyz="-0.03776 0 -0.132")"}});

@@ -214,11 +214,18 @@ TEST_P(LegKinematicsTest, PositiveAnglesMoveThePawTheDocumentedWay) {
   EXPECT_GT(leg.knee_paw_dx_sign * moved({0.0, 0.0, 0.3}).x(), 10.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Legs, LegKinematicsTest,
-                         ::testing::Values(KinematicsCase{kFrontLeg, PhysicsEngine::kOde},
-                                           KinematicsCase{kHindLeg, PhysicsEngine::kOde},
-                                           KinematicsCase{kFrontLeg, PhysicsEngine::kDart},
-                                           KinematicsCase{kHindLeg, PhysicsEngine::kDart}),
+// Each leg on each engine this build has (DART's cases not registered without it).
+std::vector<KinematicsCase> KinematicsCases() {
+  std::vector<KinematicsCase> cases{{kFrontLeg, PhysicsEngine::kOde},
+                                    {kHindLeg, PhysicsEngine::kOde}};
+  if (BuiltWithDart()) {
+    cases.push_back({kFrontLeg, PhysicsEngine::kDart});
+    cases.push_back({kHindLeg, PhysicsEngine::kDart});
+  }
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Legs, LegKinematicsTest, ::testing::ValuesIn(KinematicsCases()),
                          [](const ::testing::TestParamInfo<KinematicsCase>& param_info) {
                            return param_info.param.leg.name +
                                   (param_info.param.engine == PhysicsEngine::kDart ? "Dart" : "");
@@ -349,8 +356,13 @@ TEST_P(EngineTest, RotatorSwingHasTheCompoundPendulumsPeriod) {
   RecordProperty("expected_period_s", std::to_string(expected_s));
 }
 
-INSTANTIATE_TEST_SUITE_P(Engines, EngineTest,
-                         ::testing::Values(PhysicsEngine::kOde, PhysicsEngine::kDart),
+// The engines this build has (DART's cases not registered without it).
+std::vector<PhysicsEngine> BuiltEngines() {
+  if (BuiltWithDart()) return {PhysicsEngine::kOde, PhysicsEngine::kDart};
+  return {PhysicsEngine::kOde};
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, EngineTest, ::testing::ValuesIn(BuiltEngines()),
                          [](const ::testing::TestParamInfo<PhysicsEngine>& param_info) {
                            return std::string(
                                kPhysicsEngineNames[static_cast<size_t>(param_info.param)]);
@@ -366,6 +378,19 @@ TEST(LegWorldTest, PathConstructorPassesOnTheDescriptionsErrors) {
   const std::string knee = ErrorOf<std::invalid_argument>(
       TempUrdf(kUrdf, R"(joint name="knee")", R"(joint name="knie")"));
   EXPECT_NE(knee.find("joint 'knee' not found"), std::string::npos) << knee;
+}
+
+// A build without DART refuses the engine in one line naming the key (sim_config_test.cc: the
+// config's check).
+TEST(LegWorldTest, DartInABuildWithoutItIsRefusedNamingTheKey) {
+  if (BuiltWithDart()) GTEST_SKIP() << "this build has DART";
+  try {
+    const LegWorld world(kUrdf, {}, PhysicsEngine::kDart);
+    ADD_FAILURE() << "a build without DART built a DART world";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("sim.engine: dart, but this build", 0), 0u)
+        << error.what();
+  }
 }
 
 TEST(LegWorldTest, BuiltFromADescriptionAsFromItsUrdf) {

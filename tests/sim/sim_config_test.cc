@@ -112,6 +112,7 @@ TEST(SimConfigTest, TopSpeedTimesPhysicsStepIsBounded) {
 
 // The stand is ODE's: on DART it is refused, naming the section and the key to change.
 TEST(SimConfigTest, TheStandOnDartIsRefusedNamingTheEngine) {
+  if (!BuiltWithDart()) GTEST_SKIP() << "this build has no DART (LEGLAB_WITH_DART=OFF)";
   EXPECT_EQ(RejectionOf([](SimConfig& c) {
               c.engine = PhysicsEngine::kDart;
               c.stand.enabled = true;
@@ -119,6 +120,22 @@ TEST(SimConfigTest, TheStandOnDartIsRefusedNamingTheEngine) {
             0u);
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.stand.enabled = true; }), "accepted");
   EXPECT_EQ(RejectionOf([](SimConfig& c) { c.engine = PhysicsEngine::kDart; }), "accepted");
+}
+
+// A build without DART refuses the engine as bad input, in one line naming the key, the stand
+// or not (a LegWorld built directly: leg_world_test.cc).
+TEST(SimConfigTest, DartInABuildWithoutItIsRefusedNamingTheKey) {
+  if (BuiltWithDart()) GTEST_SKIP() << "this build has DART";
+  const std::string expected =
+      "sim.engine: dart, but this build of leglab has no DART (configured with "
+      "LEGLAB_WITH_DART=OFF or without DART 6.12 installed); use sim.engine: ode";
+  EXPECT_EQ(RejectionOf([](SimConfig& c) { c.engine = PhysicsEngine::kDart; }), expected);
+  EXPECT_EQ(RejectionOf([](SimConfig& c) {
+              c.engine = PhysicsEngine::kDart;
+              c.stand.enabled = true;
+            }),
+            expected);
+  EXPECT_EQ(RejectionOf([](SimConfig& c) { c.engine = PhysicsEngine::kOde; }), "accepted");
 }
 
 TEST(SimConfigTest, AcceptsEdgeValues) {

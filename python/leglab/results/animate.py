@@ -322,7 +322,7 @@ def foot_positions(folder: str, modes: Sequence[str] | None = None, steps: int =
 
 def floor_z_cm(stand):
     """The floor's height in the body frame at walking height (carriage 0): the walk's ground
-    plus the ball of the foot's radius below the shoulder (sim/src/stand.cc), the shoulder
+    plus the ball of the foot's radius below the shoulder (sim/src/ode_stand.cc), the shoulder
     being at the body frame's z = 0 on the ERS-210A."""
     return -(stand["ground_below_shoulder_mm"] + stand["foot_radius_mm"]) / 10.0
 

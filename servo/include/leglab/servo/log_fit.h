@@ -12,6 +12,7 @@
 #include "leglab/app/output_docs.h"
 #include "leglab/core/config_keys.h"
 #include "leglab/servo/ladder.h"
+#include "leglab/servo/servo_fit.h"  // LogFitConfig holds the extended fit's options
 #include "leglab/servo/servo_log.h"
 #include "leglab/servo/servo_log_io.h"
 #include "leglab/servo/servo_model.h"

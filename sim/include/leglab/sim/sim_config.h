@@ -120,6 +120,10 @@ enum class PhysicsEngine {
 };
 inline constexpr std::array<std::string_view, 2> kPhysicsEngineNames{"ode", "dart"};
 
+/// Whether this build has DART (the CMake option LEGLAB_WITH_DART, on when DART is found):
+/// without it PhysicsEngine::kDart is refused (ValidateSimConfig, LegWorld) as bad input.
+bool BuiltWithDart();
+
 /// Everything the simulated plant needs (robot.yaml, with `urdf` resolved to a path).
 struct SimConfig {
   /// URDF of the leg, absolute or relative to the working directory.
@@ -144,9 +148,9 @@ struct SimConfig {
 /// builds the stand) and `seed`.
 void VisitKeys(KeyVisitor& visitor, SimConfig& config);
 
-/// Checks every value of `config` against its documented range.
-/// Throws std::invalid_argument naming the offending key as in robot.yaml (e.g.
-/// "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
+/// Checks every value of `config` against its documented range, and that this build has its
+/// engine (BuiltWithDart). Throws std::invalid_argument naming the offending key as in
+/// robot.yaml (e.g. "servo.delay_ms must be a non-negative multiple of 8 ms, got 30").
 void ValidateSimConfig(const SimConfig& config);
 
 /// Checks the servo's top speed against the physics step on ODE: throws std::invalid_argument

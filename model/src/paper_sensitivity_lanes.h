@@ -1,8 +1,8 @@
 #pragma once
 
-// PaperSweeps: the paper's model (eq. 3) swept over many recordings at once with its forward
-// sensitivities, for the normal equations of the fit of v_max and theta_0. Internal to
-// leglab_model.
+// PaperSensitivityLanes: the paper's model (eq. 3) swept over many recordings at once, in vector
+// lanes, with its forward sensitivities, for the normal equations of the fit of v_max and
+// theta_0. Internal to leglab_model.
 
 #include <span>
 #include <vector>
@@ -34,11 +34,11 @@ struct SweptRecording {
 /// they change every tick, as in a servo's log; a visit the scalar sweep skips adds exactly 0).
 /// Worth it on AVX2 only: compiled for the x86-64 baseline, these lanes run slower than the
 /// scalar sweep (benchmarks/fit_lanes_benchmark.cc), so the fit uses them on AVX2 alone.
-class PaperSweeps {
+class PaperSensitivityLanes {
  public:
   /// Preconditions (checked by the caller): each recording longer than `warmup` >= 1, its
   /// samples finite, run_end as described.
-  PaperSweeps(std::span<const SweptRecording> recordings, int warmup);
+  PaperSensitivityLanes(std::span<const SweptRecording> recordings, int warmup);
 
   /// Each recording's normal equations at `p` (warmup >= p.lag_ticks + p.accel_ticks), its
   /// sweep started from its measured angle at warmup - 1 plus start_offsets[k] (0 for every

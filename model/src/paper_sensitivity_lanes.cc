@@ -1,11 +1,11 @@
-#include "paper_sweeps.h"
+#include "paper_sensitivity_lanes.h"
 
 #include <algorithm>
 #include <numeric>
 
 namespace leglab {
 
-PaperSweeps::PaperSweeps(std::span<const SweptRecording> recordings, int warmup)
+PaperSensitivityLanes::PaperSensitivityLanes(std::span<const SweptRecording> recordings, int warmup)
     : recordings_(recordings), warmup_(warmup), order_(recordings.size()) {
   std::iota(order_.begin(), order_.end(), size_t{0});
   std::stable_sort(order_.begin(), order_.end(), [&](size_t a, size_t b) {
@@ -41,7 +41,7 @@ PaperSweeps::PaperSweeps(std::span<const SweptRecording> recordings, int warmup)
 // 0, which adds +-0 to sums that are never -0 (they start at +0, and a sum is -0 only if both
 // terms are), so not a bit; a - b is a + (-b).
 template <bool kStarts>
-[[gnu::always_inline]] inline void PaperSweeps::Sweep(
+[[gnu::always_inline]] inline void PaperSensitivityLanes::Sweep(
     const JointModelParams& p, const Group& g, Lanes start_angle,
     std::span<PaperNormalEquations> equations) const {
   const double v_max = p.v_max_deg_per_tick;
@@ -97,9 +97,10 @@ template <bool kStarts>
   }
 }
 
-void PaperSweeps::Accumulate(const JointModelParams& p, std::span<const double> start_offsets,
-                             bool with_starts, std::vector<PaperNormalEquations>& equations,
-                             LaneInstructions instructions) const {
+void PaperSensitivityLanes::Accumulate(const JointModelParams& p,
+                                       std::span<const double> start_offsets, bool with_starts,
+                                       std::vector<PaperNormalEquations>& equations,
+                                       LaneInstructions instructions) const {
   equations.assign(recordings_.size(), PaperNormalEquations{});
   if (instructions == LaneInstructions::kAvx2) {
     AccumulateAllAvx2(p, start_offsets, with_starts, equations);
@@ -108,7 +109,7 @@ void PaperSweeps::Accumulate(const JointModelParams& p, std::span<const double> 
   }
 }
 
-[[gnu::always_inline]] inline void PaperSweeps::AccumulateGroups(
+[[gnu::always_inline]] inline void PaperSensitivityLanes::AccumulateGroups(
     const JointModelParams& p, std::span<const double> start_offsets, bool with_starts,
     std::vector<PaperNormalEquations>& equations) const {
   for (const Group& g : groups_) {
@@ -128,13 +129,13 @@ void PaperSweeps::Accumulate(const JointModelParams& p, std::span<const double> 
 
 // AccumulateGroups compiled twice, for the baseline and for AVX2: every function it calls on
 // Lanes is always_inline (lanes.h), and `flatten` inlines the rest where the optimiser runs.
-[[gnu::flatten]] void PaperSweeps::AccumulateAll(
+[[gnu::flatten]] void PaperSensitivityLanes::AccumulateAll(
     const JointModelParams& p, std::span<const double> start_offsets, bool with_starts,
     std::vector<PaperNormalEquations>& equations) const {
   AccumulateGroups(p, start_offsets, with_starts, equations);
 }
 
-[[gnu::flatten, gnu::target("avx2")]] void PaperSweeps::AccumulateAllAvx2(
+[[gnu::flatten, gnu::target("avx2")]] void PaperSensitivityLanes::AccumulateAllAvx2(
     const JointModelParams& p, std::span<const double> start_offsets, bool with_starts,
     std::vector<PaperNormalEquations>& equations) const {
   AccumulateGroups(p, start_offsets, with_starts, equations);

@@ -2,7 +2,7 @@
 // sensitivities, PredictRecordingSensitivities, summed tick by tick: the same bits on both
 // instruction sets, for held and changing requests, any lag, window and start offset.
 
-#include "paper_sweeps.h"
+#include "paper_sensitivity_lanes.h"
 
 #include <gtest/gtest.h>
 
@@ -66,7 +66,7 @@ std::vector<JointRecording> RandomRecordings(std::mt19937& rng, size_t count, in
 
 uint64_t BitsOf(double x) { return std::bit_cast<uint64_t>(x); }
 
-TEST(PaperSweepsTest, EachRecordingsSumsAreTheModelsOwnSensitivitiesBitForBit) {
+TEST(PaperSensitivityLanesTest, EachRecordingsSumsAreTheModelsOwnSensitivitiesBitForBit) {
   std::mt19937 rng(20261128);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const std::vector<LaneInstructions> sets = AvailableLaneInstructions();
@@ -81,7 +81,7 @@ TEST(PaperSweepsTest, EachRecordingsSumsAreTheModelsOwnSensitivitiesBitForBit) {
         run_ends[k] = RunEndsOf(recordings[k].request_deg);
         swept[k] = {&recordings[k], run_ends[k]};
       }
-      const PaperSweeps sweeps(swept, warmup);
+      const PaperSensitivityLanes sweeps(swept, warmup);
       for (int trial = 0; trial < 4; ++trial) {
         JointModelParams p;
         p.accel_ticks = 1 + static_cast<int>(unit(rng) * (warmup - 1));
