@@ -316,7 +316,7 @@ constexpr const char* kControllerContextDoc =
 What a controller is built from (given to Controller.reset): the desired cycle, the models the
 experiment identified (or was given), the leg's limits and forward kinematics. Angles in
 degrees; a tick's row is rotator, abductor, knee.
-)doc");
+)doc";
 
 // ControllerContext.foot_mm's docstring (numpydoc, as every public name's).
 constexpr const char* kContextFootMmDoc =
@@ -339,7 +339,7 @@ Raises
 TypeError
     `q_deg` not an array.
 ValueError
-    Not 3 angles, or an angle not finite.)doc");
+    Not 3 angles, or an angle not finite.)doc";
 
 void BindTrack(py::module_& m) {
   py::class_<PyControllerContext>(m, "ControllerContext", kControllerContextDoc)
