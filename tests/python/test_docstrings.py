@@ -1,12 +1,13 @@
 """Every public name of the package has its numpydoc docstring (docs/python.md): a summary line,
 then a Parameters section naming each parameter, a Returns section when it returns something, and
 a Raises section when it raises. Public names: leglab's, leglab.envs', leglab.servo's and
-leglab.bus' __all__ (and the public functions and classes of the bus's public modules), with
-their public methods. The compiled module's signatures are read from its stub (_leglab.pyi, which
+leglab.bus' __all__ (and the public functions and classes of the bus's public modules), each
+leglab.results module's and leglab.servo.learned's __all__, with their public methods. The compiled module's signatures are read from its stub (_leglab.pyi, which
 Checks.PythonStubMatchesTheModule keeps true to the module)."""
 
 import ast
 import dataclasses
+import importlib
 import inspect
 import pathlib
 import re
@@ -17,7 +18,9 @@ import pytest
 
 import leglab
 import leglab.envs
+import leglab.results
 import leglab.servo
+import leglab.servo.learned
 from leglab import bus
 
 STUB = pathlib.Path(leglab.__file__).resolve().parent / "_leglab.pyi"
@@ -59,6 +62,10 @@ def _public_names():
         value = getattr(bus, name)
         if isinstance(value, types.ModuleType):
             modules.append((value, [n for n in vars(value) if not n.startswith("_")]))
+    for name in leglab.results.__all__:
+        module = importlib.import_module(f"leglab.results.{name}")
+        modules.append((module, module.__all__))
+    modules.append((leglab.servo.learned, leglab.servo.learned.__all__))
     seen = set()
     for module, names in modules:
         for name in names:
@@ -103,7 +110,8 @@ def _signature(label, value, owner):
         names.append(arguments.kwarg.arg)
     names = [n for n in names if n not in ("self", "cls")]
     returns = not (node.returns is None or isinstance(node.returns, ast.Constant) and
-                   node.returns.value is None)
+                   node.returns.value is None or isinstance(node.returns, ast.Name) and
+                   node.returns.id == "NoReturn")  # NoReturn: it never returns (exits)
     raises = any(isinstance(n, ast.Raise) and n.exc is not None for n in ast.walk(node))
     return names, returns, raises
 

@@ -26,13 +26,14 @@ import subprocess
 import sys
 import tempfile
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Any, Iterator, Mapping, NoReturn, Sequence
 
 import numpy as np
+import numpy.typing as npt
 import yaml
 
 from .reader import read_json, read_rows
-from .urdf_chain import UrdfError, chain_points_cm, read_chain
+from .urdf_chain import ChainJoint, UrdfError, chain_points_cm, read_chain
 
 __all__ = ["Animation", "InputError", "build_animation", "foot_positions", "render", "main"]
 
@@ -51,7 +52,7 @@ MAX_FPS = 1000.0
 MAX_ROBOT_FILE_BYTES = 4 * 1024 * 1024
 
 
-def _repo_root():
+def _repo_root() -> str:
     """Where a relative robot file is looked for besides the working folder: the source tree
     (this package linked into a build, or python/ itself), else leglab's installed data."""
     source = os.path.realpath(__file__)
@@ -69,7 +70,7 @@ class InputError(Exception):
     """Bad input from the user: one line naming the item; the program exits 2."""
 
 
-def one_line(text):
+def one_line(text: object) -> str:
     """`text` with control and undecodable characters escaped: a message stays one line."""
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
 
@@ -78,15 +79,20 @@ class ArgumentParser(argparse.ArgumentParser):
     """argparse, with a bad flag reported as every other bad input: one line, status 2 (not
     argparse's usage block)."""
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         print(f"animate.py: {one_line(message)} (see --help)", file=sys.stderr)
         sys.exit(2)
+
+
+_Array = npt.NDArray[np.float64]
+# Per (step, tick) of a trace: ({joint: actual rad}, {joint: desired rad}).
+_Angles = dict[tuple[int, int], tuple[dict[str | None, float], dict[str | None, float]]]
 
 
 # --- The run --------------------------------------------------------------------------------
 
 
-def top_level_keys(path):
+def top_level_keys(path: str) -> dict[str, str]:
     """A robot file's top-level scalars (its `urdf` and `extends` are what is needed here), as
     text, read with a YAML parser (python3-yaml's safe loader)."""
     try:
@@ -105,7 +111,7 @@ def top_level_keys(path):
             if isinstance(v, (str, int, float)) and not isinstance(v, bool)}
 
 
-def robot_urdf(robot_yaml):
+def robot_urdf(robot_yaml: str) -> str:
     """The URDF a robot file names, after its `extends:` (a file's own `urdf` wins over its
     base's), relative to the robot file itself, as the programs resolve it."""
     path = robot_yaml
@@ -126,12 +132,14 @@ class Run:
     folder: str
     robot_yaml: str
     urdf: str
-    chain: list
-    stand: dict  # table2.json's plant.stand, or None in the air
-    modes: list  # in run order
+    chain: list[ChainJoint]
+    stand: dict[str, Any] | None  # table2.json's plant.stand, or None in the air
+    modes: list[str]  # in run order
 
 
-def load_run(folder):
+def load_run(folder: str) -> Run:
+    """The run in `folder`: its robot, the URDF chain and the modes traced; InputError naming
+    the item when it is not a track run."""
     if not os.path.isdir(folder):
         raise InputError(f"run folder '{folder}': no such folder")
     traced = sorted(name[len("trace_"):-len(".csv")] for name in os.listdir(folder)
@@ -165,7 +173,7 @@ def load_run(folder):
     except UrdfError as e:
         raise InputError(str(e)) from None
     # Run order: per_step.csv takes each mode's rows as its run finishes.
-    order = []
+    order: list[str] = []
     per_step = os.path.join(folder, "per_step.csv")
     if os.path.exists(per_step):
         for row in read_rows(per_step):
@@ -180,24 +188,48 @@ def load_run(folder):
 
 @dataclass
 class Animation:
-    """Everything drawn, per frame and mode. Positions in cm in the root link's frame (the
-    body frame of foot_<mode>.csv): `legs[mode][f]` is the chain's points at frame f, root to
-    foot; on the stand the drawing lifts them by the carriage's height."""
+    """Everything drawn, per frame and mode.
+
+    Positions in cm in the root link's frame (the body frame of foot_<mode>.csv):
+    `legs[mode][f]` is the chain's points at frame f, root to foot; on the stand the drawing
+    lifts them by the carriage's height.
+
+    Attributes
+    ----------
+    run : Run
+        The track run drawn.
+    modes : list of str
+        The modes drawn, one panel each.
+    frames : list of (int, int)
+        (step, tick) per frame.
+    period : int
+        Ticks per step.
+    legs : dict of str to numpy.ndarray
+        Mode -> (frames, points, 3): the chain's points per frame.
+    desired_cm : numpy.ndarray
+        (period, 3): one step's desired foot path (none, (0, 3), until build_animation sets
+        it).
+    carriage_cm : dict of str to numpy.ndarray
+        Mode -> (frames,): the carriage's height, 0 in the air.
+    force_n : dict of str to numpy.ndarray
+        Mode -> (frames, 3): the floor's force on the foot, x, y, z.
+    """
 
     run: Run
-    modes: list
-    frames: list  # (step, tick) per frame
+    modes: list[str]
+    frames: list[tuple[int, int]]  # (step, tick) per frame
     period: int  # ticks per step
-    legs: dict = field(default_factory=dict)  # mode -> (frames, points, 3)
-    desired_cm: np.ndarray = None  # (period, 3): one step's desired foot path
-    carriage_cm: dict = field(default_factory=dict)  # mode -> (frames,), 0 in the air
-    force_n: dict = field(default_factory=dict)  # mode -> (frames, 3): x, y, z
+    legs: dict[str, _Array] = field(default_factory=dict)  # mode -> (frames, points, 3)
+    # (period, 3): one step's desired foot path
+    desired_cm: _Array = field(default_factory=lambda: np.zeros((0, 3)))
+    carriage_cm: dict[str, _Array] = field(default_factory=dict)  # mode -> (frames,), 0 in the air
+    force_n: dict[str, _Array] = field(default_factory=dict)  # mode -> (frames, 3): x, y, z
 
 
-def read_trace(run, mode):
+def read_trace(run: Run, mode: str) -> tuple[_Angles, int]:
     """(step, tick) -> ({joint: actual rad}, {joint: desired rad}), and the step's ticks."""
     path = os.path.join(run.folder, f"trace_{mode}.csv")
-    angles = {}
+    angles: _Angles = {}
     period = 0
     try:
         for row in read_rows(path):
@@ -320,14 +352,14 @@ def foot_positions(folder: str, modes: Sequence[str] | None = None, steps: int =
 # --- Drawing ----------------------------------------------------------------------------------
 
 
-def floor_z_cm(stand):
+def floor_z_cm(stand: Mapping[str, Any]) -> float:
     """The floor's height in the body frame at walking height (carriage 0): the walk's ground
     plus the ball of the foot's radius below the shoulder (sim/src/ode_stand.cc), the shoulder
     being at the body frame's z = 0 on the ERS-210A."""
     return -(stand["ground_below_shoulder_mm"] + stand["foot_radius_mm"]) / 10.0
 
 
-def limits(anim):
+def limits(anim: Animation) -> list[tuple[float, float]]:
     """One box for every subplot: the legs, the path, the floor and the arrows, with a margin."""
     points = [anim.desired_cm]
     for mode in anim.modes:
@@ -342,7 +374,8 @@ def limits(anim):
     return list(zip(low, high))
 
 
-def draw_panel(fig, shape, k, anim, box):
+def draw_panel(fig: Any, shape: tuple[int, int], k: int, anim: Animation,
+               box: Sequence[tuple[float, float]]) -> dict[str, Any]:
     """Mode k's 3-D axes at place k of `shape` (rows, columns): its limits, view and labels,
     the desired path and, on the stand, the floor and the rail, drawn once; and its moving
     artists (trail, leg, carriage on the stand), empty, as a dict with the axes."""
@@ -378,7 +411,7 @@ def draw_panel(fig, shape, k, anim, box):
     return {"ax": ax, "trail": trail, "leg": leg, "carriage": carriage}
 
 
-def draw_moving(anim, i, mode, a):
+def draw_moving(anim: Animation, i: int, mode: str, a: Mapping[str, Any]) -> None:
     """Frame i's moving artists of `mode`'s panel `a` (draw_panel's): the trail, the leg, the
     carriage and the floor's force arrow on the stand, each drawn on its axes."""
     stand, ax = anim.run.stand, a["ax"]
@@ -411,7 +444,7 @@ def draw_moving(anim, i, mode, a):
         arrow.remove()
 
 
-def render_frames(anim):
+def render_frames(anim: Animation) -> Iterator[npt.NDArray[np.uint8]]:
     """Yields each frame as an RGB array (rows, columns, 3). The axes, the floor and the desired
     path are drawn once; each frame restores that picture and draws only what moves (the
     legs, trails, carriages, arrows and the counter): the 3-D axes are most of the drawing."""
@@ -481,14 +514,17 @@ def render(anim: Animation, out_path: str, fps: float) -> None:
                "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p",
                "-f", "mp4", out_path]
     with subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE) as ffmpeg:
+        stdin, stderr = ffmpeg.stdin, ffmpeg.stderr
+        if stdin is None or stderr is None:  # never: both are pipes
+            raise RuntimeError("ffmpeg failed: no pipe to it")
         try:
-            ffmpeg.stdin.write(first.tobytes())
+            stdin.write(first.tobytes())
             for frame in frames:
-                ffmpeg.stdin.write(frame.tobytes())
+                stdin.write(frame.tobytes())
         except BrokenPipeError:
             pass
-        ffmpeg.stdin.close()
-        error = ffmpeg.stderr.read().decode(errors="replace").strip()
+        stdin.close()
+        error = stderr.read().decode(errors="replace").strip()
         if ffmpeg.wait() != 0:
             raise RuntimeError(f"ffmpeg failed: {error.splitlines()[-1] if error else '?'}")
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import csv
 import os
 import sys
-from typing import Sequence
+from typing import Any, Callable, Sequence
 
 from . import reader
 
@@ -26,10 +26,10 @@ JOINTS = ("rotator", "abductor", "knee")
 
 
 class BadInput(Exception):
-    pass
+    """Bad input: one line naming the item (a folder, a file, a field); the command exits 2."""
 
 
-def read_json(path):
+def read_json(path: str) -> Any:
     try:
         data = reader.read_json(path)
     except (OSError, UnicodeDecodeError, ValueError, RecursionError) as e:
@@ -42,20 +42,20 @@ def read_json(path):
     return data
 
 
-def number(value, path, field):
+def number(value: Any, path: str, field: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise BadInput(f"'{path}': {field} is not a number")
     return float(value)
 
 
-def whole(value, path, field):
+def whole(value: Any, path: str, field: str) -> int:
     """A whole number of ticks as identify writes it (shown as it is)."""
     if isinstance(value, bool) or not isinstance(value, int):
         raise BadInput(f"'{path}': {field} is not a whole number of ticks")
     return value
 
 
-def read_steps(path):
+def read_steps(path: str) -> list[float]:
     """A step test's actual angle per tick (the step_<joint>_<height>.csv identify writes)."""
     try:
         header, rows = reader.read_csv(path)
@@ -66,17 +66,17 @@ def read_steps(path):
         raise BadInput(f"'{path}' is not a step test's CSV (tick,...,actual_deg): {e}") from None
 
 
-def fmt(value, digits=3):
+def fmt(value: float, digits: int = 3) -> str:
     return f"{value:.{digits}f}"
 
 
-def signed(value):
+def signed(value: float) -> str:
     """A difference with its sign, 4 decimals; one that rounds to zero is +0.0000."""
     text = f"{value:+.4f}"
     return "+0.0000" if text == "-0.0000" else text
 
 
-def table1_section(ode_path, dart_path):
+def table1_section(ode_path: str, dart_path: str) -> list[str]:
     ode, dart = read_json(ode_path), read_json(dart_path)
     lines = ["## Table 1 (identify)", "",
              "| Joint | v_max ODE | v_max DART | theta_0 ODE | theta_0 DART | l ODE, DART "
@@ -102,7 +102,7 @@ def table1_section(ode_path, dart_path):
     return lines + ["", "v_max in deg a tick (8 ms), theta_0 in deg, l and a in ticks.", ""]
 
 
-def steps_section(ode_run, dart_run):
+def steps_section(ode_run: str, dart_run: str) -> list[str]:
     names = sorted(n for n in os.listdir(ode_run)
                    if n.startswith("step_") and n.endswith(".csv")
                    and os.path.isfile(os.path.join(dart_run, n)))
@@ -124,7 +124,7 @@ def steps_section(ode_run, dart_run):
     return lines + [""]
 
 
-def table2_section(ode_path, dart_path):
+def table2_section(ode_path: str, dart_path: str) -> list[str]:
     ode, dart = read_json(ode_path), read_json(dart_path)
     lines = ["## Table 2 (track): the foot, cm", "",
              "| Mode | L2 ODE | L2 DART | DART - ODE | Linf ODE | Linf DART | DART - ODE |",
@@ -144,10 +144,10 @@ def table2_section(ode_path, dart_path):
         for row in ode["joints"][JOINTS[0]]:
             cells = []
             for joint in JOINTS:
-                a = ode["joints"][joint].get(row)
-                b = dart["joints"][joint].get(row)
-                cells += [fmt(number(a["mean"], ode_path, row)) if a else "",
-                          fmt(number(b["mean"], dart_path, row)) if b else ""]
+                on_ode = ode["joints"][joint].get(row)
+                on_dart = dart["joints"][joint].get(row)
+                cells += [fmt(number(on_ode["mean"], ode_path, row)) if on_ode else "",
+                          fmt(number(on_dart["mean"], dart_path, row)) if on_dart else ""]
             lines.append(f"| {row} | " + " | ".join(cells) + " |")
     except (KeyError, TypeError, AttributeError) as e:
         raise BadInput(f"'{ode_path}' and '{dart_path}' do not hold the same Table 2 "
@@ -182,7 +182,9 @@ def compare(ode_run: str, dart_run: str) -> str:
              f"ODE: `{ode_run}`; DART: `{dart_run}` (the same config with "
              "`--set sim.engine=dart`). Written by leglab.results.compare_engines.", ""]
     found = False
-    for table, section in (("table1.json", table1_section), ("table2.json", table2_section)):
+    sections: tuple[tuple[str, Callable[[str, str], list[str]]], ...] = (
+        ("table1.json", table1_section), ("table2.json", table2_section))
+    for table, section in sections:
         ode_path, dart_path = os.path.join(ode_run, table), os.path.join(dart_run, table)
         if os.path.isfile(ode_path) and os.path.isfile(dart_path):
             lines += section(ode_path, dart_path)

@@ -79,7 +79,8 @@ def mean_errors(logs: Iterable[Mapping[str, Any]],
     KeyError, TypeError, ValueError
         When a log lacks a key or holds no number there.
     """
-    sums, counts = {}, {}
+    sums: dict[str, dict[str, float]] = {}
+    counts: dict[str, int] = {}
     for log in logs:
         motor = log["motor"]
         counts[motor] = counts.get(motor, 0) + 1

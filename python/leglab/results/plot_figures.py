@@ -8,6 +8,7 @@ Reads what identify and track wrote; writes fig<N>_<name>.png beside them.
 from __future__ import annotations
 
 import os
+from typing import Any, Callable, Sequence
 
 import matplotlib
 
@@ -21,8 +22,13 @@ from .reader import (ArgumentParser, declared_columns, read_json, read_rows,  # 
 
 __all__ = ["main"]
 
+# matplotlib has no types on Debian 12: a figure is Any.
+_Figure = Any
+# Whether the run's folder holds a file, by its name.
+_Have = Callable[[str], bool]
 
-def square_wave_period(request):
+
+def square_wave_period(request: Sequence[float]) -> int:
     """The ticks of a square wave's first period: up to where it returns to its first level
     after its first change (all of it if it never does)."""
     changed = next((t for t, r in enumerate(request) if r != request[0]), len(request))
@@ -30,7 +36,7 @@ def square_wave_period(request):
                 len(request))
 
 
-def save(fig, out, name):
+def save(fig: _Figure, out: str, name: str) -> None:
     figures.require(name)
     fig.tight_layout()
     path = os.path.join(out, name)
@@ -39,16 +45,18 @@ def save(fig, out, name):
     print("figure:", path)
 
 
-def foot_paths(out, mode):
+def foot_paths(out: str, mode: str) -> tuple[list[float], list[float], list[float],
+                                               list[float]]:
     first = select(read_rows(os.path.join(out, f"foot_{mode}.csv")), step=0)
     return first.desired_x_cm, first.desired_z_cm, first.actual_x_cm, first.actual_z_cm
 
 
-def closed(values):
+def closed(values: list[float]) -> list[float]:
     return values + values[:1]
 
 
-def foot_figure(out, name, title, modes):
+def foot_figure(out: str, name: str, title: str,
+                modes: Sequence[tuple[str, str, str]]) -> None:
     """The desired foot path and the actual one of each (mode, label, style), in x-z."""
     fig, ax = plt.subplots(figsize=(6, 4))
     dx, dz, _, _ = foot_paths(out, modes[0][0])
@@ -69,17 +77,17 @@ MODE_STYLES = {"direct": "r--", "time_shift": "g-.", "model_based": "b-", "optim
 OTHER_STYLES = ["C5-", "C7-", "C8-", "C9-", "y-", "C4-"]
 
 
-def mode_style(mode):
+def mode_style(mode: str) -> str:
     if mode not in MODE_STYLES:
         MODE_STYLES[mode] = OTHER_STYLES[(len(MODE_STYLES) - 6) % len(OTHER_STYLES)]
     return MODE_STYLES[mode]
 
 
-def mode_color(mode):
+def mode_color(mode: str) -> str:
     return mode_style(mode).rstrip("-.:")
 
 
-def modes_present(out):
+def modes_present(out: str) -> list[str]:
     """Every mode with a foot_<mode>.csv in `out`, in table2.json's order when it has one."""
     present = sorted(f[len("foot_"):-len(".csv")] for f in os.listdir(out)
                      if f.startswith("foot_") and f.endswith(".csv"))
@@ -90,7 +98,7 @@ def modes_present(out):
     return order + [m for m in present if m not in order]
 
 
-def draw_direct(out, have):
+def draw_direct(out: str, have: _Have) -> None:
     """Figures 1 and 2: the direct method's foot path and rotator angles."""
     # Figure 1: desired and actual foot path under the direct method (x forward, z up).
     if have("foot_direct.csv"):
@@ -110,7 +118,7 @@ def draw_direct(out, have):
         save(fig, out, "fig2_rotator_direct.png")
 
 
-def draw_step_tests(out, have):
+def draw_step_tests(out: str, have: _Have) -> None:
     """Figures 3 and 4: the step tests with the identified model's prediction."""
     # Figures 3 and 4: the paper's two step tests (40 and 110 deg; a run with other
     # identify.theta_test_deg has no such files) with the identified model's prediction, over
@@ -131,7 +139,7 @@ def draw_step_tests(out, have):
         save(fig, out, f"fig{number}_step_rotator_{theta}.png")
 
 
-def draw_f(out, have):
+def draw_f(out: str, have: _Have) -> None:
     """Figure 5: the function f of eq. 2."""
     # Figure 5: the function f of eq. 2 with the rotator's identified parameters.
     if have("table1.json"):
@@ -148,7 +156,7 @@ def draw_f(out, have):
         save(fig, out, "fig5_f.png")
 
 
-def draw_model_based(out, have):
+def draw_model_based(out: str, have: _Have) -> None:
     """Figures 6, 7 and 8: the model-based method's approximation, requests and foot path."""
     if have("trace_model_based.csv"):
         rotator = select(read_rows(os.path.join(out, "trace_model_based.csv")), step=0,
@@ -178,7 +186,7 @@ def draw_model_based(out, have):
                     [("direct", "old (direct)", "r--"), ("model_based", "new (model-based)", "b-")])
 
 
-def draw_shift_search(out, have):
+def draw_shift_search(out: str, have: _Have) -> None:
     """Figure 9: the time-shift baseline's search."""
     # The time-shift search behind the best k.
     if have("shift_search.csv"):
@@ -190,7 +198,7 @@ def draw_shift_search(out, have):
         save(fig, out, "fig9_shift_search.png")
 
 
-def draw_ilc_learning(out, have):
+def draw_ilc_learning(out: str, have: _Have) -> None:
     """Figure 10: the ILC learning curve against the floor."""
     # Figure 10: the ILC learning curve (every step, warm-up negative) against the floor.
     if have("ilc_learning.csv") and have("table2.json"):
@@ -223,7 +231,7 @@ def draw_ilc_learning(out, have):
         save(fig, out, "fig10_ilc_learning.png")
 
 
-def draw_every_mode(out):
+def draw_every_mode(out: str) -> None:
     """Figure 11: every mode's foot path."""
     # Figure 11: the foot path of every mode that ran (its foot_<mode>.csv), in table 2's order.
     modes = [(m, m, mode_style(m)) for m in modes_present(out)]
@@ -231,11 +239,11 @@ def draw_every_mode(out):
         foot_figure(out, "fig11_foot_every_mode.png", "Foot trajectories, every mode", modes)
 
 
-def draw_estimates(out, have):
+def draw_estimates(out: str, have: _Have) -> list[int]:
     """Figure 12: the adaptive mode's estimates; returns the steps where the plant changed."""
     # Figures 12, 13 (adaptive mode): its estimates every step against what identify finds on
     # the plant before and after each change; every mode's foot error per step.
-    changes = []
+    changes: list[int] = []
     if have("model_estimates.csv") and have("plant_models.csv"):
         path = os.path.join(out, "model_estimates.csv")
         rows = read_rows(path)
@@ -267,7 +275,7 @@ def draw_estimates(out, have):
     return changes
 
 
-def draw_foot_per_step(out, have, changes):
+def draw_foot_per_step(out: str, have: _Have, changes: Sequence[int]) -> None:
     """Figure 13: every mode's foot error per step, the plant's `changes` marked."""
     if have("per_step.csv") and have("model_estimates.csv"):
         rows = read_rows(os.path.join(out, "per_step.csv"))
@@ -291,7 +299,7 @@ def draw_foot_per_step(out, have, changes):
         save(fig, out, "fig13_foot_per_step.png")
 
 
-def draw_stand(out, have):
+def draw_stand(out: str, have: _Have) -> None:
     """Figures 14, 15 and 16: the test stand's force, carriage and foot path."""
     # Figures 14-16 (the single-leg test stand): drawn when the foot CSVs carry the
     # stand's instruments (a run on robots/ers210a_stand; zeros in the air).
@@ -351,7 +359,7 @@ def main(out: str) -> None:
     ValueError
         When a figure has no caption in figures.py (a bug).
     """
-    have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
+    have: _Have = lambda name: os.path.exists(os.path.join(out, name))  # noqa: E731
     draw_direct(out, have)
     draw_step_tests(out, have)
     draw_f(out, have)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import csv
 import os
 import sys
-from typing import Sequence
+from typing import Any, Callable, Sequence
 
 import matplotlib
 
@@ -24,7 +24,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from . import figures  # noqa: E402
 from .. import ladder  # noqa: E402
-from .reader import ArgumentParser, one_line, read_finite_columns  # noqa: E402
+from .reader import ArgumentParser, Row, one_line, read_finite_columns  # noqa: E402
+
+# matplotlib has no types on Debian 12: a figure and its axes are Any.
+_Figure = Any
+_Axes = Any
+# A drawn figure's hidden file and its place, put in place once every figure is drawn.
+_Staged = list[tuple[str, str]]
+# A figure's drawing: (table's path, table, figure's path, staged).
+_Draw = Callable[[str, Row, str, _Staged], None]
 
 __all__ = ["main"]
 
@@ -35,7 +43,7 @@ LOG_COLUMNS = 4
 ADDED_STYLES = [("tab:cyan", "-."), ("tab:olive", "-."), ("tab:pink", "-."), ("tab:gray", "-.")]
 
 
-def rung_style(key, added):
+def rung_style(key: str, added: int) -> tuple[str, str, str]:
     """A `<rung>_deg` column's (color, line style, legend): the ladder's, or the `added`-th of
     ADDED_STYLES and the column's name for a rung the ladder does not hold."""
     found = ladder.rung(key.removesuffix("_deg"))
@@ -49,7 +57,7 @@ class BadInput(Exception):
     """Bad input: one line naming the item, exit status 2."""
 
 
-def read_table(path):
+def read_table(path: str) -> Row:
     """A table of numbers (read_finite_columns), its problems as BadInput."""
     try:
         return read_finite_columns(path)
@@ -60,14 +68,14 @@ def read_table(path):
         raise BadInput(text if text.startswith(str(path)) else f"{path}: {text}") from None
 
 
-def target(path):
+def target(path: str) -> str:
     """`path`, a figure's place, refused when anything but a file is there."""
     if os.path.lexists(path) and not os.path.isfile(path):
         raise BadInput(f"{path}: in the way of the figure (not a file)")
     return path
 
 
-def save(fig, path, staged):
+def save(fig: _Figure, path: str, staged: _Staged) -> None:
     """Draws `fig` into a hidden file beside `path`, put in place once every figure is drawn."""
     figures.require(os.path.basename(path))
     fig.tight_layout()
@@ -81,10 +89,10 @@ def save(fig, path, staged):
         plt.close(fig)
 
 
-def grey_torque_off(ax, time, enabled):
+def grey_torque_off(ax: _Axes, time: list[float], enabled: list[float]) -> None:
     """Shades every stretch of ticks with the torque off (labelled once)."""
-    start = None
-    label = "torque off"
+    start: float | None = None
+    label: str | None = "torque off"
     for t, on in zip(time + [time[-1]], enabled + [1.0]):
         if on == 0.0 and start is None:
             start = t
@@ -94,7 +102,7 @@ def grey_torque_off(ax, time, enabled):
             start = None
 
 
-def log_figure(path, c, figure, staged):
+def log_figure(path: str, c: Row, figure: str, staged: _Staged) -> None:
     fig, ax = plt.subplots(figsize=(10, 4))
     t = c.time_s
     grey_torque_off(ax, t, c.torque_enabled)
@@ -115,7 +123,7 @@ def log_figure(path, c, figure, staged):
     save(fig, figure, staged)
 
 
-def plan_figure(path, c, figure, staged):
+def plan_figure(path: str, c: Row, figure: str, staged: _Staged) -> None:
     fig, ax = plt.subplots(figsize=(10, 4))
     t = c.time_s
     ax.plot(t, c.desired_deg, color="k", lw=2.0, label="desired")
@@ -132,7 +140,7 @@ def plan_figure(path, c, figure, staged):
     save(fig, figure, staged)
 
 
-def figures_of(folder):
+def figures_of(folder: str) -> list[tuple[_Draw, str, Row, str]]:
     """[(draw, table's path, table, figure's path)] for every table `folder` holds, each read
     and checked; BadInput when it is not a folder or holds no table to draw."""
     if not os.path.isdir(folder):
@@ -142,8 +150,9 @@ def figures_of(folder):
         names = sorted(os.listdir(folder))
     except OSError as e:
         raise BadInput(f"{folder}: cannot be read ({e.strerror})") from None
-    found = [(log_figure, name, name[:-len(".csv")] + ".png") for name in names
-             if name.startswith("log_") and name.endswith(".csv")]
+    found: list[tuple[_Draw, str, str]] = [
+        (log_figure, name, name[:-len(".csv")] + ".png") for name in names
+        if name.startswith("log_") and name.endswith(".csv")]
     if "requests.csv" in names:
         found.append((plan_figure, "requests.csv", "plan.png"))
     if not found:
@@ -166,7 +175,7 @@ def main(folders: Sequence[str]) -> int:
     int
         The exit status: 0, or 2 on bad input (one line on stderr, no figure written).
     """
-    staged = []  # (drawn file, its place)
+    staged: _Staged = []  # (drawn file, its place)
     try:
         jobs = [job for folder in folders for job in figures_of(folder)]
         for draw, path, table, figure in jobs:

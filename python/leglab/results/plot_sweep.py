@@ -20,6 +20,7 @@ import csv
 import math
 import os
 import sys
+from typing import Any, Mapping, Sequence
 
 import matplotlib
 
@@ -28,17 +29,22 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
-from .reader import (ArgumentParser, check_row_lengths, declared_columns,  # noqa: E402
+from .reader import (ArgumentParser, Row, check_row_lengths, declared_columns,  # noqa: E402
                       finite_number, one_line, read_csv)
 
 __all__ = ["main"]
+
+# matplotlib has no types on Debian 12: a figure and its axes are Any.
+_Figure = Any
+_Axes = Any
 
 
 class BadInput(Exception):
     """Bad input: one line naming the item, exit status 2."""
 
 
-def owners(header, modes, text_columns):
+def owners(header: Sequence[str], modes: list[str],
+           text_columns: Sequence[str]) -> dict[str, str | None]:
     """Each result column (after status, but the declared text ones) mapped to whose it is: a
     base mode, the floor or the model (the longest prefix that fits), or None for a column no
     sweep writes."""
@@ -47,7 +53,8 @@ def owners(header, modes, text_columns):
             for c in header[header.index("status") + 1:] if c not in text_columns}
 
 
-def check_point(where, row, keys, owner_of, modes):
+def check_point(where: str, row: Row, keys: Sequence[str], owner_of: Mapping[str, str | None],
+                modes: Sequence[str]) -> None:
     """An ok point as sweep writes it: its keys and results finite numbers, save a mode the
     point did not run, whose results are all empty. ValueError naming `where` (the file and
     row) and the column otherwise."""
@@ -59,7 +66,7 @@ def check_point(where, row, keys, owner_of, modes):
             finite_number(row[c], f"{where}, column {c}")
 
 
-def read_sweep(path):
+def read_sweep(path: str) -> tuple[list[str], list[str], list[Row], int]:
     """A sweep.csv: (swept keys, base modes, the ok points, how many are not ok), every cell
     checked as the sweep's merge checks it; BadInput naming the file (row and column) when it is
     not one."""
@@ -98,7 +105,7 @@ def read_sweep(path):
     return keys, modes, ok, len(rows) - len(ok)
 
 
-def output(path, csv_path):
+def output(path: str | None, csv_path: str) -> str:
     """The figure's path (default sweep.png beside the csv), refused where it cannot be: a
     folder in its place, no folder for it, a format matplotlib does not write."""
     out = path or os.path.join(os.path.dirname(os.path.abspath(csv_path)), "sweep.png")
@@ -113,14 +120,14 @@ def output(path, csv_path):
     return out
 
 
-def number(text):
+def number(text: str) -> float:
     try:
         return float(text)
     except ValueError:
         return math.nan
 
 
-def ratio(numerator, denominator):
+def ratio(numerator: str, denominator: str) -> float:
     """numerator / denominator, NaN where it is no finite number (an empty cell, a zero
     denominator, an overflow)."""
     a, b = number(numerator), number(denominator)
@@ -128,7 +135,7 @@ def ratio(numerator, denominator):
     return value if math.isfinite(value) else math.nan
 
 
-def lines(ax, key, modes, rows):
+def lines(ax: _Axes, key: str, modes: list[str], rows: Sequence[Row]) -> None:
     rows = sorted(rows, key=lambda r: number(r[key]))
     x = [number(r[key]) for r in rows]
     for mode in modes + ["floor"]:
@@ -141,7 +148,8 @@ def lines(ax, key, modes, rows):
     ax.legend(fontsize=8)
 
 
-def heatmap(ax, fig, keys, rows, numerator, denominator):
+def heatmap(ax: _Axes, fig: _Figure, keys: Sequence[str], rows: Sequence[Row], numerator: str,
+            denominator: str) -> None:
     xs = sorted({number(r[keys[1]]) for r in rows})
     ys = sorted({number(r[keys[0]]) for r in rows})
     grid = [[math.nan] * len(xs) for _ in ys]
@@ -169,7 +177,7 @@ def heatmap(ax, fig, keys, rows, numerator, denominator):
     bar.minorticks_off()
 
 
-def strips(ax, modes, rows, baseline):
+def strips(ax: _Axes, modes: Sequence[str], rows: Sequence[Row], baseline: str) -> None:
     names = [m for m in modes if m != baseline] + ["floor"]
     labels = []
     low, high = 1.0, 1.0
@@ -226,7 +234,8 @@ def main() -> int:
     return 0
 
 
-def draw(name, keys, modes, rows, failed):
+def draw(name: str, keys: Sequence[str], modes: list[str], rows: Sequence[Row],
+         failed: int) -> _Figure:
     """The figure of the ok points `rows` (see the module's doc for which)."""
     note = f" ({failed} points not ok, left out)" if failed else ""
     if len(keys) == 2 and "model_based" in modes and len(
@@ -248,7 +257,7 @@ def draw(name, keys, modes, rows, failed):
     return fig
 
 
-def save(fig, out):
+def save(fig: _Figure, out: str) -> None:
     """Writes the figure beside `out` and renames it into place: never half a file."""
     folder, base = os.path.split(os.path.abspath(out))
     partial = os.path.join(folder, f".{base}.{os.getpid()}")

@@ -26,7 +26,7 @@ import os
 import pathlib
 import re
 import sys
-from typing import Any, Mapping, Sequence, Union
+from typing import Any, Mapping, NoReturn, Sequence, Union
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -37,7 +37,7 @@ __all__ = ["OUTPUTS_MD", "ArgumentParser", "Row", "check_row_lengths", "column_p
            "split_row", "write_all_or_nothing"]
 
 
-def _outputs_md():
+def _outputs_md() -> pathlib.Path:
     """docs/outputs.md: the source tree's (the package linked into a build, or python/ itself),
     else the copy installed with leglab's data (<prefix>/share/leglab/docs/outputs.md)."""
     source = pathlib.Path(__file__).resolve().parents[3] / "docs" / "outputs.md"
@@ -88,7 +88,8 @@ def declared_tables(docs: PathLike = OUTPUTS_MD) -> dict[str, list[str]]:
     OSError, UnicodeDecodeError
         When `docs` cannot be read.
     """
-    tables, current = {}, None
+    tables: dict[str, list[str]] = {}
+    current: str | None = None
     for line in pathlib.Path(docs).read_text(encoding="utf-8").splitlines():
         heading = _HEADING.match(line)
         if heading:
@@ -205,7 +206,7 @@ def field_problems(name: str, value: Any, fields: Sequence[str]) -> list[str]:
     """
     declared = [tuple(f.split(".")) for f in fields]
 
-    def matches(pattern, path):
+    def matches(pattern: tuple[str, ...], path: tuple[str, ...]) -> bool:
         return len(pattern) == len(path) and all(
             p == k or (p.startswith("<") and not k.endswith("[]")) for p, k in zip(pattern, path))
     if not isinstance(value, dict):
@@ -235,14 +236,14 @@ class Row(dict):
 
     __slots__ = ()
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         try:
             return self[name]
         except KeyError:
             raise AttributeError(f"no '{name}' here (there are {', '.join(self)})") from None
 
 
-def _with_attributes(value):
+def _with_attributes(value: Any) -> Any:
     """A parsed JSON value with each object a Row, nested."""
     if isinstance(value, dict):
         return Row({k: _with_attributes(v) for k, v in value.items()})
@@ -288,7 +289,7 @@ def read_csv(path: PathLike, docs: PathLike = OUTPUTS_MD) -> tuple[list[str], li
     return header, rows
 
 
-def _declaration(path, docs):
+def _declaration(path: PathLike, docs: PathLike) -> list[str] | None:
     """The columns or fields declared for the file at `path` (by its name), `<...>` patterns
     included, or None when no declared file has its name."""
     tables = declared_tables(pathlib.Path(docs))
@@ -346,7 +347,7 @@ def read_columns(path: PathLike, docs: PathLike = OUTPUTS_MD) -> Row:
     return Row({name: [float(r[name]) for r in rows] for name in header} if rows else {})
 
 
-def _cell(text):
+def _cell(text: Any) -> Any:
     try:
         return float(text)
     except (TypeError, ValueError):
@@ -474,7 +475,19 @@ class ArgumentParser(argparse.ArgumentParser):
     """argparse, with a usage error reported as every other bad input: `<prog>: error:
     <message>`, one line on stderr, exit status 2 (not argparse's usage block)."""
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
+        """Reports a usage error on one line and exits.
+
+        Parameters
+        ----------
+        message : str
+            argparse's message.
+
+        Raises
+        ------
+        SystemExit
+            Always, status 2, after `<prog>: error: <message>` on stderr.
+        """
         print(f"{self.prog}: error: {one_line(message)}", file=sys.stderr)
         sys.exit(2)
 
@@ -530,6 +543,8 @@ def finite_number(text: str | None, where: str) -> float:
         Naming `where`, when the cell is empty, not a number, NaN or infinite.
     """
     shown = repr(text if text is None or len(text) <= 40 else text[:40] + "...")
+    if text is None:  # float(None) is a TypeError: the empty cell's message
+        raise ValueError(f"{where}: empty, expected a number")
     try:
         value = float(text)
     except (TypeError, ValueError):

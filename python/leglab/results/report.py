@@ -23,11 +23,11 @@ import os
 import re
 import sys
 import urllib.parse
-from typing import Sequence
+from typing import Any, Collection, Iterable, Mapping, NoReturn, Sequence
 
 from . import figures
 from . import log_fit_results
-from .reader import read_csv, read_json, split_row
+from .reader import Row, read_csv, read_json, split_row
 
 __all__ = ["main"]
 
@@ -105,41 +105,41 @@ section.md { margin-bottom: 1.5em; }
 """
 
 
-def fail(message):
+def fail(message: object) -> NoReturn:
     """Bad input: one line on stderr (control and undecodable characters escaped), status 2."""
     line = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
     print(f"report.py: {line}", file=sys.stderr)
     sys.exit(2)
 
 
-def href(path):
+def href(path: str) -> str:
     """A relative link to path (a path below the page's folder, '/'-separated), percent-encoded
     from its bytes: a name that is not UTF-8 still links to its file."""
     return urllib.parse.quote(os.fsencode(path))
 
 
-def natural_key(name):
+def natural_key(name: str) -> list[int | str]:
     return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name)]
 
 
-def is_run_folder(folder):
+def is_run_folder(folder: str) -> bool:
     """True if a program wrote into folder itself."""
     names = os.listdir(folder)
     return any(n in RUN_MARKERS or any(p.match(n) for p in RUN_MARKER_PATTERNS) for n in names)
 
 
-def find_runs(top):
+def find_runs(top: str) -> dict[str, list[str]]:
     """Every folder at or below top (relative paths, '' for top) that is a run or holds one,
     mapped to its sub-folders of the same kind."""
-    tree = {}
+    tree: dict[str, list[str]] = {}
     # A folder is visited once, however links lead to it: a link to an ancestor (a loop) or a
     # second link to one folder adds nothing.
-    seen = set()
+    seen: set[str] = set()
 
-    def visit(rel):
+    def visit(rel: str) -> bool:
         folder = os.path.join(top, rel)
         seen.add(os.path.realpath(folder))
-        children = []
+        children: list[str] = []
         for name in sorted(os.listdir(folder), key=natural_key):
             path = os.path.join(folder, name)
             if (name.startswith(".") or not os.path.isdir(path)
@@ -159,7 +159,7 @@ def find_runs(top):
 
 # ---- Markdown (the subset the programs write) -------------------------------------------------
 
-def inline(text):
+def inline(text: str) -> str:
     """Escapes text and renders `code`, **bold** and *emphasis*."""
     parts = re.split(r"(`[^`]*`)", text)
     out = []
@@ -174,12 +174,12 @@ def inline(text):
     return "".join(out)
 
 
-def is_separator(line):
+def is_separator(line: str) -> bool:
     cells = split_row(line)
     return bool(cells) and all(re.fullmatch(r":?-{2,}:?", c) for c in cells)
 
 
-def table_html(header, rows):
+def table_html(header: Sequence[str], rows: Sequence[list[str]]) -> str:
     out = ['<div class="scroll"><table>', "<thead><tr>"]
     out += [f"<th>{inline(c)}</th>" for c in header]
     out.append("</tr></thead><tbody>")
@@ -190,13 +190,15 @@ def table_html(header, rows):
     return "".join(out)
 
 
-def markdown_to_html(text, heading_shift=2):
+def markdown_to_html(text: str, heading_shift: int = 2) -> str:
     """Headings, paragraphs, lists and pipe tables: what identify, track and fit_walk write.
     Headings are shifted down (# becomes <h3>) to sit under the page's own."""
     lines = text.splitlines()
-    out, paragraph, items = [], [], []
+    out: list[str] = []
+    paragraph: list[str] = []
+    items: list[str] = []
 
-    def flush():
+    def flush() -> None:
         if paragraph:
             out.append(f"<p>{inline(' '.join(paragraph))}</p>")
             paragraph.clear()
@@ -216,7 +218,7 @@ def markdown_to_html(text, heading_shift=2):
             flush()
             header = split_row(line)
             i += 2
-            rows = []
+            rows: list[list[str]] = []
             while i < len(lines) and lines[i].lstrip().startswith("|"):
                 rows.append(split_row(lines[i]))
                 i += 1
@@ -241,10 +243,10 @@ def markdown_to_html(text, heading_shift=2):
 
 # ---- What the run records of its configuration -----------------------------------------------
 
-def flatten(value, prefix=""):
+def flatten(value: Any, prefix: str = "") -> list[tuple[str, Any]]:
     """(dotted key, scalar) pairs of a JSON value; lists of scalars kept whole."""
     if isinstance(value, dict):
-        pairs = []
+        pairs: list[tuple[str, Any]] = []
         for key, sub in value.items():
             pairs += flatten(sub, f"{prefix}.{key}" if prefix else str(key))
         return pairs
@@ -256,7 +258,7 @@ def flatten(value, prefix=""):
     return [(prefix, value)]
 
 
-def scalar_text(value):
+def scalar_text(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:.6g}"
     if isinstance(value, (list, dict)):
@@ -268,29 +270,32 @@ def scalar_text(value):
     return str(value)
 
 
-def key_value_table(pairs):
+def key_value_table(pairs: Sequence[tuple[str, Any]]) -> str:
     rows = [[f"`{k}`", scalar_text(v).replace("|", "\\|")] for k, v in pairs]
     return table_html(["key", "value"], rows)
 
 
-def matrix_table(rows):
+def matrix_table(rows: Mapping[str, Mapping[str, Any]]) -> str:
     """A dict of dicts (joint -> key -> value) as one row per joint, one column per key."""
     columns = list(dict.fromkeys(k for row in rows.values() for k in row))
     cells = [[name] + [scalar_text(row.get(k, "")) for k in columns] for name, row in rows.items()]
     return table_html([""] + [f"`{c}`" for c in columns], cells)
 
 
-def config_parts(name, data):
+def config_parts(name: str, data: Any) -> list[tuple[str, Any]]:
     """The parts of a program's JSON file that describe the run's set-up rather than its
     results: (what they are, dotted key/value pairs or a dict of per-joint dicts)."""
     if not isinstance(data, dict):
         return []
-    pick = lambda *keys: {k: data[k] for k in keys if k in data}  # noqa: E731
+
+    def pick(*keys: str) -> dict[str, Any]:
+        return {k: data[k] for k in keys if k in data}
+
     if name == "table1.json":
         return [("identify: the plant the step tests ran on", flatten(pick("plant"))),
                 ("identify: the paper's Table 1 it is compared with", flatten(pick("paper")))]
     if name == "table2.json":
-        parts = [("track: the measured steps", flatten(pick("steps")))]
+        parts: list[tuple[str, Any]] = [("track: the measured steps", flatten(pick("steps")))]
         for key, what in (("model", "the controllers' model per joint"),
                           ("walk_model", "the model fitted to the walk (modes with model: walk)")):
             if isinstance(data.get(key), dict):
@@ -317,20 +322,20 @@ def config_parts(name, data):
     return []
 
 
-def sweep_keys(rows, header):
+def sweep_keys(rows: Sequence[Row], header: Sequence[str]) -> list[tuple[str, str]]:
     """A sweep's swept keys (the columns between index and status) and their values."""
     if "status" not in header:
         return []
     keys = header[1:header.index("status")] if header[:1] == ["index"] else \
         header[:header.index("status")]
-    pairs = []
+    pairs: list[tuple[str, str]] = []
     for key in keys:
         values = list(dict.fromkeys(r.get(key) or "" for r in rows))
         pairs.append((key, ", ".join(values)))
     return pairs
 
 
-def read_sweep(folder):
+def read_sweep(folder: str) -> tuple[list[str], list[Row]] | str:
     """The folder's sweep.csv as (header, rows), or the reason it cannot be read (a str): a file
     whose columns are not the declared ones is shown as not read, never a traceback."""
     path = os.path.join(folder, "sweep.csv")
@@ -340,13 +345,13 @@ def read_sweep(folder):
         return (str(error) or type(error).__name__).replace(path, "sweep.csv")
 
 
-def not_read(name, why):
+def not_read(name: str, why: str) -> str:
     """A note: the file `name` is shown as not read, and why."""
     return (f'<p class="note"><a href="{href(name)}">{html.escape(name)}</a>: not read '
             f"({html.escape(why)}).</p>")
 
 
-def merged_config_parts(folder, names):
+def merged_config_parts(folder: str, names: Iterable[str]) -> list[str]:
     """The keys each program ran with, as it wrote them (<program>_config.yaml: the --config
     file, the files it extends, the robot file and every --set, merged)."""
     out = []
@@ -364,7 +369,7 @@ def merged_config_parts(folder, names):
     return out
 
 
-def config_section(folder, names):
+def config_section(folder: str, names: Collection[str]) -> str:
     merged = merged_config_parts(folder, names)
     note = ("Each program writes the keys it ran with, merged (the <code>--config</code> file, "
             "the files it <code>extends:</code>, the robot's <code>robot.yaml</code> and every "
@@ -411,7 +416,7 @@ def config_section(folder, names):
 
 # ---- Pages ------------------------------------------------------------------------------------
 
-def describe(rel, folder):
+def describe(rel: str, folder: str) -> str:
     if rel in RUN_DESCRIPTIONS:
         return RUN_DESCRIPTIONS[rel]
     names = set(os.listdir(folder))
@@ -422,12 +427,12 @@ def describe(rel, folder):
     return "A run of " + ", ".join(wrote) + "." if wrote else "Folders of runs."
 
 
-def caption(name):
+def caption(name: str) -> str:
     return (figures.caption(name)
             or "A figure of this run (no caption is known for this file name).")
 
 
-def holds(folder):
+def holds(folder: str) -> str:
     """What a folder holds, counted: '(2 tables, 11 figures, 19 data files)'."""
     names = [n for n in os.listdir(folder) if os.path.isfile(os.path.join(folder, n))]
     counts = [(sum(n.endswith(".md") for n in names) + ("sweep.csv" in names), "table"),
@@ -437,7 +442,7 @@ def holds(folder):
     return f"({text})" if text else ""
 
 
-def runs_list(tree, top, rel, base):
+def runs_list(tree: Mapping[str, list[str]], top: str, rel: str, base: str) -> str:
     """A nested list of the sub-runs below rel, linked relative to the page of base."""
     children = tree.get(rel, [])
     if not children:
@@ -453,8 +458,8 @@ def runs_list(tree, top, rel, base):
     return "".join(out)
 
 
-def size_text(path):
-    size = os.path.getsize(path)
+def size_text(path: str) -> str:
+    size: float = os.path.getsize(path)
     for unit in ("B", "kB", "MB"):
         if size < 1000 or unit == "MB":
             return f"{size:.0f} {unit}" if unit == "B" else f"{size:.1f} {unit}"
@@ -462,7 +467,7 @@ def size_text(path):
     return ""
 
 
-def crumbs(top, rel):
+def crumbs(top: str, rel: str) -> str:
     """Links up the tree: top / sweeps / walk_speed."""
     parts = rel.split("/")
     links = []
@@ -473,7 +478,7 @@ def crumbs(top, rel):
     return f'<nav class="crumbs">{" / ".join(links)}</nav>'
 
 
-def tables_section(folder, tables, sweep):
+def tables_section(folder: str, tables: Sequence[str], sweep: bool) -> str:
     """Every Markdown file rendered, then the sweep's table (its first SWEEP_TABLE_ROWS rows,
     long fractions shortened)."""
     out = ['<h2 id="tables">Tables</h2>']
@@ -482,11 +487,11 @@ def tables_section(folder, tables, sweep):
             text = f.read()
         out.append(f'<section class="md"><p class="note">From <a href="{href(name)}">'
                    f"{html.escape(name)}</a>:</p>{markdown_to_html(text)}</section>")
-    sweep = read_sweep(folder) if sweep else None
-    if isinstance(sweep, str):
-        out.append(not_read("sweep.csv", sweep))
-    elif sweep:
-        header, rows = sweep
+    read = read_sweep(folder) if sweep else None
+    if isinstance(read, str):
+        out.append(not_read("sweep.csv", read))
+    elif read:
+        header, rows = read
         shown = rows[:SWEEP_TABLE_ROWS]
         note = (f" (the first {len(shown)} of its {len(rows)} points)"
                 if len(rows) > len(shown) else f" ({len(rows)} points)")
@@ -499,7 +504,7 @@ def tables_section(folder, tables, sweep):
     return "\n".join(out)
 
 
-def servo_summary(tree, top, rel):
+def servo_summary(tree: Mapping[str, list[str]], top: str, rel: str) -> str:
     """The real servos' headline for a page with sub-runs: the shallowest sub-run below rel
     whose log_fit.json holds held-out logs, each motor's mean held-out error by method, linked
     to that run's page; "" if none (or its JSON is not a log fit's)."""
@@ -528,7 +533,7 @@ def servo_summary(tree, top, rel):
     return ""
 
 
-def page(tree, top, rel):
+def page(tree: Mapping[str, list[str]], top: str, rel: str) -> str:
     folder = os.path.join(top, rel)
     names = sorted((n for n in os.listdir(folder) if os.path.isfile(os.path.join(folder, n))),
                    key=natural_key)
@@ -548,7 +553,7 @@ def page(tree, top, rel):
     servos = servo_summary(tree, top, rel) if tree.get(rel) and "log_fit.json" not in names else ""
     # The findings first (tables, figures, the animation, the real servos), then where they
     # come from (sub-runs, configuration, data files).
-    sections = []
+    sections: list[tuple[str, str]] = []
     if tables or "sweep.csv" in names or servos:
         sections.append(("tables", "Tables"))
     if pictures:
@@ -625,7 +630,7 @@ def main(argv: Sequence[str]) -> None:
         pages = {rel: page(tree, top, rel) for rel in tree}
     except OSError as error:
         fail(f"cannot read {error.filename}: {error.strerror}")
-    staged = []
+    staged: list[tuple[str, str]] = []
     try:
         for rel, text in pages.items():
             target = os.path.join(top, rel, "index.html")

@@ -7,15 +7,18 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["FOOT_LINK", "ChainJoint", "UrdfError", "chain_points_cm", "read_chain",
            "rotation_about", "rotation_rpy"]
 
 # The link whose origin is the foot (the ball's centre).
 FOOT_LINK = "foot"
+
+_Matrix = npt.NDArray[np.float64]
 
 
 class UrdfError(ValueError):
@@ -24,16 +27,31 @@ class UrdfError(ValueError):
 
 @dataclass
 class ChainJoint:
-    """One URDF joint on the way from the root link to the foot, metres and radians."""
+    """One URDF joint on the way from the root link to the foot, metres and radians.
 
-    name: str
+    Attributes
+    ----------
+    name : str or None
+        The joint's name (None for a joint the URDF leaves unnamed: no traced joint is).
+    kind : str
+        "revolute", "continuous" or "fixed".
+    origin : numpy.ndarray
+        4x4: the child frame in the parent's at q = 0.
+    axis : numpy.ndarray
+        The unit axis in the child frame (zeros for a fixed joint).
+    limits_rad : tuple of 2 floats
+        A revolute joint's <limit lower upper> (unbounded otherwise).
+    """
+
+    name: str | None  # None for a joint the URDF leaves unnamed (no traced joint is)
     kind: str  # "revolute", "continuous" or "fixed"
-    origin: np.ndarray  # 4x4: the child frame in the parent's at q = 0
-    axis: np.ndarray  # unit axis in the child frame (zeros for a fixed joint)
-    limits_rad: tuple = (-math.inf, math.inf)  # a revolute joint's <limit lower upper>
+    origin: _Matrix  # 4x4: the child frame in the parent's at q = 0
+    axis: _Matrix  # unit axis in the child frame (zeros for a fixed joint)
+    # A revolute joint's <limit lower upper>.
+    limits_rad: tuple[float, float] = (-math.inf, math.inf)
 
 
-def _floats(text, count, what):
+def _floats(text: str | None, count: int, what: str) -> list[float]:
     try:
         values = [float(v) for v in (text or "").split()]
     except ValueError:
@@ -43,7 +61,7 @@ def _floats(text, count, what):
     return values
 
 
-def rotation_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
+def rotation_rpy(roll: float, pitch: float, yaw: float) -> _Matrix:
     """URDF's rpy as a rotation matrix: R = Rz(yaw) Ry(pitch) Rx(roll).
 
     Parameters
@@ -64,12 +82,12 @@ def rotation_rpy(roll: float, pitch: float, yaw: float) -> np.ndarray:
     return rz @ ry @ rx
 
 
-def rotation_about(axis: Sequence[float], angle: float) -> np.ndarray:
+def rotation_about(axis: Union[Sequence[float], _Matrix], angle: float) -> _Matrix:
     """Rodrigues: the rotation by an angle about a unit vector.
 
     Parameters
     ----------
-    axis : sequence of 3 floats
+    axis : sequence of 3 floats or numpy.ndarray
         The unit axis.
     angle : float
         The angle, rad.
@@ -107,7 +125,7 @@ def read_chain(urdf_path: str) -> list[ChainJoint]:
         root = ElementTree.parse(urdf_path).getroot()
     except (OSError, ElementTree.ParseError) as e:
         raise UrdfError(f"URDF '{urdf_path}': {e}") from None
-    by_child = {}
+    by_child: dict[str | None, tuple[str | None, ChainJoint]] = {}
     for joint in root.findall("joint"):
         name = joint.get("name")
         parent, child = joint.find("parent"), joint.find("child")
@@ -132,13 +150,15 @@ def read_chain(urdf_path: str) -> list[ChainJoint]:
                                     f"URDF '{urdf_path}' joint '{name}' axis"))
             axis /= np.linalg.norm(axis)
         limits = (-math.inf, math.inf)
-        if kind == "revolute" and joint.find("limit") is not None:
-            element = joint.find("limit")
-            limits = tuple(_floats(f"{element.get('lower', '0')} {element.get('upper', '0')}", 2,
-                                   f"URDF '{urdf_path}' joint '{name}' limit"))
+        element = joint.find("limit")
+        if kind == "revolute" and element is not None:
+            lower, upper = _floats(f"{element.get('lower', '0')} {element.get('upper', '0')}", 2,
+                                   f"URDF '{urdf_path}' joint '{name}' limit")
+            limits = (lower, upper)
         by_child[child.get("link")] = (parent.get("link"),
                                        ChainJoint(name, kind, transform, axis, limits))
-    chain, link = [], FOOT_LINK
+    chain: list[ChainJoint] = []
+    link: str | None = FOOT_LINK
     while link in by_child:
         link, joint = by_child[link]
         chain.append(joint)
@@ -149,7 +169,8 @@ def read_chain(urdf_path: str) -> list[ChainJoint]:
     return chain[::-1]
 
 
-def chain_points_cm(chain: Sequence[ChainJoint], angles_rad: Mapping[str, float]) -> np.ndarray:
+def chain_points_cm(chain: Sequence[ChainJoint],
+                    angles_rad: Mapping[str | None, float]) -> _Matrix:
     """Forward kinematics of a chain: its frames' origins, root to foot.
 
     Parameters

@@ -22,12 +22,15 @@ from __future__ import annotations
 import json as _json
 import os as _os
 import tempfile as _tempfile
-from typing import Any, Callable, Mapping, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as _np
 import numpy.typing as _npt
 
-from .. import _leglab
+if TYPE_CHECKING:  # the compiled module's stub, not leglab's variable `_leglab` (a ModuleType)
+    import leglab._leglab as _leglab
+else:
+    from .. import _leglab
 from .._leglab import ServoModel
 
 ServoModel.__module__ = "leglab.servo"

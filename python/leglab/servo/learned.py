@@ -48,9 +48,10 @@ import multiprocessing
 import os
 import pathlib
 import sys
-from typing import Any, Mapping, Sequence
+from typing import Any, Iterable, Mapping, Optional, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import data_dir
 from ..ladder import LADDER
@@ -74,6 +75,21 @@ SIZES = {
 SEED = 20261128
 LOAD_SCALE_NM = 0.5  # the loads' torques divided by this before they go in
 
+# A log as read_run() reads it: its resampled `request`, `measured` and `driven` columns, `kp`,
+# `load_nm`, `tick_s`, its log_fit.json `row` and the run's `cross_validate`.
+_Log = Mapping[str, Any]
+# A model's job: (motor, held-out group or None for the final model, training files, scored
+# files).
+_Job = tuple[str, Optional[str], list[str], list[str]]
+# run_job's arguments: (job, {file: log}, training size, the forms trained).
+_JobArguments = tuple[_Job, dict[str, _Log], Mapping[str, Any], tuple[str, ...]]
+# The input and output scales: (error deg, velocity deg/tick, output deg/tick).
+_Scale = tuple[float, float, float]
+# A torch tensor (or module): torch is imported only when a network is trained.
+_Tensor = Any
+_Vector = npt.NDArray[np.float64]
+_PathLike = Union[str, "os.PathLike[str]"]
+
 
 class UserError(Exception):
     """Bad input: one line, exit status 2."""
@@ -86,7 +102,7 @@ class Bug(Exception):
 
 # --- the logs, as identify resampled them ---------------------------------------------------
 
-def _load_torque_nm(row):
+def _load_torque_nm(row: Mapping[str, Any]) -> float:
     """m g L of the log `row` names (its file, read by leglab as identify read it; a relative
     name not found here is looked for in leglab's data folder, data/servo_logs/...)."""
     path = pathlib.Path(row["file"])
@@ -99,7 +115,7 @@ def _load_torque_nm(row):
     return log.mass_kg * GRAVITY * log.length_m
 
 
-def expect(value, kinds, where):
+def expect(value: Any, kinds: tuple[type, ...], where: str) -> Any:
     """`value` when it is one of `kinds` (a bool is no number); UserError naming `where`
     otherwise."""
     if isinstance(value, bool) and bool not in kinds or not isinstance(value, kinds):
@@ -114,7 +130,7 @@ RUNGS = tuple(r.name for r in LADDER if r.kind != "learned")
 LEARNED_RUNGS = tuple(r.name for r in LADDER if r.kind == "learned")
 
 
-def check_fit(path, fit):
+def check_fit(path: pathlib.Path, fit: Mapping[str, Any]) -> None:
     """identify's log fit at `path` as this script reads it: every number finite, and each
     field it reads there and of its type; UserError naming the file and the field otherwise."""
     where = f"{path}:"
@@ -147,12 +163,12 @@ def check_fit(path, fit):
         raise UserError(f"{where} logs: no log with the role train")
 
 
-def read_run(run):
+def read_run(run: _PathLike) -> tuple[dict[str, Any], dict[str, _Log]]:
     """identify's run in folder `run`: (log_fit.json as a dict, {file: log}) where a log holds
     its resampled request, measured and driven columns, kp, load and tick. UserError, before
     any training, when it is not one."""
-    run = pathlib.Path(run)
-    path = run / "log_fit.json"
+    folder = pathlib.Path(run)
+    path = folder / "log_fit.json"
     try:
         fit = read_json(path)  # checked against its declared fields
         if not isinstance(fit, dict):
@@ -163,19 +179,19 @@ def read_run(run):
         raise UserError(f"{path}: not identify's log fit ({e})") from None
     check_fit(path, fit)
     rows, models = fit["logs"], fit["models"]["extended"]
-    logs = {}
+    logs: dict[str, _Log] = {}
     for row in rows:
         if row["file"] in logs:
             continue
         name = f"log_{row['motor']}_{pathlib.Path(row['file']).stem}.csv"
         try:
-            table = read_finite_columns(run / name)  # its declared columns, finite numbers
+            table = read_finite_columns(folder / name)  # its declared columns, finite numbers
             request, measured = np.array(table.request_deg), np.array(table.measured_deg)
             driven = np.array(table.torque_enabled) == 1
         except (OSError, UnicodeDecodeError, ValueError, AttributeError, csv.Error) as e:
             text = str(e)
-            raise UserError(text if text.startswith(str(run / name)) else
-                            f"{run / name}: cannot read its columns ({text})") from None
+            raise UserError(text if text.startswith(str(folder / name)) else
+                            f"{folder / name}: cannot read its columns ({text})") from None
         logs[row["file"]] = {
             "request": request, "measured": measured, "driven": driven,
             "kp": float(row["kp"]), "load_nm": _load_torque_nm(row),
@@ -185,14 +201,14 @@ def read_run(run):
     return fit, logs
 
 
-def trainable(log):
+def trainable(log: _Log) -> bool:
     """Whether `log` holds a run of 2 driven ticks or more in its first 75 % (what fit_form's
     grid trains on)."""
     first = log["driven"][:int(len(log["driven"]) * 0.75)]
     return any(end - start >= 2 for start, end in runs_of(first))
 
 
-def check_jobs(run, jobs, logs):
+def check_jobs(run: str, jobs: Iterable[_Job], logs: Mapping[str, _Log]) -> None:
     """Refuses, before any training, a model whose training logs hold no run of 2 driven ticks
     in their first 75 % (nothing to train on) or a scored log without a driven tick (nothing to
     score)."""
@@ -205,14 +221,14 @@ def check_jobs(run, jobs, logs):
                 raise UserError(f"{model}: {f} has no driven tick to score")
 
 
-def fold_key(row, cross_validate):
+def fold_key(row: Mapping[str, Any], cross_validate: str) -> str:
     """What identify's fold of `row` is called (its `held_out`)."""
     if cross_validate == "leave_one_trajectory_out":
         return row["trajectory"]
     return f"kp {row['kp']:g}"
 
 
-def model_jobs(fit: Mapping[str, Any]) -> list[tuple]:
+def model_jobs(fit: Mapping[str, Any]) -> list[_Job]:
     """Every model identify fitted, as the networks are trained for it.
 
     Parameters
@@ -230,8 +246,8 @@ def model_jobs(fit: Mapping[str, Any]) -> list[tuple]:
     cv = fit["cross_validate"]
     train = [r for r in fit["logs"] if r["role"] == "train"]
     motors = sorted({r["motor"] for r in train})
-    jobs = [(m, None, [r["file"] for r in train if r["motor"] == m],
-             [r["file"] for r in train if r["motor"] == m]) for m in motors]
+    jobs: list[_Job] = [(m, None, [r["file"] for r in train if r["motor"] == m],
+                        [r["file"] for r in train if r["motor"] == m]) for m in motors]
     for fold in fit["folds"]:
         held = str(fold["held_out"])
         mine = [r for r in train if r["motor"] == fold["motor"]]
@@ -242,7 +258,7 @@ def model_jobs(fit: Mapping[str, Any]) -> list[tuple]:
 
 # --- the networks and their open-loop rollout ------------------------------------------------
 
-def make_net(form, history, width):
+def make_net(form: str, history: int, width: int) -> _Tensor:
     import torch
     inputs = 2 * history + 3
     if form == "mlp":
@@ -253,7 +269,7 @@ def make_net(form, history, width):
                                 "out": torch.nn.Linear(width, 1)})
 
 
-def features_of(errors, velocities, drive, angle):
+def features_of(errors: _Tensor, velocities: _Tensor, drive: _Tensor, angle: _Tensor) -> _Tensor:
     """A tick's inputs (scaled): the errors and velocities, kp and the load's torque at `angle`
     (deg); drive holds kp and m g L."""
     import torch
@@ -263,7 +279,7 @@ def features_of(errors, velocities, drive, angle):
                       load * torch.cos(radians)], dim=-1)
 
 
-def step(net, form, features, state):
+def step(net: _Tensor, form: str, features: _Tensor, state: Any) -> tuple[_Tensor, Any]:
     """The network's scaled angle change for `features` (and the LSTM's state after it)."""
     if form == "mlp":
         return net(features), None
@@ -271,7 +287,8 @@ def step(net, form, features, state):
     return net["out"](output[0]), state
 
 
-def rollout(net, form, history, scale, requests, angles, drive, steps):
+def rollout(net: _Tensor, form: str, history: int, scale: _Scale, requests: _Tensor, angles: _Tensor,
+            drive: _Tensor, steps: int) -> _Tensor:
     """Open-loop angles for `steps` ticks after the start, a batch at once.
 
     requests: (B, history + steps) tensor, R(s - history + 1 .. s + steps); angles: (B,
@@ -294,13 +311,14 @@ def rollout(net, form, history, scale, requests, angles, drive, steps):
     return torch.cat(predicted, dim=1)
 
 
-def runs_of(driven):
+def runs_of(driven: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:
     """[(start, end)) of each run of driven ticks."""
     edges = np.flatnonzero(np.diff(np.concatenate([[0], driven.astype(int), [0]])))
     return list(zip(edges[0::2], edges[1::2]))
 
 
-def start_window(log, start, history, steps, at_rest):
+def start_window(log: _Log, start: int, history: int, steps: int,
+                 at_rest: bool) -> tuple[_Vector, _Vector]:
     """Requests and start angles of a rollout from tick `start` (see rollout): the requests
     before tick 0 are R(0); the angles before the start are the measured ones, or the start's
     own (at rest) when the rollout begins a run, as the other rungs begin it."""
@@ -313,14 +331,16 @@ def start_window(log, start, history, steps, at_rest):
     return requests, angles
 
 
-def predict_runs(net, form, history, scale, log, runs):
+def predict_runs(net: _Tensor, form: str, history: int, scale: _Scale, log: _Log,
+                 runs: Sequence[tuple[int, int]]) -> _Vector:
     """The network's open-loop prediction over each of `runs`, every run at once (padded)."""
     import torch
     predicted = np.array(log["measured"], dtype=float)
     longest = max((end - start for start, end in runs), default=0)
     if longest <= 1:  # no run has a tick after its first: nothing to predict
         return predicted
-    requests, angles = [], []
+    requests: list[_Vector] = []
+    angles: list[_Vector] = []
     for start, end in runs:
         r, a = start_window(log, start, history, longest - 1, at_rest=True)
         requests.append(r)
@@ -334,8 +354,8 @@ def predict_runs(net, form, history, scale, log, runs):
     return predicted
 
 
-def score(net: Any, form: str, history: int, scale: Mapping[str, float],
-          log: Mapping[str, Any], begin: int = 0) -> tuple[float, np.ndarray]:
+def score(net: Any, form: str, history: int, scale: _Scale, log: _Log,
+          begin: int = 0) -> tuple[float, _Vector]:
     """A network's open-loop prediction of a log, scored as identify scores a log.
 
     Runs of driven ticks start at rest on their first tick's measured angle; then the network's
@@ -349,8 +369,8 @@ def score(net: Any, form: str, history: int, scale: Mapping[str, float],
         "mlp" or "lstm".
     history : int
         The ticks of history the network takes (the mlp's N).
-    scale : mapping
-        train()'s input scales.
+    scale : tuple of 3 floats
+        train()'s input and output scales.
     log : mapping
         A log as read_run() reads it: `request`, `measured`, `driven`, `kp`, `load_nm`.
     begin : int
@@ -372,11 +392,12 @@ def score(net: Any, form: str, history: int, scale: Mapping[str, float],
 
 # --- training --------------------------------------------------------------------------------
 
-def windows(logs, history, steps, end_share):
+def windows(logs: Iterable[_Log], history: int, steps: int,
+            end_share: float) -> list[tuple[_Log, int, int]]:
     """Every training rollout start: (log, tick, end of its run) with `steps` ticks after it
     inside one run of driven ticks (fewer where the run is shorter) and inside the first
     `end_share` of the log."""
-    starts = []
+    starts: list[tuple[_Log, int, int]] = []
     for log in logs:
         limit = int(len(log["measured"]) * end_share)
         for start, end in runs_of(log["driven"][:limit]):
@@ -384,7 +405,7 @@ def windows(logs, history, steps, end_share):
     return starts
 
 
-def scales(logs):
+def scales(logs: Sequence[_Log]) -> _Scale:
     """Input and output scales from the training logs' measured motion (deg, deg/tick)."""
     errors = np.concatenate([(l["request"] - l["measured"])[l["driven"]] for l in logs])
     steps = np.concatenate([np.diff(l["measured"])[l["driven"][1:]] for l in logs])
@@ -392,9 +413,16 @@ def scales(logs):
             float(np.std(steps)) or 1.0)
 
 
-def batch_of(starts, picks, history, steps):
+def batch_of(starts: Sequence[tuple[_Log, int, int]], picks: Iterable[int], history: int,
+             steps: int) -> list[_Tensor]:
+    """A batch of rollouts from `starts[picks]`: (requests, start angles, target angles, the
+    targets' mask, drive) as rollout takes them and the loss compares."""
     import torch
-    requests, angles, targets, masks, drive = [], [], [], [], []
+    requests: list[_Vector] = []
+    angles: list[_Vector] = []
+    targets: list[_Vector] = []
+    masks: list[_Vector] = []
+    drive: list[list[float]] = []
     for i in picks:
         log, start, run_end = starts[i]
         r, a = start_window(log, start, history, steps, at_rest=False)
@@ -412,14 +440,17 @@ def batch_of(starts, picks, history, steps):
             for x in (requests, angles, targets, masks, drive)]
 
 
-def teacher_pieces(logs, history, scale, length, end_share):
+def teacher_pieces(logs: Iterable[_Log], history: int, scale: _Scale, length: int,
+                   end_share: float) -> tuple[_Tensor, _Tensor, _Tensor]:
     """Teacher-forced training data: every run of driven ticks (in the first `end_share` of its
     log) cut into pieces of `length` ticks; each tick's inputs built from the measured angles as
     a rollout builds them from its own, and its target the measured next change (scaled).
     Returns inputs (P, length, F), targets and masks (P, length)."""
     import torch
     error_scale, velocity_scale, output_scale = scale
-    inputs, targets, masks = [], [], []
+    inputs: list[_Tensor] = []
+    targets: list[_Vector] = []
+    masks: list[_Vector] = []
     for log in logs:
         m, r = log["measured"], log["request"]
         limit = int(len(m) * end_share)
@@ -440,7 +471,8 @@ def teacher_pieces(logs, history, scale, length, end_share):
             torch.tensor(np.array(masks)))
 
 
-def pretrain(net, form, pieces, size, rng):
+def pretrain(net: _Tensor, form: str, pieces: tuple[_Tensor, _Tensor, _Tensor],
+             size: Mapping[str, Any], rng: np.random.Generator) -> None:
     """Teacher forcing: the next change from measured history, the quick first fit (Hwangbo et
     al. train so), before the rollouts teach the network its own errors."""
     import torch
@@ -462,7 +494,7 @@ def pretrain(net, form, pieces, size, rng):
 
 
 def train(form: str, history: int, width: int, logs: Sequence[Mapping[str, Any]],
-          size: Mapping[str, Any], seed: int, end_share: float = 1.0) -> tuple[Any, dict]:
+          size: Mapping[str, Any], seed: int, end_share: float = 1.0) -> tuple[Any, _Scale]:
     """A network trained on logs: teacher forcing, then open-loop rollouts.
 
     Teacher forcing first (pretrain), then Adam on the mean squared angle error of open-loop
@@ -489,8 +521,9 @@ def train(form: str, history: int, width: int, logs: Sequence[Mapping[str, Any]]
     -------
     net : torch.nn.Module
         The trained network (float64).
-    scale : dict
-        The scales its inputs are divided by.
+    scale : tuple of 3 floats
+        The scales its inputs are divided by and its output multiplied by: (error deg,
+        velocity deg/tick, output deg/tick).
     """
     import torch
     torch.manual_seed(seed)
@@ -514,16 +547,18 @@ def train(form: str, history: int, width: int, logs: Sequence[Mapping[str, Any]]
     return net, scale
 
 
-def parameter_count(net):
+def parameter_count(net: _Tensor) -> int:
+    """The network's number of trained parameters."""
     return int(sum(p.numel() for p in net.parameters()))
 
 
-def fit_form(form, logs, size, seed):
+def fit_form(form: str, logs: Sequence[_Log], size: Mapping[str, Any],
+             seed: int) -> tuple[_Tensor, _Scale, int, dict[str, Any]]:
     """The form's network for `logs`: each (history, width) of the grid trained on the first
     75 % of every log and scored open loop on the rest; the best trained again on all (a grid of
     one is trained on all at once)."""
     grid = size["grid_mlp"] if form == "mlp" else size["grid_lstm"]
-    tried = []
+    tried: list[tuple[float, int, int]] = []
     for history, width in grid if len(grid) > 1 else []:
         net, scale = train(form, history, width, logs, size, seed, end_share=0.75)
         errors = [score(net, form, history, scale, log, int(len(log["measured"]) * 0.75))[0]
@@ -538,7 +573,7 @@ def fit_form(form, logs, size, seed):
     return net, scale, history, chosen
 
 
-def curve_jobs(fit: Mapping[str, Any], motor: str) -> list[tuple]:
+def curve_jobs(fit: Mapping[str, Any], motor: str) -> list[_Job]:
     """The learning curve's models for a motor.
 
     For each of the motor's cross-validation groups held out, one model trained on every subset
@@ -567,7 +602,7 @@ def curve_jobs(fit: Mapping[str, Any], motor: str) -> list[tuple]:
     if len(groups) < 3:
         raise UserError(f"--learning-curve {motor}: needs a motor with at least 3 cross-"
                         f"validation groups in the run, got {len(groups)}")
-    jobs = []
+    jobs: list[_Job] = []
     for held in groups:
         others = [g for g in groups if g != held]
         for k in range(1, len(others) + 1):
@@ -577,14 +612,15 @@ def curve_jobs(fit: Mapping[str, Any], motor: str) -> list[tuple]:
     return jobs
 
 
-def run_job(arguments):
+def run_job(arguments: _JobArguments) -> dict[str, Any]:
     """One of identify's models: `forms` trained on its training logs, scored on its logs."""
     job, logs, size, forms = arguments
     import torch
     torch.set_num_threads(1)
     torch.use_deterministic_algorithms(True)
     motor, held_out, train_files, scored_files = job
-    result = {"motor": motor, "held_out": held_out, "forms": {}, "mae_deg": {}, "curves": {}}
+    result: dict[str, Any] = {"motor": motor, "held_out": held_out, "forms": {}, "mae_deg": {},
+                              "curves": {}}
     training = [logs[f] for f in train_files]
     for form in forms:
         net, scale, history, chosen = fit_form(form, training, size, SEED)
@@ -600,14 +636,15 @@ def run_job(arguments):
 
 # --- output ----------------------------------------------------------------------------------
 
-def rows_of(fit, results):
+def rows_of(fit: Mapping[str, Any],
+            results: Iterable[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """identify's scored rows with the learned rungs' MAEs beside its own."""
-    learned = {}
+    learned: dict[tuple[str, str], Any] = {}
     for r in results:
         role = "train" if r["held_out"] is None else "validate"
         for f, maes in r["mae_deg"].items():
             learned[(f, role)] = maes
-    rows = []
+    rows: list[dict[str, Any]] = []
     for row in fit["logs"]:
         maes = dict(row["mae_deg"])
         maes.update(learned.get((row["file"], row["role"]), {}))
@@ -616,7 +653,9 @@ def rows_of(fit, results):
     return rows
 
 
-def markdown(fit, rows, folds):
+def markdown(fit: Mapping[str, Any], rows: Sequence[Mapping[str, Any]],
+             folds: Iterable[Mapping[str, Any]]) -> str:
+    """learned_fit.md: the scored logs' MAEs per rung, held out and in sample, and the models."""
     rungs = [*RUNGS, *LEARNED_RUNGS]
     lines = ["# Servo logs: the learned rungs beside identify's (mean absolute error, deg)", "",
              f"Cross-validation: {fit['cross_validate']}. mlp: Hwangbo et al.'s actuator "
@@ -645,7 +684,7 @@ def markdown(fit, rows, folds):
     return "\n".join(lines) + "\n"
 
 
-def curve_points(curve):
+def curve_points(curve: Iterable[Mapping[str, Any]]) -> tuple[list[dict[str, Any]], str]:
     """The learning curve's models as JSON, and its table: the mean held-out MAE by the number
     of groups trained on."""
     points = [{"motor": r["motor"], "held_out": r["held_out"], "trained_on": r["trained_on"],
@@ -663,14 +702,15 @@ def curve_points(curve):
     return points, "\n".join(lines) + "\n"
 
 
-def outputs(out, fit, results, curve):
+def outputs(out: pathlib.Path, fit: Mapping[str, Any], results: Sequence[Mapping[str, Any]],
+            curve: Sequence[Mapping[str, Any]]) -> dict[_PathLike, str]:
     """{path: text} of learned_fit.json and learned_fit.md in `out`; Bug when a number in them
     is not finite (training on checked input never gives one)."""
     folds = [{"motor": r["motor"], "held_out": r["held_out"],
               "training_ticks": r["training_ticks"]} | r["forms"] for r in results]
     rows = rows_of(fit, results)
-    document = {"cross_validate": fit["cross_validate"], "seed": SEED, "folds": folds,
-                "logs": rows}
+    document: dict[str, Any] = {"cross_validate": fit["cross_validate"], "seed": SEED,
+                                "folds": folds, "logs": rows}
     text = markdown(fit, rows, folds)
     if curve:
         document["learning_curve"], table = curve_points(curve)
@@ -682,7 +722,7 @@ def outputs(out, fit, results, curve):
             out / "learned_fit.md": text}
 
 
-def write_outputs(texts):
+def write_outputs(texts: Mapping[_PathLike, str]) -> None:
     """Writes {path: text}, all or none (write_all_or_nothing)."""
     try:
         write_all_or_nothing(texts)
@@ -690,7 +730,7 @@ def write_outputs(texts):
         raise UserError(f"--out '{e.filename}': cannot write ({e.strerror})") from None
 
 
-def check_out(out):
+def check_out(out: pathlib.Path) -> None:
     """Refuses, before any training, an --out that could not be written: its nearest existing
     folder must be a writable folder, and no folder in the place of an output."""
     existing = out
@@ -744,13 +784,15 @@ def main(argv: Sequence[str] | None = None) -> None:
         raise UserError("--out goes with one RUN; with several, each run's folder gets its own")
     size = SIZES[args.size]
     fixed = size | {"grid_mlp": [size["curve_mlp"]]}
-    runs = []  # (out, fit, models, curve): every run read and checked before any training
+    # (out, fit, models, curve): every run read and checked before any training
+    runs: list[tuple[pathlib.Path, dict[str, Any], list[_JobArguments], list[_JobArguments]]] = []
     for run in args.runs:
         out = pathlib.Path(args.out or run)
         check_out(out)
         fit, logs = read_run(run)
-        models = [(job, logs, size, ("mlp", "lstm")) for job in model_jobs(fit)]
-        curve = [] if args.learning_curve is None else [
+        models: list[_JobArguments] = [(job, logs, size, ("mlp", "lstm"))
+                                      for job in model_jobs(fit)]
+        curve: list[_JobArguments] = [] if args.learning_curve is None else [
             (job, logs, fixed, ("mlp",)) for job in curve_jobs(fit, args.learning_curve)]
         check_jobs(run, [job for job, *_ in models + curve], logs)
         runs.append((out, fit, models, curve))
@@ -765,7 +807,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     else:
         with multiprocessing.get_context("fork").Pool(processes) as pool:
             results = pool.map(run_job, jobs, chunksize=1)
-    texts = {}
+    texts: dict[_PathLike, str] = {}
     for out, fit, models, curve in runs:
         texts |= outputs(out, fit, results[:len(models)],
                          results[len(models):len(models) + len(curve)])
