@@ -4,16 +4,10 @@
 #include <atomic>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
 #include <map>
-#include <mutex>
 #include <optional>
-#include <set>
 #include <span>
-#include <sstream>
 
-#include "leglab/app/data_dir.h"
 #include "leglab/app/parallel.h"
 #include "leglab/app/progress.h"
 #include "leglab/app/yaml_config.h"
@@ -27,7 +21,6 @@
 namespace leglab {
 namespace {
 
-namespace fs = std::filesystem;
 using namespace log_fit;  // NOLINT: this file's part of the log fit
 
 std::vector<MotorGroup> GroupByMotor(std::vector<Log>& logs, const LogFitConfig& config) {
@@ -380,23 +373,25 @@ std::vector<ServoRung> LogFitRungs(std::span<const ModelRung> extra) {
   return rungs;
 }
 
-std::vector<ColumnDoc> LogCurveColumns(std::span<const ServoRung> rungs) {
-  // The rungs' column names live as long as the program: one per name ever asked for.
-  static std::mutex mutex;
-  static std::set<std::string> names;
+std::span<const ColumnDoc> LogCurveColumns() {
   static_assert(kServoLogColumnList.size() == kLogColumnCount);
-  std::vector<ColumnDoc> columns{
-      {kServoLogColumns.time_s, "s", "the tick's time from the log's start"},
-      {kServoLogColumns.request_deg, "deg", "the request in force (held between samples)"},
-      {kServoLogColumns.measured_deg, "deg", "the measured angle (interpolated between samples)"},
-      {kServoLogColumns.torque_enabled, "",
-       "1 when the servo drove the joint, 0 when it was limp (not scored)"},
-  };
-  const std::lock_guard<std::mutex> lock(mutex);
-  for (const ServoRung& rung : rungs) {
-    const std::string& name = *names.insert(rung.name + "_deg").first;
-    columns.push_back({name, "deg", rung.column});
-  }
+  static const std::vector<ServoRung> rungs = LogFitRungs();
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all(rungs.size());
+    for (size_t k = 0; k < rungs.size(); ++k) all[k] = rungs[k].name + "_deg";
+    return all;
+  }();
+  static const std::vector<ColumnDoc> columns = [] {
+    std::vector<ColumnDoc> all{
+        {kServoLogColumns.time_s, "s", "the tick's time from the log's start"},
+        {kServoLogColumns.request_deg, "deg", "the request in force (held between samples)"},
+        {kServoLogColumns.measured_deg, "deg", "the measured angle (interpolated between samples)"},
+        {kServoLogColumns.torque_enabled, "",
+         "1 when the servo drove the joint, 0 when it was limp (not scored)"},
+    };
+    for (size_t k = 0; k < rungs.size(); ++k) all.push_back({names[k], "deg", rungs[k].column});
+    return all;
+  }();
   return columns;
 }
 
@@ -536,7 +531,7 @@ constexpr ColumnDoc kLogFitFields[] = {
 std::span<const OutputDoc> LogFitOutputs() {
   static const std::vector<ServoRung> rungs = LogFitRungs();
   static const std::vector<ColumnDoc> columns = [] {
-    std::vector<ColumnDoc> all = LogCurveColumns(rungs);
+    std::vector<ColumnDoc> all(LogCurveColumns().begin(), LogCurveColumns().end());
     all.push_back({"<rung>_deg", "deg",
                    "a model rung added for that fit (leglab.servo.fit's rungs=, FitServoLogs' "
                    "extra): its prediction"});

@@ -54,7 +54,7 @@ TEST(ServoLadder, TheCompiledLadderIsTheFileAndEveryScoredRungIsImplemented) {
   const std::vector<ServoRung> rungs = leglab::LogFitRungs();
   ASSERT_EQ(rungs.size(), scored.size() + leglab::LadderModelRungs().size());
   for (size_t k = 0; k < scored.size(); ++k) EXPECT_EQ(rungs[k].name, scored[k]);
-  const std::vector<leglab::ColumnDoc> columns = leglab::LogCurveColumns(rungs);
+  const auto columns = leglab::LogCurveColumns();
   ASSERT_EQ(columns.size(), leglab::kLogColumnCount + rungs.size());
   for (size_t k = 0; k < rungs.size(); ++k) {
     EXPECT_EQ(columns[leglab::kLogColumnCount + k].name, rungs[k].name + "_deg");

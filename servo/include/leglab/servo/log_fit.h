@@ -159,9 +159,10 @@ std::string RunLogFit(const LogFitConfig& config, const OutputDir& out, int thre
 inline const std::vector<std::string> kLogFitOutputPrefixes{"log_fit.", "log_"};
 
 /// The columns of log_<motor>_<name>.csv (LogFitCurves), one row per tick of the log's tick:
-/// the log resampled (kLogColumnCount of them), then each rung's prediction, <rung>_deg, in
-/// LogFitRungs' order, described by the ladder's `column`.
-std::vector<ColumnDoc> LogCurveColumns(std::span<const ServoRung> rungs);
+/// the log resampled (kLogColumnCount of them), then each of the ladder's scored rungs'
+/// predictions (LogFitRungs()), <rung>_deg, described by the ladder's `column`; a rung added
+/// for a fit adds its own column after them.
+std::span<const ColumnDoc> LogCurveColumns();
 inline constexpr size_t kLogColumnCount = 4;
 
 /// What identify writes in its log mode (FitServoLogs' files; its config file aside).
