@@ -46,15 +46,22 @@ struct DescentStop {
 };
 
 struct DescentResult {
-  double error = 0.0;  ///< the plan's HorizonError on return
-  int iterations = 0;  ///< iterations that lowered it
+  double error = 0.0;    ///< the plan's HorizonError on return
+  int iterations = 0;    ///< iterations that lowered it
+  bool stalled = false;  ///< stopped because no step lowered the error, not by `stop`
 };
 
-/// Projected L-BFGS (Nocedal and Wright, algorithm 7.4, memory kMemory) on HorizonError: each
-/// iteration tries the quasi-Newton step, projected (ProjectRequests), halving it until the
-/// error falls (at most 40 times); with no memory yet, or when that fails, the steepest
-/// descent step that moves the steepest request by 1 deg, halved likewise. Only steps that
-/// lower the error are taken, so the plan returned is never worse than the one given.
+/// Projected L-BFGS (Nocedal and Wright, algorithm 7.4, memory kMemory) on HorizonError, its
+/// directions projected onto those the constraints allow (ProjectOntoCone): a request at the
+/// speed limit from the one before it, pressed beyond it, moves with that one, so that a ramp
+/// at the limit moves as a whole. Each iteration tries, until one lowers the error: the
+/// quasi-Newton step; the steepest descent, scaled so that no request moves more than 1 deg;
+/// the steepest descent in the increments R(i) - R(i-1) (IncrementDirection), scaled alike.
+/// Each is projected (ProjectRequests) and halved until the error falls (at most 40 times). An
+/// iteration that gains next to nothing starts the next from the direction after the one it
+/// took, and a stall is when none is left. Only steps that lower the error are taken, so the
+/// plan returned is never worse than the one given; a stall is a stationary point of the
+/// constrained problem in the increments (AStalledHorizonDescentIsStationaryInTheIncrements).
 template <class Stepper>
 class HorizonDescent {
  public:
@@ -68,6 +75,7 @@ class HorizonDescent {
          {&candidate_, &gradient_, &next_gradient_, &direction_, &held_, &full_gradient_}) {
       v->assign(decisions, 0.0);
     }
+    runs_.assign(decisions, Run{});
     steps_.assign(kRows * decisions, 0.0);
     changes_.assign(kRows * decisions, 0.0);
     angles_.assign(preview + 1, 0.0);
@@ -115,14 +123,19 @@ class HorizonDescent {
     const size_t p = desired.size();
     DescentResult result;
     result.error = HorizonError(stepper, pending, scratch_, plan, desired, {angles_.data(), p});
-    if (free == 0) return result;
+    if (free == 0) {
+      result.stalled = true;
+      return result;
+    }
     Gradient(stepper, pending, plan, desired, free, gradient_);
     // Tries plan + alpha direction, projected, halving alpha; true once the error falls.
     // A deadline passed mid-search abandons it, so that an iteration overruns the budget by at
     // most one evaluation.
+    bool late = false;
     const auto search = [&](double alpha) {
       for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
         if (tries > 0 && stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) {
+          late = true;
           return false;
         }
         for (size_t i = 0; i < free; ++i) candidate[i] = plan[i] + alpha * direction_[i];
@@ -138,23 +151,32 @@ class HorizonDescent {
       }
       return false;
     };
+    // The directions, each tried when the one before it fails, and first for the next iteration
+    // after the one before it gained next to nothing (cut short by the constraints).
+    Direction first = Direction::kQuasiNewton;
     for (int i = 0; i < stop.max_iterations; ++i) {
       if (stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) break;
       const double before = result.error;
-      double largest = 0.0;
-      for (size_t k = 0; k < free; ++k) largest = std::max(largest, std::abs(gradient_[k]));
-      if (largest == 0.0) break;
+      Direction used = Direction::kQuasiNewton;
       bool moved = false;
-      if (count_ > 0) {
-        QuasiNewtonDirection(free);
+      if (first == Direction::kQuasiNewton && count_ > 0 &&
+          QuasiNewtonDirection(bounds, plan, free)) {
         moved = search(1.0);
+      }
+      if (!moved && !late && first != Direction::kIncrements) {
+        count_ = 0;
+        used = Direction::kSteepest;
+        if (SteepestDirection(bounds, plan, free)) moved = search(1.0);
+      }
+      if (!moved && !late) {
+        count_ = 0;
+        used = Direction::kIncrements;
+        if (IncrementDirection(bounds, plan, free)) moved = search(1.0);
       }
       if (!moved) {
-        count_ = 0;
-        for (size_t k = 0; k < free; ++k) direction_[k] = -gradient_[k] / largest;
-        moved = search(1.0);
+        result.stalled = !late;
+        break;
       }
-      if (!moved) break;
       ++result.iterations;
       angles_.swap(candidate_angles_);  // the accepted candidate's angles, for its gradient
       Gradient(stepper, pending, candidate, desired, free, next_gradient_);
@@ -178,12 +200,23 @@ class HorizonDescent {
           first_ = (first_ + 1) % kRows;
         }
       }
-      if (before - result.error <= 1e-12 * before) break;
+      // A step that gains next to nothing was cut short by the constraints: the next iteration
+      // starts from the direction after it. The increments' gaining so little is a stall.
+      if (before - result.error > 1e-12 * before) {
+        first = Direction::kQuasiNewton;
+      } else if (used == Direction::kIncrements) {
+        result.stalled = true;
+        break;
+      } else {
+        first = used == Direction::kQuasiNewton ? Direction::kSteepest : Direction::kIncrements;
+      }
     }
     return result;
   }
 
  private:
+  enum class Direction { kQuasiNewton, kSteepest, kIncrements };
+
   // d HorizonError / d R for the first `free` requests of `plan` into `gradient`, from the
   // angles its HorizonError recorded in angles_.
   void Gradient(const Stepper& stepper, const State& pending, std::span<const double> plan,
@@ -194,16 +227,101 @@ class HorizonDescent {
     std::copy(full.begin(), full.begin() + static_cast<long>(free), gradient.begin());
   }
 
+  // x replaced by a move the constraints allow at `plan` (the tangent cone's): a request at the
+  // speed limit from the one before it may not move further beyond it (x(i) - x(i-1) >= 0 at
+  // -max_step_deg, <= 0 at +max_step_deg; x(-1) = 0 for R(t-1)), nor a request at a limit
+  // beyond it. The constraints form a path, and runs of requests that would break one between
+  // them are pooled left to right, as the pool-adjacent-violators algorithm pools them, each
+  // run moving by its mean, or not at all if it would break one to R(t-1) or a limit. Where
+  // the constraints along a run all point one way this is the cone's projection; otherwise it
+  // may pool more than the projection would (IncrementDirection then finds the move).
+  void ProjectOntoCone(const RequestBounds& b, std::span<const double> plan, double* x,
+                       size_t free) {
+    const double tie = b.max_step_deg * (1.0 - 1e-9);
+    // Whether a run starting at `first`, moving by `value`, breaks the constraint to the one
+    // before it, moving by `before`.
+    const auto breaks = [&](size_t first, double before, double value) {
+      const double step = plan[first] - (first == 0 ? b.previous_deg : plan[first - 1]);
+      return (step <= -tie && value < before) || (step >= tie && value > before);
+    };
+    size_t runs = 0;
+    for (size_t i = 0; i < free; ++i) {
+      runs_[runs] = {.first = i,
+                     .size = 1,
+                     .sum = x[i],
+                     .at_max = plan[i] >= b.max_deg,
+                     .at_min = plan[i] <= b.min_deg,
+                     .held = false};
+      ++runs;
+      while (true) {
+        Run& run = runs_[runs - 1];
+        if (runs == 1) {
+          if (run.held || !breaks(run.first, 0.0, run.Value())) break;
+          run.held = true;  // by R(t-1)
+          continue;
+        }
+        Run& before = runs_[runs - 2];
+        if (!breaks(run.first, before.Value(), run.Value())) break;
+        before.size += run.size;
+        before.sum += run.sum;
+        before.at_max = before.at_max || run.at_max;
+        before.at_min = before.at_min || run.at_min;
+        before.held = before.held || run.held;
+        --runs;
+      }
+    }
+    for (size_t k = 0; k < runs; ++k) {
+      std::fill(x + runs_[k].first, x + runs_[k].first + runs_[k].size, runs_[k].Value());
+    }
+  }
+
+  // direction_ = the steepest descent projected onto the cone, scaled so that the requests
+  // move by at most 1 deg. False if it is 0 (the plan is stationary).
+  bool SteepestDirection(const RequestBounds& b, std::span<const double> plan, size_t free) {
+    for (size_t k = 0; k < free; ++k) direction_[k] = -gradient_[k];
+    ProjectOntoCone(b, plan, direction_.data(), free);
+    double largest = 0.0;
+    for (size_t k = 0; k < free; ++k) largest = std::max(largest, std::abs(direction_[k]));
+    if (!(largest > 0.0)) return false;
+    for (size_t k = 0; k < free; ++k) direction_[k] /= largest;
+    return true;
+  }
+
+  // direction_ = the steepest descent in the plan's increments R(i) - R(i-1), those at the
+  // speed limit that it would push beyond it held (moving R(i..) together: a move the cone's
+  // projection may miss where its runs pool more than they must), as a change of the requests
+  // scaled so that they move by at most 1 deg. False if no increment may move.
+  bool IncrementDirection(const RequestBounds& b, std::span<const double> plan, size_t free) {
+    const double tie = b.max_step_deg * (1.0 - 1e-9);
+    double suffix = 0.0;  // d HorizonError / d (R(i) - R(i-1)): the gradient's sum from i on
+    for (size_t i = free; i-- > 0;) {
+      suffix += gradient_[i];
+      const double step = plan[i] - (i == 0 ? b.previous_deg : plan[i - 1]);
+      const bool held = (step <= -tie && suffix > 0.0) || (step >= tie && suffix < 0.0);
+      direction_[i] = held ? 0.0 : -suffix;
+    }
+    double sum = 0.0;
+    double largest = 0.0;
+    for (size_t i = 0; i < free; ++i) {
+      sum += direction_[i];
+      direction_[i] = sum;
+      largest = std::max(largest, std::abs(sum));
+    }
+    if (!(largest > 0.0)) return false;
+    for (size_t i = 0; i < free; ++i) direction_[i] /= largest;
+    return true;
+  }
+
   // The memory's pair k, oldest first.
   const double* Step(size_t k) const { return &steps_[((first_ + k) % kRows) * decisions_]; }
   const double* Change(size_t k) const { return &changes_[((first_ + k) % kRows) * decisions_]; }
 
-  // direction_ = -H g over the first `free` requests (the two-loop recursion); H0 = (s.y / y.y) I
-  // from the newest pair.
-  void QuasiNewtonDirection(size_t free) {
-    const auto dot = [free](const double* a, const double* b) {
+  // direction_ = -H g over the first `free` requests (the two-loop recursion, H0 = (s.y / y.y)
+  // I from the newest pair), projected onto the cone. False unless it descends.
+  bool QuasiNewtonDirection(const RequestBounds& b, std::span<const double> plan, size_t free) {
+    const auto dot = [free](const double* u, const double* v) {
       double sum = 0.0;
-      for (size_t i = 0; i < free; ++i) sum += a[i] * b[i];
+      for (size_t i = 0; i < free; ++i) sum += u[i] * v[i];
       return sum;
     };
     double* q = direction_.data();
@@ -224,10 +342,28 @@ class HorizonDescent {
       for (size_t i = 0; i < free; ++i) q[i] += (alpha_[k] - beta) * s[i];
     }
     for (size_t i = 0; i < free; ++i) q[i] = -q[i];
+    ProjectOntoCone(b, plan, q, free);
+    return dot(q, gradient_.data()) < 0.0;
   }
 
   size_t decisions_ = 0;
   std::vector<double> candidate_, gradient_, next_gradient_, direction_, held_, full_gradient_;
+  // ProjectOntoCone's runs of requests that move together.
+  struct Run {
+    size_t first = 0;
+    size_t size = 0;
+    double sum = 0.0;     // of the move asked of its requests
+    bool at_max = false;  // a request of it is at max_deg
+    bool at_min = false;
+    bool held = false;  // by R(t-1)
+    // Its move: the mean asked, or 0 if R(t-1) holds it or it would push a request beyond a
+    // limit.
+    double Value() const {
+      const double mean = sum / static_cast<double>(size);
+      return held || (at_max && mean > 0.0) || (at_min && mean < 0.0) ? 0.0 : mean;
+    }
+  };
+  std::vector<Run> runs_;
   std::vector<double> angles_, candidate_angles_;  // M(t..t+P) under the plan, the candidate
   // The memory: kRows rows of decisions_ values, a ring of count_ pairs from row first_, and
   // one row spare for a new pair that may not be kept.

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "horizon_descent.h"   // the receding horizon's optimiser (internal)
+#include "servo_model_tick.h"  // the extended model's coefficients (internal)
 #include "servo_plan_steps.h"  // the receding horizon's error and gradient (internal)
 
 // Every allocation of this test program counted, to show that a planner's ticks make none.
@@ -431,6 +432,68 @@ TEST(ServoPlanner, HorizonDescentOnlyLowersTheErrorAndHoldsItsTail) {
     servo_plan::ProjectRequests(bounds, given);
     EXPECT_EQ(plan, given) << trial;
   }
+}
+
+// A descent that stalls is at a stationary point of the constrained problem: no feasible change
+// of one increment R(i) - R(i-1) (which moves R(i..) together, as a ramp at the speed limit must)
+// lowers the error beyond second order, by one-sided differences of the error itself. The model
+// is made smooth (no friction band; steps small enough that the duty never saturates,
+// asserted), and the desired angles step faster than the request's speed limit, so that the
+// plan holds ramps at the limit whose requests pull different ways: where a descent in the
+// requests alone stalls.
+TEST(ServoPlanner, AStalledHorizonDescentIsStationaryInTheIncrements) {
+  ServoModelParams params = Extended();
+  params.friction_duty = 0.0;
+  params.friction_load_ratio = 0.0;
+  const servo_plan::ExtendedStepper stepper{params, kDrive, kTickS};
+  const servo_tick::Coefficients c = servo_tick::CoefficientsOf(params, kDrive);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jump(-12.0, 12.0);
+  constexpr size_t kPreview = 60;
+  const size_t decisions = kPreview - static_cast<size_t>(params.lag_ticks);
+  servo_plan::HorizonDescent<servo_plan::ExtendedStepper> descent;
+  ServoModelState pending = stepper.Rest(0.0);
+  descent.Reserve(decisions, kPreview, pending);
+  const double step = kLimits.max_speed_deg_s * kTickS;
+  const servo_plan::RequestBounds bounds{kLimits.min_deg, kLimits.max_deg, step, 0.0};
+  int ramps = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> desired(kPreview + 1, 0.0);
+    double level = 0.0;
+    for (size_t j = 5; j < desired.size(); ++j) {
+      if (j % 15 == 5) level += jump(random);
+      desired[j] = level;
+    }
+    std::vector<double> plan(decisions, 0.0);
+    descent.ForgetMemory();
+    servo_plan::DescentResult result;
+    for (int round = 0; round < 50 && !result.stalled; ++round) {
+      result = descent.Descend(stepper, pending, desired, bounds, plan, decisions,
+                               {.max_iterations = 1000});
+    }
+    ASSERT_TRUE(result.stalled) << trial;
+    ServoModelState scratch = pending;
+    std::vector<double> angles(desired.size());
+    servo_plan::HorizonError(stepper, pending, scratch, plan, desired, angles);
+    for (size_t i = 0; i < plan.size(); ++i) {  // R(i)'s duty is against M(i + l)
+      ASSERT_LT(std::abs(c.duty_per_deg * (plan[i] - angles[i + 2])), 1.0) << trial << " " << i;
+    }
+    const double e = 1e-4;
+    for (size_t i = 0; i < plan.size(); ++i) {
+      const double increment = plan[i] - (i == 0 ? bounds.previous_deg : plan[i - 1]);
+      if (std::abs(increment) > step - 1e-6) ++ramps;
+      for (const double sign : {-1.0, 1.0}) {
+        if (std::abs(increment + sign * e) > step) continue;  // infeasible: the limit holds it
+        std::vector<double> moved = plan;
+        for (size_t k = i; k < moved.size(); ++k) moved[k] += sign * e;
+        const double changed =
+            servo_plan::HorizonError(stepper, pending, scratch, moved, desired, {});
+        EXPECT_GT(changed, result.error - 1e-6)
+            << trial << " " << i << " " << sign << ": slope " << (changed - result.error) / e;
+      }
+    }
+  }
+  EXPECT_GT(ramps, 20);  // the speed limit binds
 }
 
 TEST(ServoPlanner, ARequestBeforeAnyResetStartsAtItsWindow) {
