@@ -92,10 +92,13 @@ class Planner final : public ServoPlanner::Impl {
       // R(t..t+preview+hold-l-1): the last acts on M(t+preview+hold).
       const auto decisions = static_cast<size_t>(preview_ + hold - params.lag_ticks);
       plan_.assign(decisions, 0.0);
+      challenger_.assign(decisions, 0.0);
       model_based_.assign(decisions, 0.0);
       model_based_state_ = anchored_;
-      descent_.Reserve(decisions, static_cast<size_t>(preview_) + static_cast<size_t>(hold),
-                       anchored_);
+      for (servo_plan::HorizonDescent<Stepper>* descent : {&descent_, &challenger_descent_}) {
+        descent->Reserve(decisions, static_cast<size_t>(preview_) + static_cast<size_t>(hold),
+                         anchored_);
+      }
       // The requests that act on the preview's last handover_ ticks, and on the held ones, are
       // model_based's.
       free_ = decisions - std::min(decisions, static_cast<size_t>(handover_ + hold));
@@ -191,11 +194,17 @@ class Planner final : public ServoPlanner::Impl {
   }
 
   // optimal's plan at tick 0: model_based's.
-  void FirstPlan() { ModelBasedPlan(plan_); }
+  void FirstPlan() {
+    ModelBasedPlan(plan_);
+    restart_challenger_ = true;
+  }
 
-  // optimal's plan one tick on: R(t+1..) to the front, its last request held (the next
-  // Request replaces the plan's end with model_based's).
-  void ShiftPlan() { std::copy(plan_.begin() + 1, plan_.end(), plan_.begin()); }
+  // optimal's plans one tick on: R(t+1..) to the front, the last request held (the next
+  // Request replaces the plans' ends with model_based's).
+  void ShiftPlan() {
+    std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
+    std::copy(challenger_.begin() + 1, challenger_.end(), challenger_.begin());
+  }
 
   // ServoPlannerOptions::handover_ticks' default: two horizons and the model's settling, three
   // velocity time constants (5 % left) for the extended model, the averaging window a (all of
@@ -280,36 +289,66 @@ class Planner final : public ServoPlanner::Impl {
     }
   }
 
-  // kOptimal: HorizonDescent from the better, by the horizon's error, of model_based's plan and
-  // the last tick's shifted by one (its end model_based's), with the last tick's curvature
-  // pairs shifted likewise; its first request sent. Never worse
-  // than model_based on the horizon: that is where it starts, and it only descends.
+  // kOptimal: the incumbent descends from the better, by the horizon's error, of model_based's
+  // plan and its own last plan shifted by one tick (its end model_based's, its curvature pairs
+  // shifted likewise), for the tick's iterations or budget. Once it stalls, the challenger
+  // spends what is left: a descent from model_based's plan afresh, carried across ticks the
+  // same way until it stalls; a challenger below the incumbent becomes it. The incumbent's
+  // first request is sent. A warm start can settle in a worse basin than the one model_based's
+  // plan descends into, and only a fresh start finds the other. Never worse than model_based
+  // on the horizon: both start there or lower, and only descend.
   double OptimalRequest() {
     const auto start = std::chrono::steady_clock::now();
     ModelBasedPlan(model_based_);
     if (ticks_ == 0) {
       std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
       descent_.ForgetMemory();
+      restart_challenger_ = true;
     } else {
-      const auto free = static_cast<long>(free_);
-      std::copy(plan_.begin() + 1, plan_.begin() + free + 1, plan_.begin());
-      std::copy(model_based_.begin() + free, model_based_.end(), plan_.begin() + free);
-      servo_plan::ProjectRequests(Bounds(), plan_);
-      // The curvature learnt last tick carries over with the plan it was learnt on.
+      ShiftOnto(plan_, descent_);
       if (Error(model_based_) <= Error(plan_)) {
-        plan_.swap(model_based_);
+        std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
         descent_.ForgetMemory();
-      } else {
-        descent_.ShiftMemory(free_);
       }
     }
-    servo_plan::DescentStop stop{.max_iterations = options_.optimal_iterations_per_tick};
+    // The incumbent spends the tick; once it stalls, the challenger spends what is left.
+    const int cap = options_.optimal_iterations_per_tick;
+    servo_plan::DescentStop stop{.max_iterations = cap};
     if (budget_s_ > 0.0) {
       stop.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                   std::chrono::duration<double>(budget_s_));
     }
-    descent_.Descend(stepper(), anchored_, Desired(), Bounds(), plan_, free_, stop);
+    const servo_plan::DescentResult incumbent =
+        descent_.Descend(stepper(), anchored_, Desired(), Bounds(), plan_, free_, stop);
+    if (ticks_ == 0) return plan_[0];  // the challenger would start where the incumbent did
+    if (restart_challenger_) {
+      std::copy(model_based_.begin(), model_based_.end(), challenger_.begin());
+      challenger_descent_.ForgetMemory();
+      restart_challenger_ = false;
+    } else {
+      ShiftOnto(challenger_, challenger_descent_);
+    }
+    stop.max_iterations = cap - incumbent.iterations;
+    if (!incumbent.stalled || stop.max_iterations == 0) return plan_[0];
+    const servo_plan::DescentResult challenger = challenger_descent_.Descend(
+        stepper(), anchored_, Desired(), Bounds(), challenger_, free_, stop);
+    restart_challenger_ = challenger.stalled;
+    if (challenger.error < incumbent.error) {
+      plan_.swap(challenger_);
+      std::swap(descent_, challenger_descent_);
+      restart_challenger_ = true;
+    }
     return plan_[0];
+  }
+
+  // `plan` one tick on: its free requests moved one earlier, the rest model_based's for this
+  // tick, projected; the descent's curvature pairs shifted with it.
+  void ShiftOnto(std::vector<double>& plan, servo_plan::HorizonDescent<Stepper>& descent) {
+    const auto free = static_cast<long>(free_);
+    std::copy(plan.begin() + 1, plan.begin() + free + 1, plan.begin());
+    std::copy(model_based_.begin() + free, model_based_.end(), plan.begin() + free);
+    servo_plan::ProjectRequests(Bounds(), plan);
+    descent.ShiftMemory(free_);
   }
 
   servo_plan::RequestBounds Bounds() const {
@@ -346,6 +385,10 @@ class Planner final : public ServoPlanner::Impl {
   std::vector<double> model_based_;
   State model_based_state_;
   servo_plan::HorizonDescent<Stepper> descent_;
+  // The challenger's plan and optimiser, and whether it starts afresh next tick.
+  std::vector<double> challenger_;
+  servo_plan::HorizonDescent<Stepper> challenger_descent_;
+  bool restart_challenger_ = true;
   int handover_ = 0;
   size_t free_ = 0;  // the plan's requests that descend; the rest are model_based's
   double budget_s_ = 0.0;

@@ -28,8 +28,9 @@ struct ServoPlannerOptions {
   /// the last two measurements). Closer ones are taken as the model's own error and ignored,
   /// so that the requests do not chase noise. > 0; infinity: never.
   double reanchor_deg = 2.0;
-  /// kOptimal: the most projected L-BFGS iterations a tick (HorizonDescent: each one gradient
-  /// by the adjoint, O(preview + hold_ticks), and a backtracking line search). 1 to 1000.
+  /// kOptimal: the most projected L-BFGS iterations a tick, both descents together
+  /// (HorizonDescent: each one gradient by the adjoint, O(preview + hold_ticks), and a
+  /// backtracking line search). 1 to 1000.
   int optimal_iterations_per_tick = kOptimalMaxIterations;
   /// kOptimal: the wall-clock time (s) a Request may spend iterating, from its start: it stops
   /// at the first iteration that would start later, or at the iteration cap, whichever comes
@@ -116,7 +117,9 @@ void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
 /// kOptimal is a receding horizon: each tick it lowers the squared error over the preview (and
 /// hold_ticks after it) from the (re-anchored) model state by projected L-BFGS, starting from
 /// the better of model_based's plan for the horizon and the last tick's shifted by one, and
-/// sends the first request. The requests acting on the preview's last handover_ticks ticks and
+/// sends the first request. Once that descent stalls, what is left of the tick goes to a
+/// second one from model_based's plan afresh, carried across ticks, which replaces the first
+/// when it is lower: a warm start can settle where a fresh one would not. The requests acting on the preview's last handover_ticks ticks and
 /// on the held ones stay model_based's, so that the plan hands the motion back to model_based
 /// within what it can see rather than spending its end greedily. It starts from model_based
 /// and only descends: its plan's error over the horizon is never above model_based's.
