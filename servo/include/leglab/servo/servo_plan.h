@@ -45,10 +45,14 @@ inline constexpr int kOptimalMaxIterations = 200;
 /// The batch kOptimal plan of a motion longer than kOptimalBlockTicks + kOptimalOverlapTicks
 /// ticks keeps kOptimalBlockTicks requests of each problem it solves, each solved with the
 /// next kOptimalOverlapTicks ticks in at most kOptimalBlockIterations (PlanMethod::kOptimal),
-/// so that its cost per tick does not grow with the motion's length.
+/// so that its cost per tick does not grow with the motion's length: the iterations a kept
+/// tick gets are a one-block motion's (each iteration's cost grows with the ticks it spans).
 inline constexpr size_t kOptimalBlockTicks = 1000;
 inline constexpr size_t kOptimalOverlapTicks = 250;
-inline constexpr int kOptimalBlockIterations = 60;
+inline constexpr int kOptimalBlockIterations =
+    kOptimalMaxIterations * static_cast<int>(kOptimalBlockTicks) /
+    static_cast<int>(kOptimalBlockTicks + kOptimalOverlapTicks);
+static_assert(kOptimalBlockIterations == 160);
 /// A desired angle missed by more than this (deg) under the best request counts as beyond
 /// the servo: the bisection itself is exact to about 1e-10 deg.
 inline constexpr double kBeyondServoToleranceDeg = 1e-6;
