@@ -158,9 +158,10 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--preview-ticks", type=_ranged(0, 100000, integer=True),
                      help="with --online: desired angles ahead (default: the method's own)")
     run.add_argument("--budget-ms", type=_ranged(0, 10000, " ms"),
-                     help="with --online --method optimal: the time a tick's planning may take "
-                          "(default: half the model's tick; on an emulator: none, the iteration "
-                          "cap alone, so that virtual time gives the same requests every run)")
+                     help="with --online --method optimal: the time a tick's planning may take, "
+                          "each servo's (default: half the model's tick shared among the servos; "
+                          "on an emulator: none, the iteration cap alone, so that virtual time "
+                          "gives the same requests every run)")
     run.add_argument("--motor", default="", help="the model file's motor (if it has several)")
     _drive(run)
     run.add_argument("--min-deg", type=_ranged(-180, 180, " deg"),

@@ -228,11 +228,11 @@ def _supply_volts(bus: Bus, servo_id: int, ended: Optional[BaseException]) -> Op
     return bus.read(servo_id, "present_input_voltage")
 
 
-def _load_joint(args: argparse.Namespace, fit: Any, joint: joints.Joint
+def _load_joint(args: argparse.Namespace, fit: Any, joint: joints.Joint, servos: int
                 ) -> tuple[Any, npt.NDArray[np.float64]]:
     """(model, desired on its tick) of one joint, the desired motion inside the joint's
-    limits and its drive and the planner's options valid; SessionError naming the file, servo
-    or flag, before anything opens the port."""
+    limits and its drive and the planner's options valid (its budget shared among the session's
+    `servos`); SessionError naming the file, servo or flag, before anything opens the port."""
     from .. import servo
 
     files.check_input_file(joint.desired, f"servo {joint.id}: --desired")
@@ -252,18 +252,20 @@ def _load_joint(args: argparse.Namespace, fit: Any, joint: joints.Joint
         if args.online and args.method != "direct":  # its options checked as it is built
             servo.ServoPlanner(model, args.method, preview_ticks=args.preview_ticks,
                                min_deg=joint.min_deg, max_deg=joint.max_deg,
-                               budget_s=budget_s(args), **drive)
+                               budget_s=budget_s(args, model.tick_s, servos), **drive)
     except ValueError as e:
         raise session.SessionError(f"servo {joint.id}: {first_line(e)}") from None
     return model, desired
 
 
-def budget_s(args: argparse.Namespace) -> Optional[float]:
-    """The online planner's budget_s: --budget-ms; else none on an emulator's virtual time
-    (the iteration cap alone: the same requests every run), half the model's tick on a port."""
+def budget_s(args: argparse.Namespace, tick_s: float, servos: int) -> float:
+    """Each servo's online planner's budget_s: --budget-ms; else none on an emulator's virtual
+    time (the iteration cap alone: the same requests every run), and on a port half the model's
+    tick shared among the servos (optimal spends its budget, and the planners run one after
+    another in the tick)."""
     if args.budget_ms is not None:
         return float(args.budget_ms) / 1000.0
-    return 0.0 if args.port.startswith("emulator:") else None
+    return 0.0 if args.port.startswith("emulator:") else tick_s / 2.0 / servos
 
 
 def _check_inside(joint: joints.Joint, desired: npt.NDArray[np.float64], low: float, high: float,
@@ -298,7 +300,7 @@ def _load_run_inputs(args: argparse.Namespace
         fit = servo.LogFit.load(args.model)
     except (ValueError, OSError) as e:
         raise session.SessionError(f"--model: {first_line(e)}") from None
-    loaded = {j.id: _load_joint(args, fit, j) for j in js}
+    loaded = {j.id: _load_joint(args, fit, j, len(js)) for j in js}
     first = loaded[js[0].id]
     for j in js[1:]:
         model, desired = loaded[j.id]
@@ -325,7 +327,8 @@ def _plan_joints(args: argparse.Namespace, bus: Bus, js: Sequence[joints.Joint],
         drive = dict(kp=j.kp, mass_kg=j.mass_kg, length_m=j.length_m)
         try:
             policy = running.Policy(model, desired, args.method, args.online, args.preview_ticks,
-                                    drive, (low, high), args.lead_ticks, budget_s(args))
+                                    drive, (low, high), args.lead_ticks,
+                                    budget_s(args, model.tick_s, len(js)))
             predicted = running.predicted_mae_deg(model, policy, drive)
         except ValueError as e:
             raise session.SessionError(f"servo {j.id}: {first_line(e)}") from None
