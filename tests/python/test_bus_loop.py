@@ -159,3 +159,22 @@ def test_the_example_drives_the_emulated_servo_closer_with_the_model(tmp_path):
     measured = {line.split()[0]: float(line.split()[1]) for line in done.stdout.splitlines()
                 if line.endswith("ticks late)")}
     assert measured["model_based"] < 0.5 * measured["direct"], done.stdout
+
+
+def test_online_optimals_default_budget_on_a_port_is_half_the_tick_shared_among_the_servos():
+    """Online optimal spends its budget, and a session's planners run one after another in the
+    tick: on a port each of n servos gets half the tick over n; --budget-ms is each one's; an
+    emulator's virtual time none (the iteration cap alone)."""
+    from leglab.bus import verbs
+    parser = cli.parser()
+    port = parser.parse_args(["run", "--port", "/dev/ttyUSB0", "--id", "1", "--model", "m.json",
+                              "--desired", "d.csv", "--method", "optimal", "--online", "--kp",
+                              "400", "--mass-kg", "0.49", "--length-m", "0.1", "--out", "o"])
+    tick_s = 0.0053
+    assert verbs.budget_s(port, tick_s, 1) == tick_s / 2
+    assert verbs.budget_s(port, tick_s, 6) == tick_s / 12
+    port.budget_ms = 1.5
+    assert verbs.budget_s(port, tick_s, 6) == 0.0015
+    port.budget_ms = None
+    port.port = "emulator:xl330-m288"
+    assert verbs.budget_s(port, tick_s, 6) == 0.0
