@@ -119,10 +119,11 @@ void VisitKeys(KeyVisitor& visitor, ServoPlannerOptions& options);
 /// the better of model_based's plan for the horizon and the last tick's shifted by one, and
 /// sends the first request. Once that descent stalls, what is left of the tick goes to a
 /// second one from model_based's plan afresh, carried across ticks, which replaces the first
-/// when it is lower: a warm start can settle where a fresh one would not. The requests acting on the preview's last handover_ticks ticks and
-/// on the held ones stay model_based's, so that the plan hands the motion back to model_based
-/// within what it can see rather than spending its end greedily. It starts from model_based
-/// and only descends: its plan's error over the horizon is never above model_based's.
+/// when it is lower: a warm start can settle where a fresh one would not. The requests acting on
+/// the preview's last handover_ticks ticks and on the held ones stay model_based's, so that the
+/// plan hands the motion back to model_based within what it can see rather than spending its end
+/// greedily. It starts from model_based and only descends: its plan's error over the horizon is
+/// never above model_based's.
 ///
 /// No heap allocation after construction (Reset, Request and Hold). Not thread-safe.
 class ServoPlanner {
