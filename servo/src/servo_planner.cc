@@ -329,7 +329,10 @@ class Planner final : public ServoPlanner::Impl {
       ShiftOnto(challenger_, challenger_descent_);
     }
     stop.max_iterations = cap - incumbent.iterations;
-    if (!incumbent.stalled || stop.max_iterations == 0) return plan_[0];
+    if (!incumbent.stalled || stop.max_iterations == 0 ||
+        (stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline)) {
+      return plan_[0];
+    }
     const servo_plan::DescentResult challenger = challenger_descent_.Descend(
         stepper(), anchored_, Desired(), Bounds(), challenger_, free_, stop);
     restart_challenger_ = challenger.stalled;
