@@ -484,10 +484,12 @@ the plan predicts, returns plan()'s requests bit for bit. A measured angle more 
 reanchor_deg off the model's prediction moves the planner's model there (inf: never; see
 docs/real-servos.md, "Online"). optimal is a receding horizon of preview_ticks ticks (and
 hold_ticks after them with the last desired angle held), from model_based's plan by projected
-L-BFGS; once that descent stalls, the rest of the tick goes to a second one from model_based's
-plan afresh, which takes over when lower: at most optimal_iterations_per_tick iterations in
-all, and none that starts budget_s seconds after request() was called (None: half the model's
-tick, which it spends; 0: the cap alone, the same requests on every machine). The requests acting on the preview's last handover_ticks ticks stay
+L-BFGS; once that descent stalls, the rest of the tick goes to a second one, started from
+model_based's plan and carried across ticks until it stalls, which takes over when lower: at
+most optimal_iterations_per_tick iterations in all, and none that starts budget_s seconds after
+request() was called (None: half the model's tick, which it spends on most ticks, so that
+planners sharing a tick need a share each; 0: the cap alone, the same requests on every
+machine). The requests acting on the preview's last handover_ticks ticks stay
 model_based's (None: two horizons and the model's settling), so that the planner never spends
 a request whose consequences it cannot see. Requests stay within [min_deg, max_deg] and change
 at most at the model's top speed.

@@ -60,8 +60,9 @@ struct DescentResult {
 /// Each is projected (ProjectRequests) and halved until the error falls (at most 40 times). An
 /// iteration that gains next to nothing starts the next from the direction after the one it
 /// took, and a stall is when none is left. Only steps that lower the error are taken, so the
-/// plan returned is never worse than the one given; a stall is a stationary point of the
-/// constrained problem in the increments (AStalledHorizonDescentIsStationaryInTheIncrements).
+/// plan returned is never worse than the one given. Where no position limit binds and no held
+/// request is clamped by the free ones, a stall is a stationary point of the constrained
+/// problem in the increments (AStalledHorizonDescentIsStationaryInTheIncrements).
 template <class Stepper>
 class HorizonDescent {
  public:
@@ -130,11 +131,11 @@ class HorizonDescent {
     Gradient(stepper, pending, plan, desired, free, gradient_);
     // Tries plan + alpha direction, projected, halving alpha; true once the error falls.
     // A deadline passed mid-search abandons it, so that an iteration overruns the budget by at
-    // most one evaluation.
+    // most one evaluation and the gradient of the step it takes.
     bool late = false;
     const auto search = [&](double alpha) {
       for (int tries = 0; tries < 40; ++tries, alpha /= 2) {
-        if (tries > 0 && stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) {
+        if (stop.deadline && std::chrono::steady_clock::now() >= *stop.deadline) {
           late = true;
           return false;
         }

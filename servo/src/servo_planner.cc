@@ -193,17 +193,20 @@ class Planner final : public ServoPlanner::Impl {
     if (ticks_ == 0) last_desired_ = desired_[0];
   }
 
-  // optimal's plan at tick 0: model_based's.
+  // optimal's plan at tick 0: model_based's, nothing learnt carried from before a Reset.
   void FirstPlan() {
     ModelBasedPlan(plan_);
+    descent_.ForgetMemory();
     restart_challenger_ = true;
   }
 
   // optimal's plans one tick on: R(t+1..) to the front, the last request held (the next
-  // Request replaces the plans' ends with model_based's).
+  // Request replaces the plans' ends with model_based's), their curvature pairs likewise.
   void ShiftPlan() {
     std::copy(plan_.begin() + 1, plan_.end(), plan_.begin());
     std::copy(challenger_.begin() + 1, challenger_.end(), challenger_.begin());
+    descent_.ShiftMemory(free_);
+    challenger_descent_.ShiftMemory(free_);
   }
 
   // ServoPlannerOptions::handover_ticks' default: two horizons and the model's settling, three
@@ -300,17 +303,16 @@ class Planner final : public ServoPlanner::Impl {
   double OptimalRequest() {
     const auto start = std::chrono::steady_clock::now();
     ModelBasedPlan(model_based_);
-    if (ticks_ == 0) {
+    bool fresh = ticks_ == 0;  // the incumbent starts from model_based's plan, memory forgotten
+    if (!fresh) {
+      ShiftOnto(plan_, descent_);
+      fresh = Error(model_based_) <= Error(plan_);
+    }
+    if (fresh) {
       std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
       descent_.ForgetMemory();
-      restart_challenger_ = true;
-    } else {
-      ShiftOnto(plan_, descent_);
-      if (Error(model_based_) <= Error(plan_)) {
-        std::copy(model_based_.begin(), model_based_.end(), plan_.begin());
-        descent_.ForgetMemory();
-      }
     }
+    if (ticks_ == 0) restart_challenger_ = true;
     // The incumbent spends the tick; once it stalls, the challenger spends what is left.
     const int cap = options_.optimal_iterations_per_tick;
     servo_plan::DescentStop stop{.max_iterations = cap};
@@ -320,7 +322,8 @@ class Planner final : public ServoPlanner::Impl {
     }
     const servo_plan::DescentResult incumbent =
         descent_.Descend(stepper(), anchored_, Desired(), Bounds(), plan_, free_, stop);
-    if (ticks_ == 0) return plan_[0];  // the challenger would start where the incumbent did
+    // A challenger starting afresh would repeat the incumbent's descent step for step.
+    if (free_ == 0 || (fresh && restart_challenger_)) return plan_[0];
     if (restart_challenger_) {
       std::copy(model_based_.begin(), model_based_.end(), challenger_.begin());
       challenger_descent_.ForgetMemory();
@@ -344,12 +347,13 @@ class Planner final : public ServoPlanner::Impl {
     return plan_[0];
   }
 
-  // `plan` one tick on: its free requests moved one earlier, the rest model_based's for this
-  // tick, projected; the descent's curvature pairs shifted with it.
+  // `plan` one tick on: its free requests moved one earlier, the rest (and the last, if every
+  // request is free) model_based's for this tick, projected; the descent's curvature pairs
+  // shifted with it.
   void ShiftOnto(std::vector<double>& plan, servo_plan::HorizonDescent<Stepper>& descent) {
-    const auto free = static_cast<long>(free_);
-    std::copy(plan.begin() + 1, plan.begin() + free + 1, plan.begin());
-    std::copy(model_based_.begin() + free, model_based_.end(), plan.begin() + free);
+    const auto kept = static_cast<long>(std::min(free_, plan.size() - 1));
+    std::copy(plan.begin() + 1, plan.begin() + kept + 1, plan.begin());
+    std::copy(model_based_.begin() + kept, model_based_.end(), plan.begin() + kept);
     servo_plan::ProjectRequests(Bounds(), plan);
     descent.ShiftMemory(free_);
   }

@@ -376,6 +376,41 @@ TEST(ServoPlanner, OptimalWithNoRoomOrNoTimeToDescendIsModelBased) {
   EXPECT_EQ(OnlineRequests(no_room, d, batch.predicted_deg, 9), batch.request_deg);
 }
 
+// With no hand-over and no hold every request of the plan descends: shifting it one tick on
+// takes its last request from model_based's plan (it read past the plan's end before), and the
+// planner runs, held ticks and re-anchors included, within the limits. For both rungs.
+TEST(ServoPlanner, OptimalWithEveryRequestFreeStaysWithinThePlan) {
+  const std::vector<double> d = Desired();
+  for (const bool paper : {false, true}) {
+    for (const int preview : {paper ? 4 : 3, 20}) {
+      ServoPlannerOptions options;
+      options.method = PlanMethod::kOptimal;
+      options.preview_ticks = preview;
+      options.handover_ticks = 0;
+      options.budget_s = 0.0;
+      options.optimal_iterations_per_tick = 5;
+      ServoPlanner planner = paper ? ServoPlanner(Paper(), kTickS, kLimits, options)
+                                   : ServoPlanner(Extended(), kDrive, kTickS, kLimits, options);
+      planner.Reset(d[0]);
+      double previous = d[0];
+      for (size_t t = 0; t < d.size(); ++t) {
+        const std::span<const double> window = Window(d, t, static_cast<size_t>(preview) + 1);
+        if (t % 40 == 39) {
+          planner.Hold(window);
+          continue;
+        }
+        const double measured = planner.ExpectedDeg() + (t % 50 == 49 ? 5.0 : 0.0);
+        const double r = planner.Request(window, measured);
+        ASSERT_TRUE(std::isfinite(r)) << paper << " " << preview << " " << t;
+        ASSERT_LE(std::abs(r - previous), kLimits.max_speed_deg_s * kTickS + 1e-12) << t;
+        ASSERT_GE(r, kLimits.min_deg);
+        ASSERT_LE(r, kLimits.max_deg);
+        previous = r;
+      }
+    }
+  }
+}
+
 // HorizonDescent from random states and plans: never above the error it starts from (after the
 // projection), within the bounds, its held requests those given (re-projected), and a deadline
 // already passed takes no iteration.
@@ -475,8 +510,9 @@ TEST(ServoPlanner, AStalledHorizonDescentIsStationaryInTheIncrements) {
     ServoModelState scratch = pending;
     std::vector<double> angles(desired.size());
     servo_plan::HorizonError(stepper, pending, scratch, plan, desired, angles);
+    const auto lag = static_cast<size_t>(params.lag_ticks);
     for (size_t i = 0; i < plan.size(); ++i) {  // R(i)'s duty is against M(i + l)
-      ASSERT_LT(std::abs(c.duty_per_deg * (plan[i] - angles[i + 2])), 1.0) << trial << " " << i;
+      ASSERT_LT(std::abs(c.duty_per_deg * (plan[i] - angles[i + lag])), 1.0) << trial << " " << i;
     }
     const double e = 1e-4;
     for (size_t i = 0; i < plan.size(); ++i) {

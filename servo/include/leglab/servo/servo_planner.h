@@ -35,7 +35,9 @@ struct ServoPlannerOptions {
   /// kOptimal: the wall-clock time (s) a Request may spend iterating, from its start: it stops
   /// at the first iteration that would start later, or at the iteration cap, whichever comes
   /// first. Negative (-1): half the model's tick; 0: no time budget, the cap alone (the same
-  /// requests on every machine, for tests and tables). -1 to 10.
+  /// requests on every machine, for tests and tables). -1 to 10. The budget is spent on most
+  /// ticks (a tick ends early only once its descents have stalled): several planners sharing
+  /// a tick need a share of it each.
   double budget_s = -1.0;
   /// kOptimal: ticks after the preview over which the last desired angle given is taken as
   /// held and the requests are model_based's for it, so that the plan pays for a state it
